@@ -1,0 +1,12 @@
+"""Command-line interface. Each area registers its commands on the shared typer app in its own
+module; importing them here is what makes the commands exist. The physics never imports this
+package."""
+
+from sandlight.cli._app import app
+
+# Command modules (one per area); imported for their @app.command() side effect.
+from sandlight.cli import engine as _engine  # noqa: F401,E402
+
+
+def main() -> None:
+    app()
