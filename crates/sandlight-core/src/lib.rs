@@ -1,9 +1,19 @@
 //! sandlight-core: Monte Carlo light transport in sand.
 //!
-//! Layering (dependencies point down): `math` and `rng` → `optics` (Fresnel, layer stacks)
-//! → `particle` (one grain's interaction) → `transport` (free paths, boundary, drivers).
-//! No PyO3 here: bindings live in `sandlight-py`.
+//! Layering (dependencies point down): `math`, `rng` → `fresnel`, `layers` → `spheroid`,
+//! `sizes` → `particle` (one grain's interaction) → `medium`, `transport` (free paths, boundary)
+//! → `driver` (parallel runs and tallies). No PyO3 here: bindings live in `sandlight-py`.
 
+pub mod driver;
 pub mod error;
+pub mod fresnel;
+pub mod layers;
+pub mod math;
+pub mod medium;
+pub mod particle;
+pub mod rng;
+pub mod sizes;
+pub mod spheroid;
+pub mod transport;
 
 pub use error::SandlightError;

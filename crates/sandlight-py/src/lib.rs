@@ -1,9 +1,15 @@
-//! PyO3 glue for sandlight-core. Only conversion and error mapping live here.
+//! PyO3 glue for sandlight-core. Only conversion, GIL handling and error mapping live here; the
+//! user-facing API, docstrings and argument normalisation are in `python/sandlight`.
 
 use pyo3::prelude::*;
+
+mod errors;
+mod medium;
+mod pool;
 
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<medium::PyMedium>()?;
     Ok(())
 }

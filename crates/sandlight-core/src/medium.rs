@@ -1,0 +1,108 @@
+//! The media a ray can be traced through: sand (particles generated on the fly), and two
+//! reference media with exact answers used to verify the transport (isotropic point scatterers,
+//! a Lambertian surface).
+
+use crate::error::{check_range, SandlightError};
+use crate::particle::{Coating, ParticleOptics, PoreOptics};
+use crate::sizes::QuantileTable;
+
+/// One kind of particle in a sand sample.
+#[derive(Clone, Debug)]
+pub struct ParticleType {
+    /// Probability that the next particle a ray meets is of this type (surface-area weighted,
+    /// splits-model.md §2.2). Normalised by `Particulate::new`.
+    pub probability: f64,
+    /// Sizes (volume-equivalent diameter, mm) of the particles of this type that a ray meets.
+    pub sizes: QuantileTable,
+    /// Prolate spheroid aspect ratio ε = c/a ≥ 1.
+    pub aspect_ratio: f64,
+    pub optics: ParticleOptics,
+}
+
+/// Sand: a half-space (or slab) of randomly packed particles, generated on the fly.
+#[derive(Clone, Debug)]
+pub struct Particulate {
+    pub types: Vec<ParticleType>,
+    cumulative: Vec<f64>,
+    /// Mean free path in the pore space (mm), splits-model.md §2.1.
+    pub mean_free_path_mm: f64,
+    pub pore: PoreOptics,
+    /// Sample thickness (mm); infinite for a semi-infinite sample.
+    pub depth_mm: f64,
+}
+
+impl Particulate {
+    pub fn new(types: Vec<ParticleType>, mean_free_path_mm: f64, pore: PoreOptics, depth_mm: f64) -> Result<Particulate, SandlightError> {
+        if types.is_empty() {
+            return Err(SandlightError::parameter("particle_types", 0, "at least one particle type"));
+        }
+        check_range("mean_free_path_mm", mean_free_path_mm, 1e-9, 1e9)?;
+        check_range("water_n", pore.water_n, 1.0, 10.0)?;
+        check_range("water_alpha_per_mm", pore.water_alpha_per_mm, 0.0, 1e12)?;
+        check_range("film_thickness_mm", pore.film_thickness_mm, 0.0, 10.0)?;
+        check_range("water_filled_probability", pore.water_filled_probability, 0.0, 1.0)?;
+        if !(depth_mm > 0.0) {
+            return Err(SandlightError::parameter("depth_mm", depth_mm, "must be > 0 (inf for a semi-infinite sample)"));
+        }
+        let mut total = 0.0;
+        for (i, t) in types.iter().enumerate() {
+            let name = |s: &str| format!("particle_types[{i}].{s}");
+            check_range(&name("probability"), t.probability, 0.0, 1e12)?;
+            check_range(&name("aspect_ratio"), t.aspect_ratio, 1.0, 20.0)?;
+            check_range(&name("core_n"), t.optics.core_n, 1.0, 10.0)?;
+            check_range(&name("core_k"), t.optics.core_k, 0.0, 100.0)?;
+            check_range(&name("core_alpha_per_mm"), t.optics.core_alpha_per_mm, 0.0, 1e12)?;
+            if let Some(Coating { n, alpha_per_mm, thickness_mm }) = t.optics.coating {
+                check_range(&name("coating_n"), n, 1.0, 10.0)?;
+                check_range(&name("coating_alpha_per_mm"), alpha_per_mm, 0.0, 1e12)?;
+                check_range(&name("coating_thickness_mm"), thickness_mm, 0.0, 10.0)?;
+            }
+            total += t.probability;
+        }
+        if !(total > 0.0) {
+            return Err(SandlightError::parameter("particle_types.probability", total, "probabilities must sum to > 0"));
+        }
+        let mut acc = 0.0;
+        let cumulative = types.iter().map(|t| { acc += t.probability / total; acc }).collect();
+        Ok(Particulate { types, cumulative, mean_free_path_mm, pore, depth_mm })
+    }
+
+    /// Index of the type of the next particle, for a uniform `u` in [0, 1).
+    #[inline]
+    pub fn pick_type(&self, u: f64) -> &ParticleType {
+        let i = self.cumulative.iter().position(|&c| u < c).unwrap_or(self.types.len() - 1);
+        &self.types[i]
+    }
+}
+
+/// Isotropic point scatterers of single-scattering albedo ω with exponential free paths of unit
+/// mean, under a transparent plane boundary: Chandrasekhar's half-space (splits-model.md §2.7).
+#[derive(Clone, Copy, Debug)]
+pub struct IsotropicScatterers {
+    pub albedo: f64,
+    /// Optical thickness of the slab; infinite for a half-space.
+    pub depth: f64,
+}
+
+impl IsotropicScatterers {
+    pub fn new(albedo: f64, depth: f64) -> Result<Self, SandlightError> {
+        check_range("albedo", albedo, 0.0, 1.0)?;
+        if !(depth > 0.0) {
+            return Err(SandlightError::parameter("depth", depth, "must be > 0 (inf for a half-space)"));
+        }
+        Ok(IsotropicScatterers { albedo, depth })
+    }
+}
+
+/// An ideal diffuse (Lambertian) surface of albedo a: f = a/π. A test object for tallies.
+#[derive(Clone, Copy, Debug)]
+pub struct LambertianSurface {
+    pub albedo: f64,
+}
+
+impl LambertianSurface {
+    pub fn new(albedo: f64) -> Result<Self, SandlightError> {
+        check_range("albedo", albedo, 0.0, 1.0)?;
+        Ok(LambertianSurface { albedo })
+    }
+}

@@ -1,0 +1,171 @@
+//! Tracing one ray through a medium below the plane z = 0 (splits-model.md §2.6): free paths in
+//! the pore space, particles generated on the fly, the boundary, and the ray's fate.
+
+use crate::fresnel;
+use crate::math::{refract, Vec3};
+use crate::medium::{IsotropicScatterers, LambertianSurface, Particulate};
+use crate::particle::{interact, Interaction};
+use crate::rng::Rng;
+use crate::spheroid::Spheroid;
+
+/// How a ray ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Fate {
+    /// Left through the top boundary with this direction (z > 0).
+    Escaped(Vec3),
+    Absorbed,
+    /// Left through the bottom of a finite sample.
+    Transmitted,
+    /// Stopped by an event cap; counted and reported, never silently dropped.
+    Capped,
+}
+
+#[derive(Clone, Copy, Debug)]
+pub struct RayOutcome {
+    pub fate: Fate,
+    /// Particle (or scatterer) events along the path.
+    pub events: u64,
+}
+
+/// Caps that stop a ray that would otherwise run (almost) forever.
+#[derive(Clone, Copy, Debug)]
+pub struct Limits {
+    /// Particle events per ray.
+    pub max_events: u64,
+    /// Internal reflections inside one particle.
+    pub max_internal: u32,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Limits { max_events: 10_000_000, max_internal: 10_000 }
+    }
+}
+
+/// Anything a ray can be traced through. `dir_in` points into the sample (z < 0).
+pub trait Medium: Sync {
+    fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome;
+}
+
+const UP: Vec3 = Vec3::new(0.0, 0.0, 1.0);
+
+#[inline]
+fn uniform_sphere(rng: &mut Rng) -> Vec3 {
+    Spheroid::random_axis(rng)
+}
+
+/// Cosine-weighted direction on the upper hemisphere (Malley's method).
+#[inline]
+pub fn cosine_hemisphere(rng: &mut Rng) -> Vec3 {
+    let r = rng.uniform().sqrt();
+    let phi = 2.0 * std::f64::consts::PI * rng.uniform();
+    let z = (1.0 - r * r).max(0.0).sqrt();
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+impl Medium for Particulate {
+    fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
+        let pore = &self.pore;
+        let ell = self.mean_free_path_mm;
+        let mut d = dir_in;
+        let mut z = 0.0f64;
+        let mut events = 0u64;
+        let done = |fate, events| RayOutcome { fate, events };
+        // The pore at the surface where the ray enters. A water-filled surface pore presents a
+        // flat water surface (our assumption, docs/transport.md): Fresnel air → water.
+        let mut water = pore.draw_water(rng);
+        if water {
+            if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
+                return done(Fate::Escaped(d.reflect(UP)), 0);
+            }
+            d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
+        }
+        loop {
+            let s = ell * rng.exponential();
+            if d.z > 0.0 && z + s * d.z >= 0.0 {
+                if !water {
+                    return done(Fate::Escaped(d), events);
+                }
+                // Through water to the water surface, then water → air.
+                let to_surface = -z / d.z;
+                if rng.uniform() >= (-pore.water_alpha_per_mm * to_surface).exp() {
+                    return done(Fate::Absorbed, events);
+                }
+                if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
+                    d.z = -d.z;
+                    z = 0.0;
+                    continue;
+                }
+                return match refract(d, -UP, pore.water_n) {
+                    Some(out) => done(Fate::Escaped(out), events),
+                    None => {
+                        d.z = -d.z;
+                        z = 0.0;
+                        continue;
+                    }
+                };
+            }
+            if d.z < 0.0 && z + s * d.z <= -self.depth_mm {
+                return done(Fate::Transmitted, events);
+            }
+            if water && pore.water_alpha_per_mm > 0.0 && rng.uniform() >= (-pore.water_alpha_per_mm * s).exp() {
+                return done(Fate::Absorbed, events);
+            }
+            z += s * d.z;
+            events += 1;
+            if events > limits.max_events {
+                return done(Fate::Capped, events);
+            }
+            let ptype = self.pick_type(rng.uniform());
+            let diameter = ptype.sizes.sample(rng);
+            let shape = Spheroid::new(diameter, ptype.aspect_ratio, Spheroid::random_axis(rng));
+            let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
+                return done(Fate::Capped, events);
+            };
+            match interact(&ptype.optics, pore, &shape, hit, d, water, rng, limits.max_internal) {
+                Interaction::Reflected { dir } => d = dir,
+                Interaction::Transmitted { dir, exit_point, water: w } => {
+                    // The particle's extent along z: the ray leaves from the far side.
+                    z = (z + (exit_point.z - hit.point.z)).min(0.0);
+                    d = dir;
+                    water = w;
+                }
+                Interaction::Absorbed => return done(Fate::Absorbed, events),
+                Interaction::Capped => return done(Fate::Capped, events),
+            }
+        }
+    }
+}
+
+impl Medium for IsotropicScatterers {
+    fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
+        let mut d = dir_in;
+        let mut z = 0.0f64;
+        let mut events = 0u64;
+        loop {
+            let s = rng.exponential();
+            if d.z > 0.0 && z + s * d.z >= 0.0 {
+                return RayOutcome { fate: Fate::Escaped(d), events };
+            }
+            if d.z < 0.0 && z + s * d.z <= -self.depth {
+                return RayOutcome { fate: Fate::Transmitted, events };
+            }
+            z += s * d.z;
+            events += 1;
+            if events > limits.max_events {
+                return RayOutcome { fate: Fate::Capped, events };
+            }
+            if rng.uniform() >= self.albedo {
+                return RayOutcome { fate: Fate::Absorbed, events };
+            }
+            d = uniform_sphere(rng);
+        }
+    }
+}
+
+impl Medium for LambertianSurface {
+    fn trace(&self, _dir_in: Vec3, rng: &mut Rng, _limits: &Limits) -> RayOutcome {
+        let fate = if rng.uniform() < self.albedo { Fate::Escaped(cosine_hemisphere(rng)) } else { Fate::Absorbed };
+        RayOutcome { fate, events: 1 }
+    }
+}
