@@ -19,11 +19,20 @@ pub struct ParticleType {
     pub optics: ParticleOptics,
 }
 
+impl ParticleType {
+    /// Equatorial semi-axis over diameter, a/d (precomputed by `Particulate::new`).
+    #[inline]
+    pub fn a_over_d(&self) -> f64 {
+        crate::spheroid::equatorial_ratio(self.aspect_ratio)
+    }
+}
+
 /// Sand: a half-space (or slab) of randomly packed particles, generated on the fly.
 #[derive(Clone, Debug)]
 pub struct Particulate {
     pub types: Vec<ParticleType>,
     cumulative: Vec<f64>,
+    a_over_d: Vec<f64>,
     /// Mean free path in the pore space (mm), splits-model.md §2.1.
     pub mean_free_path_mm: f64,
     pub pore: PoreOptics,
@@ -64,14 +73,15 @@ impl Particulate {
         }
         let mut acc = 0.0;
         let cumulative = types.iter().map(|t| { acc += t.probability / total; acc }).collect();
-        Ok(Particulate { types, cumulative, mean_free_path_mm, pore, depth_mm })
+        let a_over_d = types.iter().map(ParticleType::a_over_d).collect();
+        Ok(Particulate { types, cumulative, a_over_d, mean_free_path_mm, pore, depth_mm })
     }
 
-    /// Index of the type of the next particle, for a uniform `u` in [0, 1).
+    /// The type of the next particle and its a/d, for a uniform `u` in [0, 1).
     #[inline]
-    pub fn pick_type(&self, u: f64) -> &ParticleType {
+    pub fn pick_type(&self, u: f64) -> (&ParticleType, f64) {
         let i = self.cumulative.iter().position(|&c| u < c).unwrap_or(self.types.len() - 1);
-        &self.types[i]
+        (&self.types[i], self.a_over_d[i])
     }
 }
 

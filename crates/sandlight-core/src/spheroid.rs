@@ -4,6 +4,11 @@
 use crate::math::Vec3;
 use crate::rng::Rng;
 
+/// a/d = ε^(−1/3)/2 for a prolate spheroid of volume-equivalent diameter d and aspect ratio ε.
+pub fn equatorial_ratio(eps: f64) -> f64 {
+    0.5 * eps.powf(-1.0 / 3.0)
+}
+
 #[derive(Clone, Copy, Debug)]
 pub struct Spheroid {
     /// Unit symmetry axis.
@@ -28,7 +33,13 @@ impl Spheroid {
     /// Spheroid of volume-equivalent diameter `d` (mm) and aspect ratio `eps` ≥ 1:
     /// a = (d/2) ε^(−1/3), c = ε a (splits-model.md §2.3).
     pub fn new(d: f64, eps: f64, u: Vec3) -> Spheroid {
-        let a = 0.5 * d * eps.powf(-1.0 / 3.0);
+        Spheroid::with_semi_axis_ratio(d, equatorial_ratio(eps), eps, u)
+    }
+
+    /// Same as `new` with a = d·`a_over_d` precomputed (avoids a `powf` per particle).
+    #[inline]
+    pub fn with_semi_axis_ratio(d: f64, a_over_d: f64, eps: f64, u: Vec3) -> Spheroid {
+        let a = d * a_over_d;
         let c = eps * a;
         Spheroid { u, a, c, inv_a2: 1.0 / (a * a), k: 1.0 / (c * c) - 1.0 / (a * a) }
     }

@@ -116,9 +116,9 @@ impl Medium for Particulate {
             if events > limits.max_events {
                 return done(Fate::Capped, events);
             }
-            let ptype = self.pick_type(rng.uniform());
+            let (ptype, a_over_d) = self.pick_type(rng.uniform());
             let diameter = ptype.sizes.sample(rng);
-            let shape = Spheroid::new(diameter, ptype.aspect_ratio, Spheroid::random_axis(rng));
+            let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
             let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
                 return done(Fate::Capped, events);
             };
