@@ -322,7 +322,7 @@ GOETHITE_N_FIT_FROM_NM = 540.0
 #   edge: Fe3+ ligand-to-metal charge transfer plus the 6A1+6A1 -> 4T1+4T1 pair excitation
 #         (~480 nm) make a strong absorption edge; a logistic step in energy of height 0.6,
 #         centre 2.39 eV (519 nm) and width 0.08 eV puts k(550 nm) at ~0.09 (Bedidi & Cervelle
-#         1993, as quoted by Conny et al. 2017), an edge ~70 nm bluer than hematite's (Querry);
+#         1993, as quoted by Conny et al. 2017), an edge ~80 nm bluer than hematite's (Querry);
 #   4T2:  6A1 -> 4T2 crystal-field band at 1.91 eV (~650 nm), Gaussian, peak 1.5e-3;
 #   4T1:  6A1 -> 4T1 crystal-field band at 1.34 eV (~925 nm), Gaussian, peak 2.5e-3;
 #   OH:   the wing of the strong O-H stretching band near 3 um, 1e-3 at 2500 nm, e-folding 150 nm;
