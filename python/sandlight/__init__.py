@@ -2,6 +2,12 @@
 
 From what a geologist measures of a sand sample (iron oxides and where they sit, water, grain
 sizes and shapes) to spectral reflectance, BRDF, colour and rendered landscapes.
+
+>>> import sandlight
+>>> sample = sandlight.SandSample.preset("red-dune")
+>>> result = sandlight.reflectance(sample, [450, 550, 650], rays=2000, progress=False)
+>>> result.values.shape
+(3,)
 """
 
 from importlib.metadata import PackageNotFoundError, version
@@ -11,6 +17,19 @@ try:
 except PackageNotFoundError:  # running from a source tree that was never installed
     __version__ = "0.0.0+unknown"
 
-from sandlight.errors import SandlightError, ParameterError, ModelFileError  # noqa: E402
+from sandlight.errors import ModelFileError, ParameterError, SandlightError  # noqa: E402
+from sandlight.sample import PARAMETERS, SandSample  # noqa: E402
 
-__all__ = ["SandlightError", "ParameterError", "ModelFileError", "__version__"]
+
+def __getattr__(name):
+    # The engine needs the native extension; import it on first use so that pure-Python parts
+    # (samples, colour, sky) work from a source tree without a build.
+    if name in ("reflectance", "isotropic_halfspace", "ReflectanceResult"):
+        from sandlight import engine
+
+        return getattr(engine, name)
+    raise AttributeError(f"module 'sandlight' has no attribute {name!r}")
+
+
+__all__ = ["SandlightError", "ParameterError", "ModelFileError", "SandSample", "PARAMETERS",
+           "reflectance", "isotropic_halfspace", "ReflectanceResult", "__version__"]

@@ -14,13 +14,13 @@ pub struct QuantileTable {
 impl QuantileTable {
     pub fn new(q: Vec<f64>) -> Result<QuantileTable, SandlightError> {
         if q.is_empty() {
-            return Err(SandlightError::parameter("size_quantiles", "[]", "at least one quantile"));
+            return Err(SandlightError::parameter("size_quantiles_mm", "[]", "at least one quantile"));
         }
         if q.iter().any(|v| !(v.is_finite() && *v > 0.0)) {
-            return Err(SandlightError::parameter("size_quantiles", format!("{q:?}"), "finite sizes > 0 mm"));
+            return Err(SandlightError::parameter("size_quantiles_mm", format!("{q:?}"), "finite sizes > 0 mm"));
         }
         if q.windows(2).any(|w| w[1] < w[0]) {
-            return Err(SandlightError::parameter("size_quantiles", format!("{q:?}"), "non-decreasing"));
+            return Err(SandlightError::parameter("size_quantiles_mm", format!("{q:?}"), "non-decreasing"));
         }
         Ok(QuantileTable { q })
     }

@@ -1,0 +1,173 @@
+"""From a sample's measurable parameters to its particle populations, by mass balance.
+
+Wavelength-independent: what particles there are, how big, where the iron oxide sits, how thick
+the coatings and water films are, and the mean free path of the pore space. Every assumption is
+listed in docs/transport.md ("From the sample to the particles").
+
+Per unit mass of solids:
+
+* iron oxide m_fe = ``iron_oxide`` (hematite m_fe·r, goethite m_fe·(1 − r), r = ``hematite_ratio``),
+  magnetite m_mag = ``magnetite``;
+* form ``coating``: the iron oxide sits in a kaolinite matrix coating the quartz grains (sand and
+  silt), iron-oxide volume share ``coating_iron_share``: coating volume V_c = V_fe / share, of
+  which V_c − V_fe is kaolinite; thickness t_c = V_c / (total quartz surface) — a uniform film;
+* form ``mixed``: the iron oxide is dispersed inside the quartz grains (volume fraction
+  V_fe/(V_fe + V_quartz));
+* form ``particles``: separate spherical hematite and goethite particles of diameter
+  ``iron_oxide_particle_size_um``;
+* the rest (host) is split by the USDA separates: sand-sized quartz grains (log-normal by mass,
+  median ``grain_size``, geometric sd ``grain_size_spread``, 0.05–2 mm), silt-sized quartz
+  (log-uniform by mass, 0.002–0.05 mm) and clay-sized kaolinite (log-uniform, 0.0002–0.002 mm);
+* magnetite: separate grains with the sand grains' size distribution.
+
+Pore space (splits-model.md §2.1): mean free path ℓ = 4φ / [(1 − φ) Σᵢ vᵢ ⟨Sᵢ⟩/⟨Vᵢ⟩], with
+vᵢ the volume fractions of the solids; a ray meets type i with probability ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩.
+Water (§2.5): up to ``film_saturation`` the water forms films of thickness
+t_w = φ S_f / [(1 − φ) Σᵢ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩] = S_f ℓ/4 on every particle; beyond it, a pore is
+water-filled with probability (S − S_f)/(1 − S_f).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from sandlight.errors import ParameterError
+from sandlight.optics import DENSITY_G_CM3
+from sandlight.physics.sizes import SizeDistribution, spheroid_surface_factor
+
+SAND_RANGE_MM = (0.05, 2.0)
+SILT_RANGE_MM = (0.002, 0.05)
+CLAY_RANGE_MM = (0.0002, 0.002)
+
+
+@dataclass(frozen=True)
+class Population:
+    """One particle type of a sample.
+
+    Attributes
+    ----------
+    name : str
+        e.g. ``"quartz sand"``.
+    volume_fraction : float
+        Fraction of the solid volume.
+    sizes : SizeDistribution
+        Mass size distribution of the volume-equivalent diameter (mm).
+    aspect_ratio : float
+        Prolate spheroid ε = c/a.
+    core : dict[str, float]
+        Volume fractions of the core's materials (names of ``sandlight.optics``), summing to 1.
+    coating : dict[str, float]
+        Volume fractions of the coating's materials; empty for none.
+    coating_thickness_mm : float
+    surface_per_volume_per_mm : float
+        ⟨S⟩/⟨V⟩ of this population (mm⁻¹).
+    """
+
+    name: str
+    volume_fraction: float
+    sizes: SizeDistribution
+    aspect_ratio: float
+    core: dict = field(default_factory=dict)
+    coating: dict = field(default_factory=dict)
+    coating_thickness_mm: float = 0.0
+    surface_per_volume_per_mm: float = 0.0
+
+
+@dataclass(frozen=True)
+class Composition:
+    """The particle populations and pore space of a sample (wavelength independent)."""
+
+    populations: tuple
+    porosity: float
+    mean_free_path_mm: float
+    film_thickness_mm: float
+    water_filled_probability: float
+    depth_mm: float
+
+    def encounter_probabilities(self) -> list[float]:
+        """P(type i) ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩ (splits-model.md §2.2)."""
+        w = [p.volume_fraction * p.surface_per_volume_per_mm for p in self.populations]
+        total = sum(w)
+        return [x / total for x in w]
+
+
+def _surface_per_volume(sizes: SizeDistribution, aspect_ratio: float) -> float:
+    # ⟨S⟩/⟨V⟩ = 6 f(ε) ⟨D²⟩_n/⟨D³⟩_n = 6 f(ε) E_m[1/D] (sphere: S/V = 6/D).
+    return 6.0 * spheroid_surface_factor(aspect_ratio) * sizes.mass_mean_inverse_diameter()
+
+
+def compose(sample) -> Composition:
+    """Particle populations of ``sample`` (a :class:`sandlight.SandSample`) by mass balance."""
+    rho = DENSITY_G_CM3
+    m_fe = sample.iron_oxide
+    m_hem, m_goe = m_fe * sample.hematite_ratio, m_fe * (1.0 - sample.hematite_ratio)
+    v_hem, v_goe = m_hem / rho["hematite"], m_goe / rho["goethite"]
+    v_fe = v_hem + v_goe
+    m_mag = sample.magnetite
+    form = sample.iron_oxide_form
+
+    m_coat_kaolinite = 0.0
+    if form == "coating" and v_fe > 0:
+        v_coat = v_fe / sample.coating_iron_share
+        m_coat_kaolinite = (v_coat - v_fe) * rho["kaolinite"]
+    m_host = 1.0 - m_fe - m_mag - m_coat_kaolinite
+    if m_host <= 0.0:
+        raise ParameterError(
+            "coating_iron_share", sample.coating_iron_share,
+            f"too small for iron_oxide = {sample.iron_oxide} and magnetite = {sample.magnetite}: the kaolinite "
+            f"coating would outweigh the solids; need coating_iron_share > "
+            f"{v_fe * rho['kaolinite'] / (1 - m_fe - m_mag + v_fe * rho['kaolinite']):.4g}")
+
+    eps = sample.aspect_ratio
+    sand_sizes = SizeDistribution("lognormal", *SAND_RANGE_MM, median_mm=sample.grain_size, spread=sample.grain_size_spread)
+    silt_sizes = SizeDistribution("loguniform", *SILT_RANGE_MM)
+    clay_sizes = SizeDistribution("loguniform", *CLAY_RANGE_MM)
+
+    v_sand = sample.sand * m_host / rho["quartz"]
+    v_silt = sample.silt * m_host / rho["quartz"]
+    v_clay = sample.clay * m_host / rho["kaolinite"]
+    v_magn = m_mag / rho["magnetite"]
+
+    quartz_core = {"quartz": 1.0}
+    coating, t_coat = {}, 0.0
+    sv_sand = _surface_per_volume(sand_sizes, eps)
+    sv_silt = _surface_per_volume(silt_sizes, eps)
+    if form == "mixed" and v_fe > 0:
+        v_q = v_sand + v_silt
+        total = v_q + v_fe
+        quartz_core = {"quartz": v_q / total, "hematite": v_hem / total, "goethite": v_goe / total}
+    elif form == "coating" and v_fe > 0:
+        v_coat = v_fe / sample.coating_iron_share
+        # Volumes are per gram of solids (cm³) and S/V in mm⁻¹, so the volume unit cancels: t in mm.
+        quartz_surface = v_sand * sv_sand + v_silt * sv_silt
+        t_coat = v_coat / quartz_surface if quartz_surface > 0 else 0.0
+        coating = {"hematite": v_hem / v_coat, "goethite": v_goe / v_coat, "kaolinite": (v_coat - v_fe) / v_coat}
+
+    pops = []
+
+    def add(name, volume, sizes, aspect, core, coat=None, t=0.0):
+        if volume > 0:
+            pops.append(Population(name, volume, sizes, aspect, core, coat or {}, t, _surface_per_volume(sizes, aspect)))
+
+    add("quartz sand", v_sand, sand_sizes, eps, quartz_core, coating, t_coat)
+    add("quartz silt", v_silt, silt_sizes, eps, quartz_core, coating, t_coat)
+    add("kaolinite clay", v_clay, clay_sizes, eps, {"kaolinite": 1.0})
+    add("magnetite", v_magn, sand_sizes, eps, {"magnetite": 1.0})
+    if form == "particles":
+        d = sample.iron_oxide_particle_size_um * 1e-3
+        pigment = SizeDistribution("lognormal", d, d, median_mm=d, spread=1.0)
+        add("hematite particles", v_hem, pigment, 1.0, {"hematite": 1.0})
+        add("goethite particles", v_goe, pigment, 1.0, {"goethite": 1.0})
+
+    v_total = sum(p.volume_fraction for p in pops)
+    pops = [Population(p.name, p.volume_fraction / v_total, p.sizes, p.aspect_ratio, p.core, p.coating,
+                       p.coating_thickness_mm, p.surface_per_volume_per_mm) for p in pops]
+    surface = sum(p.volume_fraction * p.surface_per_volume_per_mm for p in pops)
+    phi = sample.porosity
+    ell = 4.0 * phi / ((1.0 - phi) * surface)
+
+    s = sample.saturation
+    s_film = min(s, sample.film_saturation)
+    film = s_film * ell / 4.0
+    filled = (s - s_film) / (1.0 - s_film) if s_film < 1.0 else 0.0
+    return Composition(tuple(pops), phi, ell, film, min(max(filled, 0.0), 1.0), sample.depth_mm)
