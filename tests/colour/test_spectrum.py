@@ -85,7 +85,8 @@ class TestCoarseSampling:
 
     def test_sixteen_bands_of_a_measured_sand(self):
         wl, r = read_usgs("Hematite.02+Quartz.98_GDS76_BECKa_AREF")
-        coarse = spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, np.interp(PREDICTOR_WAVELENGTHS_NM, wl, r))
+        bands = np.interp(PREDICTOR_WAVELENGTHS_NM, wl, r)  # the 1–2 nm data at the 16 bands
+        coarse = spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, bands)
         assert delta_e_2000(spectrum_to_xyz(wl, r), coarse) < 0.1
 
     def test_constant_extension_outside_the_given_range(self):

@@ -10,9 +10,10 @@ Public objects
 
 How a spectrum is integrated
 ----------------------------
-The integrals of §4.1.1, :math:`X = \\int e(\\lambda) r(\\lambda) \\bar{x}(\\lambda) d\\lambda` etc.,
-are evaluated as sums on the 1 nm grid of the colour-matching functions (CMFs) as colour-science
-ships them (CIE 1964 10°: 360–830 nm, from the CVRL 1 nm tables), following CIE 015:2018 §7.1:
+The integrals of §4.1.1,
+:math:`X = \\int e(\\lambda) r(\\lambda) \\bar{x}(\\lambda) d\\lambda` etc., are
+evaluated as sums on the 1 nm grid of the colour-matching functions (CMFs) as colour-science ships
+them (CIE 1964 10°: 360–830 nm, from the CVRL 1 nm tables), following CIE 015:2018 §7.1:
 
 1. **Illuminant.** The tabulated SPD (D50: 300–780 nm every 5 nm) is aligned to the CMF grid
    exactly as colour-science's own ``sd_to_XYZ`` does: Sprague (1880) interpolation of the
