@@ -161,3 +161,5 @@ class TestErrors:
             spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, r, illuminant="D51")
         with pytest.raises(ParameterError, match="observer"):
             spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, r, observer="CIE 1931 2 Degree")
+        with pytest.raises(ParameterError, match="illuminant"):  # names only, not SPD objects
+            spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, r, illuminant=colour.SDS_ILLUMINANTS["D50"])

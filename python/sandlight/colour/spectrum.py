@@ -106,9 +106,9 @@ def _observer_names() -> list[str]:
     return [name for name in colour.MSDS_CMFS.keys() if "Standard Observer" in name]
 
 
-@functools.lru_cache(maxsize=16)
 def _integration_weights(illuminant: str, observer: str) -> tuple[NDArray, NDArray]:
     """1 nm grid and weights k·S(λ)·[x̄, ȳ, z̄](λ) so that XYZ = R(grid) @ weights."""
+    # Validated here, before the cache, which would fail on unhashable arguments.
     if not isinstance(observer, str) or observer not in _observer_names():
         raise ParameterError("observer", observer, f"one of {_observer_names()}")
     if not isinstance(illuminant, str) or illuminant not in colour.SDS_ILLUMINANTS:
@@ -116,6 +116,11 @@ def _integration_weights(illuminant: str, observer: str) -> tuple[NDArray, NDArr
             "illuminant", illuminant,
             f"a CIE illuminant name known to colour-science, e.g. 'D50', 'D65', 'A' "
             f"(all: {sorted(colour.SDS_ILLUMINANTS.keys())})")
+    return _cached_weights(illuminant, observer)
+
+
+@functools.lru_cache(maxsize=16)
+def _cached_weights(illuminant: str, observer: str) -> tuple[NDArray, NDArray]:
     cmfs = colour.MSDS_CMFS[observer]
     # Same alignment as colour.sd_to_XYZ: Sprague for the uniform table, constant extrapolation.
     spd = colour.SDS_ILLUMINANTS[illuminant].copy().align(cmfs.shape)
