@@ -1,0 +1,182 @@
+"""Commands of the colour area: swatches (paper Figures 6, 7 and any grid) and colourise (§4.1.1).
+
+Errors in what the user typed (grid specs, sizes, paths, unreadable images, unknown parameters
+or presets) exit with code 2 and a one-line message; a missing spectral model exits with code 1.
+"""
+
+from __future__ import annotations
+
+from enum import Enum
+from pathlib import Path
+from typing import Any, NoReturn, Optional
+
+import typer
+
+from sandlight.cli._app import app
+from sandlight.errors import ParameterError, SandlightError
+
+_GRID_HELP = "NAME=start:stop:count (inclusive), e.g. iron_oxide=0.001:0.05:8"
+
+
+class Mode(str, Enum):
+    managed = "managed"
+    paper = "paper"
+
+
+class PaperFigure(str, Enum):
+    six = "6"
+    seven = "7"
+
+
+def _fail(message: str, code: int = 2) -> NoReturn:
+    typer.echo(f"Error: {message}", err=True)
+    raise typer.Exit(code)
+
+
+def _parse_size(text: Optional[str], option: str) -> Optional[tuple[int, int]]:
+    if text is None:
+        return None
+    parts = text.lower().split("x")
+    if len(parts) != 2 or not all(p.strip().isdigit() for p in parts):
+        _fail(f"{option} {text!r} is not allowed: WIDTHxHEIGHT in pixels, e.g. 800x600")
+    return int(parts[0]), int(parts[1])
+
+
+def _load_sample(preset: Optional[str], sample_file: Optional[Path]) -> Any:
+    """The base sample: a preset, a TOML/JSON file, or ``SandSample()``."""
+    if preset is not None and sample_file is not None:
+        _fail("give --preset NAME or --sample FILE, not both")
+    try:
+        from sandlight.sample import SandSample
+    except ImportError as exc:
+        raise SandlightError(f"sandlight.sample.SandSample is not available ({exc})") from exc
+    if preset is not None:
+        return SandSample.preset(preset)
+    if sample_file is not None:
+        return SandSample.from_file(sample_file)
+    return SandSample()
+
+
+def _grid_axes(x: Optional[str], y: Optional[str]):
+    from sandlight.colour.swatches import parse_grid_spec
+
+    if (x is None) != (y is None):
+        _fail("--x and --y go together: give both, e.g. --x iron_oxide=0.001:0.05:8 "
+              "--y hematite_ratio=0:1:6")
+    try:
+        return parse_grid_spec(x), parse_grid_spec(y)
+    except ParameterError as exc:
+        _fail(str(exc))
+
+
+def _run(action):
+    """Run ``action()``, turning sandlight's errors into messages and exit codes."""
+    try:
+        return action()
+    except (ParameterError, FileNotFoundError, OSError) as exc:
+        # Bad user input: unknown parameter or preset, out-of-domain value, missing or
+        # unreadable file, unwritable output.
+        _fail(str(exc), 2)
+    except SandlightError as exc:
+        # Not the user's input: no spectral model or no sample module in this installation.
+        _fail(str(exc), 1)
+
+
+@app.command("swatches")
+def swatches_command(
+    output: Path = typer.Option(..., "-o", "--output", help="PNG file to write."),
+    figure: Optional[PaperFigure] = typer.Option(
+        None, "--figure", help="The paper's Figure 6 (iron oxide × hematite ratio) or 7 "
+                               "(hematite ratio × saturation). Default 6 unless --x/--y."),
+    x: Optional[str] = typer.Option(None, "--x", help=f"Horizontal axis: {_GRID_HELP}."),
+    y: Optional[str] = typer.Option(None, "--y", help=f"Vertical axis (downward): {_GRID_HELP}."),
+    preset: Optional[str] = typer.Option(None, "--preset",
+                                         help="Base sample preset, e.g. red-dune."),
+    sample: Optional[Path] = typer.Option(None, "--sample", help="Base sample TOML/JSON file."),
+    mode: Mode = typer.Option(Mode.managed, "--mode", help="sRGB conversion."),
+    lab: bool = typer.Option(False, "--lab/--no-lab", help="Print L*a*b* in each cell."),
+    size: Optional[str] = typer.Option(None, "--size", help="WIDTHxHEIGHT of the PNG in pixels."),
+) -> None:
+    """Swatch grid of sand colours as two sample parameters vary (paper Figures 6 and 7)."""
+    from sandlight.colour.swatches import figure6, figure7, swatch_grid
+
+    if output.suffix.lower() != ".png":
+        _fail(f"--output {str(output)!r} is not allowed: swatches are written as .png")
+    if figure is not None and x is not None:
+        _fail("give --figure or --x/--y, not both")
+    size_px = _parse_size(size, "--size")
+    axes = _grid_axes(x, y) if (x is not None or y is not None) else None
+
+    def action():
+        base = _load_sample(preset, sample)
+        if axes is not None:
+            grid = swatch_grid(base, axes[0], axes[1], mode=mode.value)
+            title = f"sRGB ({mode.value}), D50, CIE 1964 10°"
+        elif figure in (None, PaperFigure.six):
+            grid, title = figure6(base, mode=mode.value), f"Figure 6 — sRGB ({mode.value})"
+        else:
+            grid, title = figure7(base, mode=mode.value), f"Figure 7 — sRGB ({mode.value})"
+        grid.save_png(output, size_px=size_px, show_lab=lab, title=title)
+        clipped = int(grid.out_of_gamut.sum())
+        typer.echo(f"wrote {output} ({grid.rgb.shape[1]}×{grid.rgb.shape[0]} swatches"
+                   + (f", {clipped} clipped to the sRGB gamut" if clipped else "") + ")")
+
+    _run(action)
+
+
+@app.command("colourise")
+def colourise_command(
+    image: Optional[Path] = typer.Argument(
+        None, help="Photo of sand (any format pillow reads). Default: the shipped texture."),
+    output: Path = typer.Option(..., "-o", "--output", help="Image file to write."),
+    preset: Optional[str] = typer.Option(None, "--preset", help="Sample preset, e.g. red-dune."),
+    sample: Optional[Path] = typer.Option(None, "--sample", help="Sample TOML/JSON file."),
+    grid: bool = typer.Option(False, "--grid", help="Mosaic over --x/--y (base: --preset/--sample "
+                                                    "or the default sample)."),
+    x: Optional[str] = typer.Option(None, "--x", help=f"Grid horizontal axis: {_GRID_HELP}."),
+    y: Optional[str] = typer.Option(None, "--y", help=f"Grid vertical axis: {_GRID_HELP}."),
+    mode: Mode = typer.Option(Mode.managed, "--mode", help="sRGB conversion of the sample."),
+    linear: bool = typer.Option(False, "--linear/--encoded",
+                                help="Shift in linear light instead of encoded sRGB (paper)."),
+    tile: Optional[str] = typer.Option(None, "--tile", help="Grid tile WIDTHxHEIGHT in pixels."),
+    labels: bool = typer.Option(True, "--labels/--no-labels", help="Grid: axes with values."),
+) -> None:
+    """Give a photo of sand the colour of a sample (paper §4.1.1), or a grid of colours."""
+    from sandlight.colour.colourise import (
+        colourise,
+        colourise_grid,
+        default_texture_path,
+        load_image,
+        save_image,
+    )
+
+    if grid:
+        if x is None or y is None:
+            _fail("--grid needs --x NAME=a:b:n and --y NAME=a:b:n")
+        axes = _grid_axes(x, y)
+    else:
+        if x is not None or y is not None:
+            _fail("--x/--y need --grid")
+        if preset is None and sample is None:
+            _fail("give --preset NAME or --sample FILE (or --grid with --x/--y)")
+    tile_px = _parse_size(tile, "--tile")
+    try:
+        photo = load_image(default_texture_path() if image is None else image)
+    except (FileNotFoundError, SandlightError) as exc:
+        _fail(str(exc))
+
+    def action():
+        base = _load_sample(preset, sample)
+        if not grid:
+            save_image(output, colourise(photo, base, mode=mode.value, linear=linear))
+            typer.echo(f"wrote {output} ({photo.shape[1]}×{photo.shape[0]})")
+            return
+        result = colourise_grid(photo, base, axes[0], axes[1], tile_px=tile_px,
+                                mode=mode.value, linear=linear)
+        if labels and output.suffix.lower() != ".png":
+            _fail(f"--output {str(output)!r}: a labelled grid is written as .png "
+                  f"(or use --no-labels)")
+        result.save_png(output, labels=labels)
+        typer.echo(f"wrote {output} ({len(axes[0].values)}×{len(axes[1].values)} tiles)")
+
+    _run(action)

@@ -1,0 +1,33 @@
+"""Fixtures of the colour tests (helpers live in colour_fakes.py)."""
+
+from __future__ import annotations
+
+import pytest
+from colour_fakes import FakeProvider, FakeSample
+
+from sandlight.errors import SandlightError
+
+
+@pytest.fixture
+def fake_sample():
+    return FakeSample()
+
+
+@pytest.fixture
+def fake_provider():
+    return FakeProvider()
+
+
+@pytest.fixture(params=["default-predictor"])
+def real_provider(request):
+    """The real reflectance provider for physics trend tests; skipped until one ships."""
+    from sandlight.colour.provider import default_reflectance_provider
+
+    try:
+        from sandlight.sample import SandSample  # noqa: F401
+    except ImportError as exc:
+        pytest.skip(f"physics trend needs sandlight.sample.SandSample, not importable ({exc})")
+    try:
+        return default_reflectance_provider()
+    except SandlightError as exc:
+        pytest.skip(f"physics trend needs the shipped spectral predictor: {exc}")
