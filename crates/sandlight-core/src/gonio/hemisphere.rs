@@ -209,7 +209,8 @@ impl CollectorHemisphere {
     /// patch for any stacks and slices, and all patches of a band share one cos θ, which the
     /// continuous BRDF uses as its interpolation node. The normalised mean direction ∫ω dΩ / |∫ω dΩ|
     /// has the same azimuth but leans towards the pole; it would leave its patch for slices ≤ 2
-    /// (for slices = 1 it is the pole). For 31 × 30 the two differ by less than 0.1°.
+    /// (for slices = 1 it is the pole). For 31 × 30 the two differ by 0.52° in the top band (which
+    /// spans 2.7°–15.1° in zenith) and by less than 0.12° below it.
     ///
     /// # Panics
     /// If `i >= n_patches()`.
