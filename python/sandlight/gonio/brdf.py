@@ -247,7 +247,8 @@ class MeasuredBRDF:
         bi0, bi1, ti = _bracket(nodes, wi[:, 2])
         bo0, bo1, to = _bracket(nodes, wo[:, 2])
         dphi = np.arctan2(wo[:, 1], wo[:, 0]) - np.arctan2(wi[:, 1], wi[:, 0])
-        x = np.mod(dphi * (self.slices / (2.0 * math.pi)), self.slices)
+        # (NaN rows are computed on 0 and set to NaN at the end.)
+        x = np.mod(np.nan_to_num(dphi) * (self.slices / (2.0 * math.pi)), self.slices)
         k0 = np.floor(x)
         tk = x - k0
         k0 = k0.astype(np.int64) % self.slices  # x can round up to exactly `slices`

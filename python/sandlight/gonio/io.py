@@ -186,7 +186,8 @@ def read_netcdf(path: str | PathLike) -> MeasuredBRDF:
         raise ModelFileError(f"{path}: not a sandlight BRDF file (global attribute format = {fmt!r}, "
                              f"expected {FORMAT_NAME!r})")
     version = ds.attrs.get("format_version")
-    if version is None or int(version) != FORMAT_VERSION:
+    version = version.item() if isinstance(version, np.generic) else version
+    if not (isinstance(version, (int, np.integer)) and version == FORMAT_VERSION):
         raise ModelFileError(f"{path}: {FORMAT_NAME} format version {version!r} is not supported "
                              f"(this sandlight reads version {FORMAT_VERSION})")
     try:

@@ -101,11 +101,9 @@ class ReducedBRDF:
         """True if every array and number is identical (NaN equal to NaN)."""
         if not isinstance(other, ReducedBRDF):
             return False
-        arrays = ("unique_values", "unique_stderr", "unique_absolute", "unique_absolute_stderr", "members")
-        return all(np.array_equal(getattr(self, a), getattr(other, a), equal_nan=True) for a in arrays) and all(
-            np.array_equal(getattr(self, a), getattr(other, a), equal_nan=True)
-            for a in ("normal_reflectance", "normal_reflectance_stderr")
-        )
+        names = ("unique_values", "unique_stderr", "unique_absolute", "unique_absolute_stderr", "members",
+                 "normal_reflectance", "normal_reflectance_stderr")
+        return all(np.array_equal(getattr(self, a), getattr(other, a), equal_nan=True) for a in names)
 
 
 def _as_counts(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
