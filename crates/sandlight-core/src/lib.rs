@@ -7,6 +7,7 @@
 pub mod driver;
 pub mod error;
 pub mod fresnel;
+pub mod gonio;
 pub mod layers;
 pub mod math;
 pub mod medium;

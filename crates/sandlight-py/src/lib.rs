@@ -4,6 +4,7 @@
 use pyo3::prelude::*;
 
 mod errors;
+mod gonio;
 mod medium;
 mod pool;
 
@@ -11,5 +12,6 @@ mod pool;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<medium::PyMedium>()?;
+    gonio::register(m)?;
     Ok(())
 }
