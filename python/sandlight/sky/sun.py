@@ -140,7 +140,7 @@ def sun_position(latitude_deg, day_of_year, time_h, *, longitude_deg=None,
     """Zenith and azimuth angles of the sun (Preetham et al. 1999, App. A.6).
 
     θs = π/2 − arcsin(sin l sin δ − cos l cos δ cos(πt/12)),
-    φs = atan2(−cos δ sin(πt/12), cos l sin δ − sin l cos δ cos(πt/12))   (from south, + west),
+    φs = atan2(−cos δ sin(πt/12), −(cos l sin δ + sin l cos δ cos(πt/12)))   (from south, + west),
     with l the latitude, δ the declination and t the solar time in hours. The returned azimuth is
     converted to the compass convention (from north, clockwise): φ = φs + π.
 
@@ -192,9 +192,13 @@ def sun_position(latitude_deg, day_of_year, time_h, *, longitude_deg=None,
     sin_elevation = np.clip(np.sin(lat) * np.sin(delta)
                             - np.cos(lat) * np.cos(delta) * np.cos(hour_angle), -1.0, 1.0)
     zenith = np.pi / 2.0 - np.arcsin(sin_elevation)
+    # Azimuth as in the authors' code: atan2(west component, south component). The denominator
+    # is −(cos l sin δ + sin l cos δ cos(πt/12)); the form cos l sin δ − sin l cos δ cos(πt/12)
+    # found in reproductions of the appendix is wrong whenever δ ≠ 0 (tens of degrees in winter
+    # mornings; see docs/daylight.md).
     phi_south = np.arctan2(-np.cos(delta) * np.sin(hour_angle),
-                           np.cos(lat) * np.sin(delta)
-                           - np.sin(lat) * np.cos(delta) * np.cos(hour_angle))
+                           -(np.cos(lat) * np.sin(delta)
+                             + np.sin(lat) * np.cos(delta) * np.cos(hour_angle)))
     azimuth = np.mod(phi_south + np.pi, 2.0 * np.pi)
     zenith, azimuth = np.broadcast_arrays(zenith, azimuth)
     return zenith.copy(), azimuth.copy()
