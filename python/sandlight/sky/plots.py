@@ -27,7 +27,7 @@ drawn (it is not part of the sky radiance); a ring marks its position.
 from __future__ import annotations
 
 import os
-import tempfile
+import uuid
 from pathlib import Path
 
 import numpy as np
@@ -152,8 +152,9 @@ def _auto_exposure_cd_m2(xyz: np.ndarray, inside: np.ndarray) -> float:
 def _save_figure_atomically(figure, path: Path) -> None:
     """Write the figure as PNG to a temporary file beside ``path`` and move it into place."""
     path.parent.mkdir(parents=True, exist_ok=True)
-    handle, temporary = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".png", dir=path.parent)
-    os.close(handle)
+    # A fresh unique name rather than mkstemp, whose 0600 mode would survive the rename; this
+    # way the file gets the usual permissions (umask).
+    temporary = path.parent / f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp"
     try:
         figure.savefig(temporary, format="png")
         os.replace(temporary, path)
@@ -316,8 +317,8 @@ def plot_sky_day(latitude_deg, day_of_year, times_h, path, *, turbidity: float =
     columns = min(int(columns), times.size)
     rows = -(-times.size // columns)
     panel = max(size / 100.0, 2.0)
-    figure, axes_grid = plt.subplots(rows, columns, dpi=100, squeeze=False,
-                                     figsize=(panel * columns, panel * rows * 1.1 + 0.4))
+    figure, axes_grid = plt.subplots(rows, columns, dpi=100, squeeze=False, layout="constrained",
+                                     figsize=(panel * columns, panel * rows * 1.15 + 0.3))
     try:
         kind = "solar time" if longitude_deg is None else f"UTC{float(utc_offset_h):+g} h"
         for index, axes in enumerate(axes_grid.reshape(-1)):
@@ -331,7 +332,10 @@ def plot_sky_day(latitude_deg, day_of_year, times_h, path, *, turbidity: float =
             label = f"{hours:02d}:{minutes:02d}"
             sky = skies[index]
             if sky is None:
+                _, inside = fisheye_directions(size)
                 image = np.zeros((size, size, 4))
+                image[..., :3] = 0.15  # a dark disc: no daylight sky
+                image[..., 3] = inside
                 _draw_dome(axes, image, None, size, f"{label}\nsun below horizon")
                 continue
             xyz, inside = domes[index]
