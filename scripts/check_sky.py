@@ -6,7 +6,7 @@ Usage::
     PYTHONPATH=python python3 scripts/check_sky.py [--figures DIR]
 
 Checks:
-1. Sun position (Preetham App. A.6) against NOAA/Spencer and against pvlib's NREL SPA.
+1. Sun position (Preetham appendix) against NOAA/Spencer and against pvlib's NREL SPA.
 2. Direct-beam sun spectrum (Preetham/Iqbal transmittances) against pvlib's SPECTRL2, the effect
    of the relative optical mass as printed in the paper, and the extraterrestrial spectrum against
    the authors' table.
@@ -60,7 +60,7 @@ def separation_deg(a, b):
 
 
 def check_sun_position():
-    print("== 1. Sun position (Preetham App. A.6)")
+    print("== 1. Sun position (Preetham appendix)")
     day = np.arange(1.0, 366.0)
     decl_err = np.degrees(solar_declination(day) - spencer_declination(day))
     eot_err = (solar_time(12.0, day, 0.0, 0.0) - 12.0) * 60.0 - spencer_equation_of_time_min(day)

@@ -31,7 +31,7 @@ def cmfs_at(wavelength_nm):
 
 class TestZenith:
     def test_zenith_values_by_hand(self):
-        # T = 3, θs = 30°, evaluated by hand from the paper's formulas (App. A.4):
+        # T = 3, θs = 30°, evaluated by hand from the paper's formulas (appendix):
         # χ = (4/9 − 3/120)(π − π/3) = 0.87848, Y_z = 7.1649 tan χ + 1.7727 = 10.413 kcd/m²;
         # x_z: rows (T², T, 1)·(θs³, θs², θs, 1) = 9·0.0003045 + 3·0.00049 + 0.249221 = 0.2534.
         sky = sky_with_sun_at(3.0, 60.0)

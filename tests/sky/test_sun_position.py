@@ -1,4 +1,4 @@
-"""Sun position (Preetham et al. 1999, App. A.6) against an independent formula and known cases."""
+"""Sun position (Preetham et al. 1999, appendix) against an independent formula and known cases."""
 
 import datetime
 

@@ -10,13 +10,13 @@ Public objects
 Model
 -----
 For a view direction at zenith angle θ and angle γ from the sun (sun zenith θs), each of the
-luminance Y and the chromaticity coordinates x, y is (Preetham et al. 1999, eq. 3-4)::
+luminance Y and the chromaticity coordinates x, y is (Preetham et al. 1999)::
 
     v(θ, γ) = v_z · F(θ, γ) / F(0, θs),
     F(θ, γ) = (1 + A exp(B / cos θ)) (1 + C exp(D γ) + E cos² γ)      (Perez et al. 1993)
 
-with A–E linear in the turbidity T (paper, App. A.3, table reproduced in :data:`_PEREZ`) and the
-zenith values (App. A.4)::
+with A–E linear in the turbidity T (paper's appendix, table reproduced in :data:`_PEREZ`) and the
+zenith values (appendix)::
 
     Y_z = (4.0453 T − 4.9710) tan χ − 0.2155 T + 2.4192   [kcd m⁻²],  χ = (4/9 − T/120)(π − 2θs)
     x_z = (T², T, 1) · M_x · (θs³, θs², θs, 1)ᵀ,   y_z likewise with M_y     (θs in radians)
@@ -85,7 +85,7 @@ LUMINOUS_EFFICACY_LM_W = 683.0
 #: Wavelength range of the CIE daylight basis functions, nm.
 SKY_WAVELENGTH_RANGE_NM = (300.0, 830.0)
 
-# Perez coefficients, Preetham et al. (1999) App. A.3: _PEREZ[q, k] = (slope, intercept) of
+# Perez coefficients, Preetham et al. (1999), appendix: _PEREZ[q, k] = (slope, intercept) of
 # coefficient k ∈ (A, B, C, D, E) for quantity q ∈ (Y, x, y), value = slope·T + intercept.
 _PEREZ = np.array([
     [[0.1787, -1.4630], [-0.3554, 0.4275], [-0.0227, 5.3251], [0.1206, -2.5771],
@@ -96,7 +96,7 @@ _PEREZ = np.array([
      [-0.0109, 0.0529]],                                                          # y
 ])
 
-# Zenith chromaticity, App. A.4: rows multiply (T², T, 1), columns (θs³, θs², θs, 1).
+# Zenith chromaticity, Preetham appendix: rows multiply (T², T, 1), columns (θs³, θs², θs, 1).
 _ZENITH_X = np.array([[0.00166, -0.00375, 0.00209, 0.0],
                       [-0.02903, 0.06377, -0.03202, 0.00394],
                       [0.11693, -0.21196, 0.06052, 0.25886]])
@@ -150,7 +150,7 @@ def _perez(coefficients, cos_theta, gamma, cos_gamma):
 
 
 def daylight_m1_m2(x, y):
-    """CIE daylight factors M1, M2 from chromaticity (x, y), unrounded (CIE 015:2018 eq. 4.7).
+    """CIE daylight factors M1, M2 from chromaticity (x, y), unrounded (CIE 015:2018).
 
     Parameters
     ----------
@@ -229,7 +229,7 @@ class PreethamSky:
         t = self.turbidity
         self.perez_coefficients = _PEREZ[..., 0] * t + _PEREZ[..., 1]
         self.perez_coefficients.setflags(write=False)
-        # Zenith luminance, App. A.4 (kcd m⁻²).
+        # Zenith luminance, Preetham appendix (kcd m⁻²).
         chi = (4.0 / 9.0 - t / 120.0) * (np.pi - 2.0 * theta_s)
         self.zenith_luminance_kcd_m2 = float((4.0453 * t - 4.9710) * np.tan(chi)
                                              - 0.2155 * t + 2.4192)
@@ -308,7 +308,7 @@ class PreethamSky:
         return np.stack(values, axis=-1)
 
     def luminance(self, directions):
-        """Sky luminance Y (Preetham eq. 3–4 with the zenith value Y_z).
+        """Sky luminance Y (Perez distribution scaled to the zenith value Y_z).
 
         Parameters
         ----------

@@ -1,4 +1,4 @@
-"""Where the sun is: solar time, declination, zenith and azimuth (Preetham et al. 1999, App. A.6).
+"""Where the sun is: solar time, declination, zenith and azimuth (Preetham et al. 1999, appendix).
 
 Public objects
 --------------
@@ -23,13 +23,14 @@ Conventions
 - Times in decimal hours (10.5 = 10:30). Without longitude and time zone, the time is taken as
   local apparent solar time (12 = solar noon).
 
-Accuracy: the appendix formulas are a low-order fit; against the NOAA/Spencer series they agree
-to a few tenths of a degree (see ``docs/daylight.md``), ample for lighting.
+Accuracy: the appendix formulas are a low-order fit; against the NOAA/Spencer series and NREL's SPA
+the direction agrees within 1° (0.2–0.3° on average; see ``docs/daylight.md``), ample for lighting.
+Atmospheric refraction is not modelled.
 
 References
 ----------
 Preetham, A. J., Shirley, P., Smits, B. (1999). A practical analytic model for daylight.
-    Proceedings of SIGGRAPH 99, 91–100. Appendix A.6 "Solar position".
+    Proceedings of SIGGRAPH 99, 91–100. Appendix (solar position).
 """
 
 from __future__ import annotations
@@ -81,7 +82,7 @@ def _day_array(value) -> np.ndarray:
 def solar_time(standard_time_h, day_of_year, longitude_deg, utc_offset_h) -> np.ndarray:
     """Local apparent solar time from standard (clock) time.
 
-    Preetham et al. (1999), App. A.6:
+    Preetham et al. (1999), appendix:
     t = ts + 0.170 sin(4π(J − 80)/373) − 0.129 sin(2π(J − 8)/355) + 12 (SM − L)/π,
     with SM and L the standard meridian and longitude in radians measured *west* positive. With
     east-positive degrees the last term is (L_east − SM_east)/15 hours.
@@ -108,7 +109,7 @@ def solar_time(standard_time_h, day_of_year, longitude_deg, utc_offset_h) -> np.
     j = _day_array(day_of_year)
     lon = real_array("longitude_deg", longitude_deg, -180.0, 180.0)
     offset = real_array("utc_offset_h", utc_offset_h, -12.0, 14.0)
-    # Equation of time, Preetham App. A.6 (hours).
+    # Equation of time, Preetham appendix (hours).
     equation_of_time_h = (0.170 * np.sin(4.0 * np.pi * (j - 80.0) / 373.0)
                           - 0.129 * np.sin(2.0 * np.pi * (j - 8.0) / 355.0))
     # 12 (SM − L)/π with west-positive radians == (L_east − SM_east)/15 with degrees.
@@ -117,7 +118,7 @@ def solar_time(standard_time_h, day_of_year, longitude_deg, utc_offset_h) -> np.
 
 
 def solar_declination(day_of_year) -> np.ndarray:
-    """Solar declination δ in radians (Preetham et al. 1999, App. A.6).
+    """Solar declination δ in radians (Preetham et al. 1999, appendix).
 
     δ = 0.4093 sin(2π(J − 81)/368).
 
@@ -137,7 +138,7 @@ def solar_declination(day_of_year) -> np.ndarray:
 
 def sun_position(latitude_deg, day_of_year, time_h, *, longitude_deg=None,
                  utc_offset_h=None) -> tuple[np.ndarray, np.ndarray]:
-    """Zenith and azimuth angles of the sun (Preetham et al. 1999, App. A.6).
+    """Zenith and azimuth angles of the sun (Preetham et al. 1999, appendix).
 
     θs = π/2 − arcsin(sin l sin δ − cos l cos δ cos(πt/12)),
     φs = atan2(−cos δ sin(πt/12), −(cos l sin δ + sin l cos δ cos(πt/12)))   (from south, + west),
@@ -188,7 +189,7 @@ def sun_position(latitude_deg, day_of_year, time_h, *, longitude_deg=None,
         t = solar_time(time_h, day_of_year, longitude_deg, utc_offset_h)
     delta = solar_declination(day_of_year)
     hour_angle = np.pi * t / 12.0  # Preetham's πt/12 (π at solar noon)
-    # Preetham App. A.6. The clip guards arcsin against rounding just beyond ±1 at the poles.
+    # Preetham appendix. The clip guards arcsin against rounding just beyond ±1 at the poles.
     sin_elevation = np.clip(np.sin(lat) * np.sin(delta)
                             - np.cos(lat) * np.cos(delta) * np.cos(hour_angle), -1.0, 1.0)
     zenith = np.pi / 2.0 - np.arcsin(sin_elevation)

@@ -16,7 +16,7 @@ Public objects
 
 Model ("Preetham 1999", the default)
 ------------------------------------
-Preetham et al. (1999), App. A.2, after Iqbal (1983), with the relative optical mass m placed
+Preetham et al. (1999), appendix, after Iqbal (1983), with the relative optical mass m placed
 *as in the authors' code* (a factor of every optical depth), not as printed in the paper's
 appendix, where m appears inside the exponent of λ for the Rayleigh and aerosol terms::
 
@@ -56,8 +56,8 @@ Radiance does not depend on the Earth–Sun distance (E and Ω both scale as 1/r
 References
 ----------
 Preetham, A. J., Shirley, P., Smits, B. (1999). A practical analytic model for daylight.
-    SIGGRAPH 99, 91–100, Appendix A.2.
-Iqbal, M. (1983). An Introduction to Solar Radiation. Academic Press. Ch. 6 and App. C.
+    SIGGRAPH 99, 91–100, appendix (sun spectral radiance).
+Iqbal, M. (1983). An Introduction to Solar Radiation. Academic Press.
 Leckner, B. (1978). The spectral distribution of solar radiation at the earth's surface—elements
     of a model. Solar Energy 20, 143–150.
 Bird, R. E., Riordan, C. (1986). Simple solar spectral model for direct and diffuse irradiance on
@@ -123,7 +123,7 @@ _SEA_LEVEL_PRESSURE_PA = 101_325.0
 def angstrom_beta(turbidity):
     """Ångström turbidity coefficient β from the turbidity T.
 
-    β = 0.04608365822050 T − 0.04586025928522 (Preetham et al. 1999, App. A.2; the digits are
+    β = 0.04608365822050 T − 0.04586025928522 (Preetham et al. 1999, appendix; the digits are
     those of the authors' code, printed rounded in the paper).
 
     Parameters
@@ -246,7 +246,7 @@ def _check_atmosphere(turbidity, ozone_cm, water_vapour_cm):
 
 def transmittance_components(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZONE_CM,
                              water_vapour_cm=WATER_VAPOUR_CM) -> dict[str, np.ndarray]:
-    """The five beam transmittances of Preetham et al. (1999), App. A.2 (see module docstring).
+    """The five beam transmittances of Preetham et al. (1999), appendix (see module docstring).
 
     Parameters
     ----------
@@ -279,7 +279,7 @@ def transmittance_components(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=O
     k_wa = np.interp(wavelength, grid, table["water_vapor_absorption"])
     lambda_um = wavelength / 1000.0
     beta = 0.04608365822050 * t - 0.04586025928522
-    # Preetham App. A.2 with m multiplying each optical depth (the authors' code): see docstring.
+    # Preetham appendix with m multiplying each optical depth (the authors' code): see docstring.
     components = {
         "rayleigh": np.exp(-m * 0.008735 * lambda_um ** -4.08),
         "aerosol": np.exp(-m * beta * lambda_um ** -ANGSTROM_ALPHA),
