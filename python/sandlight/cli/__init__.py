@@ -7,6 +7,7 @@ from sandlight.cli._app import app
 # Command modules (one per area); imported for their @app.command() side effect.
 from sandlight.cli import engine as _engine  # noqa: F401,E402
 from sandlight.cli import colour as _colour  # noqa: F401,E402
+from sandlight.cli import sky as _sky  # noqa: F401,E402
 
 
 def main() -> None:
