@@ -5,11 +5,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import sandlight
+
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.measured import read_csv, read_usgs, usgs_library
 
 REPO = Path(__file__).resolve().parents[1]
-PACKAGE_MEASURED = REPO / "python" / "sandlight" / "data" / "measured"
+# The copies shipped with the package as it is imported (installed or source tree).
+PACKAGE_MEASURED = Path(sandlight.__file__).parent / "data" / "measured"
 VALIDATION_STEMS = ("Quartz_GDS74_Sand_Ottawa_BECKc_AREF", "Hematite.02+Quartz.98_GDS76_BECKa_AREF")
 BECKMAN = "splib07a_Wavelengths_BECK_Beckman_0.2-3.0_microns.txt"
 ASD = "splib07a_Wavelengths_ASD_0.35-2.5_microns_2151_ch.txt"

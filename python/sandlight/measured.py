@@ -312,11 +312,19 @@ def read_csv(path) -> xr.DataArray:
 
 
 def _shared_usgs_folder() -> Path | None:
-    """The project's shared ``data/measured/usgs_splib07a/ascii`` folder, if above this file."""
-    for parent in Path(__file__).resolve().parents:
-        candidate = parent / "shared" / "data" / "measured" / "usgs_splib07a" / "ascii"
-        if candidate.is_dir():
-            return candidate
+    """The project's shared ``data/measured/usgs_splib07a/ascii`` folder: from the environment
+    variable ``SANDLIGHT_SHARED`` (the ``shared`` folder), else the first ``shared/`` above this
+    file (a source tree) or above the working directory (an installed package run from a
+    checkout)."""
+    sub = Path("data") / "measured" / "usgs_splib07a" / "ascii"
+    if os.environ.get("SANDLIGHT_SHARED"):
+        candidate = Path(os.environ["SANDLIGHT_SHARED"]) / sub
+        return candidate if candidate.is_dir() else None
+    for start in (Path(__file__).resolve(), Path.cwd().resolve() / "."):
+        for parent in start.parents:
+            candidate = parent / "shared" / sub
+            if candidate.is_dir():
+                return candidate
     return None
 
 
