@@ -21,15 +21,22 @@ from sandlight.errors import ModelFileError, ParameterError, SandlightError  # n
 from sandlight.sample import PARAMETERS, SandSample  # noqa: E402
 
 
+_NATIVE_API = {
+    "reflectance": "sandlight.engine", "isotropic_halfspace": "sandlight.engine", "ReflectanceResult": "sandlight.engine",
+    "brdf": "sandlight.gonio.measure", "fixed_incidence": "sandlight.gonio.measure",
+    "IsotropicScatterers": "sandlight.gonio.measure", "LambertianSurface": "sandlight.gonio.measure",
+}
+
+
 def __getattr__(name):
     # The engine needs the native extension; import it on first use so that pure-Python parts
     # (samples, colour, sky) work from a source tree without a build.
-    if name in ("reflectance", "isotropic_halfspace", "ReflectanceResult"):
-        from sandlight import engine
+    if name in _NATIVE_API:
+        import importlib
 
-        return getattr(engine, name)
+        return getattr(importlib.import_module(_NATIVE_API[name]), name)
     raise AttributeError(f"module 'sandlight' has no attribute {name!r}")
 
 
-__all__ = ["SandlightError", "ParameterError", "ModelFileError", "SandSample", "PARAMETERS",
-           "reflectance", "isotropic_halfspace", "ReflectanceResult", "__version__"]
+__all__ = ["SandlightError", "ParameterError", "ModelFileError", "SandSample", "PARAMETERS", "__version__",
+           *_NATIVE_API]

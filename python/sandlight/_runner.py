@@ -18,13 +18,17 @@ FIRST_BATCH = 2048
 SHOW_AFTER_SECONDS = 1.0
 
 
-def run_in_batches(run_batch: Callable[[int, int], None], total: int, *, label: str, progress: bool = True) -> None:
-    """Calls ``run_batch(first, count)`` over ``0 .. total`` in adaptively sized batches.
+def run_in_batches(run_batch: Callable[[int, int], None], total: int, *, label: str, progress: bool = True,
+                   start_at: int = 0, on_checkpoint: Callable[[int], None] | None = None,
+                   checkpoint_seconds: float = 60.0) -> None:
+    """Calls ``run_batch(first, count)`` over ``start_at .. total`` in adaptively sized batches.
 
-    A progress bar appears once the run has taken more than a second.
+    A progress bar appears once the run has taken more than a second. ``on_checkpoint(done)``
+    is called every ``checkpoint_seconds`` and at the end, so a long run can be resumed.
     """
-    done, batch = 0, min(FIRST_BATCH, total)
+    done, batch = start_at, min(FIRST_BATCH, total - start_at)
     start = time.perf_counter()
+    last_checkpoint = start
     bar = task = None
     try:
         while done < total:
@@ -41,8 +45,11 @@ def run_in_batches(run_batch: Callable[[int, int], None], total: int, *, label: 
                 bar.start()
                 task = bar.add_task(label, total=total, completed=done, rate="")
             if bar is not None:
-                rate = done / (time.perf_counter() - start)
+                rate = (done - start_at) / (time.perf_counter() - start)
                 bar.update(task, completed=done, rate=f"{rate:,.0f} rays/s")
+            if on_checkpoint is not None and time.perf_counter() - last_checkpoint > checkpoint_seconds:
+                on_checkpoint(done)
+                last_checkpoint = time.perf_counter()
     finally:
         if bar is not None:
             bar.stop()

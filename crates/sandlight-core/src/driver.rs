@@ -11,16 +11,16 @@ use crate::rng::Rng;
 use crate::transport::{Fate, Limits, Medium};
 
 /// Runs `body(tally, ray_index)` for rays `first .. first + n` on the current rayon pool, in
-/// contiguous blocks with one tally each, and merges the tallies.
-pub fn for_rays<T, I, B, M>(first: u64, n: u64, init: I, body: B, merge: M) -> T
+/// `blocks_per_thread` contiguous blocks per thread with one tally each, and merges the tallies.
+/// More blocks balance load better; fewer keep large tallies (a BRDF's) cheap in memory.
+pub fn for_rays<T, I, B, M>(first: u64, n: u64, blocks_per_thread: u64, init: I, body: B, merge: M) -> T
 where
     T: Send,
     I: Fn() -> T + Sync + Send,
     B: Fn(&mut T, u64) + Sync + Send,
     M: Fn(T, T) -> T + Sync + Send,
 {
-    // Enough blocks to balance load, few enough that large tallies stay cheap.
-    let blocks = (rayon::current_num_threads() as u64 * 16).clamp(1, n.max(1));
+    let blocks = (rayon::current_num_threads() as u64 * blocks_per_thread.max(1)).clamp(1, n.max(1));
     let per = n.div_ceil(blocks);
     (0..blocks)
         .into_par_iter()
@@ -71,6 +71,7 @@ pub fn directional_hemispherical<Md: Medium>(medium: &Md, dir_in: Vec3, seed: u6
     for_rays(
         first,
         n,
+        16,
         DhrCounts::default,
         |c, i| {
             let mut rng = Rng::for_ray(seed, stream, i);

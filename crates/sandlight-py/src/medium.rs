@@ -1,8 +1,13 @@
 //! `sandlight._native.Medium`: a medium at one wavelength, and the runs over it.
 
+use numpy::ndarray::Array2;
+use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use sandlight_core::driver::{directional_hemispherical, incident_direction};
+use sandlight_core::gonio::measure::{measure_brdf, measure_fixed_incidence};
+use sandlight_core::gonio::{BrdfTally, CollectorHemisphere, FixedIncidenceTally};
+use sandlight_core::math::Vec3;
 use sandlight_core::error::SandlightError;
 use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, Particulate, ParticleType};
 use sandlight_core::particle::{Coating, ParticleOptics, PoreOptics};
@@ -112,5 +117,51 @@ impl PyMedium {
         };
         let c = py.detach(run).map_err(PyRuntimeError::new_err)?;
         Ok((c.launched, c.escaped, c.absorbed, c.transmitted, c.capped, c.events))
+    }
+
+    /// Uniform-incidence goniophotometer trials `first_ray .. first_ray + n_rays` on a
+    /// `stacks` × `slices` hemisphere. Returns (counts (r, r), absorbed (r,), launched (r,),
+    /// lost (r,)) as uint64 arrays. The GIL is released.
+    #[pyo3(signature = (stacks, slices, seed, stream, first_ray, n_rays, max_events, max_internal, threads = None))]
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    fn brdf_counts<'py>(&self, py: Python<'py>, stacks: usize, slices: usize, seed: u64, stream: u64, first_ray: u64, n_rays: u64, max_events: u64, max_internal: u32, threads: Option<usize>)
+        -> PyResult<(Bound<'py, PyArray2<u64>>, Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<u64>>)> {
+        let h = CollectorHemisphere::new(stacks, slices).map_err(|e| to_py(py, e))?;
+        let limits = Limits { max_events, max_internal };
+        let run = || -> Result<BrdfTally, String> {
+            run_with_threads(threads, || match &self.kind {
+                Kind::Particulate(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
+                Kind::Isotropic(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
+                Kind::Lambertian(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
+            })
+        };
+        let t = py.detach(run).map_err(PyRuntimeError::new_err)?;
+        let r = t.n_patches;
+        let counts = Array2::from_shape_vec((r, r), t.counts).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+        Ok((counts.into_pyarray(py), t.absorbed.into_pyarray(py), t.launched.into_pyarray(py), t.lost.into_pyarray(py)))
+    }
+
+    /// Fixed-incidence goniophotometer: light from zenith `theta_deg`, azimuth `phi_deg`.
+    /// Returns (counts (r,), absorbed, launched, lost).
+    #[pyo3(signature = (stacks, slices, theta_deg, phi_deg, seed, stream, first_ray, n_rays, max_events, max_internal, threads = None))]
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    fn fixed_counts<'py>(&self, py: Python<'py>, stacks: usize, slices: usize, theta_deg: f64, phi_deg: f64, seed: u64, stream: u64, first_ray: u64, n_rays: u64, max_events: u64, max_internal: u32, threads: Option<usize>)
+        -> PyResult<(Bound<'py, PyArray1<u64>>, u64, u64, u64)> {
+        if !(0.0..90.0).contains(&theta_deg) || !phi_deg.is_finite() {
+            return Err(to_py(py, SandlightError::parameter("incidence_deg", theta_deg, "must be in [0, 90) with a finite azimuth")));
+        }
+        let h = CollectorHemisphere::new(stacks, slices).map_err(|e| to_py(py, e))?;
+        let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+        let toward_light = Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
+        let limits = Limits { max_events, max_internal };
+        let run = || -> Result<FixedIncidenceTally, String> {
+            run_with_threads(threads, || match &self.kind {
+                Kind::Particulate(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
+                Kind::Isotropic(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
+                Kind::Lambertian(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
+            })
+        };
+        let t = py.detach(run).map_err(PyRuntimeError::new_err)?;
+        Ok((t.counts.into_pyarray(py), t.absorbed, t.launched, t.lost))
     }
 }

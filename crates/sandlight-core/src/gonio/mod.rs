@@ -12,6 +12,7 @@
 //! the number of threads as long as each trial's random stream does not.
 
 pub mod hemisphere;
+pub mod measure;
 pub mod tally;
 
 pub use hemisphere::{CollectorHemisphere, PatchBounds};

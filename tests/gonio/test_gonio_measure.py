@@ -1,0 +1,102 @@
+"""The goniophotometer driven by the transport engine, against exact answers."""
+
+import math
+
+import numpy as np
+import pytest
+
+import sandlight
+from sandlight.errors import ModelFileError, ParameterError
+from sandlight.gonio import CollectorHemisphere, EquivalenceClasses, reduce_counts, synthetic
+from sandlight.gonio.measure import IsotropicScatterers, LambertianSurface, brdf, fixed_incidence
+
+STACKS, SLICES = 7, 6
+
+
+def z_ok(z, *, mean_tol):
+    """Most z-scores within 4, none wild, no systematic bias."""
+    assert np.all(np.isfinite(z))
+    assert np.mean(np.abs(z) < 4) > 0.99
+    assert abs(z.mean()) < mean_tol
+
+
+def test_chandrasekhar_brdf_patch_by_patch():
+    hemi = CollectorHemisphere(STACKS, SLICES)
+    m = brdf(IsotropicScatterers(0.9), rays=2_000_000, stacks=STACKS, slices=SLICES, seed=1, method="pooled",
+             progress=False)
+    red = reduce_counts(hemi, m.counts, m.absorbed, m.launched, m.lost, method="pooled")
+    expected = EquivalenceClasses(hemi).mean(
+        synthetic.expected_brdf(hemi, synthetic.chandrasekhar_probabilities(hemi, 0.9)))
+    z = (red.unique_absolute - expected) / red.unique_absolute_stderr
+    z_ok(z, mean_tol=0.2)
+    assert 0.8 < z.std() < 1.2
+
+
+def test_lambertian_surface_gives_a_over_pi_everywhere():
+    m = brdf(LambertianSurface(0.6), rays=500_000, stacks=STACKS, slices=SLICES, seed=2, progress=False)
+    hemi = CollectorHemisphere(STACKS, SLICES)
+    red = reduce_counts(hemi, m.counts, m.absorbed, m.launched, m.lost)
+    z = (red.unique_absolute - 0.6 / math.pi) / red.unique_absolute_stderr
+    z_ok(z, mean_tol=0.2)
+
+
+def test_fixed_incidence_lambertian():
+    r = fixed_incidence(LambertianSurface(0.5), incidence_deg=40, rays=300_000, stacks=STACKS, slices=SLICES,
+                        seed=3, progress=False)
+    assert r.launched == 300_000 and r.absorbed + r.counts.sum() == r.launched
+    z_ok((r.values - 0.5 / math.pi) / r.stderr, mean_tol=0.5)
+    assert abs(r.reflectance - 0.5) < 4 * math.sqrt(0.25 / 300_000)
+
+
+def test_sand_brdf_is_reduced_exactly_and_thread_independent():
+    s = sandlight.SandSample.preset("red-dune")
+    one = brdf(s, 650, rays=20_000, stacks=STACKS, slices=SLICES, seed=4, threads=1, progress=False)
+    two = brdf(s, 650, rays=20_000, stacks=STACKS, slices=SLICES, seed=4, threads=2, progress=False)
+    assert np.array_equal(one.counts, two.counts)
+    f = one.values
+    assert np.array_equal(f, f.T)  # reciprocity holds exactly after reduction
+    omega_p = CollectorHemisphere(STACKS, SLICES).projected_solid_angles
+    assert (f[0] * omega_p).sum() == pytest.approx(1.0, abs=1e-12)
+
+
+def test_checkpointed_run_resumes_to_the_same_counts(tmp_path, monkeypatch):
+    import sandlight._runner as runner
+
+    ck = tmp_path / "run.checkpoint.npz"
+    full = brdf(LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, progress=False)
+
+    # Interrupt after the first checkpoint: checkpoint every batch, then raise.
+    calls = {"n": 0}
+    original = runner.run_in_batches
+
+    def interrupted(run_batch, total, **kw):
+        def on_checkpoint(done):
+            kw["on_checkpoint"](done)
+            calls["n"] += 1
+            raise KeyboardInterrupt
+        kw = dict(kw, checkpoint_seconds=-1.0)
+        return original(run_batch, total, **{**kw, "on_checkpoint": on_checkpoint})
+
+    monkeypatch.setattr("sandlight.gonio.measure.run_in_batches", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        brdf(LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, checkpoint=ck, progress=False)
+    assert ck.exists() and calls["n"] == 1
+    monkeypatch.setattr("sandlight.gonio.measure.run_in_batches", original)
+    resumed = brdf(LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, checkpoint=ck,
+                   progress=False)
+    assert np.array_equal(resumed.counts, full.counts) and not ck.exists()
+    # A checkpoint of another run is refused.
+    brdf_ck = tmp_path / "other.npz"
+    np.savez(brdf_ck, key=np.array("not this run"), done=np.array(1))
+    with pytest.raises(ModelFileError, match="different run"):
+        brdf(LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, checkpoint=brdf_ck,
+             progress=False)
+
+
+def test_bad_inputs():
+    with pytest.raises(ParameterError, match="stacks"):
+        brdf(LambertianSurface(0.5), rays=10, stacks=1)
+    with pytest.raises(ParameterError, match="sample"):
+        brdf(42, rays=10)
+    with pytest.raises(ParameterError, match="incidence_deg"):
+        fixed_incidence(LambertianSurface(0.5), incidence_deg=95, rays=10)
