@@ -6,6 +6,7 @@ from sandlight.cli._app import app
 
 # Command modules (one per area); imported for their @app.command() side effect.
 from sandlight.cli import engine as _engine  # noqa: F401,E402
+from sandlight.cli import predict as _predict  # noqa: F401,E402
 
 
 def main() -> None:
