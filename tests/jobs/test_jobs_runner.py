@@ -6,6 +6,7 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 import time
 from pathlib import Path
 
@@ -118,6 +119,26 @@ class TestResume:
         assert job.status().n_done == 9  # every finished task was stored, none twice
         status = make_job(tmp_path / "store").run(InProcessExecutor(), progress=False)
         assert_same_dataset(status, reference)
+
+    @pytest.mark.parametrize("executor, signum", [
+        (lambda: LocalExecutor(workers=2), signal.SIGINT),
+        (InProcessExecutor, signal.SIGTERM),
+    ])
+    def test_signal_stops_cleanly(self, tmp_path, reference, executor, signum):
+        # A real signal to this process while tasks run: the pool is stopped, the tasks in
+        # flight are dropped, and every finished one is stored exactly once.
+        job = make_job(tmp_path / "store", fn=functools.partial(jobs_fakes.slow_square, 0.1))
+        timer = threading.Timer(1.0, os.kill, (os.getpid(), signum))
+        timer.start()
+        try:
+            with pytest.raises(Cancelled, match="resume"):
+                job.run(executor(), progress=False)
+        finally:
+            timer.cancel()
+        assert 0 < job.status().n_done < N
+        assert signal.getsignal(signal.SIGTERM) == signal.SIG_DFL  # handler restored
+        assert_same_dataset(make_job(tmp_path / "store").run(InProcessExecutor(),
+                                                             progress=False), reference)
 
     def test_kill_9_loses_only_tasks_in_flight(self, tmp_path, reference):
         store = tmp_path / "store"

@@ -73,6 +73,11 @@ class TestDraw:
         assert np.median(column(draws, "grain_size")) == pytest.approx(math.sqrt(0.1), rel=0.05)
         assert np.median(column(draws, "porosity")) == pytest.approx(0.40, rel=0.02)
 
+    def test_arrays_and_dicts_agree(self, draws):
+        values, codes = DEFAULT.draw_arrays(3000, seed=1)
+        np.testing.assert_array_equal(values, [[s[n] for n in DEFAULT.names] for s in draws])
+        assert [DEFAULT.forms[c] for c in codes] == list(column(draws, "iron_oxide_form"))
+
     def test_random_design(self):
         draws = DEFAULT.draw(600, seed=5, design="random")
         counts = [int((column(draws, "iron_oxide_form") == f).sum()) for f in FORMS]

@@ -329,6 +329,23 @@ class Domain:
             One dict per sample: every dimension, the fixed parameters, ``sand`` and
             ``iron_oxide_form``, as plain Python floats and str (SandSample keyword arguments).
         """
+        values, codes = self.draw_arrays(n, seed, design)
+        silt, clay = ((values[:, self.names.index("silt")], values[:, self.names.index("clay")])
+                      if self._texture_drawn else (self.fixed["silt"], self.fixed["clay"]))
+        sand = np.broadcast_to(1.0 - silt - clay, codes.shape)
+        fixed = {k: float(v) for k, v in self.fixed.items()}
+        samples = []
+        for i, row in enumerate(values.tolist()):
+            s = dict(zip(self.names, row))
+            s.update(fixed)
+            s["sand"] = float(sand[i])
+            s[FORM_PARAMETER] = self.forms[codes[i]]
+            samples.append(s)
+        return samples
+
+    def draw_arrays(self, n: int, seed: int, design: str = "lhs"):
+        """The draws of :meth:`draw` as arrays: values (n, n_dimensions) in ``names`` order and
+        form codes (n,) indexing ``forms`` (the input of ``SpectralModel.predict``)."""
         from scipy.stats import qmc
 
         if int(n) < 1:
@@ -350,31 +367,18 @@ class Domain:
                 if rows.size and d:
                     lhs = qmc.LatinHypercube(d, rng=np.random.default_rng(streams[1 + f]))
                     unit[rows] = lhs.random(rows.size)
-        return self._from_unit(unit, codes)
-
-    def _from_unit(self, unit: np.ndarray, codes: np.ndarray) -> list[dict]:
-        columns = {}
+        values = np.empty((n, d))
         for j, dim in enumerate(self.dimensions):
             if dim.name not in ("silt", "clay"):
-                columns[dim.name] = dim.from_unit(unit[:, j])
+                values[:, j] = dim.from_unit(unit[:, j])
         if self._texture_drawn:
-            fill, share = unit[:, self.names.index("silt")], unit[:, self.names.index("clay")]
+            js, jc = self.names.index("silt"), self.names.index("clay")
+            fill, share = unit[:, js], unit[:, jc]
             # class fill f = (silt + 1.5·clay)/limit, silt share s = silt/(silt + clay)
             fines = self.texture_limit * fill / (share + CLAY_WEIGHT * (1.0 - share))
-            columns["silt"] = fines * share
-            columns["clay"] = fines * (1.0 - share)
-            silt, clay = columns["silt"], columns["clay"]
-        else:
-            silt, clay = self.fixed["silt"], self.fixed["clay"]
-        sand = 1.0 - silt - clay
-        samples = []
-        for i in range(unit.shape[0]):
-            s = {name: float(columns[name][i]) for name in self.names}
-            s.update({k: float(v) for k, v in self.fixed.items()})
-            s["sand"] = float(np.broadcast_to(sand, unit.shape[:1])[i])
-            s[FORM_PARAMETER] = self.forms[int(codes[i])]
-            samples.append(s)
-        return samples
+            values[:, js] = fines * share
+            values[:, jc] = fines * (1.0 - share)
+        return values, codes.astype(np.intp)
 
     # ---- inputs of a predictor ---------------------------------------------------------------
     def check(self, values: np.ndarray, *, extrapolate: bool = False) -> None:
