@@ -56,3 +56,14 @@ def test_dask_resume_of_a_partial_local_run(tmp_path, local_dataset):
     status = job.run(DaskExecutor(n_workers=2, processes=False), progress=False)
     with xr.open_dataset(status.dataset_path) as ds:
         xr.testing.assert_identical(ds.load(), local_dataset)
+
+
+def test_dask_worker_process_dying_mid_task(tmp_path, local_dataset):
+    # Worker processes this time: the one computing task 5 dies (os._exit). The nanny restarts
+    # it, the scheduler reruns the task, and the dataset is unchanged.
+    fn = functools.partial(jobs_fakes.fail_once, str(tmp_path), 5, "exit")
+    status = make_job(tmp_path / "store", fn=fn).run(DaskExecutor(n_workers=2, processes=True),
+                                                     progress=False)
+    assert (tmp_path / "attempted-5").exists()
+    with xr.open_dataset(status.dataset_path) as ds:
+        xr.testing.assert_identical(ds.load(), local_dataset)
