@@ -25,6 +25,7 @@ _NATIVE_API = {
     "reflectance": "sandlight.engine", "isotropic_halfspace": "sandlight.engine", "ReflectanceResult": "sandlight.engine",
     "brdf": "sandlight.gonio.measure", "fixed_incidence": "sandlight.gonio.measure",
     "IsotropicScatterers": "sandlight.gonio.measure", "LambertianSurface": "sandlight.gonio.measure",
+    "SpectralModel": "sandlight.predictor",
 }
 
 

@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""Speed of the spectral predictor: spectra per second (batched) and single-call latency.
+
+Targets (issue 5): ≥ 1 million spectra per second on one core for batched array input, ≤ 1 ms
+for a single call. Run on one core::
+
+    python benchmarks/predict.py                       # the shipped model
+    python benchmarks/predict.py --model out/spectral-model.npz
+    python benchmarks/predict.py --synthetic           # no model needed: a model of the
+                                                       # default model's shape (13 parameters,
+                                                       # 3 forms, k = 6, 16 wavelengths)
+"""
+
+from __future__ import annotations
+
+import os
+
+# One core: BLAS must not spread the matrix products over threads (set before numpy loads).
+for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
+import argparse  # noqa: E402
+import time  # noqa: E402
+
+
+def synthetic_model():
+    """A model fitted to smooth synthetic spectra over the default domain (shape only)."""
+    import numpy as np
+
+    from sandlight.predictor import Domain, SpectralModel
+
+    domain = Domain.default()
+    values, codes = domain.draw_arrays(3000, seed=1)
+    X = domain.scaled(values)
+    wl = np.arange(400.0, 701.0, 20.0)
+    B = np.random.default_rng(0).standard_normal((X.shape[1], 6))
+    R = 0.4 + 0.05 * np.tanh(X @ B) @ np.random.default_rng(1).standard_normal((6, wl.size))
+    return SpectralModel(n_components=6).fit(values, R, wavelengths_nm=wl, domain=domain,
+                                              forms=codes)
+
+
+def best_time(fn, repeat: int, rounds: int = 5) -> float:
+    """Best mean time per call over a few rounds (least disturbed by other load)."""
+    best = float("inf")
+    for _ in range(rounds):
+        start = time.perf_counter()
+        for _ in range(repeat):
+            fn()
+        best = min(best, (time.perf_counter() - start) / repeat)
+    return best
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    source = p.add_mutually_exclusive_group()
+    source.add_argument("--model", help="model file (default: the shipped model)")
+    source.add_argument("--synthetic", action="store_true", help="fit a synthetic model")
+    p.add_argument("--batch", type=int, default=1_000_000, help="spectra per batched call")
+    args = p.parse_args(argv)
+
+    import numpy as np
+
+    from sandlight.predictor import SpectralModel, default_model
+
+    model = (synthetic_model() if args.synthetic else
+             SpectralModel.load(args.model) if args.model else default_model())
+    domain = model.domain_
+    X, codes = domain.draw_arrays(args.batch, seed=7, design="random")
+    print(f"model: {len(model.parameter_names_)} parameters, forms {model.forms_} "
+          f"({model.forms}), k = {model.n_components_}, {model.powers_.shape[0]} monomials, "
+          f"{model.wavelengths_.size} wavelengths")
+
+    batched = best_time(lambda: model.predict(X, codes), 1, rounds=3)
+    one_form = best_time(lambda: model.predict(X, np.zeros_like(codes)), 1, rounds=3)
+    print(f"batched ({args.batch} spectra, mixed forms): {args.batch / batched:,.0f} spectra/s")
+    print(f"batched ({args.batch} spectra, one form):    {args.batch / one_form:,.0f} spectra/s")
+
+    row, code = X[:1], codes[:1]
+    print(f"single call, array input:  {best_time(lambda: model.predict(row, code), 2000) * 1e6:.0f} µs")
+    sample = domain.draw(1, seed=8)[0]
+    print(f"single call, dict input:   {best_time(lambda: model.predict(sample), 2000) * 1e6:.0f} µs")
+    try:
+        from sandlight.sample import SandSample
+    except ImportError:
+        return 0
+    sand = SandSample(**sample)
+    print(f"single call, SandSample:   {best_time(lambda: model.predict(sand), 2000) * 1e6:.0f} µs")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

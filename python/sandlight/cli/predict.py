@@ -1,0 +1,148 @@
+"""Commands of the spectral predictor: train-spectral, predict."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+from typing import Optional
+
+import typer
+
+from sandlight.cli._app import app
+
+
+def _fail(message: str, code: int = 1):
+    typer.echo(f"error: {message}", err=True)
+    raise typer.Exit(code)
+
+
+@app.command("train-spectral")
+def train_spectral_command(
+    out: Path = typer.Option(..., "--out", help="Output directory (job stores, model, report)."),
+    samples: int = typer.Option(3000, "--samples", help="Training samples (paper: 3000)."),
+    rays: int = typer.Option(100_000, "--rays", help="Rays per sample and wavelength."),
+    wavelengths: str = typer.Option("400:700:20", "--wavelengths",
+                                    help="nm: 'start:stop:step' (stop included) or 'w1,w2,..'."),
+    seed: int = typer.Option(0, "--seed", help="Master seed (draws and engine seeds)."),
+    holdout: Optional[int] = typer.Option(None, "--holdout",
+                                          help="Hold-out samples (default: max(20, N/10))."),
+    workers: Optional[int] = typer.Option(None, "--workers",
+                                          help="Local worker processes (1: in-process) "
+                                               "(default: one per CPU)."),
+    dask_local: Optional[int] = typer.Option(None, "--dask-local",
+                                             help="Start a Dask LocalCluster of N workers."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler",
+                                            help="Dask scheduler address, tcp://HOST:PORT."),
+    fit_only: bool = typer.Option(False, "--fit-only",
+                                  help="Only refit from the complete datasets in --out."),
+    n_components: Optional[int] = typer.Option(None, "--components",
+                                               help="Principal components (default: by "
+                                                    "--variance)."),
+    variance: float = typer.Option(0.999, "--variance", help="Explained variance threshold."),
+    ridge: float = typer.Option(0.0, "--ridge", help="Ridge penalty (0: least squares)."),
+    forms: str = typer.Option("separate", "--forms", help="'separate' or 'onehot'."),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
+) -> None:
+    """Generate a training set with the engine and fit the spectral predictor (resumable:
+    run the same command again to continue after an interruption)."""
+    from sandlight.errors import Cancelled, SandlightError
+    from sandlight.jobs import make_executor
+    from sandlight.predictor.training import train_spectral
+
+    try:
+        executor = None if fit_only else make_executor(workers, dask_local, scheduler)
+        run = train_spectral(
+            out, samples, rays, wavelengths, seed, n_holdout=holdout, executor=executor,
+            fit_only=fit_only, progress=progress,
+            model_params={"n_components": n_components, "variance_threshold": variance,
+                          "ridge": ridge, "forms": forms})
+    except Cancelled as exc:
+        _fail(str(exc), 130)
+    except SandlightError as exc:
+        _fail(str(exc))
+    model, report = run.model, run.report
+    ratio = model.explained_variance_ratio_
+    typer.echo(f"training set: {run.training.dataset_path} ({run.training.n_total} samples)")
+    typer.echo(f"principal components: k = {model.n_components_}, explained variance "
+               f"{ratio[:model.n_components_].sum():.5%} "
+               f"(per component: {', '.join(f'{r:.4%}' for r in ratio[:model.n_components_])})")
+    typer.echo(f"training RMS error {model.training_rms_:.5f} (PCA floor "
+               f"{model.reconstruction_rms_:.5f})")
+    if report is not None:
+        typer.echo(report.table())
+    typer.echo(f"times: generation {run.generation_s:.1f} s (this run), fit {run.fit_s:.2f} s")
+    typer.echo(f"model: {run.model_path}")
+
+
+def _load_sample(sample_file: Optional[Path], preset: Optional[str]):
+    import tomllib
+
+    from sandlight.sample import SandSample
+
+    if (sample_file is None) == (preset is None):
+        _fail("give a sample file (SAMPLE.toml) or --preset NAME, not both or neither", 2)
+    if preset is not None:
+        return SandSample.preset(preset), preset
+    try:
+        with open(sample_file, "rb") as fh:
+            data = tomllib.load(fh)
+    except (OSError, tomllib.TOMLDecodeError) as exc:
+        _fail(f"cannot read {sample_file}: {exc}", 2)
+    # Accept the parameters at the top level or in a [sample] table.
+    data = data.get("sample", data) if isinstance(data.get("sample"), dict) else data
+    return SandSample.from_dict(data), sample_file.stem
+
+
+@app.command()
+def predict(
+    sample_file: Optional[Path] = typer.Argument(None, help="Sample parameters (TOML)."),
+    preset: Optional[str] = typer.Option(None, "--preset", help="A named SandSample preset."),
+    model_path: Optional[Path] = typer.Option(None, "--model",
+                                              help="Model file (default: the shipped model)."),
+    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write a CSV file."),
+    plot: Optional[Path] = typer.Option(None, "--plot", help="Save a plot (PNG, PDF, SVG)."),
+    extrapolate: bool = typer.Option(False, "--extrapolate",
+                                     help="Allow samples outside the training domain."),
+) -> None:
+    """Predict the spectral reflectance of a sand sample in microseconds."""
+    from sandlight.errors import SandlightError
+    from sandlight.predictor.spectral import SpectralModel, default_model
+
+    try:
+        model = default_model() if model_path is None else SpectralModel.load(model_path)
+        sample, label = _load_sample(sample_file, preset)
+        reflectance = model.predict([sample], extrapolate=extrapolate)[0]
+    except SandlightError as exc:
+        _fail(str(exc))
+    wavelengths = model.wavelengths_
+    if output is not None:
+        from sandlight.jobs.store import atomic_write
+
+        lines = ["wavelength_nm,reflectance"] + [f"{w:g},{r:.6f}"
+                                                 for w, r in zip(wavelengths, reflectance)]
+        text = "\n".join(lines) + "\n"
+        atomic_write(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    else:
+        from rich.console import Console
+        from rich.table import Table
+
+        table = Table(title=f"reflectance of {label}")
+        table.add_column("wavelength (nm)", justify="right")
+        table.add_column("reflectance", justify="right")
+        for w, r in zip(wavelengths, reflectance):
+            table.add_row(f"{w:g}", f"{r:.4f}")
+        Console(file=sys.stdout).print(table)
+    if plot is not None:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(6, 4))
+        ax.plot(wavelengths, reflectance, marker="o")
+        ax.set(xlabel="wavelength (nm)", ylabel="directional-hemispherical reflectance",
+               title=f"{label} (spectral predictor)", ylim=(0, max(1e-3, reflectance.max()) * 1.1))
+        ax.grid(alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(plot)
+        plt.close(fig)

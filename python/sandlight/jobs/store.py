@@ -1,0 +1,235 @@
+"""On-disk store of a job: settings, result shards and the final consolidated dataset.
+
+Layout of a store directory::
+
+    STORE/job.json              format, version and the settings the job was made with
+    STORE/shards/shard-NNNNNN.nc  results of the tasks finished so far (NetCDF, one file per flush)
+    STORE/dataset.nc            the consolidated dataset, written once every task is done
+
+Every file is written to a temporary name in the same directory and moved into place with
+``os.replace``, which is atomic on POSIX and Windows: a reader (or a resumed job) sees either the
+whole file or nothing, whatever moment the writer was killed at. Results are keyed by task
+index, so a task present in two shards (possible only if a job was killed between writing the
+consolidated dataset and removing its shards) is read once.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+
+from sandlight.jobs.errors import JobError, JobSettingsError
+
+STORE_FORMAT = "sandlight-job-store"
+STORE_FORMAT_VERSION = 1
+SETTINGS_FILE = "job.json"
+DATASET_FILE = "dataset.nc"
+SHARD_DIR = "shards"
+_SHARD_RE = re.compile(r"^shard-(\d{6,})\.nc$")
+_TMP_RE = re.compile(r"^\..+\.tmp-\d+$")
+
+
+def atomic_write(path: Path, write) -> None:
+    """Write ``path`` atomically: ``write(tmp_path)`` then ``os.replace(tmp_path, path)``.
+
+    The temporary file sits in the same directory (``os.replace`` is only atomic within one file
+    system) and is removed if ``write`` fails or is interrupted.
+    """
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
+def to_json_value(value):
+    """Convert settings to plain JSON types (numpy scalars and arrays, tuples, paths)."""
+    if isinstance(value, dict):
+        return {str(k): to_json_value(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [to_json_value(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return [to_json_value(v) for v in value.tolist()]
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, Path):
+        return str(value)
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    raise TypeError(f"setting value {value!r} of type {type(value).__name__} is not JSON-able")
+
+
+def dumps(value) -> str:
+    """Canonical JSON (sorted keys; inf written as ``Infinity``, which Python reads back)."""
+    return json.dumps(to_json_value(value), sort_keys=True, separators=(",", ":"))
+
+
+def _first_difference(stored, requested, prefix=""):
+    """Dotted path and both values of the first difference between two JSON trees, or None."""
+    if isinstance(stored, dict) and isinstance(requested, dict):
+        for key in sorted(set(stored) | set(requested)):
+            path = f"{prefix}.{key}" if prefix else key
+            if key not in stored:
+                return path, "<absent>", requested[key]
+            if key not in requested:
+                return path, stored[key], "<absent>"
+            diff = _first_difference(stored[key], requested[key], path)
+            if diff:
+                return diff
+        return None
+    if isinstance(stored, list) and isinstance(requested, list) and len(stored) == len(requested):
+        for i, (a, b) in enumerate(zip(stored, requested)):
+            diff = _first_difference(a, b, f"{prefix}[{i}]")
+            if diff:
+                return diff
+        return None
+    same = stored == requested or (
+        isinstance(stored, float) and isinstance(requested, float)
+        and math.isnan(stored) and math.isnan(requested))
+    return None if same else (prefix or "value", stored, requested)
+
+
+class ShardStore:
+    """A job store directory (see the module docstring for the layout).
+
+    Use :meth:`open` to create a store or to reopen one; it refuses a store made with other
+    settings. Only the job's parent process writes to a store.
+    """
+
+    def __init__(self, path: Path, settings: dict):
+        self.path = Path(path)
+        self.settings = settings
+
+    # ---- creation and validation -------------------------------------------------------------
+    @classmethod
+    def open(cls, path, settings: dict) -> "ShardStore":
+        """Create the store at ``path`` or reopen it, checking that its settings equal ``settings``.
+
+        Raises
+        ------
+        JobSettingsError
+            The store exists and one of its settings differs (the error names it).
+        JobError
+            ``path`` exists but is not a job store, or its ``job.json`` is unreadable.
+        """
+        path = Path(path)
+        requested = json.loads(dumps(settings))
+        settings_file = path / SETTINGS_FILE
+        if settings_file.exists():
+            try:
+                header = json.loads(settings_file.read_text(encoding="utf-8"))
+            except (OSError, ValueError) as exc:
+                raise JobError(f"{settings_file} is not a readable job settings file: {exc}") from exc
+            if header.get("format") != STORE_FORMAT:
+                raise JobError(f"{path} is not a sandlight job store (format {header.get('format')!r})")
+            if header.get("format_version") != STORE_FORMAT_VERSION:
+                raise JobSettingsError(path, "format_version", header.get("format_version"),
+                                       STORE_FORMAT_VERSION)
+            diff = _first_difference(header.get("settings"), requested)
+            if diff:
+                raise JobSettingsError(path, *diff)
+        else:
+            if path.exists() and any(p.name != SHARD_DIR for p in path.iterdir()):
+                raise JobError(f"{path} exists, is not empty and is not a sandlight job store; "
+                               f"choose another output directory")
+            path.mkdir(parents=True, exist_ok=True)
+            header = {"format": STORE_FORMAT, "format_version": STORE_FORMAT_VERSION,
+                      "settings": requested}
+            text = json.dumps(header, indent=1, sort_keys=True) + "\n"
+            atomic_write(settings_file, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+        store = cls(path, requested)
+        store.shard_dir.mkdir(exist_ok=True)
+        store._remove_stale_temporaries()
+        return store
+
+    @property
+    def shard_dir(self) -> Path:
+        return self.path / SHARD_DIR
+
+    @property
+    def dataset_path(self) -> Path:
+        return self.path / DATASET_FILE
+
+    def _remove_stale_temporaries(self) -> None:
+        # Temporaries left by a writer that was killed mid-write; never visible as results.
+        for directory in (self.path, self.shard_dir):
+            for p in directory.iterdir():
+                if _TMP_RE.match(p.name):
+                    p.unlink(missing_ok=True)
+
+    def _shards(self) -> list[Path]:
+        return sorted(p for p in self.shard_dir.iterdir() if _SHARD_RE.match(p.name))
+
+    # ---- reading ----------------------------------------------------------------------------
+    @staticmethod
+    def _read(path: Path, names=None) -> dict:
+        import xarray as xr
+
+        try:
+            with xr.open_dataset(path) as ds:
+                keys = list(ds.data_vars) if names is None else names
+                return {k: ds[k].values for k in keys}
+        except Exception as exc:  # any reader failure means the file cannot be trusted
+            raise JobError(f"cannot read job file {path} ({exc}); delete it and run the job again "
+                           f"(its tasks will be recomputed)") from exc
+
+    def done_indices(self) -> set[int]:
+        """Indices of the tasks whose results are stored."""
+        if self.dataset_path.exists():
+            # Written only once every task was done; its shards are gone.
+            return set(range(int(self.settings["n_tasks"])))
+        done: set[int] = set()
+        for shard in self._shards():
+            done.update(self._read(shard, ["index"])["index"].tolist())
+        return done
+
+    def result_schema(self) -> dict | None:
+        """``{name: (dtype kind, shape)}`` of the stored per-task results, or None if none stored."""
+        shards = self._shards()
+        if not shards:
+            return None
+        data = self._read(shards[0])
+        return {k: (v.dtype.kind, v.shape[1:]) for k, v in data.items() if k != "index"}
+
+    def read_results(self) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+        """All stored results, one row per task index, sorted by index (duplicates dropped)."""
+        parts = [self._read(s) for s in self._shards()]
+        if not parts:
+            return np.empty(0, dtype=np.int64), {}
+        index = np.concatenate([p["index"] for p in parts])
+        # np.unique returns the first occurrence of each index, sorted: duplicates (same task,
+        # same seed, hence same values) are dropped, and the order no longer depends on the
+        # order tasks finished in.
+        index, first = np.unique(index, return_index=True)
+        names = [k for k in parts[0] if k != "index"]
+        return index, {k: np.concatenate([p[k] for p in parts])[first] for k in names}
+
+    # ---- writing ----------------------------------------------------------------------------
+    def write_shard(self, indices, results: dict[str, np.ndarray], dims: dict[str, tuple]) -> Path:
+        """Write one shard holding the results of tasks ``indices`` (atomic)."""
+        import xarray as xr
+
+        existing = [int(_SHARD_RE.match(p.name).group(1)) for p in self._shards()]
+        number = max(existing, default=-1) + 1
+        data = {"index": ("task", np.asarray(indices, dtype=np.int64))}
+        for name, values in results.items():
+            data[name] = (("task",) + tuple(dims[name]), values)
+        ds = xr.Dataset(data)
+        path = self.shard_dir / f"shard-{number:06d}.nc"
+        atomic_write(path, ds.to_netcdf)
+        return path
+
+    def write_dataset(self, ds) -> Path:
+        """Write the consolidated dataset (atomic), then drop the shards it supersedes."""
+        atomic_write(self.dataset_path, ds.to_netcdf)
+        for shard in self._shards():
+            shard.unlink(missing_ok=True)
+        return self.dataset_path

@@ -1,0 +1,22 @@
+"""Predictors that replace hours of Monte Carlo by an explicit formula (paper §3).
+
+Public objects
+--------------
+SpectralModel, evaluate, HoldoutReport, default_model
+    The spectral predictor r(x) ≈ r̄ + U_k Wᵀ φ(x) (:mod:`sandlight.predictor.spectral`).
+Domain, Dimension
+    Training domains over SandSample parameters (:mod:`sandlight.predictor.domain`).
+generate_training_set, fit_training_set, train_spectral
+    Training data (a restartable job) and the fitting pipeline
+    (:mod:`sandlight.predictor.training`).
+"""
+
+from sandlight.predictor.domain import Dimension, Domain
+from sandlight.predictor.spectral import (HoldoutReport, ModelVersionWarning, SpectralModel,
+                                          default_model, evaluate)
+from sandlight.predictor.training import (fit_training_set, generate_training_set,
+                                          train_spectral, wavelength_grid)
+
+__all__ = ["SpectralModel", "evaluate", "HoldoutReport", "ModelVersionWarning", "default_model",
+           "Domain", "Dimension", "generate_training_set", "fit_training_set", "train_spectral",
+           "wavelength_grid"]

@@ -1,0 +1,439 @@
+"""The training domain of a predictor: which sample parameters vary, over which ranges.
+
+A :class:`Domain` says which :class:`sandlight.sample.SandSample` parameters a predictor takes as
+inputs (its *dimensions*, in a fixed order), their ranges and the scale they are drawn and
+regressed on, which parameters are held fixed, and which iron-oxide forms it covers. It draws
+training samples (Latin hypercube or random, seeded) and checks that inputs lie inside it.
+
+Default domain (:meth:`Domain.default`)
+---------------------------------------
+
+===========================  ===============  ======  ===========================================
+dimension                    range            scale   why this scale
+===========================  ===============  ======  ===========================================
+iron_oxide (mass fraction)   [0, 0.10]        sqrt    Kubelka–Munk: for weak absorption
+magnetite (mass fraction)    [0, 0.05]        sqrt    1 − r∞ ≈ √(2K/S) ∝ √c, so r is ~linear in √c
+hematite_ratio               [0, 1]           linear
+coating_iron_share           [0.01, 1]        linear
+iron_oxide_particle_size_um  [0.1, 50] µm     log     sizes act multiplicatively (path lengths)
+saturation                   [0, 1]           linear
+film_saturation              [0, 1]           linear
+porosity                     [0.25, 0.55]     linear
+grain_size (mm)              [0.05, 2] mm     log     spans 40×; effects scale with ln d
+grain_size_spread            [1, 3]           linear
+aspect_ratio                 [1, 3]           linear
+silt (mass fraction)         [0, 0.15]        linear  drawn inside the USDA sand class, below
+clay (mass fraction)         [0, 0.10]        linear
+===========================  ===============  ======  ===========================================
+
+Fixed: ``depth_mm = inf`` (semi-infinite samples, as in the paper). Derived: ``sand = 1 − silt −
+clay``. Forms: ``coating``, ``mixed`` and ``particles`` (the categorical ``iron_oxide_form`` is
+never a dimension; draws give each form an equal share of the samples).
+
+The texture is drawn inside the USDA sand class, silt + 1.5·clay ≤ 0.15 (so sand ≥ 0.85), with
+two uniform draw coordinates: the *class fill* f = (silt + 1.5·clay)/0.15 ∈ [0, 1] and the *silt
+share* s = silt/(silt + clay) ∈ [0, 1]; then silt + clay = 0.15·f/(s + 1.5·(1 − s)). The
+predictor itself takes silt and clay as inputs (smooth in both, and defined at zero fines, where
+the silt share is not) and checks the class constraint.
+
+"Drawn on a scale" means uniform in the transformed value: sqrt-scaled parameters are denser near
+zero, where reflectance changes fastest; log-scaled ones are log-uniform. Regression features
+are the transformed values mapped linearly to [−1, 1].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+from typing import Mapping
+
+import numpy as np
+
+from sandlight.errors import ParameterError, SandlightError
+
+#: Forms of the iron oxide, the values of SandSample.iron_oxide_form.
+FORMS = ("coating", "mixed", "particles")
+#: USDA texture class "sand": silt + 1.5·clay ≤ 0.15 by mass (docs splits-model.md §1).
+SAND_CLASS_LIMIT = 0.15
+CLAY_WEIGHT = 1.5
+#: Parameters derived from the dimensions rather than drawn.
+DERIVED = ("sand",)
+FORM_PARAMETER = "iron_oxide_form"
+SCALES = ("linear", "sqrt", "log")
+
+
+@dataclass(frozen=True)
+class Dimension:
+    """One varying parameter of a domain.
+
+    Attributes
+    ----------
+    name : str
+        The SandSample parameter.
+    low, high : float
+        Range, low < high, in the parameter's unit.
+    scale : {"linear", "sqrt", "log"}
+        Scale on which the parameter is drawn uniformly and regressed (log needs low > 0).
+    unit : str
+        Unit, for messages and metadata ("1" for fractions).
+    """
+
+    name: str
+    low: float
+    high: float
+    scale: str = "linear"
+    unit: str = "1"
+
+    def __post_init__(self):
+        if self.scale not in SCALES:
+            raise ParameterError(f"{self.name}.scale", self.scale, f"one of {SCALES}")
+        if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
+            raise ParameterError(self.name, (self.low, self.high),
+                                 "a finite range (low, high) with low < high")
+        if self.scale == "log" and self.low <= 0:
+            raise ParameterError(self.name, (self.low, self.high), "low > 0 on a log scale")
+        if self.scale == "sqrt" and self.low < 0:
+            raise ParameterError(self.name, (self.low, self.high), "low >= 0 on a sqrt scale")
+
+    def forward(self, x):
+        """Transformed value (the scale's coordinate)."""
+        if self.scale == "log":
+            return np.log(x)
+        if self.scale == "sqrt":
+            return np.sqrt(x)
+        return np.asarray(x, dtype=float)
+
+    def inverse(self, t):
+        if self.scale == "log":
+            return np.exp(t)
+        if self.scale == "sqrt":
+            return np.square(t)
+        return t
+
+    def from_unit(self, u):
+        """Value at fraction ``u`` ∈ [0, 1] of the transformed range (clipped to [low, high])."""
+        t0, t1 = self.forward(self.low), self.forward(self.high)
+        # Clip: exp/square of the end points may round a hair outside the range.
+        return np.clip(self.inverse(t0 + np.asarray(u) * (t1 - t0)), self.low, self.high)
+
+
+def _default_dimensions() -> tuple[Dimension, ...]:
+    limit = SAND_CLASS_LIMIT
+    return (
+        Dimension("iron_oxide", 0.0, 0.10, "sqrt"),
+        Dimension("hematite_ratio", 0.0, 1.0),
+        Dimension("magnetite", 0.0, 0.05, "sqrt"),
+        Dimension("coating_iron_share", 0.01, 1.0),
+        Dimension("iron_oxide_particle_size_um", 0.1, 50.0, "log", "um"),
+        Dimension("saturation", 0.0, 1.0),
+        Dimension("film_saturation", 0.0, 1.0),
+        Dimension("porosity", 0.25, 0.55),
+        Dimension("grain_size", 0.05, 2.0, "log", "mm"),
+        Dimension("grain_size_spread", 1.0, 3.0),
+        Dimension("aspect_ratio", 1.0, 3.0),
+        Dimension("silt", 0.0, limit),
+        Dimension("clay", 0.0, limit / CLAY_WEIGHT),
+    )
+
+
+@dataclass(frozen=True)
+class Domain:
+    """Training domain over SandSample parameters (see the module docstring).
+
+    Parameters
+    ----------
+    dimensions : tuple of Dimension
+        Varying parameters, in the order predictors take them.
+    forms : tuple of str
+        Iron-oxide forms covered (subset of ``FORMS``).
+    fixed : mapping
+        Parameters held at one value (default ``{"depth_mm": inf}``).
+    texture_limit : float
+        Upper bound of silt + 1.5·clay, in (0, 0.15] (0.15: the whole sand class).
+    """
+
+    dimensions: tuple = field(default_factory=_default_dimensions)
+    forms: tuple = FORMS
+    fixed: Mapping = field(default_factory=lambda: {"depth_mm": math.inf})
+    texture_limit: float = SAND_CLASS_LIMIT
+
+    def __post_init__(self):
+        object.__setattr__(self, "dimensions", tuple(self.dimensions))
+        object.__setattr__(self, "forms", tuple(self.forms))
+        object.__setattr__(self, "fixed", dict(self.fixed))
+        names = [d.name for d in self.dimensions]
+        if len(set(names)) != len(names) or set(names) & set(self.fixed):
+            raise ParameterError("dimensions", names, "distinct names, none of them also fixed")
+        if set(names + list(self.fixed)) & set(DERIVED + (FORM_PARAMETER,)):
+            raise ParameterError("dimensions", names,
+                                 f"no {DERIVED + (FORM_PARAMETER,)} (derived or categorical)")
+        if not self.forms or len(set(self.forms)) != len(self.forms) or not set(
+                self.forms) <= set(FORMS):
+            raise ParameterError("forms", self.forms, f"a non-empty subset of {FORMS}")
+        if not 0 < self.texture_limit <= SAND_CLASS_LIMIT:
+            raise ParameterError("texture_limit", self.texture_limit,
+                                 f"(0, {SAND_CLASS_LIMIT}] (silt + 1.5·clay inside the sand class)")
+        varied = [n for n in ("silt", "clay") if n in names]
+        fixed = [n for n in ("silt", "clay") if n in self.fixed]
+        if sorted(varied) != ["clay", "silt"] and sorted(fixed) != ["clay", "silt"]:
+            raise ParameterError("silt, clay", {"varied": varied, "fixed": fixed},
+                                 "both varied or both fixed (sand = 1 − silt − clay is derived)")
+        if self._texture_drawn:
+            silt, clay = self.dimension("silt"), self.dimension("clay")
+            expected = ((0.0, self.texture_limit), (0.0, self.texture_limit / CLAY_WEIGHT))
+            if ((silt.low, silt.high), (clay.low, clay.high)) != expected:
+                raise ParameterError("silt, clay", ((silt.low, silt.high), (clay.low, clay.high)),
+                                     f"{expected}: the ranges follow texture_limit")
+        else:
+            s, c = self.fixed["silt"], self.fixed["clay"]
+            if min(s, c) < 0 or s + CLAY_WEIGHT * c > self.texture_limit + 1e-12:
+                raise ParameterError("silt + 1.5·clay", s + CLAY_WEIGHT * c,
+                                     f"<= {self.texture_limit} with silt, clay >= 0")
+
+    # ---- construction ------------------------------------------------------------------------
+    @classmethod
+    def default(cls) -> "Domain":
+        """The default domain: every float parameter of SandSample over its full range."""
+        return cls()
+
+    def restrict(self, *, forms=None, texture_limit=None, **changes) -> "Domain":
+        """A smaller domain.
+
+        Parameters
+        ----------
+        forms : sequence of str, optional
+            Keep only these iron-oxide forms.
+        texture_limit : float, optional
+            New bound of silt + 1.5·clay (the silt and clay ranges follow).
+        **changes : (low, high) or float
+            A narrower range for a dimension, or a single value to fix it. ``silt`` and ``clay``
+            can be fixed (both) but take their ranges from ``texture_limit``.
+
+        Examples
+        --------
+        >>> d = Domain.default().restrict(forms=["coating"], saturation=0.0,
+        ...                               iron_oxide=(0.0, 0.02))
+        >>> d.names[:2], d.fixed["saturation"]
+        (('iron_oxide', 'hematite_ratio'), 0.0)
+        """
+        dims, fixed = [], dict(self.fixed)
+        unknown = set(changes) - set(self.names)
+        if unknown:
+            raise ParameterError(sorted(unknown)[0], changes[sorted(unknown)[0]],
+                                 f"a dimension of this domain: {self.names}")
+        limit = self.texture_limit if texture_limit is None else float(texture_limit)
+        for d in self.dimensions:
+            change = changes.get(d.name)
+            if change is None:
+                if d.name == "silt":
+                    d = replace(d, high=limit)
+                elif d.name == "clay":
+                    d = replace(d, high=limit / CLAY_WEIGHT)
+                dims.append(d)
+            elif np.ndim(change) == 0:
+                value = float(change)
+                if not d.low <= value <= d.high:
+                    raise ParameterError(d.name, value, f"a value in [{d.low}, {d.high}] {d.unit}")
+                fixed[d.name] = value
+            else:
+                if d.name in ("silt", "clay"):
+                    raise ParameterError(d.name, change, "a single value (to fix it); its range "
+                                         "follows texture_limit")
+                low, high = map(float, change)
+                if not d.low <= low < high <= d.high:
+                    raise ParameterError(d.name, change,
+                                         f"a range inside [{d.low}, {d.high}] {d.unit}")
+                dims.append(replace(d, low=low, high=high))
+        return Domain(tuple(dims), tuple(forms) if forms is not None else self.forms, fixed,
+                      limit)
+
+    # ---- properties --------------------------------------------------------------------------
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Names of the dimensions, in predictor input order."""
+        return tuple(d.name for d in self.dimensions)
+
+    def dimension(self, name: str) -> Dimension:
+        for d in self.dimensions:
+            if d.name == name:
+                return d
+        raise KeyError(name)
+
+    @property
+    def _texture_drawn(self) -> bool:
+        return "silt" in self.names
+
+    @property
+    def low(self) -> np.ndarray:
+        return np.array([d.low for d in self.dimensions])
+
+    @property
+    def high(self) -> np.ndarray:
+        return np.array([d.high for d in self.dimensions])
+
+    # ---- serialisation -----------------------------------------------------------------------
+    def to_dict(self) -> dict:
+        """Plain-JSON description (``inf`` stays a float; Python's json writes ``Infinity``)."""
+        return {"dimensions": [{"name": d.name, "low": d.low, "high": d.high, "scale": d.scale,
+                                "unit": d.unit} for d in self.dimensions],
+                "forms": list(self.forms), "fixed": dict(self.fixed),
+                "texture_limit": self.texture_limit}
+
+    @classmethod
+    def from_dict(cls, d: Mapping) -> "Domain":
+        return cls(tuple(Dimension(**x) for x in d["dimensions"]), tuple(d["forms"]),
+                   {k: float(v) for k, v in d["fixed"].items()}, float(d["texture_limit"]))
+
+    def check_covers(self, parameters) -> None:
+        """Check this domain against SandSample's parameter table.
+
+        Every float parameter must be a dimension (with a range inside the parameter's), fixed,
+        or derived, so that a training sample is fully determined by the domain.
+
+        Parameters
+        ----------
+        parameters : iterable of sandlight.sample.Parameter
+        """
+        for p in parameters:
+            if p.name == FORM_PARAMETER:
+                if not set(self.forms) <= set(p.choices):
+                    raise SandlightError(f"domain forms {self.forms} are not all choices of "
+                                         f"{p.name}: {tuple(p.choices)}")
+            elif p.name in self.names:
+                d = self.dimension(p.name)
+                if d.low < p.low or d.high > p.high:
+                    raise SandlightError(f"domain range of {p.name} [{d.low}, {d.high}] leaves "
+                                         f"the parameter's domain [{p.low}, {p.high}]")
+            elif p.name not in self.fixed and p.name not in DERIVED:
+                raise SandlightError(f"SandSample parameter {p.name} is neither a dimension, "
+                                     f"fixed nor derived in this domain")
+
+    # ---- drawing -----------------------------------------------------------------------------
+    def draw(self, n: int, seed: int, design: str = "lhs") -> list[dict]:
+        """Draw ``n`` sample parameter sets.
+
+        Parameters
+        ----------
+        n : int
+            Number of samples, >= 1.
+        seed : int
+            Seed (>= 0); the draws depend only on ``(n, seed, design)`` and the domain.
+        design : {"lhs", "random"}
+            ``"lhs"``: the forms get equal shares (±1) in random order, and the samples of each
+            form form a Latin hypercube of the draw coordinates (scipy.stats.qmc). ``"random"``:
+            independent uniform draws (forms too), e.g. for a hold-out set.
+
+        Returns
+        -------
+        list of dict
+            One dict per sample: every dimension, the fixed parameters, ``sand`` and
+            ``iron_oxide_form``, as plain Python floats and str (SandSample keyword arguments).
+        """
+        values, codes = self.draw_arrays(n, seed, design)
+        silt, clay = ((values[:, self.names.index("silt")], values[:, self.names.index("clay")])
+                      if self._texture_drawn else (self.fixed["silt"], self.fixed["clay"]))
+        sand = np.broadcast_to(1.0 - silt - clay, codes.shape)
+        fixed = {k: float(v) for k, v in self.fixed.items()}
+        samples = []
+        for i, row in enumerate(values.tolist()):
+            s = dict(zip(self.names, row))
+            s.update(fixed)
+            s["sand"] = float(sand[i])
+            s[FORM_PARAMETER] = self.forms[codes[i]]
+            samples.append(s)
+        return samples
+
+    def draw_arrays(self, n: int, seed: int, design: str = "lhs"):
+        """The draws of :meth:`draw` as arrays: values (n, n_dimensions) in ``names`` order and
+        form codes (n,) indexing ``forms`` (the input of ``SpectralModel.predict``)."""
+        from scipy.stats import qmc
+
+        if int(n) < 1:
+            raise ParameterError("n", n, "an integer >= 1")
+        if design not in ("lhs", "random"):
+            raise ParameterError("design", design, "'lhs' or 'random'")
+        n = int(n)
+        d = len(self.dimensions)
+        streams = np.random.SeedSequence(int(seed)).spawn(1 + len(self.forms))
+        rng = np.random.default_rng(streams[0])
+        if design == "random":
+            codes = rng.integers(len(self.forms), size=n)
+            unit = rng.random((n, d))
+        else:
+            codes = rng.permutation(np.arange(n) % len(self.forms))
+            unit = np.empty((n, d))
+            for f in range(len(self.forms)):
+                rows = np.flatnonzero(codes == f)
+                if rows.size and d:
+                    lhs = qmc.LatinHypercube(d, rng=np.random.default_rng(streams[1 + f]))
+                    unit[rows] = lhs.random(rows.size)
+        values = np.empty((n, d))
+        for j, dim in enumerate(self.dimensions):
+            if dim.name not in ("silt", "clay"):
+                values[:, j] = dim.from_unit(unit[:, j])
+        if self._texture_drawn:
+            js, jc = self.names.index("silt"), self.names.index("clay")
+            fill, share = unit[:, js], unit[:, jc]
+            # class fill f = (silt + 1.5·clay)/limit, silt share s = silt/(silt + clay)
+            fines = self.texture_limit * fill / (share + CLAY_WEIGHT * (1.0 - share))
+            values[:, js] = fines * share
+            values[:, jc] = fines * (1.0 - share)
+        return values, codes.astype(np.intp)
+
+    # ---- inputs of a predictor ---------------------------------------------------------------
+    def check(self, values: np.ndarray, *, extrapolate: bool = False) -> None:
+        """Check an (n, n_dimensions) array of raw parameter values.
+
+        Raises
+        ------
+        ParameterError
+            Naming the first offending parameter and value: NaN or inf, outside the range of
+            its scale (log needs > 0, sqrt >= 0) always; outside the domain (or the texture
+            class bound) unless ``extrapolate``.
+        """
+        values = np.asarray(values, dtype=float)
+        finite = np.isfinite(values)
+        if not finite.all():
+            row, col = np.argwhere(~finite)[0]
+            raise ParameterError(self.names[col], float(values[row, col]), "a finite number")
+        for j, dim in enumerate(self.dimensions):
+            column = values[:, j]
+            tol = 1e-9 * (dim.high - dim.low)  # round-off of values written to text and read back
+            if extrapolate:
+                bad = column <= 0 if dim.scale == "log" else (
+                    column < 0 if dim.scale == "sqrt" else None)
+                if bad is not None and bad.any():
+                    raise ParameterError(dim.name, float(column[np.argmax(bad)]),
+                                         "> 0" if dim.scale == "log" else ">= 0")
+                continue
+            bad = (column < dim.low - tol) | (column > dim.high + tol)
+            if bad.any():
+                raise ParameterError(
+                    dim.name, float(column[np.argmax(bad)]),
+                    f"[{dim.low:g}, {dim.high:g}] {dim.unit}, the training domain of this "
+                    f"predictor (pass extrapolate=True to evaluate outside it)")
+        if self._texture_drawn and not extrapolate:
+            index = self.names.index("silt"), self.names.index("clay")
+            load = values[:, index[0]] + CLAY_WEIGHT * values[:, index[1]]
+            bad = load > self.texture_limit * (1 + 1e-9)
+            if bad.any():
+                raise ParameterError(
+                    "silt + 1.5·clay", float(load[np.argmax(bad)]),
+                    f"<= {self.texture_limit:g} (sand texture class of the training domain; pass "
+                    f"extrapolate=True to evaluate outside it)")
+
+    def scaled(self, values: np.ndarray) -> np.ndarray:
+        """Regression coordinates: each column's transformed value mapped to [−1, 1]."""
+        center, halfwidth = self.scaling()
+        out = np.empty(np.shape(values), dtype=float)
+        for j, dim in enumerate(self.dimensions):
+            out[:, j] = dim.forward(values[:, j])
+        out -= center
+        out /= halfwidth
+        return out
+
+    def scaling(self) -> tuple[np.ndarray, np.ndarray]:
+        """Center and half-width of each dimension's transformed range."""
+        t0 = np.array([float(d.forward(d.low)) for d in self.dimensions])
+        t1 = np.array([float(d.forward(d.high)) for d in self.dimensions])
+        return (t0 + t1) / 2, (t1 - t0) / 2

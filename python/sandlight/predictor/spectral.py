@@ -1,0 +1,830 @@
+"""The spectral predictor: reflectance of a sand sample from its parameters (paper §3.1).
+
+Monte Carlo reflectance curves of a training set are compressed by principal component analysis
+(§3.1.1, eq. 2: r ≈ r̄ + U_k r̃), and the k principal components are regressed on cubic
+monomials of the scaled sample parameters (§3.1.2, eq. 3: r̃ ≈ Wᵀ φ(x)). Together (eq. 4, with
+the mean that the paper's eq. 2 leaves implicit):
+
+    r(x) ≈ r̄ + U_k Wᵀ φ(x)
+
+Public objects
+--------------
+SpectralModel
+    The estimator (scikit-learn conventions: hyper-parameters in ``__init__``, learned attributes
+    ending in ``_``).
+evaluate, HoldoutReport
+    Error of a model against Monte Carlo hold-out samples, per wavelength, next to the Monte
+    Carlo noise of those samples.
+default_model
+    The model shipped in the package (``sandlight/data/models/spectral-default.npz``).
+ModelVersionWarning
+    A model file written by another sandlight version was loaded.
+
+The iron-oxide form (categorical) is handled either by one regression per form
+(``forms="separate"``, the default: W has one slice per form, the PCA basis is shared) or by
+one-hot indicator inputs (``forms="onehot"``: one W, the indicators enter the monomials).
+
+References
+----------
+"Simulating the Appearance of Sandy Landscapes", §3.1 (the paper sandlight implements); the
+training data come from sandlight's SPLITS-like transport engine instead of SPLITS.
+"""
+
+from __future__ import annotations
+
+import functools
+import inspect
+import json
+import math
+import os
+import warnings
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from sandlight.errors import ModelFileError, ParameterError, SandlightError
+from sandlight.predictor.domain import FORM_PARAMETER, Domain
+
+MODEL_FORMAT = "sandlight-spectral-model"
+MODEL_FORMAT_VERSION = 1
+_ARRAYS = ("wavelengths_nm", "mean", "components", "explained_variance_ratio", "scale_center",
+           "scale_halfwidth", "powers", "W")
+#: Samples per block of the fast evaluator: the block's monomials (m × block doubles, 4.5 MB
+#: for the 560 cubic monomials of 13 parameters) stay in cache between the products and the
+#: matrix product that consumes them.
+_BLOCK = 1024
+
+
+class ModelVersionWarning(UserWarning):
+    """A model file written by another sandlight version was loaded (it may predict differently
+    from a model trained with this version's engine)."""
+
+
+def _sandlight_version() -> str:
+    import sandlight
+
+    return sandlight.__version__
+
+
+# ---- inputs -----------------------------------------------------------------------------------
+def _columns(X) -> dict:
+    """Named columns of a batch of samples given in any supported container."""
+    if hasattr(X, "data_vars") and hasattr(X, "variables"):  # xarray.Dataset
+        return {str(k): np.asarray(X[k].values) for k in X.variables}
+    if hasattr(X, "columns") and hasattr(X, "to_numpy"):  # pandas.DataFrame
+        return {str(c): X[c].to_numpy() for c in X.columns}
+    if isinstance(X, np.ndarray) and X.dtype.names is not None:  # structured array
+        return {n: np.atleast_1d(X[n]) for n in X.dtype.names}
+    if hasattr(X, "to_dict") and not isinstance(X, Mapping):  # one SandSample
+        X = [X]
+    if isinstance(X, Mapping):
+        if all(np.ndim(v) == 0 for v in X.values()):
+            X = [X]  # one sample as a dict of scalars
+        else:
+            return {str(k): np.atleast_1d(np.asarray(v)) for k, v in X.items()}
+    if isinstance(X, Sequence) and not isinstance(X, (str, bytes)):
+        rows = [x.to_dict() if hasattr(x, "to_dict") else x for x in X]
+        if not rows or not all(isinstance(r, Mapping) for r in rows):
+            raise ParameterError("samples", type(X).__name__, "a non-empty list of SandSample "
+                                 "or of parameter dicts")
+        keys = set().union(*rows)
+        return {k: np.asarray([r.get(k, np.nan) for r in rows]) for k in keys}
+    raise ParameterError("samples", type(X).__name__,
+                         "SandSample(s), dict(s) of parameters, a structured array, a DataFrame, "
+                         "an xarray.Dataset, or an (n, n_parameters) float array with form codes")
+
+
+def _form_codes(forms, n: int, known: tuple) -> np.ndarray:
+    """Integer codes (indices into ``known``) of form names or codes, one per sample."""
+    if forms is None:
+        if len(known) == 1:
+            return np.zeros(n, dtype=np.intp)
+        raise ParameterError("forms", None, f"the iron-oxide form of each row, as names or "
+                             f"codes into {known} (this model covers several forms)")
+    forms = np.asarray(forms)
+    if forms.ndim == 0:
+        forms = np.full(n, forms[()])
+    if forms.shape != (n,):
+        raise ParameterError("forms", forms.shape, f"one form per sample: shape ({n},)")
+    if forms.dtype.kind in "iu":
+        bad = (forms < 0) | (forms >= len(known))
+        if bad.any():
+            raise ParameterError(FORM_PARAMETER, int(forms[np.argmax(bad)]),
+                                 f"a code in 0..{len(known) - 1} for {known}")
+        return forms.astype(np.intp)
+    names, inverse = np.unique(forms.astype(str), return_inverse=True)
+    codes = np.empty(len(names), dtype=np.intp)
+    for i, name in enumerate(names):
+        if name not in known:
+            raise ParameterError(FORM_PARAMETER, str(name),
+                                 f"one of {known}, the forms this model was trained on")
+        codes[i] = known.index(name)
+    return codes[inverse]
+
+
+# ---- fast monomial evaluation -----------------------------------------------------------------
+def _monomial_plan(powers: np.ndarray) -> tuple:
+    """Blocks that compute all monomials from lower-degree ones, for :func:`_monomials`.
+
+    Each monomial x^p (p = exponents, total degree g ≥ 1) is its *parent* x^(p − e_v) times x_v,
+    with v its first variable. In graded lexicographic order (PolynomialFeatures' order) long
+    runs of monomials share v and have consecutive parents, or share the parent and have
+    consecutive v; each run is one numpy multiply. Cubic monomials of d variables take about 3d
+    multiplies instead of C(d + 3, 3).
+
+    Returns
+    -------
+    tuple of (start, stop, parent, parent_step, var, var_step)
+        ``F[start:stop] = F[parent : parent + n*parent_step] * X[var : var + n*var_step]``
+        (a step of 0 broadcasts one row).
+    """
+    powers = np.asarray(powers, dtype=np.int64)
+    lookup = {tuple(p): i for i, p in enumerate(powers)}
+    if tuple(np.zeros(powers.shape[1], dtype=np.int64)) != tuple(powers[0]):
+        raise ValueError("the first monomial must be the constant 1")
+    links = []
+    for f, p in enumerate(powers[1:], start=1):
+        v = int(np.flatnonzero(p)[0])
+        q = p.copy()
+        q[v] -= 1
+        parent = lookup.get(tuple(q))
+        if parent is None or parent >= f:
+            raise ValueError(f"monomial {tuple(p)} has no earlier parent {tuple(q)}")
+        links.append((f, parent, v))
+    runs = []
+    i = 0
+    while i < len(links):
+        f, parent, v = links[i]
+        j = i + 1
+        for pstep, vstep in ((1, 0), (0, 1)):
+            j = i + 1
+            while (j < len(links) and links[j][1] == parent + (j - i) * pstep
+                   and links[j][2] == v + (j - i) * vstep):
+                j += 1
+            if j - i > 1:
+                break
+        runs.append((f, f + (j - i), parent, pstep if j - i > 1 else 0, v,
+                     vstep if j - i > 1 else 0))
+        i = j
+    return tuple(runs)
+
+
+def _monomials(XT: np.ndarray, plan: tuple, m: int, out: np.ndarray) -> np.ndarray:
+    """All m monomials of the columns of ``XT`` (d × c), as an (m × c) array in ``out``."""
+    c = XT.shape[1]
+    F = out[:, :c]
+    F[0] = 1.0
+    for start, stop, parent, pstep, var, vstep in plan:
+        n = stop - start
+        left = F[parent:parent + n] if pstep else F[parent:parent + 1]
+        right = XT[var:var + n] if vstep else XT[var:var + 1]
+        np.multiply(left, right, out=F[start:stop])
+    return F
+
+
+# ---- the estimator ----------------------------------------------------------------------------
+class SpectralModel:
+    """Spectral reflectance predictor r(x) ≈ r̄ + U_k Wᵀ φ(x) (paper §3.1, eq. 4).
+
+    Parameters
+    ----------
+    n_components : int, optional
+        Number k of principal components kept. Default: the smallest k whose cumulative
+        explained variance reaches ``variance_threshold``.
+    variance_threshold : float
+        In (0, 1]; used when ``n_components`` is None (paper: 4 components hold > 99.9 %).
+    degree : int
+        Degree of the monomial features φ (paper: 3, cubic), in 1..4.
+    ridge : float
+        Ridge penalty λ ≥ 0 on the non-constant coefficients (0: ordinary least squares).
+        Parameters are scaled to [−1, 1], so λ is comparable across parameters.
+    forms : {"separate", "onehot"}
+        How the iron-oxide form enters: one regression per form, or one-hot inputs.
+
+    Attributes
+    ----------
+    wavelengths_ : ndarray (n_wl,)
+        Wavelengths, nm.
+    domain_ : Domain
+        Training domain; inputs outside it are refused unless ``extrapolate=True``.
+    parameter_names_ : tuple of str
+        Input parameters, in the column order of array input.
+    forms_ : tuple of str
+        Iron-oxide forms, in the order of integer form codes.
+    n_components_ : int
+        k.
+    mean_ : ndarray (n_wl,)
+        Mean training reflectance r̄.
+    components_ : ndarray (k, n_wl)
+        Principal directions U_kᵀ (orthonormal rows).
+    explained_variance_ratio_ : ndarray (min(n, n_wl),)
+        Share of the training variance along every principal direction (not only the k kept).
+    signal_variance_ratio_ : ndarray (min(n, n_wl),) or None
+        The same for the noise-free signal, when the fit was given Monte Carlo standard errors:
+        along direction u the noise variance u·diag(⟨σ²⟩)u (⟨σ²⟩ the mean squared standard
+        error per wavelength; exact for noise independent between wavelengths) is subtracted
+        from the variance (clamped at 0). k is chosen on these ratios. Not saved in files.
+    scale_center_, scale_halfwidth_ : ndarray (n_parameters,)
+        Feature scaling: x_scaled = (t(x) − center)/halfwidth, t the dimension's scale.
+    powers_ : ndarray (m, n_inputs)
+        Exponents of the monomials φ (PolynomialFeatures order; for one-hot, the last inputs
+        are the indicators of forms_[1:]).
+    W_ : ndarray (n_groups, m, k)
+        Regression coefficients: one slice per form (separate) or a single one (one-hot).
+    training_rms_ : float
+        RMS of (prediction − training reflectance) over the training set.
+    reconstruction_rms_ : float
+        RMS error of the rank-k PCA reconstruction of the training set (the floor of the above).
+    training_set_ : dict
+        Reference to the training data (path, checksum, size, seed, rays ...), as given.
+    holdout_scores_ : dict or None
+        Hold-out scores attached by :func:`evaluate` (``attach=True``).
+
+    Examples
+    --------
+    >>> model = SpectralModel().fit(training_dataset)            # doctest: +SKIP
+    >>> model.predict([SandSample.preset("red-dune")])           # doctest: +SKIP
+    array([[0.21, 0.22, ...]])
+    """
+
+    def __init__(self, n_components=None, variance_threshold=0.999, degree=3, ridge=0.0,
+                 forms="separate"):
+        self.n_components = n_components
+        self.variance_threshold = variance_threshold
+        self.degree = degree
+        self.ridge = ridge
+        self.forms = forms
+
+    # -- scikit-learn estimator protocol (without importing scikit-learn at import time) --------
+    def get_params(self, deep=True) -> dict:
+        names = [p for p in inspect.signature(type(self).__init__).parameters if p != "self"]
+        return {n: getattr(self, n) for n in names}
+
+    def set_params(self, **params) -> "SpectralModel":
+        valid = self.get_params()
+        for k, v in params.items():
+            if k not in valid:
+                raise ParameterError(k, v, f"one of {sorted(valid)}")
+            setattr(self, k, v)
+        return self
+
+    def __repr__(self):
+        defaults = type(self)().get_params()
+        changed = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items()
+                            if v != defaults[k])
+        return f"{type(self).__name__}({changed})"
+
+    def _validate_params(self):
+        k, t, g, lam, forms = (self.n_components, self.variance_threshold, self.degree,
+                               self.ridge, self.forms)
+        if k is not None and not (isinstance(k, (int, np.integer)) and k >= 1):
+            raise ParameterError("n_components", k, "None or an integer >= 1")
+        if not (isinstance(t, (int, float)) and 0 < t <= 1):
+            raise ParameterError("variance_threshold", t, "a number in (0, 1]")
+        if not (isinstance(g, (int, np.integer)) and 1 <= g <= 4):
+            raise ParameterError("degree", g, "an integer in 1..4")
+        if not (isinstance(lam, (int, float)) and math.isfinite(lam) and lam >= 0):
+            raise ParameterError("ridge", lam, "a finite number >= 0")
+        if forms not in ("separate", "onehot"):
+            raise ParameterError("forms", forms, "'separate' or 'onehot'")
+
+    def _check_is_fitted(self):
+        if not hasattr(self, "W_"):
+            raise SandlightError(f"this {type(self).__name__} is not fitted yet: call fit() "
+                                 f"or SpectralModel.load()")
+
+    # -- inputs -------------------------------------------------------------------------------
+    def _inputs(self, X, forms, domain: Domain, known_forms: tuple, extrapolate: bool):
+        """(values (n, d) raw, form codes (n,)) from any supported input, checked."""
+        names = domain.names
+        if isinstance(X, np.ndarray) and X.dtype.names is None and X.dtype.kind in "fiu":
+            values = np.asarray(X, dtype=float)
+            if values.ndim == 1:
+                values = values[None, :]
+            if values.ndim != 2 or values.shape[1] != len(names):
+                raise ParameterError("X", values.shape,
+                                     f"(n, {len(names)}) with columns {names}")
+            codes = _form_codes(forms, values.shape[0], known_forms)
+        else:
+            columns = _columns(X)
+            missing = [n for n in names if n not in columns]
+            if missing:
+                raise ParameterError(missing[0], None, f"a value for every input parameter "
+                                     f"{names}")
+            values = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])
+            if FORM_PARAMETER in columns and forms is not None:
+                raise ParameterError("forms", forms, f"None when the samples give "
+                                     f"{FORM_PARAMETER}")
+            codes = _form_codes(columns.get(FORM_PARAMETER, forms), values.shape[0],
+                                known_forms)
+            if not extrapolate:
+                for name, fixed in domain.fixed.items():
+                    if name in columns:
+                        col = np.asarray(columns[name], dtype=float)
+                        bad = ~np.isclose(col, fixed, rtol=1e-9, atol=0) & ~(col == fixed)
+                        if bad.any():
+                            raise ParameterError(
+                                name, float(col[np.argmax(bad)]),
+                                f"{fixed:g}, the value it was fixed at in the training domain "
+                                f"(pass extrapolate=True to ignore it)")
+        domain.check(values, extrapolate=extrapolate)
+        return values, codes
+
+    def _design(self, values, codes, domain, n_forms):
+        """Inputs of the monomials: scaled parameters, plus form indicators for one-hot."""
+        Xs = domain.scaled(values)
+        if self.forms == "onehot" and n_forms > 1:
+            indicators = (codes[:, None] == np.arange(1, n_forms)[None, :]).astype(float)
+            Xs = np.hstack([Xs, indicators])
+        return Xs
+
+    # -- fitting ------------------------------------------------------------------------------
+    def fit(self, X, R=None, *, stderr=None, wavelengths_nm=None, domain: Domain | None = None,
+            forms=None, training_set: Mapping | None = None) -> "SpectralModel":
+        """Fit the PCA basis and the regression.
+
+        Parameters
+        ----------
+        X : xarray.Dataset, list of SandSample or dict, structured array, DataFrame, or array
+            Training samples. A training-set dataset (:func:`generate_training_set`) also gives
+            ``R``, the wavelengths, the domain and the training-set reference.
+        R : array_like (n, n_wl), optional
+            Reflectance of each sample (fraction, [0, 1]).
+        stderr : array_like (n, n_wl), optional
+            Monte Carlo standard errors of R. When given, the number of components is chosen
+            on the signal variance (see ``signal_variance_ratio_``).
+        wavelengths_nm : array_like (n_wl,), optional
+            Wavelengths of the columns of R, nm.
+        domain : Domain, optional
+            Training domain (default: the dataset's, else ``Domain.default()``).
+        forms : array_like, optional
+            Form names or codes when X is a plain float array.
+        training_set : mapping, optional
+            Reference to the training data, kept in ``training_set_`` and in saved files.
+
+        Returns
+        -------
+        self
+        """
+        from sklearn.preprocessing import PolynomialFeatures
+
+        self._validate_params()
+        info = {}
+        if hasattr(X, "data_vars") and "reflectance" in X.data_vars:
+            if R is None:
+                R = X["reflectance"].values
+                if stderr is None and "stderr" in X.data_vars:
+                    stderr = X["stderr"].values
+            if wavelengths_nm is None and "wavelength" in X.coords:
+                wavelengths_nm = X["wavelength"].values
+            if domain is None and "domain" in X.attrs:
+                domain = Domain.from_dict(json.loads(X.attrs["domain"]))
+            info = {k: _plain(X.attrs[k]) for k in ("n_samples", "seed", "rays", "design",
+                                                     "sandlight_version", "simulator")
+                    if k in X.attrs}
+        domain = Domain.default() if domain is None else domain
+        if R is None:
+            raise ParameterError("R", None, "the reflectance of each training sample, "
+                                 "shape (n, n_wavelengths)")
+        R = np.asarray(R, dtype=float)
+        if R.ndim != 2 or not np.isfinite(R).all():
+            raise ParameterError("R", R.shape, "a finite (n, n_wavelengths) array")
+        if stderr is not None:
+            stderr = np.asarray(stderr, dtype=float)
+            if stderr.shape != R.shape or not (np.isfinite(stderr) & (stderr >= 0)).all():
+                raise ParameterError("stderr", stderr.shape, f"finite values >= 0 of the shape "
+                                     f"of R {R.shape}")
+        if wavelengths_nm is None:
+            raise ParameterError("wavelengths_nm", None, f"{R.shape[1]} wavelengths in nm")
+        wavelengths = np.asarray(wavelengths_nm, dtype=float)
+        if wavelengths.shape != (R.shape[1],):
+            raise ParameterError("wavelengths_nm", wavelengths.shape, f"({R.shape[1]},), one "
+                                 f"per column of R")
+        known = domain.forms
+        values, codes = self._inputs(X, forms, domain, known, extrapolate=False)
+        n = values.shape[0]
+        if n != R.shape[0]:
+            raise ParameterError("R", R.shape, f"one row per sample ({n})")
+
+        # PCA (paper §3.1.1) by SVD of the centred data: R − r̄ = U S Vᵀ, rows of Vᵀ are the
+        # principal directions, S²/ΣS² the explained variance ratios.
+        mean = R.mean(axis=0)
+        _, s, vt = np.linalg.svd(R - mean, full_matrices=False)
+        variance = s**2 / max(n - 1, 1)  # unbiased, like the noise estimate it is compared with
+        ratio = variance / variance.sum() if variance.sum() > 0 else np.r_[1.0, 0 * s[1:]]
+        signal_ratio = None
+        if stderr is not None:
+            signal_ratio = _signal_variance_ratio(variance, vt, stderr, R.shape)
+        if self.n_components is None:
+            # Monte Carlo noise spreads over all directions; with stderr given, k is chosen on
+            # the noise-free (signal) variance so that noise does not inflate k.
+            chosen = ratio if signal_ratio is None else signal_ratio
+            k = int(np.searchsorted(np.cumsum(chosen), self.variance_threshold * (1 - 1e-12)))
+            k = min(k + 1, len(ratio))
+        else:
+            k = int(self.n_components)
+            if k > len(ratio):
+                raise ParameterError("n_components", k, f"<= min(n_samples, n_wavelengths) = "
+                                     f"{len(ratio)}")
+        components = vt[:k]
+        scores = (R - mean) @ components.T  # principal components r̃ of each sample (eq. 2)
+
+        # Regression (paper §3.1.2): r̃ ≈ Wᵀ φ(x), φ the monomials of degree <= `degree`.
+        Xs = self._design(values, codes, domain, len(known))
+        poly = PolynomialFeatures(degree=self.degree, include_bias=True).fit(Xs)
+        Phi = poly.transform(Xs)
+        m = Phi.shape[1]
+        groups = range(len(known)) if self.forms == "separate" else [None]
+        W = np.empty((len(groups), m, k))
+        for g in groups:
+            rows = slice(None) if g is None else codes == g
+            n_rows = n if g is None else int(rows.sum())
+            if n_rows == 0:
+                raise SandlightError(f"no training sample has {FORM_PARAMETER} = {known[g]!r}; "
+                                     f"restrict the domain's forms or add samples")
+            if n_rows < m and self.ridge == 0:
+                warnings.warn(f"{n_rows} training samples for {m} monomial features"
+                              f"{'' if g is None else f' (form {known[g]})'}: the least-squares "
+                              f"problem is underdetermined; add samples or set ridge > 0",
+                              stacklevel=2)
+            W[0 if g is None else g] = _least_squares(Phi[rows], scores[rows], self.ridge)
+
+        self.wavelengths_ = wavelengths
+        self.domain_ = domain
+        self.parameter_names_ = domain.names
+        self.forms_ = tuple(known)
+        self.n_features_in_ = len(domain.names)
+        self.n_components_ = k
+        self.mean_ = mean
+        self.components_ = components
+        self.explained_variance_ratio_ = ratio
+        self.signal_variance_ratio_ = signal_ratio
+        self.scale_center_, self.scale_halfwidth_ = domain.scaling()
+        self.powers_ = poly.powers_.astype(np.int64)
+        self.W_ = W
+        self.training_set_ = {**info, **dict(training_set or {})}
+        self.holdout_scores_ = None
+        self._plan = _monomial_plan(self.powers_)
+        residual = self._evaluate(Xs, codes) - R
+        self.training_rms_ = float(np.sqrt(np.mean(residual**2)))
+        recon = mean + scores @ components
+        self.reconstruction_rms_ = float(np.sqrt(np.mean((recon - R) ** 2)))
+        return self
+
+    # -- prediction ---------------------------------------------------------------------------
+    def predict(self, samples, forms=None, *, extrapolate: bool = False) -> np.ndarray:
+        """Predicted directional-hemispherical reflectance at normal incidence.
+
+        Parameters
+        ----------
+        samples : SandSample, list of SandSample or dict, structured array, DataFrame,
+                  xarray.Dataset, or float array (n, n_parameters)
+            The samples. A plain float array has the columns ``parameter_names_`` (raw units,
+            e.g. grain_size in mm) and needs ``forms`` unless the model has a single form.
+        forms : array_like of str or int, or str, optional
+            Iron-oxide form of each row of a plain array: names, or codes into ``forms_``.
+        extrapolate : bool
+            Evaluate inputs outside the training domain (the polynomial is then unreliable)
+            instead of raising; fixed parameters of the domain (e.g. depth_mm) are then ignored.
+
+        Returns
+        -------
+        ndarray (n_samples, n_wavelengths)
+            Reflectance (fraction) at ``wavelengths_``; one row even for a single sample.
+
+        Raises
+        ------
+        ParameterError
+            An input outside the training domain (naming the parameter, its value and the
+            range) unless ``extrapolate``; NaN, a missing parameter or an unknown form always.
+        """
+        self._check_is_fitted()
+        values, codes = self._inputs(samples, forms, self.domain_, self.forms_, extrapolate)
+        return self._evaluate(self._design(values, codes, self.domain_, len(self.forms_)), codes)
+
+    def _evaluate(self, Xs: np.ndarray, codes: np.ndarray) -> np.ndarray:
+        """r̄ + U_k Wᵀ φ(x) for scaled inputs, blockwise (see _monomial_plan)."""
+        n = Xs.shape[0]
+        m, k = self.W_.shape[1:]
+        out = np.empty((n, len(self.wavelengths_)))
+        if self.W_.shape[0] == 1 or n == 0 or (codes == codes[0]).all():
+            groups = [(0 if self.W_.shape[0] == 1 else int(codes[0] if n else 0), 0, n)]
+            order = None
+        else:  # sort by form once, so that each form's rows are one contiguous range
+            order = np.argsort(codes, kind="stable")
+            Xs = Xs[order]
+            counts = np.bincount(codes, minlength=self.W_.shape[0])
+            bounds = np.concatenate([[0], np.cumsum(counts)])
+            groups = [(g, bounds[g], bounds[g + 1]) for g in range(len(counts)) if counts[g]]
+        result = out if order is None else np.empty_like(out)
+        buffer = np.empty((m, min(_BLOCK, max(n, 1))))
+        scores = np.empty((min(_BLOCK, max(n, 1)), k))
+        for g, lo, hi in groups:
+            W = self.W_[g]
+            for start in range(lo, hi, _BLOCK):
+                stop = min(start + _BLOCK, hi)
+                XT = np.ascontiguousarray(Xs[start:stop].T)
+                F = _monomials(XT, self._plan, m, buffer)
+                T = np.matmul(F.T, W, out=scores[:stop - start])  # r̃ = Wᵀ φ(x)   (eq. 3)
+                block = result[start:stop]
+                np.matmul(T, self.components_, out=block)          # U_k r̃        (eq. 2)
+                block += self.mean_
+        if order is not None:
+            out[order] = result
+        return out
+
+    # -- persistence --------------------------------------------------------------------------
+    def _metadata(self) -> dict:
+        return {"format": MODEL_FORMAT, "format_version": MODEL_FORMAT_VERSION,
+                "sandlight_version": _sandlight_version(), "params": self.get_params(),
+                "parameter_names": list(self.parameter_names_), "forms": list(self.forms_),
+                "n_components": self.n_components_, "domain": self.domain_.to_dict(),
+                "training_set": self.training_set_, "holdout_scores": self.holdout_scores_,
+                "training_rms": self.training_rms_,
+                "reconstruction_rms": self.reconstruction_rms_,
+                "units": {"wavelengths_nm": "nm", "reflectance": "1 (fraction)"}}
+
+    def save(self, path) -> Path:
+        """Write the model as plain arrays + JSON metadata in an ``.npz`` file (never pickle).
+
+        The file is written atomically (temporary file, then rename). Returns the path.
+        """
+        self._check_is_fitted()
+        path = Path(path)
+        arrays = {"wavelengths_nm": self.wavelengths_, "mean": self.mean_,
+                  "components": self.components_,
+                  "explained_variance_ratio": self.explained_variance_ratio_,
+                  "scale_center": self.scale_center_, "scale_halfwidth": self.scale_halfwidth_,
+                  "powers": self.powers_, "W": self.W_}
+        metadata = np.array(json.dumps(_plain(self._metadata()), sort_keys=True))
+        tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+        try:
+            with open(tmp, "wb") as fh:
+                np.savez(fh, metadata=metadata, **arrays)
+            os.replace(tmp, path)
+        except BaseException:
+            tmp.unlink(missing_ok=True)
+            raise
+        return path
+
+    @classmethod
+    def load(cls, path) -> "SpectralModel":
+        """Read a model written by :meth:`save`.
+
+        Raises
+        ------
+        ModelFileError
+            The file is missing, truncated, corrupt, not a sandlight spectral model, written by
+            a newer format version, or internally inconsistent.
+
+        Warns
+        -----
+        ModelVersionWarning
+            The file was written by another sandlight version.
+        """
+        path = Path(path)
+        if not path.is_file():
+            raise ModelFileError(f"spectral model file {path} does not exist")
+        try:
+            with np.load(path, allow_pickle=False) as npz:
+                if "metadata" not in npz.files:
+                    raise ModelFileError(f"{path} is not a sandlight spectral model (an .npz "
+                                         f"file without a metadata entry)")
+                # Reading every member in full makes zipfile check its CRC-32: a flipped bit
+                # anywhere raises here.
+                data = {name: npz[name] for name in npz.files}
+        except ModelFileError:
+            raise
+        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
+            raise ModelFileError(f"{path} is not a readable sandlight spectral model file "
+                                 f"(truncated, corrupt or another format): {exc}") from exc
+        try:
+            meta = json.loads(str(data["metadata"][()]))
+        except (ValueError, TypeError) as exc:
+            raise ModelFileError(f"{path}: the metadata entry is not valid JSON ({exc})") from exc
+        if not isinstance(meta, dict) or meta.get("format") != MODEL_FORMAT:
+            raise ModelFileError(f"{path} is not a sandlight spectral model (format "
+                                 f"{meta.get('format') if isinstance(meta, dict) else None!r})")
+        version = meta.get("format_version")
+        if not isinstance(version, int) or version > MODEL_FORMAT_VERSION or version < 1:
+            raise ModelFileError(f"{path} has model format version {version!r}; this sandlight "
+                                 f"reads versions 1..{MODEL_FORMAT_VERSION} (upgrade sandlight)")
+        try:
+            model = cls._from_parts(meta, data)
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ModelFileError(f"{path} is an incomplete or inconsistent spectral model "
+                                 f"file: {exc}") from exc
+        if meta.get("sandlight_version") != _sandlight_version():
+            warnings.warn(f"{path} was written by sandlight {meta.get('sandlight_version')}, "
+                          f"this is sandlight {_sandlight_version()}: predictions follow the "
+                          f"engine that trained the model", ModelVersionWarning, stacklevel=2)
+        return model
+
+    @classmethod
+    def _from_parts(cls, meta: dict, data: dict) -> "SpectralModel":
+        missing = [a for a in _ARRAYS if a not in data]
+        if missing:
+            raise KeyError(f"missing arrays {missing}")
+        model = cls(**meta["params"])
+        model._validate_params()
+        domain = Domain.from_dict(meta["domain"])
+        wl, mean, comps, ratio = (data[a] for a in _ARRAYS[:4])
+        center, halfwidth, powers, W = (data[a] for a in _ARRAYS[4:])
+        n_wl, d, k = wl.shape[0], len(domain.names), int(meta["n_components"])
+        n_forms = len(meta["forms"])
+        n_inputs = d + (n_forms - 1 if model.forms == "onehot" and n_forms > 1 else 0)
+        n_groups = n_forms if model.forms == "separate" else 1
+        expected = {"wavelengths_nm": (n_wl,), "mean": (n_wl,), "components": (k, n_wl),
+                    "scale_center": (d,), "scale_halfwidth": (d,),
+                    "powers": (powers.shape[0], n_inputs), "W": (n_groups, powers.shape[0], k)}
+        for name, shape in expected.items():
+            if data[name].shape != shape:
+                raise ValueError(f"array {name!r} has shape {data[name].shape}, expected {shape}")
+        for name in _ARRAYS:
+            if data[name].dtype.kind not in ("i" if name == "powers" else "f"):
+                raise ValueError(f"array {name!r} has dtype {data[name].dtype}")
+            if not np.isfinite(data[name]).all():
+                raise ValueError(f"array {name!r} holds NaN or inf")
+        if list(meta["parameter_names"]) != list(domain.names):
+            raise ValueError("parameter_names differ from the domain's dimensions")
+        c, h = domain.scaling()
+        if not (np.allclose(center, c, rtol=1e-12) and np.allclose(halfwidth, h, rtol=1e-12)):
+            raise ValueError("the feature scaling does not match the domain")
+        model.wavelengths_ = wl
+        model.domain_ = domain
+        model.parameter_names_ = domain.names
+        model.forms_ = tuple(meta["forms"])
+        model.n_features_in_ = d
+        model.n_components_ = k
+        model.mean_, model.components_, model.explained_variance_ratio_ = mean, comps, ratio
+        model.scale_center_, model.scale_halfwidth_ = center, halfwidth
+        model.powers_, model.W_ = powers.astype(np.int64), W
+        model.training_set_ = meta.get("training_set") or {}
+        model.holdout_scores_ = meta.get("holdout_scores")
+        model.training_rms_ = meta.get("training_rms")
+        model.reconstruction_rms_ = meta.get("reconstruction_rms")
+        model._plan = _monomial_plan(model.powers_)
+        return model
+
+
+def _signal_variance_ratio(variance, vt, stderr, shape) -> np.ndarray:
+    """Share of the noise-free variance along each principal direction (see the attribute
+    ``signal_variance_ratio_``)."""
+    noise = np.mean(stderr**2, axis=0)  # ⟨σ²⟩ per wavelength
+    # Variance of Monte Carlo noise along direction u: Σ_λ u_λ² ⟨σ²_λ⟩ (independent noise).
+    signal = np.maximum(variance - (vt**2) @ noise, 0.0)
+    total = signal.sum()
+    if total <= 0:  # all variance is noise: nothing beyond the mean is resolved
+        return np.r_[1.0, np.zeros(len(variance) - 1)]
+    return signal / total
+
+
+def _least_squares(Phi: np.ndarray, T: np.ndarray, ridge: float) -> np.ndarray:
+    """argmin_W ‖Φ W − T‖² + λ ‖W[1:]‖² (the constant's coefficient, row 0, is not penalised).
+
+    Solved as ordinary least squares on Φ stacked over √λ·I (no normal equations: they square
+    the condition number of Φ).
+    """
+    if ridge > 0:
+        m = Phi.shape[1]
+        penalty = math.sqrt(ridge) * np.eye(m)[1:]
+        Phi = np.vstack([Phi, penalty])
+        T = np.vstack([T, np.zeros((m - 1, T.shape[1]))])
+    W, *_ = np.linalg.lstsq(Phi, T, rcond=None)
+    return W
+
+
+def _plain(value):
+    """JSON-able copy of metadata (numpy scalars and arrays become Python values)."""
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.ndarray):
+        return _plain(value.tolist())
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+# ---- hold-out evaluation ----------------------------------------------------------------------
+@dataclass(frozen=True)
+class HoldoutReport:
+    """Errors of a model against Monte Carlo hold-out samples (reflectance fractions).
+
+    Attributes
+    ----------
+    wavelengths_nm : ndarray (n_wl,)
+    rms_error, max_error, mean_error : ndarray (n_wl,)
+        RMS, maximum absolute and mean (bias) of prediction − Monte Carlo, per wavelength.
+    mc_noise_rms : ndarray (n_wl,)
+        RMS of the Monte Carlo standard errors of the hold-out samples: the part of
+        ``rms_error`` that is noise in the reference, not error of the model.
+    n_samples : int
+    """
+
+    wavelengths_nm: np.ndarray
+    rms_error: np.ndarray
+    max_error: np.ndarray
+    mean_error: np.ndarray
+    mc_noise_rms: np.ndarray
+    n_samples: int
+
+    @property
+    def rms_error_overall(self) -> float:
+        return float(np.sqrt(np.mean(self.rms_error**2)))
+
+    @property
+    def max_error_overall(self) -> float:
+        return float(self.max_error.max())
+
+    @property
+    def model_error_estimate(self) -> np.ndarray:
+        """RMS error against noise-free reflectance, per wavelength: √max(rms² − noise², 0)
+        (prediction and reference noise are independent, so their variances add)."""
+        return np.sqrt(np.maximum(self.rms_error**2 - self.mc_noise_rms**2, 0.0))
+
+    def to_dict(self) -> dict:
+        return {"n_samples": self.n_samples, "wavelengths_nm": self.wavelengths_nm.tolist(),
+                "rms_error": self.rms_error.tolist(), "max_error": self.max_error.tolist(),
+                "mean_error": self.mean_error.tolist(),
+                "mc_noise_rms": self.mc_noise_rms.tolist(),
+                "rms_error_overall": self.rms_error_overall,
+                "max_error_overall": self.max_error_overall}
+
+    def table(self) -> str:
+        """Plain-text table, one row per wavelength."""
+        lines = [f"hold-out: {self.n_samples} samples; RMS error {self.rms_error_overall:.5f}, "
+                 f"max error {self.max_error_overall:.5f}",
+                 f"{'wavelength nm':>13} {'RMS error':>10} {'max error':>10} {'bias':>10} "
+                 f"{'MC noise':>10} {'model err.':>10}"]
+        for row in zip(self.wavelengths_nm, self.rms_error, self.max_error, self.mean_error,
+                       self.mc_noise_rms, self.model_error_estimate):
+            lines.append(f"{row[0]:13.1f} " + " ".join(f"{v:10.5f}" for v in row[1:]))
+        return "\n".join(lines)
+
+
+def evaluate(model: SpectralModel, holdout, *, attach: bool = False) -> HoldoutReport:
+    """Compare a model with Monte Carlo reflectance of samples not used in fitting.
+
+    Parameters
+    ----------
+    model : SpectralModel
+    holdout : str, Path or xarray.Dataset
+        A training-set dataset (:func:`generate_training_set`) of hold-out samples, at the
+        model's wavelengths.
+    attach : bool
+        Also store the scores in ``model.holdout_scores_`` (saved with the model).
+
+    Returns
+    -------
+    HoldoutReport
+    """
+    import xarray as xr
+
+    if isinstance(holdout, (str, Path)):
+        with xr.open_dataset(holdout) as ds:
+            holdout = ds.load()
+    wl = holdout["wavelength"].values
+    if wl.shape != model.wavelengths_.shape or not np.allclose(wl, model.wavelengths_):
+        raise ParameterError("holdout wavelengths", wl.tolist(),
+                             f"the model's wavelengths {model.wavelengths_.tolist()}")
+    reference = holdout["reflectance"].values
+    error = model.predict(holdout) - reference
+    report = HoldoutReport(
+        wavelengths_nm=wl, rms_error=np.sqrt(np.mean(error**2, axis=0)),
+        max_error=np.abs(error).max(axis=0), mean_error=error.mean(axis=0),
+        mc_noise_rms=np.sqrt(np.mean(holdout["stderr"].values ** 2, axis=0)),
+        n_samples=int(reference.shape[0]))
+    if attach:
+        model.holdout_scores_ = report.to_dict()
+    return report
+
+
+# ---- the shipped model ------------------------------------------------------------------------
+def default_model_path() -> Path:
+    """Where the shipped default model lives in the installed package."""
+    from importlib.resources import files
+
+    return Path(str(files("sandlight") / "data" / "models" / "spectral-default.npz"))
+
+
+@functools.lru_cache(maxsize=1)
+def default_model() -> SpectralModel:
+    """The spectral model shipped with sandlight (loaded once, then cached).
+
+    Raises
+    ------
+    ModelFileError
+        The package has no default model (e.g. a source checkout before
+        ``scripts/train_default_spectral.py`` was run).
+    """
+    path = default_model_path()
+    if not path.is_file():
+        raise ModelFileError(f"the default spectral model is not installed (expected at {path}); "
+                             f"train it with scripts/train_default_spectral.py, or pass a model "
+                             f"file (sandlight predict --model PATH)")
+    return SpectralModel.load(path)

@@ -1,0 +1,345 @@
+"""Training sets for the spectral predictor, and the whole train-and-evaluate pipeline.
+
+:func:`generate_training_set` draws samples over a :class:`~sandlight.predictor.domain.Domain`,
+runs the Monte Carlo engine on each at normal incidence (a restartable job, see
+:mod:`sandlight.jobs`) and stores one dataset:
+
+===============  =====================  ====================================================
+variable         dims                   meaning
+===============  =====================  ====================================================
+<parameter>      (sample,)              one variable per SandSample parameter (incl. sand,
+                                        depth_mm and iron_oxide_form)
+reflectance      (sample, wavelength)   directional-hemispherical reflectance, fraction
+stderr           (sample, wavelength)   its Monte Carlo standard error
+seed             (sample,)              engine seed of the sample
+wavelength       (wavelength,)          nm
+===============  =====================  ====================================================
+
+Global attributes: format, n_samples, seed, rays, design, domain (JSON), engine settings (JSON),
+simulator, sandlight_version and the job settings.
+
+:func:`train_spectral` runs the training and hold-out jobs, fits a :class:`SpectralModel`,
+evaluates it on the hold-out set and saves it; the ``sandlight train-spectral`` command and
+``scripts/train_default_spectral.py`` call it.
+"""
+
+from __future__ import annotations
+
+import functools
+import hashlib
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from sandlight.errors import ParameterError
+from sandlight.jobs import (DaskExecutor, Executor, InProcessExecutor, Job, JobStatus,
+                            LocalExecutor, derive_seed)
+from sandlight.jobs.store import atomic_write
+from sandlight.predictor.domain import FORM_PARAMETER, Domain
+from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
+
+TRAINING_SET_FORMAT = "sandlight-spectral-training-set"
+TRAINING_SET_FORMAT_VERSION = 1
+#: Engine settings of every training sample: normal incidence (paper §3.1), one thread per task
+#: (parallelism comes from running tasks side by side).
+ENGINE_SETTINGS = {"incidence_deg": 0.0, "threads": 1}
+
+
+def wavelength_grid(spec) -> np.ndarray:
+    """Wavelengths in nm from ``"start:stop:step"`` (stop included) or ``"w1,w2,..."``.
+
+    Examples
+    --------
+    >>> wavelength_grid("400:700:20").tolist()[:3], len(wavelength_grid("400:700:20"))
+    ([400.0, 420.0, 440.0], 16)
+    """
+    if not isinstance(spec, str):
+        grid = np.asarray(spec, dtype=float)
+    elif ":" in spec:
+        try:
+            start, stop, step = (float(x) for x in spec.split(":"))
+        except ValueError:
+            raise ParameterError("wavelengths", spec, "'start:stop:step' in nm, e.g. "
+                                 "'400:700:20'") from None
+        if step <= 0 or stop < start:
+            raise ParameterError("wavelengths", spec, "start <= stop and step > 0")
+        # stop is included: half a step of slack against round-off
+        grid = np.arange(start, stop + step / 2, step)
+    else:
+        try:
+            grid = np.array([float(x) for x in spec.split(",")])
+        except ValueError:
+            raise ParameterError("wavelengths", spec, "'start:stop:step' or a comma-separated "
+                                 "list in nm") from None
+    if grid.ndim != 1 or grid.size == 0 or not np.all(np.isfinite(grid)) or np.any(
+            np.diff(grid) <= 0) or grid[0] <= 0:
+        raise ParameterError("wavelengths", spec, "increasing positive wavelengths in nm")
+    return grid
+
+
+def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed: int):
+    """Run sandlight's Monte Carlo engine on one sample at normal incidence.
+
+    Parameters
+    ----------
+    params : dict
+        SandSample keyword arguments.
+    wavelengths_nm : ndarray
+    rays : int
+        Rays per wavelength.
+    seed : int
+
+    Returns
+    -------
+    result with ``.values`` and ``.stderr`` (n_wl,)
+    """
+    import sandlight
+    from sandlight.sample import SandSample
+
+    return sandlight.reflectance(SandSample(**params), wavelengths_nm, rays=rays, seed=seed,
+                                 **ENGINE_SETTINGS)
+
+
+def reflectance_task(payload: dict, seed: int, *, wavelengths_nm, rays: int, simulate=None):
+    """Job task: reflectance and standard error of one sample (runs on a worker)."""
+    simulate = engine_simulate if simulate is None else simulate
+    wavelengths = np.asarray(wavelengths_nm, dtype=float)
+    result = simulate(payload, wavelengths, rays=rays, seed=seed)
+    values, stderr = (result.values, result.stderr) if hasattr(result, "values") else result
+    values, stderr = np.asarray(values, dtype=float), np.asarray(stderr, dtype=float)
+    if values.shape != wavelengths.shape or stderr.shape != wavelengths.shape:
+        raise ValueError(f"simulate returned shapes {values.shape}, {stderr.shape} for "
+                         f"{wavelengths.size} wavelengths")
+    return {"reflectance": values, "stderr": stderr}
+
+
+def _simulator_name(simulate) -> str:
+    simulate = engine_simulate if simulate is None else simulate
+    inner = simulate.func if isinstance(simulate, functools.partial) else simulate
+    return f"{getattr(inner, '__module__', '?')}.{getattr(inner, '__qualname__', repr(inner))}"
+
+
+def _check_domain_against_sample(domain: Domain) -> None:
+    """Check the domain against SandSample's parameter table, when that module is present."""
+    try:
+        from sandlight.sample import PARAMETERS
+    except ImportError:  # a checkout without the sample module: nothing to check against
+        return
+    domain.check_covers(PARAMETERS)
+
+
+def _executor(executor) -> Executor:
+    if isinstance(executor, Executor):
+        return executor
+    choices = {"local": LocalExecutor, "in-process": InProcessExecutor, "dask": DaskExecutor}
+    if executor is None:
+        return LocalExecutor()
+    if executor not in choices:
+        raise ParameterError("executor", executor, f"an Executor or one of {sorted(choices)}")
+    return choices[executor]()
+
+
+def training_job(path, n_samples: int, wavelengths_nm, rays: int, seed: int, *,
+                 domain: Domain | None = None, design: str = "lhs", simulate=None) -> Job:
+    """The job behind :func:`generate_training_set` (same arguments), without running it."""
+    from sandlight import __version__
+
+    domain = Domain.default() if domain is None else domain
+    wavelengths = wavelength_grid(wavelengths_nm)
+    if not (isinstance(rays, (int, np.integer)) and rays >= 1):
+        raise ParameterError("rays", rays, "an integer >= 1")
+    if simulate is None:
+        _check_domain_against_sample(domain)
+    payloads = domain.draw(n_samples, seed, design)
+    engine = {**ENGINE_SETTINGS, "rays": int(rays)}
+    settings = {"kind": TRAINING_SET_FORMAT, "wavelengths_nm": wavelengths, "rays": int(rays),
+                "design": design, "domain": domain.to_dict(), "engine": engine,
+                "simulator": _simulator_name(simulate), "sandlight_version": __version__}
+    fn = functools.partial(reflectance_task, wavelengths_nm=tuple(wavelengths.tolist()),
+                           rays=int(rays), simulate=simulate)
+    units = {d.name: {"units": d.unit} for d in domain.dimensions}
+    units.update({"sand": {"units": "1"}, "depth_mm": {"units": "mm"},
+                  FORM_PARAMETER: {"description": "form of the iron oxide"}})
+    var_attrs = {**units,
+                 "reflectance": {"units": "1", "long_name": "directional-hemispherical "
+                                 "reflectance at normal incidence"},
+                 "stderr": {"units": "1", "long_name": "Monte Carlo standard error of "
+                            "reflectance"},
+                 "wavelength": {"units": "nm"}}
+    attrs = {"format": TRAINING_SET_FORMAT, "format_version": TRAINING_SET_FORMAT_VERSION,
+             "n_samples": int(n_samples), "seed": int(seed), "rays": int(rays), "design": design,
+             "domain": domain.to_dict(), "engine": engine,
+             "simulator": settings["simulator"], "sandlight_version": __version__}
+    return Job(path, fn, payloads, seed=seed, settings=settings,
+               dims={"reflectance": ("wavelength",), "stderr": ("wavelength",)},
+               coords={"wavelength": wavelengths}, var_attrs=var_attrs, attrs=attrs,
+               task_dim="sample")
+
+
+def generate_training_set(path, n_samples: int, wavelengths_nm, rays: int, seed: int,
+                          executor=None, *, domain: Domain | None = None, design: str = "lhs",
+                          simulate=None, progress: bool = True, max_tasks: int | None = None,
+                          max_retries: int = 2) -> JobStatus:
+    """Draw samples, run the engine on each, store the training set (resumable).
+
+    Parameters
+    ----------
+    path : str or Path
+        Job store directory; the dataset is ``path/dataset.nc`` once complete. Running the same
+        call again resumes an interrupted run; other settings are refused.
+    n_samples : int
+        Number of samples (paper: 3000).
+    wavelengths_nm : str or array_like
+        Wavelengths in nm, e.g. ``"400:700:20"`` (paper: 16 wavelengths, 400–700 nm).
+    rays : int
+        Rays per sample and wavelength (Monte Carlo noise ≈ √(r(1 − r)/rays)).
+    seed : int
+        Master seed: the draws and every sample's engine seed derive from it.
+    executor : Executor or {"local", "in-process", "dask"}, optional
+        Where samples run (default: local process pool, one worker per CPU).
+    domain : Domain, optional
+        Default ``Domain.default()``.
+    design : {"lhs", "random"}
+    simulate : callable, optional
+        ``simulate(params: dict, wavelengths_nm, *, rays, seed)`` returning ``.values`` and
+        ``.stderr`` (or a pair); default: sandlight's engine. Must be importable by workers.
+    progress : bool
+        Progress bar.
+    max_tasks : int, optional
+        Stop after this many samples (resumable).
+    max_retries : int
+        Retries of a failed sample.
+
+    Returns
+    -------
+    JobStatus
+        ``.dataset_path`` is the dataset once every sample is done.
+    """
+    job = training_job(path, n_samples, wavelengths_nm, rays, seed, domain=domain,
+                       design=design, simulate=simulate)
+    return job.run(_executor(executor), max_tasks=max_tasks, max_retries=max_retries,
+                   progress=progress, description=f"{Path(path).name}", unit="sample")
+
+
+def file_sha256(path) -> str:
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()
+
+
+def fit_training_set(path, holdout=None, **model_params) -> tuple[SpectralModel,
+                                                                  HoldoutReport | None]:
+    """Fit a SpectralModel on a training-set dataset and score it on a hold-out dataset.
+
+    Parameters
+    ----------
+    path : str or Path
+        Training dataset (``.nc``) or its job store directory.
+    holdout : str or Path, optional
+        Hold-out dataset or job store; its scores are attached to the model.
+    **model_params
+        SpectralModel hyper-parameters.
+    """
+    import xarray as xr
+
+    path = _dataset_file(path)
+    with xr.open_dataset(path) as ds:
+        ds = ds.load()
+    reference = {"path": str(path), "sha256": file_sha256(path)}
+    model = SpectralModel(**model_params).fit(ds, training_set=reference)
+    report = None
+    if holdout is not None:
+        holdout = _dataset_file(holdout)
+        report = evaluate(model, holdout, attach=True)
+        model.holdout_scores_["path"] = str(holdout)
+        model.holdout_scores_["sha256"] = file_sha256(holdout)
+    return model, report
+
+
+def _dataset_file(path) -> Path:
+    path = Path(path)
+    if path.is_dir():
+        path = path / "dataset.nc"
+    if not path.is_file():
+        raise ParameterError("training set", str(path), "a complete training-set dataset "
+                             "(run the generation to completion first)")
+    return path
+
+
+@dataclass
+class TrainingRun:
+    """What :func:`train_spectral` produced."""
+
+    model: SpectralModel | None
+    report: HoldoutReport | None
+    model_path: Path | None
+    training: JobStatus
+    holdout: JobStatus | None
+    generation_s: float
+    fit_s: float
+
+    @property
+    def complete(self) -> bool:
+        return self.model is not None
+
+
+def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:20",
+                   seed: int = 0, *, n_holdout: int | None = None, executor=None,
+                   domain: Domain | None = None, fit_only: bool = False, simulate=None,
+                   progress: bool = True, max_tasks: int | None = None,
+                   model_params: dict | None = None) -> TrainingRun:
+    """Generate the training and hold-out sets, fit, evaluate and save a spectral model.
+
+    Layout of ``out_dir``: ``training/`` and ``holdout/`` (job stores, each with its
+    ``dataset.nc``) and ``spectral-model.npz``. Resumable: the same call again continues the
+    jobs; with ``fit_only`` the existing complete datasets are only refitted.
+
+    Parameters
+    ----------
+    n_holdout : int, optional
+        Hold-out samples (random design, independent seed ``derive_seed(seed, "holdout")``);
+        default max(20, n_samples // 10).
+    max_tasks : int, optional
+        Stop each job after this many samples (for testing resumption).
+    model_params : dict, optional
+        SpectralModel hyper-parameters.
+
+    Other parameters are those of :func:`generate_training_set`.
+    """
+    out = Path(out_dir)
+    n_holdout = max(20, int(n_samples) // 10) if n_holdout is None else int(n_holdout)
+    jobs = [training_job(out / "training", n_samples, wavelengths_nm, rays, seed, domain=domain,
+                         design="lhs", simulate=simulate)]
+    if n_holdout > 0:
+        jobs.append(training_job(out / "holdout", n_holdout, wavelengths_nm, rays,
+                                 derive_seed(seed, "holdout"), domain=domain, design="random",
+                                 simulate=simulate))
+    start = time.perf_counter()
+    executor = _executor(executor) if not fit_only else None
+    statuses = [job.status() if fit_only else job.run(
+        executor, max_tasks=max_tasks, progress=progress, description=job.path.name,
+        unit="sample") for job in jobs]
+    generation_s = time.perf_counter() - start
+    holdout_status = statuses[1] if len(statuses) > 1 else None
+    if not all(s.complete for s in statuses):
+        if fit_only:
+            incomplete = [f"{s.store} ({s.n_done}/{s.n_total})" for s in statuses
+                          if not s.complete]
+            raise ParameterError("fit_only", True, f"complete datasets; incomplete: "
+                                 f"{', '.join(incomplete)} (run without --fit-only to finish)")
+        return TrainingRun(None, None, None, statuses[0], holdout_status, generation_s, 0.0)
+    start = time.perf_counter()
+    model, report = fit_training_set(statuses[0].dataset_path,
+                                     holdout_status.dataset_path if holdout_status else None,
+                                     **(model_params or {}))
+    fit_s = time.perf_counter() - start
+    model_path = model.save(out / "spectral-model.npz")
+    text = json.dumps(report.to_dict() if report else None, indent=1) + "\n"
+    atomic_write(out / "holdout-report.json", lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    return TrainingRun(model, report, model_path, statuses[0], holdout_status, generation_s,
+                       fit_s)

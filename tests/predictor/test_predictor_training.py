@@ -1,0 +1,262 @@
+"""Training sets (a restartable job over the engine) and the fit/evaluate pipeline, with a fake
+deterministic engine (predictor_fakes)."""
+
+import functools
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import predictor_fakes
+from sandlight.errors import Cancelled, ParameterError
+from sandlight.jobs import DaskExecutor, InProcessExecutor, JobSettingsError, LocalExecutor
+from sandlight.predictor import (Domain, SpectralModel, evaluate, fit_training_set,
+                                 generate_training_set, train_spectral, wavelength_grid)
+from sandlight.predictor.training import training_job
+from test_predictor_spectral import SMALL
+
+WL = "400:700:20"
+RAYS = 20_000
+N = 240
+
+
+def generate(path, executor=None, **kw):
+    args = dict(n_samples=N, wavelengths_nm=WL, rays=RAYS, seed=11, domain=SMALL,
+                simulate=predictor_fakes.fake_reflectance, progress=False)
+    args.update(kw)
+    return generate_training_set(path, executor=executor or InProcessExecutor(), **args)
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    status = generate(tmp_path_factory.mktemp("ref") / "training")
+    assert status.complete
+    with xr.open_dataset(status.dataset_path) as ds:
+        return ds.load(), status.dataset_path.read_bytes()
+
+
+def assert_same(status, reference):
+    with xr.open_dataset(status.dataset_path) as ds:
+        xr.testing.assert_identical(ds.load(), reference[0])
+    assert status.dataset_path.read_bytes() == reference[1]
+
+
+def test_wavelength_grid():
+    assert wavelength_grid("400:700:20").tolist() == list(np.arange(400.0, 701.0, 20.0))
+    assert wavelength_grid("350:2500:10")[-1] == 2500.0
+    assert wavelength_grid("450,550,650").tolist() == [450.0, 550.0, 650.0]
+    for bad in ("700:400:20", "400:700:0", "a,b", "500,400", "400:700"):
+        with pytest.raises(ParameterError, match="wavelengths"):
+            wavelength_grid(bad)
+
+
+class TestDataset:
+    def test_contents(self, reference):
+        ds, _ = reference
+        assert ds.sizes == {"sample": N, "wavelength": 16}
+        for name in SMALL.names + ("sand", "depth_mm", "iron_oxide_form", "seed"):
+            assert ds[name].dims == ("sample",), name
+        for name in SMALL.fixed:
+            assert (ds[name] == SMALL.fixed[name]).all(), name
+        assert ds["reflectance"].dims == ("sample", "wavelength")
+        assert ds["grain_size"].attrs["units"] == "mm" and ds["wavelength"].attrs["units"] == "nm"
+        assert ds.attrs["format"] == "sandlight-spectral-training-set"
+        assert (ds.attrs["rays"], ds.attrs["seed"], ds.attrs["design"]) == (RAYS, 11, "lhs")
+        assert json.loads(ds.attrs["domain"])["forms"] == list(SMALL.forms)
+        assert json.loads(ds.attrs["engine"]) == {"incidence_deg": 0.0, "threads": 1,
+                                                  "rays": RAYS}
+        assert ds.attrs["simulator"].endswith("predictor_fakes.fake_reflectance")
+        assert "sandlight_version" in ds.attrs
+
+    def test_values_are_the_simulators_at_the_sample_seed(self, reference):
+        ds, _ = reference
+        for i in (0, 17, N - 1):
+            params = {k: ds[k].values[i].item() for k in ds.data_vars if ds[k].dims == ("sample",)
+                      and k != "seed"}
+            expected = predictor_fakes.fake_reflectance(
+                params, ds["wavelength"].values, rays=RAYS, seed=int(ds["seed"][i]))
+            np.testing.assert_array_equal(ds["reflectance"][i], expected.values)
+            np.testing.assert_array_equal(ds["stderr"][i], expected.stderr)
+
+
+class TestRestartAndScaleOut:
+    def test_interrupted_then_resumed_equals_uninterrupted(self, tmp_path, reference):
+        status = generate(tmp_path / "training", max_tasks=70)
+        assert (status.n_done, status.complete) == (70, False)
+        assert_same(generate(tmp_path / "training"), reference)
+
+    def test_process_pool_equals_in_process(self, tmp_path, reference):
+        assert_same(generate(tmp_path / "training", LocalExecutor(workers=2)), reference)
+
+    def test_dask_local_cluster_with_a_failing_task_equals_local(self, tmp_path, reference):
+        # The sample with index 5 fails on its first attempt (as on a dying worker); it is
+        # resubmitted, and no sample is lost or stored twice.
+        seed_5 = int(reference[0]["seed"][5])
+        simulate = functools.partial(predictor_fakes.fail_once, str(tmp_path), seed_5)
+        status = generate(tmp_path / "training", DaskExecutor(n_workers=2, processes=False),
+                          simulate=simulate, max_tasks=None)
+        assert (tmp_path / "failed-once").exists()
+        with xr.open_dataset(status.dataset_path) as ds:
+            # same numbers; only the recorded simulator name differs
+            xr.testing.assert_equal(ds.load(), reference[0])
+
+    def test_other_settings_are_refused(self, tmp_path):
+        generate(tmp_path / "training", max_tasks=5)
+        with pytest.raises(JobSettingsError, match="rays"):
+            generate(tmp_path / "training", rays=RAYS + 1)
+        with pytest.raises(JobSettingsError, match="domain.dimensions"):
+            generate(tmp_path / "training", domain=SMALL.restrict(saturation=(0.0, 0.5)))
+        with pytest.raises(JobSettingsError, match="simulator"):
+            generate(tmp_path / "training", simulate=functools.partial(
+                predictor_fakes.fail_once, str(tmp_path), -1))
+
+
+@pytest.fixture(scope="module")
+def fitted(reference, tmp_path_factory):
+    holdout = generate(tmp_path_factory.mktemp("holdout") / "holdout", n_samples=80,
+                       seed=12, design="random")
+    train_path = tmp_path_factory.mktemp("train") / "training.nc"
+    train_path.write_bytes(reference[1])
+    model, report = fit_training_set(train_path, holdout.dataset_path)
+    with xr.open_dataset(holdout.dataset_path) as ds:
+        return model, report, ds.load()
+
+
+class TestFitAndEvaluate:
+    def test_model_records_its_training_set(self, fitted):
+        model, _, _ = fitted
+        assert model.training_set_["rays"] == RAYS and model.training_set_["n_samples"] == N
+        assert len(model.training_set_["sha256"]) == 64
+        assert model.domain_ == SMALL
+        np.testing.assert_array_equal(model.wavelengths_, wavelength_grid(WL))
+        # k is chosen on the noise-free variance: Monte Carlo noise, spread over all 16
+        # directions, would otherwise push k up (the raw ratios do not reach 99.9 % by then).
+        k = model.n_components_
+        assert 1 <= k <= 6
+        assert model.signal_variance_ratio_[:k].sum() >= 0.999
+        assert model.explained_variance_ratio_[:k].sum() < 0.999
+
+    def test_prediction_beats_the_noise_of_one_monte_carlo_run(self, fitted):
+        # The regression averages the Monte Carlo noise of 240 samples: against the noise-free
+        # truth it must be closer than a single Monte Carlo estimate is.
+        model, _, holdout = fitted
+        params = [{k: holdout[k].values[i].item() for k in holdout.data_vars
+                   if holdout[k].dims == ("sample",)} for i in range(holdout.sizes["sample"])]
+        truth = np.array([predictor_fakes.true_reflectance(p, model.wavelengths_)
+                          for p in params])
+        error = np.sqrt(np.mean((model.predict(holdout) - truth) ** 2))
+        mc_noise = np.sqrt(np.mean(holdout["stderr"].values ** 2))
+        assert error < mc_noise
+
+    def test_report_separates_model_error_from_reference_noise(self, fitted):
+        model, report, holdout = fitted
+        assert report.n_samples == 80 and report.rms_error.shape == (16,)
+        error = model.predict(holdout) - holdout["reflectance"].values
+        np.testing.assert_allclose(report.rms_error, np.sqrt((error**2).mean(0)))
+        np.testing.assert_allclose(report.max_error, np.abs(error).max(0))
+        np.testing.assert_allclose(report.mc_noise_rms,
+                                   np.sqrt((holdout["stderr"].values ** 2).mean(0)))
+        # errors against MC are mostly its noise: RMS error ≈ MC noise (±40 % for 80 samples)
+        assert np.all(report.rms_error < 1.4 * report.mc_noise_rms + report.model_error_estimate)
+        assert "RMS error" in report.table() and len(report.table().splitlines()) == 18
+        assert model.holdout_scores_["rms_error_overall"] == report.rms_error_overall
+        assert len(model.holdout_scores_["sha256"]) == 64
+
+    def test_evaluate_refuses_other_wavelengths(self, fitted):
+        model, _, holdout = fitted
+        with pytest.raises(ParameterError, match="wavelengths"):
+            evaluate(model, holdout.isel(wavelength=slice(0, 8)))
+
+
+class TestPipeline:
+    def test_train_spectral_end_to_end_and_rerun(self, tmp_path):
+        kw = dict(n_samples=N, rays=RAYS, wavelengths_nm=WL, seed=3, n_holdout=40,
+                  executor=InProcessExecutor(), domain=SMALL,
+                  simulate=predictor_fakes.fake_reflectance, progress=False)
+        partial = train_spectral(tmp_path, max_tasks=50, **kw)
+        assert not partial.complete and partial.training.n_done == 50
+        with pytest.raises(ParameterError, match="incomplete"):
+            train_spectral(tmp_path, fit_only=True, **kw)
+        run = train_spectral(tmp_path, **kw)
+        assert run.complete and run.model_path == tmp_path / "spectral-model.npz"
+        assert (tmp_path / "training" / "dataset.nc").exists()
+        assert (tmp_path / "holdout" / "dataset.nc").exists()
+        report = json.loads((tmp_path / "holdout-report.json").read_text())
+        assert report["n_samples"] == 40
+        first = run.model_path.read_bytes()
+        # again: nothing to compute, the same model
+        again = train_spectral(tmp_path, **{**kw, "simulate": predictor_fakes.fake_reflectance})
+        assert again.model_path.read_bytes() == first
+        refit = train_spectral(tmp_path, fit_only=True, **{**kw, "executor": None})
+        loaded = SpectralModel.load(refit.model_path)
+        assert loaded.holdout_scores_["n_samples"] == 40
+
+
+class TestCommandLine:
+    @pytest.fixture
+    def fake_engine(self, monkeypatch):
+        import sandlight.predictor.training as training
+
+        monkeypatch.setattr(training, "engine_simulate", predictor_fakes.fake_reflectance)
+
+    def invoke(self, *args):
+        from typer.testing import CliRunner
+
+        from sandlight.cli import app
+
+        return CliRunner().invoke(app, [str(a) for a in args])
+
+    def test_train_spectral_then_resume(self, tmp_path, fake_engine):
+        args = ["train-spectral", "--samples", 60, "--holdout", 20, "--rays", 1000,
+                "--wavelengths", "400:700:100", "--seed", 4, "--out", tmp_path, "--workers", 1,
+                "--ridge", 1e-3, "--no-progress"]
+        result = self.invoke(*args)
+        assert result.exit_code == 0, result.output
+        assert "principal components: k =" in result.output and "hold-out: 20 samples" in \
+            result.output
+        model = SpectralModel.load(tmp_path / "spectral-model.npz")
+        assert model.wavelengths_.tolist() == [400.0, 500.0, 600.0, 700.0]
+        assert model.get_params()["ridge"] == 1e-3
+        again = self.invoke(*args)
+        assert again.exit_code == 0
+        changed = self.invoke(*[a if a != 1000 else 2000 for a in args])
+        assert changed.exit_code == 1 and "rays" in changed.output
+
+    def test_bad_options(self, tmp_path):
+        result = self.invoke("train-spectral", "--out", tmp_path, "--workers", 2,
+                             "--dask-local", 2)
+        assert result.exit_code == 1 and "choose one executor" in result.output
+        result = self.invoke("train-spectral", "--out", tmp_path, "--wavelengths", "700:400:1")
+        assert result.exit_code == 1 and "wavelengths" in result.output
+
+    def test_predict_refuses_a_damaged_model(self, tmp_path):
+        bad = tmp_path / "model.npz"
+        bad.write_bytes(b"PK\x03\x04 truncated")
+        result = self.invoke("predict", "--preset", "red-dune", "--model", bad)
+        assert result.exit_code == 1 and "not a readable sandlight spectral model" in \
+            result.output
+
+    def test_predict_with_a_model(self, tmp_path):
+        pytest.importorskip("sandlight.sample")
+        train = Domain.default().draw(3000, seed=1)
+        R = np.array([predictor_fakes.true_reflectance(s, wavelength_grid(WL)) for s in train])
+        model = SpectralModel(ridge=1e-6).fit(train, R, wavelengths_nm=wavelength_grid(WL))
+        path = model.save(tmp_path / "m.npz")
+        out = tmp_path / "r.csv"
+        result = self.invoke("predict", "--preset", "red-dune", "--model", path, "-o", out,
+                             "--plot", tmp_path / "r.png", "--extrapolate")
+        assert result.exit_code == 0, result.output
+        rows = out.read_text().splitlines()
+        assert rows[0] == "wavelength_nm,reflectance" and len(rows) == 17
+        assert (tmp_path / "r.png").stat().st_size > 1000
+        # a sample file: TOML with a [sample] table, inside the domain
+        sample = Domain.default().draw(1, seed=8)[0]
+        toml = "[sample]\n" + "".join(
+            f"{k} = {json.dumps(v) if isinstance(v, str) else repr(v)}\n"
+            for k, v in sample.items())
+        (tmp_path / "s.toml").write_text(toml)
+        result = self.invoke("predict", tmp_path / "s.toml", "--model", path)
+        assert result.exit_code == 0, result.output
+        expected = model.predict(sample)[0]
+        assert f"{expected[0]:.4f}" in result.output and "reflectance of s" in result.output
