@@ -180,3 +180,15 @@ class TestCoversSampleParameters:
         DEFAULT.check_covers(sample.PARAMETERS)
         for s in DEFAULT.draw(30, seed=4):
             sample.SandSample(**s)  # every draw is a valid sample
+
+
+def test_every_default_domain_draw_is_a_physical_sample():
+    # The training domain must never hand the engine a sample the mass balance refuses.
+    from sandlight.physics.composition import compose
+    from sandlight.sample import SandSample
+
+    from sandlight.predictor.domain import Domain
+
+    for params in Domain.default().draw(3000, seed=3, design="random"):
+        comp = compose(SandSample(**params))
+        assert comp.mean_free_path_mm > 0

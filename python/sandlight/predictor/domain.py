@@ -14,7 +14,7 @@ dimension                    range            scale   why this scale
 iron_oxide (mass fraction)   [0, 0.10]        sqrt    Kubelka–Munk: for weak absorption
 magnetite (mass fraction)    [0, 0.05]        sqrt    1 − r∞ ≈ √(2K/S) ∝ √c, so r is ~linear in √c
 hematite_ratio               [0, 1]           linear
-coating_iron_share           [0.01, 1]        linear
+coating_iron_share           [0.1, 1]         linear  narrower than SandSample (0.01): see below
 iron_oxide_particle_size_um  [0.1, 50] µm     log     sizes act multiplicatively (path lengths)
 saturation                   [0, 1]           linear
 film_saturation              [0, 1]           linear
@@ -25,6 +25,11 @@ aspect_ratio                 [1, 3]           linear
 silt (mass fraction)         [0, 0.15]        linear  drawn inside the USDA sand class, below
 clay (mass fraction)         [0, 0.10]        linear
 ===========================  ===============  ======  ===========================================
+
+``coating_iron_share`` is trained on [0.1, 1], not SandSample's [0.01, 1]: with 10 wt% iron oxide
+a coating of 1 % iron-oxide share would be ten times the mass of the solids, which the mass
+balance refuses (sandlight.physics.composition); from 0.1 up every point of the box is a
+physical sample.
 
 Fixed: ``depth_mm = inf`` (semi-infinite samples, as in the paper). Derived: ``sand = 1 − silt −
 clay``. Forms: ``coating``, ``mixed`` and ``particles`` (the categorical ``iron_oxide_form`` is
@@ -123,7 +128,7 @@ def _default_dimensions() -> tuple[Dimension, ...]:
         Dimension("iron_oxide", 0.0, 0.10, "sqrt"),
         Dimension("hematite_ratio", 0.0, 1.0),
         Dimension("magnetite", 0.0, 0.05, "sqrt"),
-        Dimension("coating_iron_share", 0.01, 1.0),
+        Dimension("coating_iron_share", 0.1, 1.0),
         Dimension("iron_oxide_particle_size_um", 0.1, 50.0, "log", "um"),
         Dimension("saturation", 0.0, 1.0),
         Dimension("film_saturation", 0.0, 1.0),
