@@ -39,7 +39,7 @@ def default_reflectance_provider() -> ReflectanceProvider:
     -------
     callable
         ``provider(samples, wavelengths_nm)`` backed by ``sandlight.predictor.default_model()``.
-        It answers only at the wavelengths the model was trained at (its ``wavelengths_nm``).
+        It answers only at the wavelengths the model was trained at (its ``wavelengths_``).
 
     Raises
     ------
@@ -55,7 +55,7 @@ def default_reflectance_provider() -> ReflectanceProvider:
     model = default_model()
 
     def predictor_reflectance(samples: Sequence[Any], wavelengths_nm: NDArray) -> NDArray:
-        model_wl = np.asarray(getattr(model, "wavelengths_nm", ()), dtype=float)
+        model_wl = np.asarray(model.wavelengths_, dtype=float)
         requested = np.asarray(wavelengths_nm, dtype=float)
         if model_wl.shape != requested.shape or not np.allclose(model_wl, requested):
             raise SandlightError(
