@@ -1,0 +1,79 @@
+"""The engine's commands: reflectance, demo, brdf; errors; Ctrl-C."""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import numpy as np
+import xarray as xr
+from typer.testing import CliRunner
+
+from sandlight.cli import app
+
+runner = CliRunner()
+
+
+def test_reflectance_writes_netcdf_csv_and_plot(tmp_path):
+    nc, csv, png = tmp_path / "r.nc", tmp_path / "r.csv", tmp_path / "r.png"
+    res = runner.invoke(app, ["reflectance", "--preset", "red-dune", "-w", "450,650", "-n", "2000", "-o", str(nc),
+                              "--plot", str(png)])
+    assert res.exit_code == 0, res.output
+    ds = xr.open_dataset(nc, engine="h5netcdf")
+    assert ds["reflectance"].shape == (2,) and ds.attrs["rays"] == 2000
+    res = runner.invoke(app, ["reflectance", "--preset", "red-dune", "-w", "450:650:100", "-n", "1e3", "-o", str(csv)])
+    assert res.exit_code == 0, res.output
+    assert np.loadtxt(csv, delimiter=",", skiprows=1).shape == (3, 5)
+    assert png.stat().st_size > 1000
+
+
+def test_reflectance_from_a_sample_file(tmp_path):
+    f = tmp_path / "s.toml"
+    f.write_text('preset = "yellow-dune"\nsaturation = 0.5\n')
+    res = runner.invoke(app, ["reflectance", str(f), "-w", "550", "-n", "500"])
+    assert res.exit_code == 0, res.output
+
+
+def test_bad_inputs_exit_2_with_a_message(tmp_path):
+    for args, needle in [
+        (["reflectance", "--preset", "red-dune", "-w", "200", "-n", "10"], "wavelengths_nm"),
+        (["reflectance", "--preset", "red-dune", "-n", "lots"], "--rays"),
+        (["reflectance", "--preset", "no-such-preset", "-n", "10"], "no-such-preset"),
+        (["reflectance", str(tmp_path / "missing.toml"), "-n", "10"], "missing.toml"),
+        (["reflectance", "--preset", "red-dune", "-w", "400:300:10"], "--wavelengths"),
+        (["brdf", "--preset", "red-dune", "--stacks", "1", "-n", "10", "-o", str(tmp_path / "b.nc")], "stacks"),
+    ]:
+        res = runner.invoke(app, args)
+        assert res.exit_code == 2, (args, res.output)
+        assert needle in res.output, (args, res.output)
+
+
+def test_brdf_command(tmp_path):
+    out, png = tmp_path / "b.nc", tmp_path / "b.png"
+    res = runner.invoke(app, ["brdf", "--preset", "red-dune", "-n", "20000", "--stacks", "7", "--slices", "6",
+                              "-o", str(out), "--plot", str(png)])
+    assert res.exit_code == 0, res.output
+    from sandlight.gonio.io import read_netcdf
+
+    assert read_netcdf(out).hemisphere.n_patches == 37 and png.exists()
+    assert not (tmp_path / "b.nc.checkpoint.npz").exists()
+
+
+def test_ctrl_c_stops_a_long_run_cleanly(tmp_path):
+    out = tmp_path / "never.nc"
+    proc = subprocess.Popen([sys.executable, "-m", "sandlight", "reflectance", "--preset", "ottawa-quartz", "-n", "1e10",
+                             "-o", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path,
+                            env={**os.environ, "COLUMNS": "200"},
+                            # A shell's background job inherits SIGINT ignored; give the child the default.
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    time.sleep(5.0)  # past start-up, inside the Monte Carlo run
+    proc.send_signal(signal.SIGINT)
+    try:
+        _, err = proc.communicate(timeout=30)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        raise AssertionError("the run did not stop within 30 s of Ctrl-C")
+    assert proc.returncode == 130, err
+    assert b"interrupted" in err
+    assert not out.exists() and not list(tmp_path.glob(".never.nc*"))
