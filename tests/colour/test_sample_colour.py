@@ -64,10 +64,10 @@ class TestProvider:
 
     def test_default_provider_uses_default_model(self, fake_sample, fake_provider, monkeypatch):
         class Model:
-            wavelengths_nm = PREDICTOR_WAVELENGTHS_NM
+            wavelengths_ = PREDICTOR_WAVELENGTHS_NM
 
             def predict(self, samples):
-                return fake_provider(samples, self.wavelengths_nm)
+                return fake_provider(samples, self.wavelengths_)
 
         module = types.ModuleType("sandlight.predictor")
         module.default_model = Model

@@ -128,7 +128,16 @@ class TestResume:
         # A real signal to this process while tasks run: the pool is stopped, the tasks in
         # flight are dropped, and every finished one is stored exactly once.
         job = make_job(tmp_path / "store", fn=functools.partial(jobs_fakes.slow_square, 0.1))
-        timer = threading.Timer(1.0, os.kill, (os.getpid(), signum))
+
+        def signal_once_a_task_is_stored():
+            # Wait for progress rather than a fixed delay: a loaded machine may take seconds
+            # to start the pool.
+            deadline = time.monotonic() + 60
+            while time.monotonic() < deadline and job.status().n_done == 0:
+                time.sleep(0.05)
+            os.kill(os.getpid(), signum)
+
+        timer = threading.Timer(0.0, signal_once_a_task_is_stored)
         timer.start()
         try:
             with pytest.raises(Cancelled, match="resume"):
@@ -215,7 +224,7 @@ class TestSettings:
     def test_stale_temporary_files_are_removed(self, tmp_path, reference):
         job = make_job(tmp_path / "store")
         job.run(InProcessExecutor(), max_tasks=3, progress=False)
-        stale = tmp_path / "store" / "shards" / ".shard-000099.nc.tmp-12345"
+        stale = tmp_path / "store" / "shards" / ".shard-000099.nc.12345.0123456789ab.part"
         stale.write_bytes(b"half a file")
         assert job.status().n_done == 3 and not stale.exists()
 

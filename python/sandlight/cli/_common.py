@@ -20,7 +20,7 @@ def user_errors():
     try:
         yield
     except (SandlightError, FileNotFoundError) as e:
-        err_console.print(f"[bold red]error:[/] {e}")
+        err_console.print(f"[bold red]error:[/] {e}", soft_wrap=True)
         raise typer.Exit(2) from None
     except KeyboardInterrupt:
         err_console.print("[yellow]interrupted: nothing was written[/]")

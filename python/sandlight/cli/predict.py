@@ -116,12 +116,12 @@ def predict(
         _fail(str(exc))
     wavelengths = model.wavelengths_
     if output is not None:
-        from sandlight.jobs.store import atomic_write
+        from sandlight.io import write_atomically
 
         lines = ["wavelength_nm,reflectance"] + [f"{w:g},{r:.6f}"
                                                  for w, r in zip(wavelengths, reflectance)]
         text = "\n".join(lines) + "\n"
-        atomic_write(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+        write_atomically(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
     else:
         from rich.console import Console
         from rich.table import Table

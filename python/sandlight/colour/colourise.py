@@ -28,7 +28,7 @@ import colour
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from sandlight.colour._io import write_atomically
+from sandlight.io import write_atomically
 from sandlight.colour.provider import ReflectanceProvider
 from sandlight.colour.sample_colour import sample_rgb
 from sandlight.colour.spectrum import DEFAULT_ILLUMINANT, DEFAULT_OBSERVER, PREDICTOR_WAVELENGTHS_NM
@@ -121,7 +121,7 @@ def save_image(path: str | os.PathLike, rgb: ArrayLike) -> Path:
     if arr.ndim != 3 or arr.shape[-1] != 3:
         raise ParameterError("rgb", f"array of shape {arr.shape}", "shape (H, W, 3)")
     image = Image.fromarray(srgb_to_uint8(arr), mode="RGB")
-    return write_atomically(p, lambda tmp: image.save(tmp, format=fmt))
+    return write_atomically(p, lambda tmp: image.save(tmp, format=fmt), make_dirs=False)
 
 
 def _validated_image(image: ArrayLike) -> NDArray[np.float64]:

@@ -25,7 +25,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from sandlight.colour._io import write_atomically
+from sandlight.io import write_atomically
 from sandlight.colour.provider import ReflectanceProvider
 from sandlight.colour.sample_colour import sample_xyz
 from sandlight.colour.spectrum import DEFAULT_ILLUMINANT, DEFAULT_OBSERVER, PREDICTOR_WAVELENGTHS_NM
@@ -232,7 +232,7 @@ def save_grid_png(path: str | os.PathLike, image: ArrayLike, x: GridAxis, y: Gri
                 luminance = float(np.mean(img[cy, cx]))
                 ax.text(i, j, cell_text[j][i], ha="center", va="center", fontsize=fontsize,
                         color="black" if luminance > 0.5 else "white")
-    return write_atomically(path, lambda tmp: fig.savefig(tmp, format="png", dpi=_DPI))
+    return write_atomically(path, lambda tmp: fig.savefig(tmp, format="png", dpi=_DPI), make_dirs=False)
 
 
 @dataclass(frozen=True)

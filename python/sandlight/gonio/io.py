@@ -41,8 +41,6 @@ Global attributes: ``format``, ``format_version``, ``sandlight_version``, ``stac
 from __future__ import annotations
 
 import json
-import os
-import tempfile
 from os import PathLike
 from pathlib import Path
 
@@ -53,6 +51,7 @@ from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import ReducedBRDF, check_counts
 from sandlight.gonio.symmetry import EquivalenceClasses
+from sandlight.io import write_atomically
 
 __all__ = ["to_netcdf", "read_netcdf", "FORMAT_NAME", "FORMAT_VERSION"]
 
@@ -138,16 +137,7 @@ def to_netcdf(brdf: MeasuredBRDF, path: str | PathLike) -> Path:
     path = Path(path)
     ds = _dataset(brdf)
     encoding = {name: dict(_COMPRESSED) for name in ("counts", "brdf")}
-    fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.", suffix=".part")
-    os.close(fd)
-    try:
-        ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
-    return path
+    return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding), make_dirs=False)
 
 
 def read_netcdf(path: str | PathLike) -> MeasuredBRDF:

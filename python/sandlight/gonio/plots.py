@@ -19,8 +19,6 @@ Matplotlib is used through `matplotlib.figure.Figure`, without pyplot's global s
 from __future__ import annotations
 
 import math
-import os
-import tempfile
 from os import PathLike
 from pathlib import Path
 
@@ -28,6 +26,7 @@ import numpy as np
 
 from sandlight.errors import ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF
+from sandlight.io import write_atomically
 
 __all__ = ["plot_outgoing_polar", "plot_principal_plane", "save_overview_png"]
 
@@ -159,14 +158,4 @@ def save_overview_png(brdf: MeasuredBRDF, path: str | PathLike, *, zenith_deg: f
     plot_principal_plane(brdf, principal_zenith_deg, normalised=normalised, ax=fig.add_subplot(1, 2, 2))
     wl = "" if brdf.wavelength_nm is None else f", λ = {brdf.wavelength_nm:g} nm"
     fig.suptitle(f"sandlight BRDF ({brdf.rays:.3g} trials{wl}, R(0°) = {brdf.normal_reflectance:.3f})")
-    path = Path(path)
-    fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.", suffix=".part")
-    os.close(fd)
-    try:
-        fig.savefig(tmp, format="png", dpi=dpi)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
-    return path
+    return write_atomically(path, lambda tmp: fig.savefig(tmp, format="png", dpi=dpi), make_dirs=False)

@@ -16,14 +16,15 @@ consolidated dataset and removing its shards) is read once.
 from __future__ import annotations
 
 import json
-import math
 import os
+import math
 import re
 from pathlib import Path
 
 import numpy as np
 
 from sandlight.jobs.errors import JobError, JobSettingsError
+from sandlight.io import TEMPORARY_SUFFIX, write_atomically
 
 STORE_FORMAT = "sandlight-job-store"
 STORE_FORMAT_VERSION = 1
@@ -31,23 +32,18 @@ SETTINGS_FILE = "job.json"
 DATASET_FILE = "dataset.nc"
 SHARD_DIR = "shards"
 _SHARD_RE = re.compile(r"^shard-(\d{6,})\.nc$")
-_TMP_RE = re.compile(r"^\..+\.tmp-\d+$")
+# sandlight.io.temporary_sibling names: ".<name>.<pid>.<hex>.part".
+_TMP_RE = re.compile(r"^\..+\.(\d+)\.[0-9a-f]+" + re.escape(TEMPORARY_SUFFIX) + "$")
 
 
-def atomic_write(path: Path, write) -> None:
-    """Write ``path`` atomically: ``write(tmp_path)`` then ``os.replace(tmp_path, path)``.
-
-    The temporary file sits in the same directory (``os.replace`` is only atomic within one file
-    system) and is removed if ``write`` fails or is interrupted.
-    """
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+def _process_alive(pid: int) -> bool:
     try:
-        write(tmp)
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # exists, owned by someone else
+        return True
+    return True
 
 
 def to_json_value(value):
@@ -144,7 +140,7 @@ class ShardStore:
             header = {"format": STORE_FORMAT, "format_version": STORE_FORMAT_VERSION,
                       "settings": requested}
             text = json.dumps(header, indent=1, sort_keys=True) + "\n"
-            atomic_write(settings_file, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+            write_atomically(settings_file, lambda tmp: tmp.write_text(text, encoding="utf-8"))
         store = cls(path, requested)
         store.shard_dir.mkdir(exist_ok=True)
         store._remove_stale_temporaries()
@@ -159,10 +155,13 @@ class ShardStore:
         return self.path / DATASET_FILE
 
     def _remove_stale_temporaries(self) -> None:
-        # Temporaries left by a writer that was killed mid-write; never visible as results.
+        # Temporaries left by a writer that was killed mid-write; never visible as results. A
+        # live process's temporaries are being written right now (e.g. a job running while
+        # another process asks for its status): leave them.
         for directory in (self.path, self.shard_dir):
             for p in directory.iterdir():
-                if _TMP_RE.match(p.name):
+                m = _TMP_RE.match(p.name)
+                if m and not _process_alive(int(m.group(1))):
                     p.unlink(missing_ok=True)
 
     def _shards(self) -> list[Path]:
@@ -224,12 +223,12 @@ class ShardStore:
             data[name] = (("task",) + tuple(dims[name]), values)
         ds = xr.Dataset(data)
         path = self.shard_dir / f"shard-{number:06d}.nc"
-        atomic_write(path, ds.to_netcdf)
+        write_atomically(path, ds.to_netcdf)
         return path
 
     def write_dataset(self, ds) -> Path:
         """Write the consolidated dataset (atomic), then drop the shards it supersedes."""
-        atomic_write(self.dataset_path, ds.to_netcdf)
+        write_atomically(self.dataset_path, ds.to_netcdf)
         for shard in self._shards():
             shard.unlink(missing_ok=True)
         return self.dataset_path

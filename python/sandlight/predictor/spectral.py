@@ -36,7 +36,6 @@ import functools
 import inspect
 import json
 import math
-import os
 import warnings
 import zipfile
 from dataclasses import dataclass
@@ -47,6 +46,7 @@ import numpy as np
 
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
+from sandlight.io import atomic_path
 
 MODEL_FORMAT = "sandlight-spectral-model"
 MODEL_FORMAT_VERSION = 1
@@ -560,14 +560,9 @@ class SpectralModel:
                   "scale_center": self.scale_center_, "scale_halfwidth": self.scale_halfwidth_,
                   "powers": self.powers_, "W": self.W_}
         metadata = np.array(json.dumps(_plain(self._metadata()), sort_keys=True))
-        tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-        try:
+        with atomic_path(path) as tmp:
             with open(tmp, "wb") as fh:
                 np.savez(fh, metadata=metadata, **arrays)
-            os.replace(tmp, path)
-        except BaseException:
-            tmp.unlink(missing_ok=True)
-            raise
         return path
 
     @classmethod

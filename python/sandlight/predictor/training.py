@@ -37,7 +37,7 @@ import numpy as np
 from sandlight.errors import ParameterError
 from sandlight.jobs import (DaskExecutor, Executor, InProcessExecutor, Job, JobStatus,
                             LocalExecutor, derive_seed)
-from sandlight.jobs.store import atomic_write
+from sandlight.io import write_atomically
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
 from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
 
@@ -340,6 +340,6 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
     fit_s = time.perf_counter() - start
     model_path = model.save(out / "spectral-model.npz")
     text = json.dumps(report.to_dict() if report else None, indent=1) + "\n"
-    atomic_write(out / "holdout-report.json", lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    write_atomically(out / "holdout-report.json", lambda tmp: tmp.write_text(text, encoding="utf-8"))
     return TrainingRun(model, report, model_path, statuses[0], holdout_status, generation_s,
                        fit_s)

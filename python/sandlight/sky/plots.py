@@ -26,8 +26,6 @@ drawn (it is not part of the sky radiance); a ring marks its position.
 
 from __future__ import annotations
 
-import os
-import uuid
 from pathlib import Path
 
 import numpy as np
@@ -36,6 +34,7 @@ from sandlight.errors import ParameterError
 from sandlight.sky import sun as _sun
 from sandlight.sky.preetham import LUMINOUS_EFFICACY_LM_W, TURBIDITY_RANGE, PreethamSky
 from sandlight.sky._checks import real_array, real_scalar
+from sandlight.io import write_atomically
 
 __all__ = ["fisheye_directions", "sky_dome_xyz", "xyz_to_display_srgb", "plot_sky_dome",
            "plot_sky_day"]
@@ -150,18 +149,8 @@ def _auto_exposure_cd_m2(xyz: np.ndarray, inside: np.ndarray) -> float:
 
 
 def _save_figure_atomically(figure, path: Path) -> None:
-    """Write the figure as PNG to a temporary file beside ``path`` and move it into place."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    # A fresh unique name rather than mkstemp, whose 0600 mode would survive the rename; this
-    # way the file gets the usual permissions (umask).
-    temporary = path.parent / f".{path.name}.{os.getpid()}.{uuid.uuid4().hex}.tmp"
-    try:
-        figure.savefig(temporary, format="png")
-        os.replace(temporary, path)
-    except BaseException:
-        if os.path.exists(temporary):
-            os.unlink(temporary)
-        raise
+    """Write the figure as PNG, atomically (sandlight.io)."""
+    write_atomically(path, lambda tmp: figure.savefig(tmp, format="png"))
 
 
 def _sun_marker_position(sky: PreethamSky, size: int) -> tuple[float, float]:
