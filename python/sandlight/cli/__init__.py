@@ -8,6 +8,7 @@ from sandlight.cli._app import app
 from sandlight.cli import engine as _engine  # noqa: F401,E402
 from sandlight.cli import colour as _colour  # noqa: F401,E402
 from sandlight.cli import sky as _sky  # noqa: F401,E402
+from sandlight.cli import validate as _validate  # noqa: F401,E402
 
 
 def main() -> None:
