@@ -27,7 +27,8 @@ def plot_spectrum(wavelengths_nm, values, stderr, path, *, title=None, label="sa
         ax.plot(w2, v2, "-", lw=1, label=lab)
     ax.set_xlabel("wavelength (nm)")
     ax.set_ylabel("directional-hemispherical reflectance")
-    ax.set_ylim(0, max(1e-3, float(np.nanmax(v + 2 * e)) * 1.1))
+    top = max([float(np.nanmax(v + 2 * e))] + [float(np.nanmax(np.asarray(v2, dtype=float))) for _, v2, _ in others])
+    ax.set_ylim(0, max(1e-3, top * 1.1))
     ax.grid(alpha=0.3)
     ax.legend(loc="best", fontsize=8)
     if title:
