@@ -1,7 +1,5 @@
 //! Unpolarised Fresnel reflectance of a plane interface.
 
-use num_complex::Complex64;
-
 /// Reflectance between two non-absorbing media, light coming from index `n1` into `n2`, with
 /// incidence cosine `cos_i` in (0, 1]. Returns 1 on total internal reflection.
 /// R = (|r_s|² + |r_p|²)/2 with r_s = (n₁cosθᵢ − n₂cosθₜ)/(n₁cosθᵢ + n₂cosθₜ),
@@ -23,20 +21,37 @@ pub fn dielectric(n1: f64, n2: f64, cos_i: f64) -> f64 {
 /// Reflectance from a non-absorbing medium `n1` into an absorbing one ñ₂ = `n2 + i k2`.
 /// cos θₜ = √(1 − (n₁ sin θᵢ / ñ₂)²) is complex (splits-model.md §2.4); the principal branch has
 /// Re ≥ 0, the physical (decaying) wave for k₂ ≥ 0.
+///
+/// Evaluated in real arithmetic through w = ñ₂ cos θₜ = √(ñ₂² − n₁² sin² θᵢ) (principal root:
+/// ñ₂ and cos θₜ both lie in the first quadrant, so their product is the root with Re, Im ≥ 0):
+/// r_s = (n₁cos θᵢ − w)/(n₁cos θᵢ + w) and, multiplying r_p's numerator and denominator by ñ₂,
+/// r_p = (ñ₂² cos θᵢ − n₁ w)/(ñ₂² cos θᵢ + n₁ w). The complex square root is the stable
+/// algebraic one (no atan2/sincos as in the polar form): for z = x + iy, y ≥ 0,
+/// √z = (√((|z| + x)/2), y/(2·Re)) when x ≥ 0, else (y/(2·Im), √((|z| − x)/2)).
 #[inline]
 pub fn conductor(n1: f64, n2: f64, k2: f64, cos_i: f64) -> f64 {
     if k2 <= 0.0 {
         return dielectric(n1, n2, cos_i);
     }
     let cos_i = cos_i.clamp(0.0, 1.0);
-    let m = Complex64::new(n2, k2);
-    let sin_i = (1.0 - cos_i * cos_i).max(0.0).sqrt();
-    let s = Complex64::new(n1 * sin_i, 0.0) / m;
-    let cos_t = (Complex64::new(1.0, 0.0) - s * s).sqrt();
-    let a = Complex64::new(n1 * cos_i, 0.0);
-    let rs = (a - m * cos_t) / (a + m * cos_t);
-    let rp = (m * cos_i - n1 * cos_t) / (m * cos_i + n1 * cos_t);
-    0.5 * (rs.norm_sqr() + rp.norm_sqr())
+    // ñ₂² = (n² − k²) + i 2nk; z = ñ₂² − n₁² sin² θᵢ.
+    let (m2r, m2i) = (n2 * n2 - k2 * k2, 2.0 * n2 * k2);
+    let x = m2r - n1 * n1 * (1.0 - cos_i * cos_i);
+    let y = m2i;
+    let modulus = (x * x + y * y).sqrt();
+    let (wr, wi) = if x >= 0.0 {
+        let wr = (0.5 * (modulus + x)).sqrt();
+        (wr, y / (2.0 * wr))
+    } else {
+        let wi = (0.5 * (modulus - x)).sqrt();
+        (y / (2.0 * wi), wi)
+    };
+    let a = n1 * cos_i;
+    let rs2 = ((a - wr) * (a - wr) + wi * wi) / ((a + wr) * (a + wr) + wi * wi);
+    let (pr, pi) = (m2r * cos_i, m2i * cos_i);
+    let (qr, qi) = (n1 * wr, n1 * wi);
+    let rp2 = ((pr - qr) * (pr - qr) + (pi - qi) * (pi - qi)) / ((pr + qr) * (pr + qr) + (pi + qi) * (pi + qi));
+    0.5 * (rs2 + rp2)
 }
 
 #[cfg(test)]
@@ -56,6 +71,32 @@ mod tests {
     fn conductor_reduces_to_dielectric() {
         for c in [0.05, 0.3, 0.7, 1.0] {
             assert!((conductor(1.33, 1.54, 1e-12, c) - dielectric(1.33, 1.54, c)).abs() < 1e-9);
+        }
+    }
+
+    /// The complex-number form of the same formula (polar complex square root), as reference.
+    fn conductor_complex(n1: f64, n2: f64, k2: f64, cos_i: f64) -> f64 {
+        use num_complex::Complex64;
+        let m = Complex64::new(n2, k2);
+        let sin_i = (1.0 - cos_i * cos_i).max(0.0).sqrt();
+        let s = Complex64::new(n1 * sin_i, 0.0) / m;
+        let cos_t = (Complex64::new(1.0, 0.0) - s * s).sqrt();
+        let a = Complex64::new(n1 * cos_i, 0.0);
+        let rs = (a - m * cos_t) / (a + m * cos_t);
+        let rp = (m * cos_i - n1 * cos_t) / (m * cos_i + n1 * cos_t);
+        0.5 * (rs.norm_sqr() + rp.norm_sqr())
+    }
+
+    #[test]
+    fn conductor_matches_complex_form() {
+        // Weak (quartz), strong (hematite, magnetite) and metal-like (k > n) absorbers, from air
+        // and from water, including indices below n₁ sin θ (x < 0 branch of the root).
+        for &(n1, n2, k2) in &[(1.0, 1.549, 4.4e-7), (1.333, 1.56, 1.2e-5), (1.0, 2.9, 1.3), (1.333, 2.34, 0.105), (1.0, 0.3, 3.0), (1.333, 1.1, 0.01)] {
+            for j in 0..=200 {
+                let c = j as f64 / 200.0;
+                let (fast, reference) = (conductor(n1, n2, k2, c), conductor_complex(n1, n2, k2, c));
+                assert!((fast - reference).abs() <= 1e-12 * reference, "n1 {n1} n2 {n2} k2 {k2} cos {c}: {fast} vs {reference}");
+            }
         }
     }
 
