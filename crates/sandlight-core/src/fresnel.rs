@@ -12,7 +12,13 @@ pub fn dielectric(n1: f64, n2: f64, cos_i: f64) -> f64 {
     if sin2_t >= 1.0 {
         return 1.0;
     }
-    let cos_t = (1.0 - sin2_t).sqrt();
+    dielectric_cos(n1, n2, cos_i, (1.0 - sin2_t).sqrt())
+}
+
+/// `dielectric` when the transmitted cosine `cos_t` is already known (e.g. from the invariant
+/// n sin θ in a layer stack), saving its square root. Requires cos_t > 0 (no TIR).
+#[inline]
+pub fn dielectric_cos(n1: f64, n2: f64, cos_i: f64, cos_t: f64) -> f64 {
     let rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
     let rp = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
     0.5 * (rs * rs + rp * rp)

@@ -38,30 +38,41 @@ impl Slab {
 /// Reflectance and transmittance of a stack `media[0] | media[1] | … | media[last]` for light
 /// incident from `media[0]` with incidence cosine `cos_0` (in (0, 1]). Layers are
 /// `media[1..last]`; at most `MAX_MEDIA` media. Absorptance is 1 − R − T.
+#[inline]
 pub fn stack_rt(media: &[Slab], cos_0: f64) -> (f64, f64) {
     let m = media.len();
     debug_assert!(m >= 2 && m <= MAX_MEDIA);
-    let s2 = media[0].n * media[0].n * (1.0 - cos_0 * cos_0).max(0.0); // (n₀ sin θ₀)²
+    let cos_0 = cos_0.clamp(0.0, 1.0);
+    let s2 = media[0].n * media[0].n * (1.0 - cos_0 * cos_0); // (n₀ sin θ₀)²
+    if m == 2 {
+        // A bare interface (no film, no coating): R from Fresnel, T = 1 − R.
+        let r = interface(media[0], media[1], cos_0, s2);
+        return (r, 1.0 - r);
+    }
     // cos θ in each medium from the invariant; TIR where (s/n)² ≥ 1.
     let mut cos = [0.0f64; MAX_MEDIA];
-    for i in 0..m {
+    cos[0] = cos_0;
+    for i in 1..m {
         let c2 = 1.0 - s2 / (media[i].n * media[i].n);
         cos[i] = if c2 > 0.0 { c2.sqrt() } else { 0.0 };
     }
-    let interface = |i: usize| -> f64 {
-        // Interface between media i and i+1, seen from medium i.
-        if cos[i + 1] <= 0.0 {
-            return 1.0;
-        }
+    // Interface between media i and i+1, seen from medium i; the transmitted cosine is known.
+    let between = |i: usize| -> f64 {
         let (a, b) = (media[i], media[i + 1]);
-        if b.k_fresnel > 0.0 { fresnel::conductor(a.n, b.n, b.k_fresnel, cos[i]) } else { fresnel::dielectric(a.n, b.n, cos[i]) }
+        if cos[i + 1] <= 0.0 {
+            1.0
+        } else if b.k_fresnel > 0.0 {
+            fresnel::conductor(a.n, b.n, b.k_fresnel, cos[i])
+        } else {
+            fresnel::dielectric_cos(a.n, b.n, cos[i], cos[i + 1])
+        }
     };
     // Recursion from the innermost interface outwards: (r, t) describe everything beyond
     // medium i as seen from inside medium i.
-    let mut r = interface(m - 2);
+    let mut r = between(m - 2);
     let mut t = 1.0 - r;
     for i in (1..m - 1).rev() {
-        let ra = interface(i - 1);
+        let ra = between(i - 1);
         let ta = 1.0 - ra;
         let tau = if cos[i] > 0.0 { (-media[i].alpha_per_mm * media[i].thickness_mm / cos[i]).exp() } else { 0.0 };
         let denom = 1.0 - ra * r * tau * tau;
@@ -70,7 +81,22 @@ pub fn stack_rt(media: &[Slab], cos_0: f64) -> (f64, f64) {
         r = new_r;
         t = new_t;
     }
-    (r.clamp(0.0, 1.0), t.clamp(0.0, 1.0 - r.clamp(0.0, 1.0)))
+    let r = r.clamp(0.0, 1.0);
+    (r, t.clamp(0.0, 1.0 - r))
+}
+
+/// Reflectance of the single interface a | b for incidence cosine `cos_a` in a, with
+/// s2 = (n_a sin θ_a)²: 1 beyond the critical angle, complex-index Fresnel into an absorbing
+/// core, real Fresnel otherwise.
+#[inline]
+fn interface(a: Slab, b: Slab, cos_a: f64, s2: f64) -> f64 {
+    if s2 >= b.n * b.n {
+        1.0
+    } else if b.k_fresnel > 0.0 {
+        fresnel::conductor(a.n, b.n, b.k_fresnel, cos_a)
+    } else {
+        fresnel::dielectric(a.n, b.n, cos_a)
+    }
 }
 
 /// Pore medium, optional water film, optional coating, core: four media at most.

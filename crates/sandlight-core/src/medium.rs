@@ -3,7 +3,7 @@
 //! a Lambertian surface).
 
 use crate::error::{check_range, SandlightError};
-use crate::particle::{Coating, ParticleOptics, PoreOptics};
+use crate::particle::{Coating, ParticleOptics, PoreOptics, Stacks};
 use crate::sizes::QuantileTable;
 
 /// One kind of particle in a sand sample.
@@ -28,11 +28,15 @@ impl ParticleType {
 }
 
 /// Sand: a half-space (or slab) of randomly packed particles, generated on the fly.
+///
+/// Per-type tables (cumulative probabilities, a/d, layer stacks) are derived from `types` and
+/// `pore` by `new`; treat the public fields as read-only afterwards.
 #[derive(Clone, Debug)]
 pub struct Particulate {
     pub types: Vec<ParticleType>,
     cumulative: Vec<f64>,
     a_over_d: Vec<f64>,
+    stacks: Vec<Stacks>,
     /// Mean free path in the pore space (mm), splits-model.md §2.1.
     pub mean_free_path_mm: f64,
     pub pore: PoreOptics,
@@ -74,14 +78,27 @@ impl Particulate {
         let mut acc = 0.0;
         let cumulative = types.iter().map(|t| { acc += t.probability / total; acc }).collect();
         let a_over_d = types.iter().map(ParticleType::a_over_d).collect();
-        Ok(Particulate { types, cumulative, a_over_d, mean_free_path_mm, pore, depth_mm })
+        let stacks = types.iter().map(|t| Stacks::new(&t.optics, &pore)).collect();
+        Ok(Particulate { types, cumulative, a_over_d, stacks, mean_free_path_mm, pore, depth_mm })
+    }
+
+    /// Index of the type of the next particle, for a uniform `u` in [0, 1).
+    #[inline]
+    pub fn pick_index(&self, u: f64) -> usize {
+        self.cumulative.iter().position(|&c| u < c).unwrap_or(self.types.len() - 1)
     }
 
     /// The type of the next particle and its a/d, for a uniform `u` in [0, 1).
     #[inline]
     pub fn pick_type(&self, u: f64) -> (&ParticleType, f64) {
-        let i = self.cumulative.iter().position(|&c| u < c).unwrap_or(self.types.len() - 1);
+        let i = self.pick_index(u);
         (&self.types[i], self.a_over_d[i])
+    }
+
+    /// a/d and layer stacks of type `i` (as returned by `pick_index`).
+    #[inline]
+    pub fn type_tables(&self, i: usize) -> (f64, &Stacks) {
+        (self.a_over_d[i], &self.stacks[i])
     }
 }
 

@@ -72,40 +72,86 @@ pub enum Interaction {
 }
 
 /// Media from the pore (index 0) to the core (last), with the film only facing an air pore.
-#[inline]
-fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, out: &mut [Slab; MAX_MEDIA]) -> usize {
-    let mut m = 0;
-    out[m] = Slab::semi_infinite(pore.index(water));
-    m += 1;
+fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
+    let mut out = Stack { media: [Slab::semi_infinite(1.0); MAX_MEDIA], len: 0 };
+    let mut push = |s: Slab| {
+        out.media[out.len] = s;
+        out.len += 1;
+    };
+    push(Slab::semi_infinite(pore.index(water)));
     if !water && p.wets && pore.film_thickness_mm > 0.0 {
-        out[m] = Slab { n: pore.water_n, alpha_per_mm: pore.water_alpha_per_mm, thickness_mm: pore.film_thickness_mm, k_fresnel: 0.0 };
-        m += 1;
+        push(Slab { n: pore.water_n, alpha_per_mm: pore.water_alpha_per_mm, thickness_mm: pore.film_thickness_mm, k_fresnel: 0.0 });
     }
     if let Some(c) = p.coating {
-        out[m] = Slab { n: c.n, alpha_per_mm: c.alpha_per_mm, thickness_mm: c.thickness_mm, k_fresnel: 0.0 };
-        m += 1;
+        push(Slab { n: c.n, alpha_per_mm: c.alpha_per_mm, thickness_mm: c.thickness_mm, k_fresnel: 0.0 });
     }
-    out[m] = Slab { n: p.core_n, alpha_per_mm: 0.0, thickness_mm: 0.0, k_fresnel: p.core_k };
-    m + 1
+    push(Slab { n: p.core_n, alpha_per_mm: 0.0, thickness_mm: 0.0, k_fresnel: p.core_k });
+    out
 }
 
 /// The same media in reverse order (core first); Fresnel from inside uses the real core index.
+fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
+    let mut out = entry_stack(p, pore, water);
+    out.media[..out.len].reverse();
+    out.media[0].k_fresnel = 0.0;
+    out
+}
+
+/// A stack of media (see `layers`), stored inline.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Stack {
+    media: [Slab; MAX_MEDIA],
+    len: usize,
+}
+
+impl Stack {
+    #[inline]
+    fn rt(&self, cos_0: f64) -> (f64, f64) {
+        stack_rt(&self.media[..self.len], cos_0)
+    }
+}
+
+/// The layer stacks of one particle type in one pore space: into the particle and out of it,
+/// each for an air- and a water-filled pore. They depend only on the optics, so a medium builds
+/// them once (`Particulate::new`) rather than at every interaction.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stacks {
+    /// Indexed by `water as usize`.
+    entry: [Stack; 2],
+    exit: [Stack; 2],
+}
+
+impl Stacks {
+    pub fn new(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
+        Stacks {
+            entry: [entry_stack(p, pore, false), entry_stack(p, pore, true)],
+            exit: [exit_stack(p, pore, false), exit_stack(p, pore, true)],
+        }
+    }
+}
+
+/// Survival of Beer–Lambert attenuation over optical depth `x` = α L ≥ 0 for a uniform `u` in
+/// [0, 1): u < exp(−x). Since exp(−x) ≥ 1 − x, u < 1 − x already decides survival, and the
+/// exponential is evaluated only in the remaining fraction x of cases (rare for the thin,
+/// weakly absorbing paths that dominate).
 #[inline]
-fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, out: &mut [Slab; MAX_MEDIA]) -> usize {
-    let m = entry_stack(p, pore, water, out);
-    out[..m].reverse();
-    out[0].k_fresnel = 0.0;
-    m
+pub fn survives(u: f64, x: f64) -> bool {
+    u < 1.0 - x || u < (-x).exp()
 }
 
 /// Traces a ray arriving along `d` at `hit` on particle `shape` from a pore (water-filled if
 /// `water`). `max_internal` caps internal reflections.
 #[inline]
 pub fn interact(p: &ParticleOptics, pore: &PoreOptics, shape: &Spheroid, hit: Hit, d: Vec3, water: bool, rng: &mut Rng, max_internal: u32) -> Interaction {
-    let mut media = [Slab::semi_infinite(1.0); MAX_MEDIA];
-    let m = entry_stack(p, pore, water, &mut media);
+    interact_with_stacks(p, &Stacks::new(p, pore), pore, shape, hit, d, water, rng, max_internal)
+}
+
+/// `interact` with the particle type's layer stacks built beforehand (`Stacks::new(p, pore)`).
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn interact_with_stacks(p: &ParticleOptics, stacks: &Stacks, pore: &PoreOptics, shape: &Spheroid, hit: Hit, d: Vec3, water: bool, rng: &mut Rng, max_internal: u32) -> Interaction {
     let cos_i = (-d.dot(hit.normal)).clamp(0.0, 1.0);
-    let (r, t) = stack_rt(&media[..m], cos_i);
+    let (r, t) = stacks.entry[water as usize].rt(cos_i);
     let u = rng.uniform();
     if u < r {
         return Interaction::Reflected { dir: d.reflect(hit.normal) };
@@ -122,15 +168,14 @@ pub fn interact(p: &ParticleOptics, pore: &PoreOptics, shape: &Spheroid, hit: Hi
     for _ in 0..max_internal {
         let (len, x1) = shape.chord_from_surface(x, dir);
         // Beer–Lambert along the chord.
-        if p.core_alpha_per_mm > 0.0 && rng.uniform() >= (-p.core_alpha_per_mm * len).exp() {
+        if p.core_alpha_per_mm > 0.0 && !survives(rng.uniform(), p.core_alpha_per_mm * len) {
             return Interaction::Absorbed;
         }
         let n1 = shape.normal_at(x1);
         let cos_in = dir.dot(n1).clamp(0.0, 1.0);
         // The pore beyond this point of the surface.
         let water_beyond = pore.draw_water(rng);
-        let m = exit_stack(p, pore, water_beyond, &mut media);
-        let (r, t) = stack_rt(&media[..m], cos_in);
+        let (r, t) = stacks.exit[water_beyond as usize].rt(cos_in);
         let u = rng.uniform();
         if u < r {
             dir = dir.reflect(n1);
@@ -158,6 +203,17 @@ mod tests {
 
     fn glass(n: f64) -> ParticleOptics {
         ParticleOptics { core_n: n, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true }
+    }
+
+    #[test]
+    fn survival_shortcut_is_the_beer_lambert_test() {
+        let mut rng = Rng::for_ray(2, 0, 0);
+        for &x in &[0.0, 1e-9, 1e-4, 0.003, 0.1, 0.5, 1.0, 3.0, 40.0] {
+            for _ in 0..20_000 {
+                let u = rng.uniform();
+                assert_eq!(survives(u, x), u < (-x).exp(), "u {u} x {x}");
+            }
+        }
     }
 
     #[test]
