@@ -1,7 +1,7 @@
 //! Prolate spheroid grains: semi-axes (a, a, c), c = ε a ≥ a, symmetry axis `u`
 //! (splits-model.md §2.3). Coordinates are relative to the centre, in the sample frame.
 
-use crate::math::Vec3;
+use crate::math::{sin_cos_turns, Vec3};
 use crate::rng::Rng;
 
 /// a/d = ε^(−1/3)/2 for a prolate spheroid of volume-equivalent diameter d and aspect ratio ε.
@@ -49,8 +49,8 @@ impl Spheroid {
     pub fn random_axis(rng: &mut Rng) -> Vec3 {
         let z = 1.0 - 2.0 * rng.uniform();
         let r = (1.0 - z * z).max(0.0).sqrt();
-        let phi = 2.0 * std::f64::consts::PI * rng.uniform();
-        Vec3::new(r * phi.cos(), r * phi.sin(), z)
+        let (sin_phi, cos_phi) = sin_cos_turns(rng.uniform());
+        Vec3::new(r * cos_phi, r * sin_phi, z)
     }
 
     #[inline]
@@ -96,18 +96,34 @@ impl Spheroid {
     /// Area-weighted hit point for a ray with direction `d` meeting this particle
     /// (splits-model.md §2.3): a point uniform in the disc of the bounding sphere's radius c,
     /// perpendicular to the ray; on a miss, draw again. Returns None only if `max_tries` misses
-    /// in a row (impossible in practice: the acceptance is ≥ a/c ≥ 1/3 for ε ≤ 3... for ε ≤ 27).
+    /// in a row (impossible in practice: the acceptance, shadow area over πc², is ≥ 1/ε²).
+    ///
+    /// Each try works in the frame (e₁, e₂, d): for p = x e₁ + y e₂ − 2c d the quadratic of
+    /// `quad` needs only p·u = x u₁ + y u₂ − 2c u_d, p·d = −2c and |p|² = x² + y² + 4c², so a
+    /// miss costs a few multiplications; the 3-D point and normal are formed for the hit only.
     #[inline]
     pub fn sample_hit(&self, d: Vec3, rng: &mut Rng, max_tries: u32) -> Option<Hit> {
         let (e1, e2) = d.orthonormal_basis();
+        let (u1, u2, ud) = (self.u.dot(e1), self.u.dot(e2), self.u.dot(d));
+        let (k, inv_a2) = (self.k, self.inv_a2);
+        let two_c = 2.0 * self.c;
+        // A and the constant parts of B/2 and C (see `quad`).
+        let qa = inv_a2 + k * ud * ud;
+        let pu0 = -two_c * ud;
         for _ in 0..max_tries {
             let r = self.c * rng.uniform().sqrt();
-            let phi = 2.0 * std::f64::consts::PI * rng.uniform();
-            let (s, co) = phi.sin_cos();
-            let p = e1 * (r * co) + e2 * (r * s) - d * (2.0 * self.c);
-            if let Some(h) = self.intersect_from_outside(p, d) {
-                return Some(h);
+            let (s, co) = sin_cos_turns(rng.uniform());
+            let (x, y) = (r * co, r * s);
+            let pu = x * u1 + y * u2 + pu0;
+            let half_b = -two_c * inv_a2 + k * pu * ud;
+            let cc = (x * x + y * y + two_c * two_c) * inv_a2 + k * pu * pu - 1.0;
+            let disc = half_b * half_b - qa * cc;
+            if disc <= 0.0 {
+                continue;
             }
+            let t = (-half_b - disc.sqrt()) / qa;
+            let point = e1 * x + e2 * y + d * (t - two_c);
+            return Some(Hit { point, normal: self.normal_at(point) });
         }
         None
     }

@@ -2,7 +2,7 @@
 //! the pore space, particles generated on the fly, the boundary, and the ray's fate.
 
 use crate::fresnel;
-use crate::math::{refract, Vec3};
+use crate::math::{refract, sin_cos_turns, Vec3};
 use crate::medium::{IsotropicScatterers, LambertianSurface, Particulate};
 use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
@@ -58,9 +58,9 @@ fn uniform_sphere(rng: &mut Rng) -> Vec3 {
 #[inline]
 pub fn cosine_hemisphere(rng: &mut Rng) -> Vec3 {
     let r = rng.uniform().sqrt();
-    let phi = 2.0 * std::f64::consts::PI * rng.uniform();
+    let (sin_phi, cos_phi) = sin_cos_turns(rng.uniform());
     let z = (1.0 - r * r).max(0.0).sqrt();
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    Vec3::new(r * cos_phi, r * sin_phi, z)
 }
 
 impl Medium for Particulate {
