@@ -17,11 +17,13 @@ pub fn dielectric(n1: f64, n2: f64, cos_i: f64) -> f64 {
 
 /// `dielectric` when the transmitted cosine `cos_t` is already known (e.g. from the invariant
 /// n sin θ in a layer stack), saving its square root. Requires cos_t > 0 (no TIR).
+/// r_s = A/B and r_p = C/D are combined over one division: R = (A²D² + C²B²)/(2B²D²).
 #[inline]
 pub fn dielectric_cos(n1: f64, n2: f64, cos_i: f64, cos_t: f64) -> f64 {
-    let rs = (n1 * cos_i - n2 * cos_t) / (n1 * cos_i + n2 * cos_t);
-    let rp = (n2 * cos_i - n1 * cos_t) / (n2 * cos_i + n1 * cos_t);
-    0.5 * (rs * rs + rp * rp)
+    let (a, b) = (n1 * cos_i - n2 * cos_t, n1 * cos_i + n2 * cos_t);
+    let (c, d) = (n2 * cos_i - n1 * cos_t, n2 * cos_i + n1 * cos_t);
+    let (ad, cb, bd) = (a * d, c * b, b * d);
+    (ad * ad + cb * cb) / (2.0 * bd * bd)
 }
 
 /// Reflectance from a non-absorbing medium `n1` into an absorbing one ñ₂ = `n2 + i k2`.
@@ -31,33 +33,43 @@ pub fn dielectric_cos(n1: f64, n2: f64, cos_i: f64, cos_t: f64) -> f64 {
 /// Evaluated in real arithmetic through w = ñ₂ cos θₜ = √(ñ₂² − n₁² sin² θᵢ) (principal root:
 /// ñ₂ and cos θₜ both lie in the first quadrant, so their product is the root with Re, Im ≥ 0):
 /// r_s = (n₁cos θᵢ − w)/(n₁cos θᵢ + w) and, multiplying r_p's numerator and denominator by ñ₂,
-/// r_p = (ñ₂² cos θᵢ − n₁ w)/(ñ₂² cos θᵢ + n₁ w). The complex square root is the stable
-/// algebraic one (no atan2/sincos as in the polar form): for z = x + iy, y ≥ 0,
-/// √z = (√((|z| + x)/2), y/(2·Re)) when x ≥ 0, else (y/(2·Im), √((|z| − x)/2)).
+/// r_p = (ñ₂² cos θᵢ − n₁ w)/(ñ₂² cos θᵢ + n₁ w). With z = ñ₂² − n₁² sin² θᵢ = x + iy (y ≥ 0),
+/// the stable algebraic root has w_r² = (|z| + x)/2 (x ≥ 0) or w_i² = (|z| − x)/2 (x < 0), and
+/// w_r w_i = y/2. Multiplying |r_s|² and |r_p|² top and bottom by w_r² (or w_i²) removes the
+/// division y/(2w_r), and the two ratios share one division: two square roots, one division,
+/// no cancellation beyond that of the differences themselves.
 #[inline]
 pub fn conductor(n1: f64, n2: f64, k2: f64, cos_i: f64) -> f64 {
     if k2 <= 0.0 {
         return dielectric(n1, n2, cos_i);
     }
-    let cos_i = cos_i.clamp(0.0, 1.0);
-    // ñ₂² = (n² − k²) + i 2nk; z = ñ₂² − n₁² sin² θᵢ.
+    let c = cos_i.clamp(0.0, 1.0);
+    // ñ₂² = (n² − k²) + i 2nk.
     let (m2r, m2i) = (n2 * n2 - k2 * k2, 2.0 * n2 * k2);
-    let x = m2r - n1 * n1 * (1.0 - cos_i * cos_i);
-    let y = m2i;
-    let modulus = (x * x + y * y).sqrt();
-    let (wr, wi) = if x >= 0.0 {
-        let wr = (0.5 * (modulus + x)).sqrt();
-        (wr, y / (2.0 * wr))
+    let x = m2r - n1 * n1 * (1.0 - c * c);
+    let modulus = (x * x + m2i * m2i).sqrt();
+    let a = n1 * c;
+    let (pr, pi) = (m2r * c, m2i * c);
+    let h = 0.5 * m2i; // w_r w_i
+    // |r_s|² = [(a − w_r)² + w_i²]/[(a + w_r)² + w_i²]; |r_p|² = [(p_r − n₁w_r)² + (p_i − n₁w_i)²]/[…+…].
+    let (ns, ds, np, dp) = if x >= 0.0 {
+        let wr2 = 0.5 * (modulus + x);
+        let wr = wr2.sqrt();
+        // × w_r²: w_i² w_r² = h², (p_i − n₁w_i) w_r = p_i w_r − n₁h.
+        let (sm, sp) = (a - wr, a + wr);
+        let (pm, pp) = (pr - n1 * wr, pr + n1 * wr);
+        let (qm, qp) = (pi * wr - n1 * h, pi * wr + n1 * h);
+        (wr2 * sm * sm + h * h, wr2 * sp * sp + h * h, wr2 * pm * pm + qm * qm, wr2 * pp * pp + qp * qp)
     } else {
-        let wi = (0.5 * (modulus - x)).sqrt();
-        (y / (2.0 * wi), wi)
+        let wi2 = 0.5 * (modulus - x);
+        let wi = wi2.sqrt();
+        // × w_i²: (a − w_r) w_i = a w_i − h, (p_r − n₁w_r) w_i = p_r w_i − n₁h.
+        let (sm, sp) = (a * wi - h, a * wi + h);
+        let (pm, pp) = (pr * wi - n1 * h, pr * wi + n1 * h);
+        let (qm, qp) = (pi - n1 * wi, pi + n1 * wi);
+        (sm * sm + wi2 * wi2, sp * sp + wi2 * wi2, pm * pm + wi2 * qm * qm, pp * pp + wi2 * qp * qp)
     };
-    let a = n1 * cos_i;
-    let rs2 = ((a - wr) * (a - wr) + wi * wi) / ((a + wr) * (a + wr) + wi * wi);
-    let (pr, pi) = (m2r * cos_i, m2i * cos_i);
-    let (qr, qi) = (n1 * wr, n1 * wi);
-    let rp2 = ((pr - qr) * (pr - qr) + (pi - qi) * (pi - qi)) / ((pr + qr) * (pr + qr) + (pi + qi) * (pi + qi));
-    0.5 * (rs2 + rp2)
+    0.5 * (ns * dp + np * ds) / (ds * dp)
 }
 
 #[cfg(test)]

@@ -30,6 +30,19 @@ impl Vec3 {
     pub fn normalized(self) -> Vec3 {
         self * (1.0 / self.norm2().sqrt())
     }
+    /// `normalized` for a vector that is unit up to rounding (|v|² = 1 + δ, |δ| ≤ 1e-9), e.g. a
+    /// direction computed from unit vectors: one Newton step for 1/√(1 + δ), v (3 − |v|²)/2,
+    /// leaves an error O(δ²) without a square root or division. Falls back to `normalized`
+    /// for anything further from unit length.
+    #[inline]
+    pub fn renormalized(self) -> Vec3 {
+        let e = self.norm2();
+        if (e - 1.0).abs() <= 1e-9 {
+            self * (1.5 - 0.5 * e)
+        } else {
+            self.normalized()
+        }
+    }
     /// Two unit vectors completing `self` (unit) to a right-handed orthonormal basis
     /// (Duff et al. 2017, "Building an orthonormal basis, revisited": branchless and robust).
     #[inline]
@@ -133,7 +146,7 @@ pub fn refract(d: Vec3, n: Vec3, eta: f64) -> Option<Vec3> {
         return None;
     }
     let cos_t = (1.0 - sin2_t).sqrt();
-    Some((d * eta + n * (eta * cos_i - cos_t)).normalized())
+    Some((d * eta + n * (eta * cos_i - cos_t)).renormalized())
 }
 
 #[cfg(test)]
@@ -168,6 +181,16 @@ mod tests {
             // And against the naive form, whose argument 2πt carries its own rounding.
             let (s0, c0) = (std::f64::consts::TAU * t).sin_cos();
             assert!((s - s0).abs() < 1e-15 && (c - c0).abs() < 1e-15, "t {t}: ({s}, {c}) vs ({s0}, {c0})");
+        }
+    }
+
+    #[test]
+    fn renormalized_is_unit() {
+        let v = Vec3::new(0.36, 0.48, -0.8);
+        for scale in [1.0, 1.0 + 3e-16, 1.0 - 5e-13, 1.0 + 4e-7, 1.5, 0.01] {
+            let w = (v * scale).renormalized();
+            assert!((w.norm2() - 1.0).abs() < 4e-16, "scale {scale}: |w|² = {}", w.norm2());
+            assert!((w.x / w.z - v.x / v.z).abs() < 1e-15);
         }
     }
 
