@@ -41,7 +41,7 @@ impl Slab {
 #[inline]
 pub fn stack_rt(media: &[Slab], cos_0: f64) -> (f64, f64) {
     let m = media.len();
-    debug_assert!(m >= 2 && m <= MAX_MEDIA);
+    debug_assert!((2..=MAX_MEDIA).contains(&m));
     let cos_0 = cos_0.clamp(0.0, 1.0);
     let s2 = media[0].n * media[0].n * (1.0 - cos_0 * cos_0); // (n₀ sin θ₀)²
     if m == 2 {

@@ -103,6 +103,7 @@ impl Neg for Vec3 {
 /// redistributable; minimax on [−π/4, π/4], error < 2⁻⁵⁸) in the form musl uses, and the
 /// quadrant rotation sin(x + qπ/2), cos(x + qπ/2).
 #[inline]
+#[allow(clippy::excessive_precision)] // the kernel coefficients as fdlibm publishes them
 pub fn sin_cos_turns(t: f64) -> (f64, f64) {
     const S1: f64 = -1.66666666666666324348e-01;
     const S2: f64 = 8.33333333332248946124e-03;

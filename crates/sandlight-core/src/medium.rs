@@ -78,7 +78,7 @@ impl Particulate {
         let mut acc = 0.0;
         let cumulative = types.iter().map(|t| { acc += t.probability / total; acc }).collect();
         let a_over_d = types.iter().map(ParticleType::a_over_d).collect();
-        let stacks = types.iter().map(|t| Stacks::new(&t.optics, &pore)).collect();
+        let stacks = types.iter().map(|t| Stacks::tabulated(&t.optics, &pore)).collect();
         Ok(Particulate { types, cumulative, a_over_d, stacks, mean_free_path_mm, pore, depth_mm })
     }
 

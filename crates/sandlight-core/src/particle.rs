@@ -73,7 +73,7 @@ pub enum Interaction {
 
 /// Media from the pore (index 0) to the core (last), with the film only facing an air pore.
 fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
-    let mut out = Stack { media: [Slab::semi_infinite(1.0); MAX_MEDIA], len: 0 };
+    let mut out = Stack { media: [Slab::semi_infinite(1.0); MAX_MEDIA], len: 0, brackets: None };
     let mut push = |s: Slab| {
         out.media[out.len] = s;
         out.len += 1;
@@ -97,11 +97,30 @@ fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
     out
 }
 
-/// A stack of media (see `layers`), stored inline.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// What a ray does at a stack of media: the three outcomes with probabilities R, T, 1 − R − T.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum StackFate {
+    Reflect,
+    Transmit,
+    Absorb,
+}
+
+/// Cells of a bracket table over the incidence cosine μ ∈ [0, 1].
+const BRACKET_CELLS: usize = 256;
+
+/// A stack of media (see `layers`), stored inline, with optional bracket tables.
+///
+/// The outcome for a uniform u is decided by u < R (reflect), else u ≥ R + T (absorb), else
+/// transmit. R(μ) and R(μ) + T(μ) are smooth in μ (continuous through a critical angle), so a
+/// table of bounds lo ≤ f(μ) ≤ hi per cell of μ usually decides without evaluating the stack:
+/// only when u falls inside a cell's bracket (a fraction ≈ |f′|/256 + 2·margin of the draws) is
+/// the stack evaluated, so every decision is the one the exact evaluation gives.
+#[derive(Clone, Debug, PartialEq)]
 struct Stack {
     media: [Slab; MAX_MEDIA],
     len: usize,
+    /// Per cell [R_lo, R_hi, (R+T)_lo, (R+T)_hi]; None: always evaluate.
+    brackets: Option<Box<[[f64; 4]]>>,
 }
 
 impl Stack {
@@ -109,12 +128,97 @@ impl Stack {
     fn rt(&self, cos_0: f64) -> (f64, f64) {
         stack_rt(&self.media[..self.len], cos_0)
     }
+
+    /// The exact decision: the stack's R and T for incidence cosine `cos_0`, compared with u.
+    #[inline]
+    fn fate_exact(&self, cos_0: f64, u: f64) -> StackFate {
+        let (r, t) = self.rt(cos_0);
+        if u < r {
+            StackFate::Reflect
+        } else if u >= r + t {
+            StackFate::Absorb
+        } else {
+            StackFate::Transmit
+        }
+    }
+
+    /// The same decision as `fate_exact`, from the bracket table when it suffices.
+    #[inline]
+    fn fate(&self, cos_0: f64, u: f64) -> StackFate {
+        if let Some(b) = &self.brackets {
+            let j = ((cos_0 * BRACKET_CELLS as f64) as usize).min(BRACKET_CELLS - 1);
+            let [r_lo, r_hi, rt_lo, rt_hi] = b[j];
+            if u < r_lo {
+                return StackFate::Reflect;
+            }
+            if u >= r_hi {
+                if u < rt_lo {
+                    return StackFate::Transmit;
+                }
+                if u >= rt_hi {
+                    return StackFate::Absorb;
+                }
+            }
+        }
+        self.fate_exact(cos_0, u)
+    }
+
+    /// Builds the bracket table. For each cell the bounds are the end values widened by a
+    /// margin of twice the largest |second difference| of f at the neighbouring nodes
+    /// (≈ 16× the h²|f″|/8 by which a smooth function can leave its chord) plus 1e-12 for
+    /// rounding; they are then checked at nine interior points, and a cell that fails is left
+    /// without bounds (always evaluated).
+    ///
+    /// f is analytic in μ except at the critical cosines μ_c = √(1 − (nᵢ/n₀)²) of media less
+    /// dense than the first, where cos θᵢ → 0: there R has a square-root edge and a layer's
+    /// τ = exp(−αt/cos θᵢ) a feature of width ~(αt)² in μ, far narrower than a cell for thin
+    /// films. The cells from one below to four above each critical cosine are therefore left
+    /// without bounds; beyond them the scale of variation is the distance to μ_c ≥ 3 cells.
+    fn with_brackets(mut self) -> Stack {
+        let n = BRACKET_CELLS;
+        let n0 = self.media[0].n;
+        let mut undecided = vec![false; n];
+        for m in &self.media[1..self.len] {
+            if m.n < n0 {
+                let jc = ((1.0 - (m.n / n0).powi(2)).sqrt() * n as f64) as usize;
+                undecided[jc.saturating_sub(1)..(jc + 5).min(n)].fill(true);
+            }
+        }
+        let f = |mu: f64| {
+            let (r, t) = self.rt(mu);
+            [r, r + t]
+        };
+        let nodes: Vec<[f64; 2]> = (0..=n).map(|j| f(j as f64 / n as f64)).collect();
+        let d2 = |k: usize, j: usize| -> f64 {
+            let j = j.clamp(1, n - 1);
+            (nodes[j + 1][k] - 2.0 * nodes[j][k] + nodes[j - 1][k]).abs()
+        };
+        let cells = (0..n)
+            .map(|j| {
+                let mut cell = [0.0; 4];
+                for k in 0..2 {
+                    let margin = 2.0 * (j.saturating_sub(1)..=j + 2).map(|i| d2(k, i)).fold(0.0, f64::max) + 1e-12;
+                    let (a, b) = (nodes[j][k], nodes[j + 1][k]);
+                    cell[2 * k] = a.min(b) - margin;
+                    cell[2 * k + 1] = a.max(b) + margin;
+                }
+                let inside = (1..10).all(|q| {
+                    let v = f((j as f64 + q as f64 / 10.0) / n as f64);
+                    (0..2).all(|k| cell[2 * k] <= v[k] && v[k] <= cell[2 * k + 1])
+                });
+                // Bounds that never decide: u < −1 and u ≥ 2 are impossible.
+                if inside && !undecided[j] { cell } else { [-1.0, 2.0, -1.0, 2.0] }
+            })
+            .collect();
+        self.brackets = Some(cells);
+        self
+    }
 }
 
 /// The layer stacks of one particle type in one pore space: into the particle and out of it,
 /// each for an air- and a water-filled pore. They depend only on the optics, so a medium builds
-/// them once (`Particulate::new`) rather than at every interaction.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// them once (`Particulate::new`, with bracket tables) rather than at every interaction.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Stacks {
     /// Indexed by `water as usize`.
     entry: [Stack; 2],
@@ -122,11 +226,23 @@ pub struct Stacks {
 }
 
 impl Stacks {
+    /// The stacks without bracket tables (cheap to build; every decision evaluates the stack).
     pub fn new(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
         Stacks {
             entry: [entry_stack(p, pore, false), entry_stack(p, pore, true)],
             exit: [exit_stack(p, pore, false), exit_stack(p, pore, true)],
         }
+    }
+
+    /// The stacks with bracket tables for the pore states that occur (a few ms to build; the
+    /// decisions are the same, mostly without evaluating Fresnel and layer formulas).
+    pub fn tabulated(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
+        let s = Stacks::new(p, pore);
+        let water_used = pore.water_filled_probability > 0.0;
+        let [ea, ew] = s.entry;
+        let [xa, xw] = s.exit;
+        let tab = |st: Stack, used: bool| if used { st.with_brackets() } else { st };
+        Stacks { entry: [tab(ea, true), tab(ew, water_used)], exit: [tab(xa, pore.water_filled_probability < 1.0), tab(xw, water_used)] }
     }
 }
 
@@ -151,13 +267,10 @@ pub fn interact(p: &ParticleOptics, pore: &PoreOptics, shape: &Spheroid, hit: Hi
 #[allow(clippy::too_many_arguments)]
 pub fn interact_with_stacks(p: &ParticleOptics, stacks: &Stacks, pore: &PoreOptics, shape: &Spheroid, hit: Hit, d: Vec3, water: bool, rng: &mut Rng, max_internal: u32) -> Interaction {
     let cos_i = (-d.dot(hit.normal)).clamp(0.0, 1.0);
-    let (r, t) = stacks.entry[water as usize].rt(cos_i);
-    let u = rng.uniform();
-    if u < r {
-        return Interaction::Reflected { dir: d.reflect(hit.normal) };
-    }
-    if u >= r + t {
-        return Interaction::Absorbed;
+    match stacks.entry[water as usize].fate(cos_i, rng.uniform()) {
+        StackFate::Reflect => return Interaction::Reflected { dir: d.reflect(hit.normal) },
+        StackFate::Absorb => return Interaction::Absorbed,
+        StackFate::Transmit => {}
     }
     let n_out = pore.index(water);
     let mut dir = match refract(d, hit.normal, n_out / p.core_n) {
@@ -175,15 +288,14 @@ pub fn interact_with_stacks(p: &ParticleOptics, stacks: &Stacks, pore: &PoreOpti
         let cos_in = dir.dot(n1).clamp(0.0, 1.0);
         // The pore beyond this point of the surface.
         let water_beyond = pore.draw_water(rng);
-        let (r, t) = stacks.exit[water_beyond as usize].rt(cos_in);
-        let u = rng.uniform();
-        if u < r {
-            dir = dir.reflect(n1);
-            x = x1;
-            continue;
-        }
-        if u >= r + t {
-            return Interaction::Absorbed;
+        match stacks.exit[water_beyond as usize].fate(cos_in, rng.uniform()) {
+            StackFate::Reflect => {
+                dir = dir.reflect(n1);
+                x = x1;
+                continue;
+            }
+            StackFate::Absorb => return Interaction::Absorbed,
+            StackFate::Transmit => {}
         }
         match refract(dir, -n1, p.core_n / pore.index(water_beyond)) {
             Some(out) => return Interaction::Transmitted { dir: out, exit_point: x1, water: water_beyond },
@@ -212,6 +324,37 @@ mod tests {
             for _ in 0..20_000 {
                 let u = rng.uniform();
                 assert_eq!(survives(u, x), u < (-x).exp(), "u {u} x {x}");
+            }
+        }
+    }
+
+    #[test]
+    fn bracketed_decisions_equal_exact_ones() {
+        // Every stack kind (bare, film, coating, film + coating; from air and water; entry and
+        // exit with critical angles), dense in μ and u, with extra draws next to R and R + T.
+        let mut rng = Rng::for_ray(4, 0, 0);
+        let (weak, dark) = (Coating { n: 1.9, alpha_per_mm: 300.0, thickness_mm: 5e-4 }, Coating { n: 2.4, alpha_per_mm: 2e4, thickness_mm: 2e-4 });
+        let cases = [(1.55, 4e-7, None, 0.05), (1.55, 4e-7, Some(weak), 0.05), (1.55, 1e-5, Some(dark), 50.0), (2.34, 0.1, None, 50.0), (3.0, 0.5, Some(weak), 0.05)];
+        for (core_n, core_k, coating, water_alpha_per_mm) in cases {
+            let pore = PoreOptics { water_n: 1.333, water_alpha_per_mm, film_thickness_mm: 1e-3, water_filled_probability: 0.4 };
+            let p = ParticleOptics { core_n, core_k, core_alpha_per_mm: 1.0, coating, wets: true };
+            let tab = Stacks::tabulated(&p, &pore);
+            for st in tab.entry.iter().chain(tab.exit.iter()) {
+                assert!(st.brackets.is_some());
+                // A dense grid, and geometric steps away from each critical cosine.
+                let n0 = st.media[0].n;
+                let mut mus: Vec<f64> = (0..=20_000).map(|i| i as f64 / 20_000.0).collect();
+                for m in st.media[1..st.len].iter().filter(|m| m.n < n0) {
+                    let mu_c = (1.0 - (m.n / n0).powi(2)).sqrt();
+                    mus.extend((0..200).flat_map(|e| [-1.0, 1.0].map(|sg| mu_c + sg * 0.1 * 0.9f64.powi(e))));
+                }
+                for mu in mus.into_iter().filter(|m| (0.0..=1.0).contains(m)) {
+                    let (r, t) = st.rt(mu);
+                    let near = [r, r + t].map(|v| v + 1e-9 * (rng.uniform() - 0.5));
+                    for u in [rng.uniform(), near[0].clamp(0.0, 0.999), near[1].clamp(0.0, 0.999)] {
+                        assert_eq!(st.fate(mu, u), st.fate_exact(mu, u), "μ {mu} u {u} stack {:?}", &st.media[..st.len]);
+                    }
+                }
             }
         }
     }
