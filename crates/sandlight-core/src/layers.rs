@@ -76,10 +76,17 @@ pub fn stack_rt(media: &[Slab], cos_0: f64) -> (f64, f64) {
         let ta = 1.0 - ra;
         let tau = if cos[i] > 0.0 { (-media[i].alpha_per_mm * media[i].thickness_mm / cos[i]).exp() } else { 0.0 };
         let denom = 1.0 - ra * r * tau * tau;
-        let new_r = ra + ta * ta * tau * tau * r / denom;
-        let new_t = ta * tau * t / denom;
-        r = new_r;
-        t = new_t;
+        if denom > 0.0 {
+            let new_r = ra + ta * ta * tau * tau * r / denom;
+            let new_t = ta * tau * t / denom;
+            r = new_r;
+            t = new_t;
+        } else {
+            // R_a = R_b = τ = 1 (grazing incidence on a lossless layer with total reflection
+            // beyond it): 0/0 in the formula, whose limit is total reflection.
+            r = 1.0;
+            t = 0.0;
+        }
     }
     let r = r.clamp(0.0, 1.0);
     (r, t.clamp(0.0, 1.0 - r))
@@ -136,6 +143,16 @@ mod tests {
             let s = (1.0 - c0 * c0).sqrt() / 1.54;
             let (rb, tb) = stack_rt(&back, (1.0 - s * s).sqrt());
             assert!((t - tb).abs() < 1e-12 && (r - rb).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn grazing_on_a_lossless_film_over_total_reflection_is_total_reflection() {
+        // R_a = 1 at μ = 0, τ = 1, R_b = 1 (TIR at the film/air interface): R = 1, not 0/0.
+        let w = Slab { n: 1.33, alpha_per_mm: 0.0, thickness_mm: 0.001, k_fresnel: 0.0 };
+        let c = Slab { n: 1.9, alpha_per_mm: 0.0, thickness_mm: 0.0005, k_fresnel: 0.0 };
+        for st in [vec![Slab::semi_infinite(1.54), w, Slab::semi_infinite(1.0)], vec![Slab::semi_infinite(1.54), c, w, Slab::semi_infinite(1.0)]] {
+            assert_eq!(stack_rt(&st, 0.0), (1.0, 0.0));
         }
     }
 
