@@ -169,9 +169,10 @@ mod tests {
         let mut ts: Vec<f64> = (0..=100_000).map(|i| i as f64 / 100_000.0).collect();
         for q in 0..=4 {
             let b = q as f64 / 8.0;
-            ts.extend([b, b - 1e-17, b + 1e-17, b.next_up(), b.next_down()]);
+            // Neighbouring doubles (positive b: ±1 in the bit pattern; f64::next_up needs Rust 1.86).
+            ts.extend([b, b - 1e-17, b + 1e-17, f64::from_bits(b.to_bits() + 1), f64::from_bits(b.to_bits().saturating_sub(1))]);
         }
-        ts.push(1.0f64.next_down());
+        ts.push(f64::from_bits(1.0f64.to_bits() - 1));
         for t in ts.into_iter().filter(|t| (0.0..1.0).contains(t)) {
             let (s, c) = sin_cos_turns(t);
             // The kernels against libm on the same reduced argument: within an ulp or so.

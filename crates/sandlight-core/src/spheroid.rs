@@ -78,7 +78,9 @@ impl Spheroid {
         if disc <= 0.0 {
             return None;
         }
-        let t = (-hb - disc.sqrt()) / a;
+        // 1/A alongside the square root rather than after it.
+        let inv_a = 1.0 / a;
+        let t = (-hb - disc.sqrt()) * inv_a;
         let point = p + d * t;
         Some(Hit { point, normal: self.normal_at(point) })
     }
