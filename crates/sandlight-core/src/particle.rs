@@ -328,10 +328,31 @@ mod tests {
         }
     }
 
+    /// Table decisions against exact ones for every stack of `tab`: a grid of `n_mu` + 1 cosines
+    /// plus geometric steps towards each critical cosine, with u uniform and within 5e-10 of
+    /// R and R + T.
+    fn assert_bracketed_decisions_exact(tab: &Stacks, n_mu: usize, rng: &mut Rng) {
+        for st in tab.entry.iter().chain(tab.exit.iter()).filter(|st| st.brackets.is_some()) {
+            let n0 = st.media[0].n;
+            let mut mus: Vec<f64> = (0..=n_mu).map(|i| i as f64 / n_mu as f64).collect();
+            for m in st.media[1..st.len].iter().filter(|m| m.n < n0) {
+                let mu_c = (1.0 - (m.n / n0).powi(2)).sqrt();
+                mus.extend((0..200).flat_map(|e| [-1.0, 1.0].map(|sg| mu_c + sg * 0.1 * 0.9f64.powi(e))));
+            }
+            for mu in mus.into_iter().filter(|m| (0.0..=1.0).contains(m)) {
+                let (r, t) = st.rt(mu);
+                let near = [r, r + t].map(|v| v + 1e-9 * (rng.uniform() - 0.5));
+                for u in [rng.uniform(), near[0].clamp(0.0, 0.999), near[1].clamp(0.0, 0.999)] {
+                    assert_eq!(st.fate(mu, u), st.fate_exact(mu, u), "μ {mu} u {u} stack {:?}", &st.media[..st.len]);
+                }
+            }
+        }
+    }
+
     #[test]
     fn bracketed_decisions_equal_exact_ones() {
         // Every stack kind (bare, film, coating, film + coating; from air and water; entry and
-        // exit with critical angles), dense in μ and u, with extra draws next to R and R + T.
+        // exit with critical angles; weak to opaque layers).
         let mut rng = Rng::for_ray(4, 0, 0);
         let (weak, dark) = (Coating { n: 1.9, alpha_per_mm: 300.0, thickness_mm: 5e-4 }, Coating { n: 2.4, alpha_per_mm: 2e4, thickness_mm: 2e-4 });
         let cases = [(1.55, 4e-7, None, 0.05), (1.55, 4e-7, Some(weak), 0.05), (1.55, 1e-5, Some(dark), 50.0), (2.34, 0.1, None, 50.0), (3.0, 0.5, Some(weak), 0.05)];
@@ -339,25 +360,31 @@ mod tests {
             let pore = PoreOptics { water_n: 1.333, water_alpha_per_mm, film_thickness_mm: 1e-3, water_filled_probability: 0.4 };
             let p = ParticleOptics { core_n, core_k, core_alpha_per_mm: 1.0, coating, wets: true };
             let tab = Stacks::tabulated(&p, &pore);
-            for st in tab.entry.iter().chain(tab.exit.iter()) {
-                assert!(st.brackets.is_some());
-                // A dense grid, and geometric steps away from each critical cosine.
-                let n0 = st.media[0].n;
-                let mut mus: Vec<f64> = (0..=20_000).map(|i| i as f64 / 20_000.0).collect();
-                for m in st.media[1..st.len].iter().filter(|m| m.n < n0) {
-                    let mu_c = (1.0 - (m.n / n0).powi(2)).sqrt();
-                    mus.extend((0..200).flat_map(|e| [-1.0, 1.0].map(|sg| mu_c + sg * 0.1 * 0.9f64.powi(e))));
-                }
-                for mu in mus.into_iter().filter(|m| (0.0..=1.0).contains(m)) {
-                    let (r, t) = st.rt(mu);
-                    let near = [r, r + t].map(|v| v + 1e-9 * (rng.uniform() - 0.5));
-                    for u in [rng.uniform(), near[0].clamp(0.0, 0.999), near[1].clamp(0.0, 0.999)] {
-                        assert_eq!(st.fate(mu, u), st.fate_exact(mu, u), "μ {mu} u {u} stack {:?}", &st.media[..st.len]);
-                    }
-                }
-            }
+            assert!(tab.entry.iter().chain(tab.exit.iter()).all(|st| st.brackets.is_some()));
+            assert_bracketed_decisions_exact(&tab, 20_000, &mut rng);
         }
     }
+
+    #[test]
+    fn bracketed_decisions_equal_exact_ones_for_random_stacks() {
+        // Random indices (cores less dense than water included), absorption from none to
+        // opaque, thin to thick films and coatings.
+        let mut rng = Rng::for_ray(5, 0, 0);
+        let log_uniform = |rng: &mut Rng, lo: f64, hi: f64| lo * (hi / lo).powf(rng.uniform());
+        for _ in 0..RANDOM_STACK_MEDIA {
+            let coating = (rng.uniform() < 0.6).then(|| Coating { n: 1.3 + 1.5 * rng.uniform(), alpha_per_mm: log_uniform(&mut rng, 1e-2, 3e4), thickness_mm: log_uniform(&mut rng, 1e-5, 2e-3) });
+            let core_k = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-8, 1.0) };
+            let p = ParticleOptics { core_n: 1.3 + 1.9 * rng.uniform(), core_k, core_alpha_per_mm: 1.0, coating, wets: true };
+            let film_thickness_mm = if rng.uniform() < 0.3 { 0.0 } else { log_uniform(&mut rng, 1e-5, 2e-3) };
+            let water_alpha_per_mm = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-3, 100.0) };
+            let pore = PoreOptics { water_n: 1.333, water_alpha_per_mm, film_thickness_mm, water_filled_probability: 0.4 };
+            assert_bracketed_decisions_exact(&Stacks::tabulated(&p, &pore), 2_000, &mut rng);
+        }
+    }
+
+    /// Random media in `bracketed_decisions_equal_exact_ones_for_random_stacks` (a debug-build
+    /// test run; 2000 media were checked once in release).
+    const RANDOM_STACK_MEDIA: usize = 40;
 
     #[test]
     fn transparent_sphere_never_absorbs_and_directions_are_unit() {
