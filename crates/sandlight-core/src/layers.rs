@@ -38,39 +38,72 @@ impl Slab {
 /// Reflectance and transmittance of a stack `media[0] | media[1] | … | media[last]` for light
 /// incident from `media[0]` with incidence cosine `cos_0` (in (0, 1]). Layers are
 /// `media[1..last]`; at most `MAX_MEDIA` media. Absorptance is 1 − R − T.
+#[inline]
 pub fn stack_rt(media: &[Slab], cos_0: f64) -> (f64, f64) {
     let m = media.len();
-    debug_assert!(m >= 2 && m <= MAX_MEDIA);
-    let s2 = media[0].n * media[0].n * (1.0 - cos_0 * cos_0).max(0.0); // (n₀ sin θ₀)²
+    debug_assert!((2..=MAX_MEDIA).contains(&m));
+    let cos_0 = cos_0.clamp(0.0, 1.0);
+    let s2 = media[0].n * media[0].n * (1.0 - cos_0 * cos_0); // (n₀ sin θ₀)²
+    if m == 2 {
+        // A bare interface (no film, no coating): R from Fresnel, T = 1 − R.
+        let r = interface(media[0], media[1], cos_0, s2);
+        return (r, 1.0 - r);
+    }
     // cos θ in each medium from the invariant; TIR where (s/n)² ≥ 1.
     let mut cos = [0.0f64; MAX_MEDIA];
-    for i in 0..m {
+    cos[0] = cos_0;
+    for i in 1..m {
         let c2 = 1.0 - s2 / (media[i].n * media[i].n);
         cos[i] = if c2 > 0.0 { c2.sqrt() } else { 0.0 };
     }
-    let interface = |i: usize| -> f64 {
-        // Interface between media i and i+1, seen from medium i.
-        if cos[i + 1] <= 0.0 {
-            return 1.0;
-        }
+    // Interface between media i and i+1, seen from medium i; the transmitted cosine is known.
+    let between = |i: usize| -> f64 {
         let (a, b) = (media[i], media[i + 1]);
-        if b.k_fresnel > 0.0 { fresnel::conductor(a.n, b.n, b.k_fresnel, cos[i]) } else { fresnel::dielectric(a.n, b.n, cos[i]) }
+        if cos[i + 1] <= 0.0 {
+            1.0
+        } else if b.k_fresnel > 0.0 {
+            fresnel::conductor(a.n, b.n, b.k_fresnel, cos[i])
+        } else {
+            fresnel::dielectric_cos(a.n, b.n, cos[i], cos[i + 1])
+        }
     };
     // Recursion from the innermost interface outwards: (r, t) describe everything beyond
     // medium i as seen from inside medium i.
-    let mut r = interface(m - 2);
+    let mut r = between(m - 2);
     let mut t = 1.0 - r;
     for i in (1..m - 1).rev() {
-        let ra = interface(i - 1);
+        let ra = between(i - 1);
         let ta = 1.0 - ra;
         let tau = if cos[i] > 0.0 { (-media[i].alpha_per_mm * media[i].thickness_mm / cos[i]).exp() } else { 0.0 };
         let denom = 1.0 - ra * r * tau * tau;
-        let new_r = ra + ta * ta * tau * tau * r / denom;
-        let new_t = ta * tau * t / denom;
-        r = new_r;
-        t = new_t;
+        if denom > 0.0 {
+            let new_r = ra + ta * ta * tau * tau * r / denom;
+            let new_t = ta * tau * t / denom;
+            r = new_r;
+            t = new_t;
+        } else {
+            // R_a = R_b = τ = 1 (grazing incidence on a lossless layer with total reflection
+            // beyond it): 0/0 in the formula, whose limit is total reflection.
+            r = 1.0;
+            t = 0.0;
+        }
     }
-    (r.clamp(0.0, 1.0), t.clamp(0.0, 1.0 - r.clamp(0.0, 1.0)))
+    let r = r.clamp(0.0, 1.0);
+    (r, t.clamp(0.0, 1.0 - r))
+}
+
+/// Reflectance of the single interface a | b for incidence cosine `cos_a` in a, with
+/// s2 = (n_a sin θ_a)²: 1 beyond the critical angle, complex-index Fresnel into an absorbing
+/// core, real Fresnel otherwise.
+#[inline]
+fn interface(a: Slab, b: Slab, cos_a: f64, s2: f64) -> f64 {
+    if s2 >= b.n * b.n {
+        1.0
+    } else if b.k_fresnel > 0.0 {
+        fresnel::conductor(a.n, b.n, b.k_fresnel, cos_a)
+    } else {
+        fresnel::dielectric(a.n, b.n, cos_a)
+    }
 }
 
 /// Pore medium, optional water film, optional coating, core: four media at most.
@@ -110,6 +143,16 @@ mod tests {
             let s = (1.0 - c0 * c0).sqrt() / 1.54;
             let (rb, tb) = stack_rt(&back, (1.0 - s * s).sqrt());
             assert!((t - tb).abs() < 1e-12 && (r - rb).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn grazing_on_a_lossless_film_over_total_reflection_is_total_reflection() {
+        // R_a = 1 at μ = 0, τ = 1, R_b = 1 (TIR at the film/air interface): R = 1, not 0/0.
+        let w = Slab { n: 1.33, alpha_per_mm: 0.0, thickness_mm: 0.001, k_fresnel: 0.0 };
+        let c = Slab { n: 1.9, alpha_per_mm: 0.0, thickness_mm: 0.0005, k_fresnel: 0.0 };
+        for st in [vec![Slab::semi_infinite(1.54), w, Slab::semi_infinite(1.0)], vec![Slab::semi_infinite(1.54), c, w, Slab::semi_infinite(1.0)]] {
+            assert_eq!(stack_rt(&st, 0.0), (1.0, 0.0));
         }
     }
 

@@ -30,6 +30,19 @@ impl Vec3 {
     pub fn normalized(self) -> Vec3 {
         self * (1.0 / self.norm2().sqrt())
     }
+    /// `normalized` for a vector that is unit up to rounding (|v|² = 1 + δ, |δ| ≤ 1e-9), e.g. a
+    /// direction computed from unit vectors: one Newton step for 1/√(1 + δ), v (3 − |v|²)/2,
+    /// leaves an error O(δ²) without a square root or division. Falls back to `normalized`
+    /// for anything further from unit length.
+    #[inline]
+    pub fn renormalized(self) -> Vec3 {
+        let e = self.norm2();
+        if (e - 1.0).abs() <= 1e-9 {
+            self * (1.5 - 0.5 * e)
+        } else {
+            self.normalized()
+        }
+    }
     /// Two unit vectors completing `self` (unit) to a right-handed orthonormal basis
     /// (Duff et al. 2017, "Building an orthonormal basis, revisited": branchless and robust).
     #[inline]
@@ -82,6 +95,47 @@ impl Neg for Vec3 {
     }
 }
 
+/// (sin 2πt, cos 2πt) for a fraction of a turn t in [0, 2⁵⁰), e.g. a uniform random azimuth.
+///
+/// Cheaper than `f64::sin_cos(2π t)` (no general argument reduction: the quadrant comes exactly
+/// from 4t) and as accurate (≲ 1 ulp): t = q/4 + r exactly with |r| ≤ 1/8, x = 2πr ∈ [−π/4, π/4],
+/// then the fdlibm kernels `__kernel_sin`/`__kernel_cos` (Sun Microsystems 1993, freely
+/// redistributable; minimax on [−π/4, π/4], error < 2⁻⁵⁸) in the form musl uses, and the
+/// quadrant rotation sin(x + qπ/2), cos(x + qπ/2).
+#[inline]
+#[allow(clippy::excessive_precision)] // the kernel coefficients as fdlibm publishes them
+pub fn sin_cos_turns(t: f64) -> (f64, f64) {
+    const S1: f64 = -1.66666666666666324348e-01;
+    const S2: f64 = 8.33333333332248946124e-03;
+    const S3: f64 = -1.98412698298579493134e-04;
+    const S4: f64 = 2.75573137070700676789e-06;
+    const S5: f64 = -2.50507602534068634195e-08;
+    const S6: f64 = 1.58969099521155010221e-10;
+    const C1: f64 = 4.16666666666666019037e-02;
+    const C2: f64 = -1.38888888888741095749e-03;
+    const C3: f64 = 2.48015872894767294178e-05;
+    const C4: f64 = -2.75573143513906633035e-07;
+    const C5: f64 = 2.08757232129817482790e-09;
+    const C6: f64 = -1.13596475577881948265e-11;
+    debug_assert!((0.0..1.1259e15).contains(&t));
+    // Nearest quarter turn (t ≥ 0, so truncation of 4t + ½ rounds; `f64::round` would be a
+    // library call without SSE4.1). t − q/4 is exact.
+    let q = (4.0 * t + 0.5) as i64;
+    let x = (t - 0.25 * q as f64) * std::f64::consts::TAU;
+    let z = x * x;
+    let w = z * z;
+    let rs = S2 + z * (S3 + z * S4) + z * w * (S5 + z * S6);
+    let sin = x + z * x * (S1 + z * rs);
+    let rc = z * (C1 + z * (C2 + z * C3)) + w * w * (C4 + z * (C5 + z * C6));
+    let hz = 0.5 * z;
+    let one_minus = 1.0 - hz;
+    let cos = one_minus + (((1.0 - one_minus) - hz) + z * rc);
+    // Quadrant q: (sin, cos), (cos, −sin), (−sin, −cos), (−cos, sin), without branches.
+    let (a, b) = if q & 1 == 0 { (sin, cos) } else { (cos, -sin) };
+    let sign = if q & 2 == 0 { 1.0 } else { -1.0 };
+    (a * sign, b * sign)
+}
+
 /// Refraction by Snell's law. `d` is the unit incident direction, `n` the unit normal on the
 /// incident side (`d·n < 0`), `eta = n_incident / n_transmitted`. Returns `None` on total
 /// internal reflection. (pbrt-v4 `Refract`, Snell: n₁ sin θ₁ = n₂ sin θ₂.)
@@ -93,7 +147,7 @@ pub fn refract(d: Vec3, n: Vec3, eta: f64) -> Option<Vec3> {
         return None;
     }
     let cos_t = (1.0 - sin2_t).sqrt();
-    Some((d * eta + n * (eta * cos_i - cos_t)).normalized())
+    Some((d * eta + n * (eta * cos_i - cos_t)).renormalized())
 }
 
 #[cfg(test)]
@@ -106,6 +160,39 @@ mod tests {
             let (a, b) = v.orthonormal_basis();
             assert!((a.norm2() - 1.0).abs() < 1e-12 && (b.norm2() - 1.0).abs() < 1e-12);
             assert!(a.dot(b).abs() < 1e-12 && a.dot(v).abs() < 1e-12 && b.dot(v).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn sin_cos_turns_matches_libm() {
+        // Dense in [0, 1) including the quadrant boundaries and their neighbours.
+        let mut ts: Vec<f64> = (0..=100_000).map(|i| i as f64 / 100_000.0).collect();
+        for q in 0..=4 {
+            let b = q as f64 / 8.0;
+            // Neighbouring doubles (positive b: ±1 in the bit pattern; f64::next_up needs Rust 1.86).
+            ts.extend([b, b - 1e-17, b + 1e-17, f64::from_bits(b.to_bits() + 1), f64::from_bits(b.to_bits().saturating_sub(1))]);
+        }
+        ts.push(f64::from_bits(1.0f64.to_bits() - 1));
+        for t in ts.into_iter().filter(|t| (0.0..1.0).contains(t)) {
+            let (s, c) = sin_cos_turns(t);
+            // The kernels against libm on the same reduced argument: within an ulp or so.
+            let q = (4.0 * t).round();
+            let (sr, cr) = ((t - 0.25 * q) * std::f64::consts::TAU).sin_cos();
+            let (s1, c1) = [(sr, cr), (cr, -sr), (-sr, -cr), (-cr, sr)][(q as usize) & 3];
+            assert!((s - s1).abs() <= 2.3e-16 && (c - c1).abs() <= 2.3e-16, "t {t}: ({s}, {c}) vs ({s1}, {c1})");
+            // And against the naive form, whose argument 2πt carries its own rounding.
+            let (s0, c0) = (std::f64::consts::TAU * t).sin_cos();
+            assert!((s - s0).abs() < 1e-15 && (c - c0).abs() < 1e-15, "t {t}: ({s}, {c}) vs ({s0}, {c0})");
+        }
+    }
+
+    #[test]
+    fn renormalized_is_unit() {
+        let v = Vec3::new(0.36, 0.48, -0.8);
+        for scale in [1.0, 1.0 + 3e-16, 1.0 - 5e-13, 1.0 + 4e-7, 1.5, 0.01] {
+            let w = (v * scale).renormalized();
+            assert!((w.norm2() - 1.0).abs() < 4e-16, "scale {scale}: |w|² = {}", w.norm2());
+            assert!((w.x / w.z - v.x / v.z).abs() < 1e-15);
         }
     }
 

@@ -3,7 +3,7 @@
 //! a Lambertian surface).
 
 use crate::error::{check_range, SandlightError};
-use crate::particle::{Coating, ParticleOptics, PoreOptics};
+use crate::particle::{Coating, ParticleOptics, PoreOptics, Stacks};
 use crate::sizes::QuantileTable;
 
 /// One kind of particle in a sand sample.
@@ -28,11 +28,15 @@ impl ParticleType {
 }
 
 /// Sand: a half-space (or slab) of randomly packed particles, generated on the fly.
+///
+/// Per-type tables (cumulative probabilities, a/d, layer stacks) are derived from `types` and
+/// `pore` by `new`; treat the public fields as read-only afterwards.
 #[derive(Clone, Debug)]
 pub struct Particulate {
     pub types: Vec<ParticleType>,
     cumulative: Vec<f64>,
     a_over_d: Vec<f64>,
+    stacks: Vec<Stacks>,
     /// Mean free path in the pore space (mm), splits-model.md §2.1.
     pub mean_free_path_mm: f64,
     pub pore: PoreOptics,
@@ -74,14 +78,30 @@ impl Particulate {
         let mut acc = 0.0;
         let cumulative = types.iter().map(|t| { acc += t.probability / total; acc }).collect();
         let a_over_d = types.iter().map(ParticleType::a_over_d).collect();
-        Ok(Particulate { types, cumulative, a_over_d, mean_free_path_mm, pore, depth_mm })
+        let stacks = types.iter().map(|t| Stacks::tabulated(&t.optics, &pore)).collect();
+        Ok(Particulate { types, cumulative, a_over_d, stacks, mean_free_path_mm, pore, depth_mm })
+    }
+
+    /// Index of the type of the next particle, for a uniform `u` in [0, 1).
+    #[inline]
+    pub fn pick_index(&self, u: f64) -> usize {
+        // The first i with u < cumulative[i] (the last type if none), counted without branches:
+        // the cumulative probabilities are non-decreasing, so it is the number of them ≤ u.
+        let n = self.cumulative.len();
+        self.cumulative[..n - 1].iter().map(|&c| (u >= c) as usize).sum()
     }
 
     /// The type of the next particle and its a/d, for a uniform `u` in [0, 1).
     #[inline]
     pub fn pick_type(&self, u: f64) -> (&ParticleType, f64) {
-        let i = self.cumulative.iter().position(|&c| u < c).unwrap_or(self.types.len() - 1);
+        let i = self.pick_index(u);
         (&self.types[i], self.a_over_d[i])
+    }
+
+    /// a/d and layer stacks of type `i` (as returned by `pick_index`).
+    #[inline]
+    pub fn type_tables(&self, i: usize) -> (f64, &Stacks) {
+        (self.a_over_d[i], &self.stacks[i])
     }
 }
 
@@ -114,5 +134,28 @@ impl LambertianSurface {
     pub fn new(albedo: f64) -> Result<Self, SandlightError> {
         check_range("albedo", albedo, 0.0, 1.0)?;
         Ok(LambertianSurface { albedo })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::Rng;
+
+    #[test]
+    fn pick_index_is_the_first_cumulative_above_u() {
+        // Including a type of zero probability and u exactly on a boundary.
+        let t = |p: f64| ParticleType { probability: p, sizes: QuantileTable::constant(0.1), aspect_ratio: 1.0, optics: ParticleOptics { core_n: 1.5, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true } };
+        let m = Particulate::new(vec![t(0.25), t(0.0), t(0.5), t(0.25)], 0.1, PoreOptics::DRY, f64::INFINITY).unwrap();
+        let mut rng = Rng::for_ray(1, 0, 0);
+        let mut counts = [0usize; 4];
+        for u in (0..100_000).map(|_| rng.uniform()).chain([0.0, 0.25, 0.75, f64::from_bits(1.0f64.to_bits() - 1)]) {
+            let i = m.pick_index(u);
+            let expect = m.cumulative.iter().position(|&c| u < c).unwrap_or(3);
+            assert_eq!(i, expect, "u {u}");
+            counts[i] += 1;
+        }
+        assert_eq!(counts[1], 0);
+        assert_eq!(m.pick_index(0.25), 2);
     }
 }

@@ -72,46 +72,208 @@ pub enum Interaction {
 }
 
 /// Media from the pore (index 0) to the core (last), with the film only facing an air pore.
-#[inline]
-fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, out: &mut [Slab; MAX_MEDIA]) -> usize {
-    let mut m = 0;
-    out[m] = Slab::semi_infinite(pore.index(water));
-    m += 1;
+fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
+    let mut out = Stack { media: [Slab::semi_infinite(1.0); MAX_MEDIA], len: 0, brackets: None };
+    let mut push = |s: Slab| {
+        out.media[out.len] = s;
+        out.len += 1;
+    };
+    push(Slab::semi_infinite(pore.index(water)));
     if !water && p.wets && pore.film_thickness_mm > 0.0 {
-        out[m] = Slab { n: pore.water_n, alpha_per_mm: pore.water_alpha_per_mm, thickness_mm: pore.film_thickness_mm, k_fresnel: 0.0 };
-        m += 1;
+        push(Slab { n: pore.water_n, alpha_per_mm: pore.water_alpha_per_mm, thickness_mm: pore.film_thickness_mm, k_fresnel: 0.0 });
     }
     if let Some(c) = p.coating {
-        out[m] = Slab { n: c.n, alpha_per_mm: c.alpha_per_mm, thickness_mm: c.thickness_mm, k_fresnel: 0.0 };
-        m += 1;
+        push(Slab { n: c.n, alpha_per_mm: c.alpha_per_mm, thickness_mm: c.thickness_mm, k_fresnel: 0.0 });
     }
-    out[m] = Slab { n: p.core_n, alpha_per_mm: 0.0, thickness_mm: 0.0, k_fresnel: p.core_k };
-    m + 1
+    push(Slab { n: p.core_n, alpha_per_mm: 0.0, thickness_mm: 0.0, k_fresnel: p.core_k });
+    out
 }
 
 /// The same media in reverse order (core first); Fresnel from inside uses the real core index.
+fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
+    let mut out = entry_stack(p, pore, water);
+    out.media[..out.len].reverse();
+    out.media[0].k_fresnel = 0.0;
+    out
+}
+
+/// What a ray does at a stack of media: the three outcomes with probabilities R, T, 1 − R − T.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum StackFate {
+    Reflect,
+    Transmit,
+    Absorb,
+}
+
+/// Cells of a bracket table over the incidence cosine μ ∈ [0, 1].
+const BRACKET_CELLS: usize = 256;
+
+/// A stack of media (see `layers`), stored inline, with optional bracket tables.
+///
+/// The outcome for a uniform u is decided by u < R (reflect), else u ≥ R + T (absorb), else
+/// transmit. R(μ) and R(μ) + T(μ) are smooth in μ away from critical angles, so a table of
+/// bounds lo ≤ f(μ) ≤ hi per cell of μ usually decides without evaluating the stack: only when
+/// u falls inside a cell's bracket (a fraction ≈ |f′|/256 + 2·margin of the draws) is the stack
+/// evaluated. The decisions are therefore those of the exact evaluation wherever the bounds
+/// hold; `with_brackets` says how they are built and checked, and the tests compare table and
+/// exact decisions for many media, including u within 5e-10 of R and R + T.
+#[derive(Clone, Debug, PartialEq)]
+struct Stack {
+    media: [Slab; MAX_MEDIA],
+    len: usize,
+    /// Per cell [R_lo, R_hi, (R+T)_lo, (R+T)_hi]; None: always evaluate.
+    brackets: Option<Box<[[f64; 4]]>>,
+}
+
+impl Stack {
+    #[inline]
+    fn rt(&self, cos_0: f64) -> (f64, f64) {
+        stack_rt(&self.media[..self.len], cos_0)
+    }
+
+    /// The exact decision: the stack's R and T for incidence cosine `cos_0`, compared with u.
+    #[inline]
+    fn fate_exact(&self, cos_0: f64, u: f64) -> StackFate {
+        let (r, t) = self.rt(cos_0);
+        if u < r {
+            StackFate::Reflect
+        } else if u >= r + t {
+            StackFate::Absorb
+        } else {
+            StackFate::Transmit
+        }
+    }
+
+    /// The same decision as `fate_exact`, from the bracket table when it suffices.
+    #[inline]
+    fn fate(&self, cos_0: f64, u: f64) -> StackFate {
+        if let Some(b) = &self.brackets {
+            let j = ((cos_0 * BRACKET_CELLS as f64) as usize).min(BRACKET_CELLS - 1);
+            let [r_lo, r_hi, rt_lo, rt_hi] = b[j];
+            if u < r_lo {
+                return StackFate::Reflect;
+            }
+            if u >= r_hi {
+                if u < rt_lo {
+                    return StackFate::Transmit;
+                }
+                if u >= rt_hi {
+                    return StackFate::Absorb;
+                }
+            }
+        }
+        self.fate_exact(cos_0, u)
+    }
+
+    /// Builds the bracket table. For each cell the bounds are the end values widened by a
+    /// margin of twice the largest |second difference| of f at the neighbouring nodes
+    /// (≈ 16× the h²|f″|/8 by which a smooth function can leave its chord) plus 1e-12 for
+    /// rounding; they are then checked at nine interior points, and a cell that fails is left
+    /// without bounds (always evaluated).
+    ///
+    /// f is analytic in μ except at the critical cosines μ_c = √(1 − (nᵢ/n₀)²) of media less
+    /// dense than the first, where cos θᵢ → 0: there R has a square-root edge and a layer's
+    /// τ = exp(−αt/cos θᵢ) a feature of width ~(αt)² in μ, far narrower than a cell for thin
+    /// films. The cells from one below to four above each critical cosine are therefore left
+    /// without bounds; beyond them the scale of variation is the distance to μ_c ≥ 3 cells.
+    fn with_brackets(mut self) -> Stack {
+        let n = BRACKET_CELLS;
+        let n0 = self.media[0].n;
+        let mut undecided = vec![false; n];
+        for m in &self.media[1..self.len] {
+            if m.n < n0 {
+                let jc = ((1.0 - (m.n / n0).powi(2)).sqrt() * n as f64) as usize;
+                undecided[jc.saturating_sub(1)..(jc + 5).min(n)].fill(true);
+            }
+        }
+        let f = |mu: f64| {
+            let (r, t) = self.rt(mu);
+            [r, r + t]
+        };
+        let nodes: Vec<[f64; 2]> = (0..=n).map(|j| f(j as f64 / n as f64)).collect();
+        let d2 = |k: usize, j: usize| -> f64 {
+            let j = j.clamp(1, n - 1);
+            (nodes[j + 1][k] - 2.0 * nodes[j][k] + nodes[j - 1][k]).abs()
+        };
+        let cells = (0..n)
+            .map(|j| {
+                let mut cell = [0.0; 4];
+                for k in 0..2 {
+                    let margin = 2.0 * (j.saturating_sub(1)..=j + 2).map(|i| d2(k, i)).fold(0.0, f64::max) + 1e-12;
+                    let (a, b) = (nodes[j][k], nodes[j + 1][k]);
+                    cell[2 * k] = a.min(b) - margin;
+                    cell[2 * k + 1] = a.max(b) + margin;
+                }
+                let inside = (1..10).all(|q| {
+                    let v = f((j as f64 + q as f64 / 10.0) / n as f64);
+                    (0..2).all(|k| cell[2 * k] <= v[k] && v[k] <= cell[2 * k + 1])
+                });
+                // Bounds that never decide: u < −1 and u ≥ 2 are impossible.
+                if inside && !undecided[j] { cell } else { [-1.0, 2.0, -1.0, 2.0] }
+            })
+            .collect();
+        self.brackets = Some(cells);
+        self
+    }
+}
+
+/// The layer stacks of one particle type in one pore space: into the particle and out of it,
+/// each for an air- and a water-filled pore. They depend only on the optics, so a medium builds
+/// them once (`Particulate::new`, with bracket tables) rather than at every interaction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stacks {
+    /// Indexed by `water as usize`.
+    entry: [Stack; 2],
+    exit: [Stack; 2],
+}
+
+impl Stacks {
+    /// The stacks without bracket tables (cheap to build; every decision evaluates the stack).
+    pub fn new(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
+        Stacks {
+            entry: [entry_stack(p, pore, false), entry_stack(p, pore, true)],
+            exit: [exit_stack(p, pore, false), exit_stack(p, pore, true)],
+        }
+    }
+
+    /// The stacks with bracket tables for the pore states that occur (a few ms to build; the
+    /// decisions are the same, mostly without evaluating Fresnel and layer formulas).
+    pub fn tabulated(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
+        let s = Stacks::new(p, pore);
+        let water_used = pore.water_filled_probability > 0.0;
+        let [ea, ew] = s.entry;
+        let [xa, xw] = s.exit;
+        let tab = |st: Stack, used: bool| if used { st.with_brackets() } else { st };
+        Stacks { entry: [tab(ea, true), tab(ew, water_used)], exit: [tab(xa, pore.water_filled_probability < 1.0), tab(xw, water_used)] }
+    }
+}
+
+/// Survival of Beer–Lambert attenuation over optical depth `x` = α L ≥ 0 for a uniform `u` in
+/// [0, 1): u < exp(−x). Since exp(−x) ≥ 1 − x, u < 1 − x already decides survival, and the
+/// exponential is evaluated only in the remaining fraction x of cases (rare for the thin,
+/// weakly absorbing paths that dominate).
 #[inline]
-fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, out: &mut [Slab; MAX_MEDIA]) -> usize {
-    let m = entry_stack(p, pore, water, out);
-    out[..m].reverse();
-    out[0].k_fresnel = 0.0;
-    m
+pub fn survives(u: f64, x: f64) -> bool {
+    u < 1.0 - x || u < (-x).exp()
 }
 
 /// Traces a ray arriving along `d` at `hit` on particle `shape` from a pore (water-filled if
 /// `water`). `max_internal` caps internal reflections.
 #[inline]
 pub fn interact(p: &ParticleOptics, pore: &PoreOptics, shape: &Spheroid, hit: Hit, d: Vec3, water: bool, rng: &mut Rng, max_internal: u32) -> Interaction {
-    let mut media = [Slab::semi_infinite(1.0); MAX_MEDIA];
-    let m = entry_stack(p, pore, water, &mut media);
+    interact_with_stacks(p, &Stacks::new(p, pore), pore, shape, hit, d, water, rng, max_internal)
+}
+
+/// `interact` with the particle type's layer stacks built beforehand (`Stacks::new(p, pore)`,
+/// or `Stacks::tabulated` for the same decisions with fewer Fresnel evaluations).
+#[inline]
+#[allow(clippy::too_many_arguments)]
+pub fn interact_with_stacks(p: &ParticleOptics, stacks: &Stacks, pore: &PoreOptics, shape: &Spheroid, hit: Hit, d: Vec3, water: bool, rng: &mut Rng, max_internal: u32) -> Interaction {
     let cos_i = (-d.dot(hit.normal)).clamp(0.0, 1.0);
-    let (r, t) = stack_rt(&media[..m], cos_i);
-    let u = rng.uniform();
-    if u < r {
-        return Interaction::Reflected { dir: d.reflect(hit.normal) };
-    }
-    if u >= r + t {
-        return Interaction::Absorbed;
+    match stacks.entry[water as usize].fate(cos_i, rng.uniform()) {
+        StackFate::Reflect => return Interaction::Reflected { dir: d.reflect(hit.normal) },
+        StackFate::Absorb => return Interaction::Absorbed,
+        StackFate::Transmit => {}
     }
     let n_out = pore.index(water);
     let mut dir = match refract(d, hit.normal, n_out / p.core_n) {
@@ -122,23 +284,21 @@ pub fn interact(p: &ParticleOptics, pore: &PoreOptics, shape: &Spheroid, hit: Hi
     for _ in 0..max_internal {
         let (len, x1) = shape.chord_from_surface(x, dir);
         // Beer–Lambert along the chord.
-        if p.core_alpha_per_mm > 0.0 && rng.uniform() >= (-p.core_alpha_per_mm * len).exp() {
+        if p.core_alpha_per_mm > 0.0 && !survives(rng.uniform(), p.core_alpha_per_mm * len) {
             return Interaction::Absorbed;
         }
         let n1 = shape.normal_at(x1);
         let cos_in = dir.dot(n1).clamp(0.0, 1.0);
         // The pore beyond this point of the surface.
         let water_beyond = pore.draw_water(rng);
-        let m = exit_stack(p, pore, water_beyond, &mut media);
-        let (r, t) = stack_rt(&media[..m], cos_in);
-        let u = rng.uniform();
-        if u < r {
-            dir = dir.reflect(n1);
-            x = x1;
-            continue;
-        }
-        if u >= r + t {
-            return Interaction::Absorbed;
+        match stacks.exit[water_beyond as usize].fate(cos_in, rng.uniform()) {
+            StackFate::Reflect => {
+                dir = dir.reflect(n1);
+                x = x1;
+                continue;
+            }
+            StackFate::Absorb => return Interaction::Absorbed,
+            StackFate::Transmit => {}
         }
         match refract(dir, -n1, p.core_n / pore.index(water_beyond)) {
             Some(out) => return Interaction::Transmitted { dir: out, exit_point: x1, water: water_beyond },
@@ -159,6 +319,75 @@ mod tests {
     fn glass(n: f64) -> ParticleOptics {
         ParticleOptics { core_n: n, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true }
     }
+
+    #[test]
+    fn survival_shortcut_is_the_beer_lambert_test() {
+        let mut rng = Rng::for_ray(2, 0, 0);
+        for &x in &[0.0, 1e-9, 1e-4, 0.003, 0.1, 0.5, 1.0, 3.0, 40.0] {
+            for _ in 0..20_000 {
+                let u = rng.uniform();
+                assert_eq!(survives(u, x), u < (-x).exp(), "u {u} x {x}");
+            }
+        }
+    }
+
+    /// Table decisions against exact ones for every stack of `tab`: a grid of `n_mu` + 1 cosines
+    /// plus geometric steps towards each critical cosine, with u uniform and within 5e-10 of
+    /// R and R + T.
+    fn assert_bracketed_decisions_exact(tab: &Stacks, n_mu: usize, rng: &mut Rng) {
+        for st in tab.entry.iter().chain(tab.exit.iter()).filter(|st| st.brackets.is_some()) {
+            let n0 = st.media[0].n;
+            let mut mus: Vec<f64> = (0..=n_mu).map(|i| i as f64 / n_mu as f64).collect();
+            for m in st.media[1..st.len].iter().filter(|m| m.n < n0) {
+                let mu_c = (1.0 - (m.n / n0).powi(2)).sqrt();
+                mus.extend((0..200).flat_map(|e| [-1.0, 1.0].map(|sg| mu_c + sg * 0.1 * 0.9f64.powi(e))));
+            }
+            for mu in mus.into_iter().filter(|m| (0.0..=1.0).contains(m)) {
+                let (r, t) = st.rt(mu);
+                let near = [r, r + t].map(|v| v + 1e-9 * (rng.uniform() - 0.5));
+                for u in [rng.uniform(), near[0].clamp(0.0, 0.999), near[1].clamp(0.0, 0.999)] {
+                    assert_eq!(st.fate(mu, u), st.fate_exact(mu, u), "μ {mu} u {u} stack {:?}", &st.media[..st.len]);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn bracketed_decisions_equal_exact_ones() {
+        // Every stack kind (bare, film, coating, film + coating; from air and water; entry and
+        // exit with critical angles; weak to opaque layers).
+        let mut rng = Rng::for_ray(4, 0, 0);
+        let (weak, dark) = (Coating { n: 1.9, alpha_per_mm: 300.0, thickness_mm: 5e-4 }, Coating { n: 2.4, alpha_per_mm: 2e4, thickness_mm: 2e-4 });
+        let cases = [(1.55, 4e-7, None, 0.05), (1.55, 4e-7, Some(weak), 0.05), (1.55, 1e-5, Some(dark), 50.0), (2.34, 0.1, None, 50.0), (3.0, 0.5, Some(weak), 0.05)];
+        for (core_n, core_k, coating, water_alpha_per_mm) in cases {
+            let pore = PoreOptics { water_n: 1.333, water_alpha_per_mm, film_thickness_mm: 1e-3, water_filled_probability: 0.4 };
+            let p = ParticleOptics { core_n, core_k, core_alpha_per_mm: 1.0, coating, wets: true };
+            let tab = Stacks::tabulated(&p, &pore);
+            assert!(tab.entry.iter().chain(tab.exit.iter()).all(|st| st.brackets.is_some()));
+            assert_bracketed_decisions_exact(&tab, 20_000, &mut rng);
+        }
+    }
+
+    #[test]
+    fn bracketed_decisions_equal_exact_ones_for_random_stacks() {
+        // Random indices (cores less dense than water included), absorption from none to
+        // opaque, thin to thick films and coatings.
+        let mut rng = Rng::for_ray(5, 0, 0);
+        let log_uniform = |rng: &mut Rng, lo: f64, hi: f64| lo * (hi / lo).powf(rng.uniform());
+        for _ in 0..RANDOM_STACK_MEDIA {
+            let coating = (rng.uniform() < 0.6).then(|| Coating { n: 1.3 + 1.5 * rng.uniform(), alpha_per_mm: log_uniform(&mut rng, 1e-2, 3e4), thickness_mm: log_uniform(&mut rng, 1e-5, 2e-3) });
+            let core_k = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-8, 1.0) };
+            let p = ParticleOptics { core_n: 1.3 + 1.9 * rng.uniform(), core_k, core_alpha_per_mm: 1.0, coating, wets: true };
+            let film_thickness_mm = if rng.uniform() < 0.3 { 0.0 } else { log_uniform(&mut rng, 1e-5, 2e-3) };
+            let water_alpha_per_mm = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-3, 100.0) };
+            let pore = PoreOptics { water_n: 1.333, water_alpha_per_mm, film_thickness_mm, water_filled_probability: 0.4 };
+            assert_bracketed_decisions_exact(&Stacks::tabulated(&p, &pore), 2_000, &mut rng);
+        }
+    }
+
+    /// Random media in `bracketed_decisions_equal_exact_ones_for_random_stacks` (a debug-build
+    /// test run; 2000 media were checked once in release).
+    const RANDOM_STACK_MEDIA: usize = 40;
 
     #[test]
     fn transparent_sphere_never_absorbs_and_directions_are_unit() {

@@ -2,9 +2,9 @@
 //! the pore space, particles generated on the fly, the boundary, and the ray's fate.
 
 use crate::fresnel;
-use crate::math::{refract, Vec3};
+use crate::math::{refract, sin_cos_turns, Vec3};
 use crate::medium::{IsotropicScatterers, LambertianSurface, Particulate};
-use crate::particle::{interact, Interaction};
+use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
 use crate::spheroid::Spheroid;
 
@@ -58,9 +58,9 @@ fn uniform_sphere(rng: &mut Rng) -> Vec3 {
 #[inline]
 pub fn cosine_hemisphere(rng: &mut Rng) -> Vec3 {
     let r = rng.uniform().sqrt();
-    let phi = 2.0 * std::f64::consts::PI * rng.uniform();
+    let (sin_phi, cos_phi) = sin_cos_turns(rng.uniform());
     let z = (1.0 - r * r).max(0.0).sqrt();
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+    Vec3::new(r * cos_phi, r * sin_phi, z)
 }
 
 impl Medium for Particulate {
@@ -88,7 +88,7 @@ impl Medium for Particulate {
                 }
                 // Through water to the water surface, then water → air.
                 let to_surface = -z / d.z;
-                if rng.uniform() >= (-pore.water_alpha_per_mm * to_surface).exp() {
+                if !survives(rng.uniform(), pore.water_alpha_per_mm * to_surface) {
                     return done(Fate::Absorbed, events);
                 }
                 if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
@@ -108,7 +108,7 @@ impl Medium for Particulate {
             if d.z < 0.0 && z + s * d.z <= -self.depth_mm {
                 return done(Fate::Transmitted, events);
             }
-            if water && pore.water_alpha_per_mm > 0.0 && rng.uniform() >= (-pore.water_alpha_per_mm * s).exp() {
+            if water && pore.water_alpha_per_mm > 0.0 && !survives(rng.uniform(), pore.water_alpha_per_mm * s) {
                 return done(Fate::Absorbed, events);
             }
             z += s * d.z;
@@ -116,13 +116,15 @@ impl Medium for Particulate {
             if events > limits.max_events {
                 return done(Fate::Capped, events);
             }
-            let (ptype, a_over_d) = self.pick_type(rng.uniform());
+            let i = self.pick_index(rng.uniform());
+            let ptype = &self.types[i];
+            let (a_over_d, stacks) = self.type_tables(i);
             let diameter = ptype.sizes.sample(rng);
             let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
             let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
                 return done(Fate::Capped, events);
             };
-            match interact(&ptype.optics, pore, &shape, hit, d, water, rng, limits.max_internal) {
+            match interact_with_stacks(&ptype.optics, stacks, pore, &shape, hit, d, water, rng, limits.max_internal) {
                 Interaction::Reflected { dir } => d = dir,
                 Interaction::Transmitted { dir, exit_point, water: w } => {
                     // The particle's extent along z: the ray leaves from the far side.
