@@ -65,3 +65,11 @@ def shape_depends_on_x(payload, seed):
 
 def payloads(n):
     return [{"i": i, "x": 0.1 * i, "label": "s" * (i % 4 + 1)} for i in range(n)]
+
+
+def signal_at(target_pid, signum, trigger_index, delay_s, payload, seed):
+    """Like ``slow_square``, but task ``trigger_index`` sends ``signum`` to ``target_pid`` (the
+    process running the job), so the interruption comes at a known point of the run."""
+    if payload["i"] == trigger_index:
+        os.kill(target_pid, signum)
+    return slow_square(delay_s, payload, seed)

@@ -127,23 +127,12 @@ class TestResume:
     def test_signal_stops_cleanly(self, tmp_path, reference, executor, signum):
         # A real signal to this process while tasks run: the pool is stopped, the tasks in
         # flight are dropped, and every finished one is stored exactly once.
-        job = make_job(tmp_path / "store", fn=functools.partial(jobs_fakes.slow_square, 0.1))
-
-        def signal_once_a_task_is_stored():
-            # Wait for progress rather than a fixed delay: a loaded machine may take seconds
-            # to start the pool.
-            deadline = time.monotonic() + 60
-            while time.monotonic() < deadline and job.status().n_done == 0:
-                time.sleep(0.05)
-            os.kill(os.getpid(), signum)
-
-        timer = threading.Timer(0.0, signal_once_a_task_is_stored)
-        timer.start()
-        try:
-            with pytest.raises(Cancelled, match="resume"):
-                job.run(executor(), progress=False)
-        finally:
-            timer.cancel()
+        # The signal comes from inside task 3 (in a worker process, or in this one), after
+        # earlier tasks have been stored.
+        fn = functools.partial(jobs_fakes.signal_at, os.getpid(), signum, 3, 0.1)
+        job = make_job(tmp_path / "store", fn=fn)
+        with pytest.raises(Cancelled, match="resume"):
+            job.run(executor(), progress=False)
         assert 0 < job.status().n_done < N
         assert signal.getsignal(signal.SIGTERM) == signal.SIG_DFL  # handler restored
         assert_same_dataset(make_job(tmp_path / "store").run(InProcessExecutor(),

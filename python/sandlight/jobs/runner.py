@@ -112,20 +112,24 @@ def _progress_bar(enabled: bool, description: str, total: int, completed: int, u
 
 
 @contextlib.contextmanager
-def _sigterm_as_interrupt():
-    """Treat SIGTERM like Ctrl-C while a job runs, so that ``kill PID`` also stops cleanly."""
+def _stop_requests():
+    """While a job runs, Ctrl-C (SIGINT) and ``kill PID`` (SIGTERM) only set a flag that the task
+    loop checks between waits (at most half a second apart). Raising from the signal handler
+    instead could interrupt the executor inside its own locks and hang its shutdown."""
+    stop = threading.Event()
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield stop
         return
 
     def handler(signum, frame):
-        raise KeyboardInterrupt
+        stop.set()
 
-    previous = signal.signal(signal.SIGTERM, handler)
+    previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
-        yield
+        yield stop
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for s, h in previous.items():
+            signal.signal(s, h)
 
 
 def _value_array(name: str, values: list):
@@ -291,15 +295,15 @@ class Job:
             todo = todo[:max_tasks]
         if todo:
             executor = make_executor() if executor is None else executor
-            with _sigterm_as_interrupt(), executor, _progress_bar(
+            with _stop_requests() as stop, executor, _progress_bar(
                     progress, description, self.n_tasks, len(done), unit) as advance:
-                self._run_tasks(store, executor, todo, done, max_retries, advance)
+                self._run_tasks(store, executor, todo, done, max_retries, advance, stop)
         if len(done) == self.n_tasks and not store.dataset_path.exists():
             self._consolidate(store, columns)
         dataset = store.dataset_path if store.dataset_path.exists() else None
         return JobStatus(self.path, self.n_tasks, len(done), dataset)
 
-    def _run_tasks(self, store, executor, todo, done, max_retries, advance):
+    def _run_tasks(self, store, executor, todo, done, max_retries, advance, stop):
         schema = store.result_schema()
         queue = deque(todo)
         in_flight: dict = {}  # future -> task index
@@ -331,6 +335,8 @@ class Job:
                     self._write(store, batch)
                     done.update(batch)
                     advance(len(batch))
+                if stop.is_set():
+                    raise KeyboardInterrupt
         except KeyboardInterrupt:
             executor.abort(list(in_flight))
             raise Cancelled(
