@@ -182,7 +182,7 @@ impl BrdfStack {
         if s >= top {
             return [(self.n_levels - 1, 1.0), (0, 0.0)];
         }
-        let l = s.floor() as usize;
+        let l = s as usize; // s > 0 here: truncation is the floor
         let t = s - l as f64;
         [(l, 1.0 - t), (l + 1, t)]
     }

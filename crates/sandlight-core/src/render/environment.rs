@@ -22,6 +22,7 @@ use std::f64::consts::PI;
 use crate::error::SandlightError;
 use crate::math::Vec3;
 use crate::render::brdf::{Spectrum, MAX_BANDS};
+use crate::render::terrain::floor_i64;
 
 #[derive(Clone, Debug)]
 pub struct Environment {
@@ -30,7 +31,9 @@ pub struct Environment {
     n_bands: usize,
     /// radiance[(it·n_φ + ip)·n_bands + b]
     radiance: Vec<f32>,
-    cdf: Vec<f64>,
+    /// Inclusive cumulative probability of the rows (θ), then of the cells within each row.
+    row_cdf: Vec<f64>,
+    cell_cdf: Vec<f64>,
     /// P(cell) / Ω(cell)
     density: Vec<f64>,
     sun: Vec3,
@@ -94,16 +97,24 @@ impl Environment {
             }
         }
         let total: f64 = weights.iter().sum();
-        let mut cdf = vec![0.0; n_cells];
+        let mut row_cdf = vec![0.0; n_theta];
+        let mut cell_cdf = vec![0.0; n_cells];
         let mut density = vec![0.0; n_cells];
-        let mut acc = 0.0;
-        for c in 0..n_cells {
-            let p = weights[c] / total;
-            acc += p;
-            cdf[c] = acc;
-            density[c] = p / omegas[c];
+        let mut acc_rows = 0.0;
+        for it in 0..n_theta {
+            let row = &weights[it * n_phi..(it + 1) * n_phi];
+            let row_total: f64 = row.iter().sum();
+            let mut acc = 0.0;
+            for ip in 0..n_phi {
+                acc += row[ip] / row_total;
+                cell_cdf[it * n_phi + ip] = acc;
+                density[it * n_phi + ip] = weights[it * n_phi + ip] / total / omegas[it * n_phi + ip];
+            }
+            cell_cdf[(it + 1) * n_phi - 1] = 1.0;
+            acc_rows += row_total / total;
+            row_cdf[it] = acc_rows;
         }
-        cdf[n_cells - 1] = 1.0;
+        row_cdf[n_theta - 1] = 1.0;
         let mut sun_rad = [0.0; MAX_BANDS];
         sun_rad[..n_bands].copy_from_slice(sun_radiance);
         // Cone of solid angle Ω: 1 − cos α = Ω / 2π.
@@ -113,7 +124,8 @@ impl Environment {
             n_phi,
             n_bands,
             radiance,
-            cdf,
+            row_cdf,
+            cell_cdf,
             density,
             sun: s.normalized(),
             sun_cos_half_angle: 1.0 - one_minus_cos,
@@ -142,12 +154,12 @@ impl Environment {
         let nb = self.n_bands;
         let (theta, phi) = Self::angles(d);
         let x = (theta / (0.5 * PI) * self.n_theta as f64 - 0.5).clamp(0.0, (self.n_theta - 1) as f64);
-        let i0 = (x.floor() as usize).min(self.n_theta - 2);
+        let i0 = (x as usize).min(self.n_theta - 2); // x ≥ 0: truncation is the floor
         let tx = x - i0 as f64;
         let y = phi / (2.0 * PI) * self.n_phi as f64 - 0.5;
-        let yf = y.floor();
-        let ty = y - yf;
-        let j0 = (yf as i64).rem_euclid(self.n_phi as i64) as usize;
+        let yf = floor_i64(y);
+        let ty = y - yf as f64;
+        let j0 = yf.rem_euclid(self.n_phi as i64) as usize;
         let j1 = (j0 + 1) % self.n_phi;
         out[..nb].iter_mut().for_each(|v| *v = 0.0);
         for (i, wi) in [(i0, 1.0 - tx), (i0 + 1, tx)] {
@@ -161,11 +173,16 @@ impl Environment {
         }
     }
 
-    /// A sky direction and its solid-angle pdf, from three uniforms.
+    /// A sky direction and its solid-angle pdf, from three uniforms: a row by its marginal
+    /// probability, a cell of the row by its conditional one, a point uniform in the cell.
     pub fn sample_sky(&self, u: [f64; 3]) -> (Vec3, f64) {
-        let n_cells = self.cdf.len();
-        let c = self.cdf.partition_point(|&v| v <= u[0]).min(n_cells - 1);
-        let (it, ip) = (c / self.n_phi, c % self.n_phi);
+        let it = self.row_cdf.partition_point(|&v| v <= u[0]).min(self.n_theta - 1);
+        // Reuse u[0]: its position within the chosen row's probability interval.
+        let lo = if it == 0 { 0.0 } else { self.row_cdf[it - 1] };
+        let v = ((u[0] - lo) / (self.row_cdf[it] - lo)).clamp(0.0, 1.0 - f64::EPSILON);
+        let row = &self.cell_cdf[it * self.n_phi..(it + 1) * self.n_phi];
+        let ip = row.partition_point(|&c| c <= v).min(self.n_phi - 1);
+        let c = it * self.n_phi + ip;
         let dth = 0.5 * PI / self.n_theta as f64;
         let dph = 2.0 * PI / self.n_phi as f64;
         let (c0, c1) = ((it as f64 * dth).cos(), ((it + 1) as f64 * dth).cos());

@@ -62,6 +62,20 @@ pub struct Heightfield {
     zmin: f64,
     zmax: f64,
     levels: Vec<MaxLevel>,
+    /// n − 1 when a periodic grid has a power-of-two size (index wrap by masking), else −1.
+    mask_x: i64,
+    mask_y: i64,
+    inv_dx: f64,
+    inv_dy: f64,
+}
+
+/// A ray with the reciprocals of its horizontal direction components (divisions are slow).
+#[derive(Clone, Copy)]
+struct Ray {
+    o: Vec3,
+    d: Vec3,
+    inv_x: f64,
+    inv_y: f64,
 }
 
 #[derive(Clone, Debug)]
@@ -103,7 +117,9 @@ impl Heightfield {
             zmin = zmin.min(outside);
             zmax = zmax.max(outside);
         }
-        let mut hf = Heightfield { nx: nx as i64, ny: ny as i64, x0, y0, dx, dy, h, wrap, outside, far_m, far_z, zmin, zmax, levels: Vec::new() };
+        let mask = |n: usize| if wrap && n.is_power_of_two() { n as i64 - 1 } else { -1 };
+        let (mask_x, mask_y) = (mask(nx), mask(ny));
+        let mut hf = Heightfield { nx: nx as i64, ny: ny as i64, x0, y0, dx, dy, h, wrap, outside, far_m, far_z, zmin, zmax, levels: Vec::new(), mask_x, mask_y, inv_dx: 1.0 / dx, inv_dy: 1.0 / dy };
         hf.build_levels();
         Ok(hf)
     }
@@ -136,9 +152,11 @@ impl Heightfield {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn node(&self, i: i64, j: i64) -> f64 {
-        if self.wrap {
+        if self.mask_x >= 0 && self.mask_y >= 0 {
+            self.h[((j & self.mask_y) * self.nx + (i & self.mask_x)) as usize] as f64
+        } else if self.wrap {
             self.h[(j.rem_euclid(self.ny) * self.nx + i.rem_euclid(self.nx)) as usize] as f64
         } else if i >= 0 && i < self.nx && j >= 0 && j < self.ny {
             self.h[(j * self.nx + i) as usize] as f64
@@ -166,7 +184,8 @@ impl Heightfield {
     /// First crossing of the ray with the bilinear patch of cell (i, j) for t in [ta, tb].
     #[inline]
     #[allow(clippy::too_many_arguments)]
-    fn patch(&self, o: Vec3, d: Vec3, i: i64, j: i64, ta: f64, tb: f64, zlo: f64) -> Option<Hit> {
+    fn patch(&self, r: &Ray, i: i64, j: i64, ta: f64, tb: f64, zlo: f64) -> Option<Hit> {
+        let (o, d) = (r.o, r.d);
         let (h00, h10, h01, h11) = (self.node(i, j), self.node(i + 1, j), self.node(i, j + 1), self.node(i + 1, j + 1));
         if zlo > h00.max(h10).max(h01).max(h11) {
             return None;
@@ -174,9 +193,9 @@ impl Heightfield {
         // S(u, v) = a + b u + c v + e u v on the unit cell.
         let (a, b, c, e) = (h00, h10 - h00, h01 - h00, h00 - h10 - h01 + h11);
         let pa = o + d * ta;
-        let u0 = (pa.x - (self.x0 + i as f64 * self.dx)) / self.dx;
-        let v0 = (pa.y - (self.y0 + j as f64 * self.dy)) / self.dy;
-        let (du, dv) = (d.x / self.dx, d.y / self.dy);
+        let u0 = (pa.x - (self.x0 + i as f64 * self.dx)) * self.inv_dx;
+        let v0 = (pa.y - (self.y0 + j as f64 * self.dy)) * self.inv_dy;
+        let (du, dv) = (d.x * self.inv_dx, d.y * self.inv_dy);
         // g(s) = z(s) − S(u(s), v(s)) = C0 + C1 s + C2 s², s = t − ta.
         let c0 = pa.z - (a + b * u0 + c * v0 + e * u0 * v0);
         let c1 = d.z - (b * du + c * dv + e * (u0 * dv + v0 * du));
@@ -190,8 +209,8 @@ impl Heightfield {
         let u = (u0 + s * du).clamp(0.0, 1.0);
         let v = (v0 + s * dv).clamp(0.0, 1.0);
         // ∂S/∂x, ∂S/∂y → normal (−S_x, −S_y, 1).
-        let sx = (b + e * v) / self.dx;
-        let sy = (c + e * u) / self.dy;
+        let sx = (b + e * v) * self.inv_dx;
+        let sy = (c + e * u) * self.inv_dy;
         let t = ta + s;
         Some(Hit { t, p: o + d * t, n: Vec3::new(-sx, -sy, 1.0).normalized(), far: false })
     }
@@ -199,27 +218,28 @@ impl Heightfield {
     /// Nested DDA at hierarchy level `k` over t ∈ [t0, t1], restricted to the cell index range
     /// `range` (the parent block) when given.
     #[allow(clippy::too_many_arguments)]
-    fn dda(&self, o: Vec3, d: Vec3, k: usize, t0: f64, t1: f64, range: Option<(i64, i64, i64, i64)>) -> Option<Hit> {
+    fn dda(&self, r: &Ray, k: usize, t0: f64, t1: f64, range: Option<(i64, i64, i64, i64)>) -> Option<Hit> {
+        let (o, d) = (r.o, r.d);
         let s = self.scale(k) as f64;
         let (cx, cy) = (self.dx * s, self.dy * s);
         let p = o + d * t0;
-        let mut i = ((p.x - self.x0) / cx).floor() as i64;
-        let mut j = ((p.y - self.y0) / cy).floor() as i64;
+        let mut i = floor_i64((p.x - self.x0) * self.inv_dx / s);
+        let mut j = floor_i64((p.y - self.y0) * self.inv_dy / s);
         if let Some((ilo, ihi, jlo, jhi)) = range {
             i = i.clamp(ilo, ihi);
             j = j.clamp(jlo, jhi);
         }
         let (step_i, mut tx, dtx) = if d.x > 0.0 {
-            (1, (self.x0 + (i + 1) as f64 * cx - o.x) / d.x, cx / d.x)
+            (1, (self.x0 + (i + 1) as f64 * cx - o.x) * r.inv_x, cx * r.inv_x)
         } else if d.x < 0.0 {
-            (-1, (self.x0 + i as f64 * cx - o.x) / d.x, -cx / d.x)
+            (-1, (self.x0 + i as f64 * cx - o.x) * r.inv_x, -cx * r.inv_x)
         } else {
             (0, f64::INFINITY, f64::INFINITY)
         };
         let (step_j, mut ty, dty) = if d.y > 0.0 {
-            (1, (self.y0 + (j + 1) as f64 * cy - o.y) / d.y, cy / d.y)
+            (1, (self.y0 + (j + 1) as f64 * cy - o.y) * r.inv_y, cy * r.inv_y)
         } else if d.y < 0.0 {
-            (-1, (self.y0 + j as f64 * cy - o.y) / d.y, -cy / d.y)
+            (-1, (self.y0 + j as f64 * cy - o.y) * r.inv_y, -cy * r.inv_y)
         } else {
             (0, f64::INFINITY, f64::INFINITY)
         };
@@ -230,12 +250,12 @@ impl Heightfield {
             if tb >= ta {
                 let zlo = (o.z + d.z * ta).min(o.z + d.z * tb);
                 if k == 0 {
-                    if let Some(h) = self.patch(o, d, i, j, ta, tb, zlo) {
+                    if let Some(h) = self.patch(r, i, j, ta, tb, zlo) {
                         return Some(h);
                     }
                 } else if zlo <= self.block_max(k, i, j) {
                     let child = (i * BRANCH, i * BRANCH + BRANCH - 1, j * BRANCH, j * BRANCH + BRANCH - 1);
-                    if let Some(h) = self.dda(o, d, k - 1, ta, tb, Some(child)) {
+                    if let Some(h) = self.dda(r, k - 1, ta, tb, Some(child)) {
                         return Some(h);
                     }
                 }
@@ -279,7 +299,8 @@ impl Heightfield {
             }
             t_end = t_end.min((self.zmin - o.z) / d.z);
         }
-        if let Some(h) = self.dda(o, d, self.levels.len(), t_min, t_end, None) {
+        let ray = Ray { o, d, inv_x: 1.0 / d.x, inv_y: 1.0 / d.y };
+        if let Some(h) = self.dda(&ray, self.levels.len(), t_min, t_end, None) {
             return Some(h);
         }
         if t_end < t_far {
@@ -305,6 +326,13 @@ impl Heightfield {
     pub fn min_spacing(&self) -> f64 {
         self.dx.min(self.dy)
     }
+}
+
+/// ⌊x⌋ as an integer without a libm call (baseline x86-64 has no rounding instruction).
+#[inline(always)]
+pub(crate) fn floor_i64(x: f64) -> i64 {
+    let i = x as i64;
+    if (i as f64) > x { i - 1 } else { i }
 }
 
 /// Smallest s in [0, len] where C0 + C1 s + C2 s² (with C0 > 0) reaches 0.
@@ -409,9 +437,8 @@ impl MaterialMap {
         let fx = (x - self.x0) / self.dx;
         let fy = (y - self.y0) / self.dy;
         let (fx, fy) = if self.wrap { (fx, fy) } else { (fx.clamp(0.0, (self.nx - 1) as f64), fy.clamp(0.0, (self.ny - 1) as f64)) };
-        let (i, j) = (fx.floor(), fy.floor());
-        let (tx, ty) = (fx - i, fy - j);
-        let (i, j) = (i as i64, j as i64);
+        let (i, j) = (floor_i64(fx), floor_i64(fy));
+        let (tx, ty) = (fx - i as f64, fy - j as f64);
         (1.0 - ty) * ((1.0 - tx) * self.at(i, j) + tx * self.at(i + 1, j)) + ty * ((1.0 - tx) * self.at(i, j + 1) + tx * self.at(i + 1, j + 1))
     }
 }
