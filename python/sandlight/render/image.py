@@ -116,8 +116,8 @@ def native_scene(camera: Camera, terrain: PlaneTerrain | HeightfieldTerrain, tab
     if not isinstance(lighting, Lighting):
         raise ParameterError("lighting", lighting, "a sandlight.render.Lighting")
     wl = lighting.wavelength_nm
-    if wl.size > 64:
-        raise ParameterError("wavelength_nm", f"{wl.size} bands", "at most 64 render bands")
+    if wl.size > 32:
+        raise ParameterError("wavelength_nm", f"{wl.size} bands", "at most 32 render bands")
     args = {**camera.native_args(), **terrain.native_args(),
             "sky_radiance": lighting.sky_radiance, "sun_direction": lighting.sun_direction.tolist(),
             "sun_solid_angle_sr": lighting.sun_solid_angle_sr, "sun_radiance": lighting.sun_radiance.tolist(),

@@ -70,7 +70,7 @@ def scene_path(name_or_path: str | os.PathLike) -> Path:
 def _bands(t: Table) -> np.ndarray:
     value = t.raw("bands", "400:700:20")
     name = t.name("bands")
-    allowed = "'start:stop:step' in nm (e.g. '400:700:20') or a list of wavelengths, 1–64 bands within [380, 780] nm, covering 400–700"
+    allowed = "'start:stop:step' in nm (e.g. '400:700:20') or a list of wavelengths, 1–32 bands within [380, 780] nm, covering 400–700"
     if isinstance(value, str):
         try:
             start, stop, step = (float(v) for v in value.split(":"))
@@ -83,7 +83,7 @@ def _bands(t: Table) -> np.ndarray:
         wl = np.array(value, dtype=float)
     else:
         raise t.error(name, value, allowed)
-    if not (1 <= wl.size <= 64) or (np.diff(wl) <= 0).any() or wl[0] < 380 or wl[-1] > 780 or wl[0] > 400 or wl[-1] < 700:
+    if not (1 <= wl.size <= 32) or (np.diff(wl) <= 0).any() or wl[0] < 380 or wl[-1] > 780 or wl[0] > 400 or wl[-1] < 700:
         raise t.error(name, value, allowed)
     return wl
 

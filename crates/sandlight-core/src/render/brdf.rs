@@ -21,8 +21,8 @@ use std::f64::consts::PI;
 use crate::error::SandlightError;
 use crate::math::Vec3;
 
-/// Largest number of spectral bands a render may use (e.g. 61 for 400–700 nm every 5 nm).
-pub const MAX_BANDS: usize = 64;
+/// Largest number of spectral bands a render may use (e.g. 31 for 400–700 nm every 10 nm).
+pub const MAX_BANDS: usize = 32;
 
 /// Spectrum of one path (only the first `n_bands` entries are meaningful).
 pub type Spectrum = [f64; MAX_BANDS];
@@ -53,6 +53,9 @@ pub struct BrdfStack {
     cell_cdf: Vec<f64>,
     /// P(cell) / (projected solid angle of the cell, both signs of Δφ), per (level, μ_i node).
     cell_density: Vec<f64>,
+    /// f[level·n_bands + b] when no level depends on the angles (Lambertian tables): lookups
+    /// then skip the trilinear interpolation.
+    flat: Option<Vec<f32>>,
 }
 
 fn check_axis(name: &str, axis: &[f64], lo: f64, hi: f64, must_span: bool) -> Result<(), SandlightError> {
@@ -117,7 +120,13 @@ impl BrdfStack {
         let n_cells = (no - 1) * (np - 1);
         let mut cell_cdf = vec![0.0; n_levels * ni * n_cells];
         let mut cell_density = vec![0.0; n_levels * ni * n_cells];
-        let mut stack = BrdfStack { n_levels, mu_i, mu_o, dphi, n_bands, f, cell_cdf: Vec::new(), cell_density: Vec::new() };
+        let per_level = ni * no * np * n_bands;
+        let is_flat = (0..n_levels).all(|l| {
+            let block = &f[l * per_level..(l + 1) * per_level];
+            block.chunks_exact(n_bands).all(|c| c == &block[..n_bands])
+        });
+        let flat = is_flat.then(|| (0..n_levels).flat_map(|l| f[l * per_level..l * per_level + n_bands].to_vec()).collect());
+        let mut stack = BrdfStack { n_levels, mu_i, mu_o, dphi, n_bands, f, cell_cdf: Vec::new(), cell_density: Vec::new(), flat };
         for l in 0..n_levels {
             for i in 0..ni {
                 let base = (l * ni + i) * n_cells;
@@ -192,6 +201,16 @@ impl BrdfStack {
     pub fn eval(&self, s: f64, mu_i: f64, mu_o: f64, dphi: f64, out: &mut Spectrum) {
         let nb = self.n_bands;
         out[..nb].iter_mut().for_each(|v| *v = 0.0);
+        if let Some(flat) = &self.flat {
+            for (l, wl) in self.levels(s) {
+                if wl != 0.0 {
+                    for (acc, &v) in out[..nb].iter_mut().zip(&flat[l * nb..(l + 1) * nb]) {
+                        *acc += wl * v as f64;
+                    }
+                }
+            }
+            return;
+        }
         let (i0, ti) = bracket(&self.mu_i, mu_i);
         let (o0, to) = bracket(&self.mu_o, mu_o);
         let (p0, tp) = bracket(&self.dphi, dphi);
@@ -408,6 +427,24 @@ mod tests {
         let w = direction_from(n, given, 0.4, -2.0);
         let (ma, mb, dphi) = pair_angles(n, given, w);
         assert!((mb - 0.4).abs() < 1e-12 && (dphi - 2.0).abs() < 1e-9 && (ma - given.dot(n)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn flat_tables_take_the_fast_path_with_the_same_values() {
+        let mi = axis(3, 1.0);
+        let mut f = vec![0.25f32; 27 * 2];
+        for v in f[27..].iter_mut() {
+            *v = 0.75;
+        }
+        let s = BrdfStack::new(2, mi.clone(), mi.clone(), axis(3, PI), 1, f.clone()).unwrap();
+        assert!(s.flat.is_some());
+        f[5] = 0.3;
+        let t = BrdfStack::new(2, mi.clone(), mi, axis(3, PI), 1, f).unwrap();
+        assert!(t.flat.is_none());
+        let (mut a, mut b) = ([0.0; MAX_BANDS], [0.0; MAX_BANDS]);
+        s.eval(0.4, 0.9, 0.9, 3.0, &mut a);
+        t.eval(0.4, 0.9, 0.9, 3.0, &mut b);
+        assert!((a[0] - 0.45).abs() < 1e-7 && (b[0] - 0.45).abs() < 1e-7);
     }
 
     #[test]

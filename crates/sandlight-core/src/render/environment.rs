@@ -34,6 +34,8 @@ pub struct Environment {
     /// Inclusive cumulative probability of the rows (θ), then of the cells within each row.
     row_cdf: Vec<f64>,
     cell_cdf: Vec<f64>,
+    /// cos θ at the n_θ + 1 row edges.
+    row_cos: Vec<f64>,
     /// P(cell) / Ω(cell)
     density: Vec<f64>,
     sun: Vec3,
@@ -126,6 +128,7 @@ impl Environment {
             radiance,
             row_cdf,
             cell_cdf,
+            row_cos: (0..=n_theta).map(|k| (k as f64 * dth).cos()).collect(),
             density,
             sun: s.normalized(),
             sun_cos_half_angle: 1.0 - one_minus_cos,
@@ -149,10 +152,9 @@ impl Environment {
         (theta, phi)
     }
 
-    /// Sky radiance in direction `d` (unit), written into `out[..n_bands]`.
-    pub fn sky(&self, d: Vec3, out: &mut Spectrum) {
+    /// Sky radiance at zenith angle θ and azimuth φ (radians), written into `out[..n_bands]`.
+    pub fn sky_at(&self, theta: f64, phi: f64, out: &mut Spectrum) {
         let nb = self.n_bands;
-        let (theta, phi) = Self::angles(d);
         let x = (theta / (0.5 * PI) * self.n_theta as f64 - 0.5).clamp(0.0, (self.n_theta - 1) as f64);
         let i0 = (x as usize).min(self.n_theta - 2); // x ≥ 0: truncation is the floor
         let tx = x - i0 as f64;
@@ -173,9 +175,30 @@ impl Environment {
         }
     }
 
-    /// A sky direction and its solid-angle pdf, from three uniforms: a row by its marginal
-    /// probability, a cell of the row by its conditional one, a point uniform in the cell.
-    pub fn sample_sky(&self, u: [f64; 3]) -> (Vec3, f64) {
+    /// Sky radiance in direction `d` (unit), written into `out[..n_bands]`.
+    pub fn sky(&self, d: Vec3, out: &mut Spectrum) {
+        let (theta, phi) = Self::angles(d);
+        self.sky_at(theta, phi, out);
+    }
+
+    /// Sky radiance in direction `d` into `out`, and the pdf of `sample_sky` for it.
+    pub fn sky_and_pdf(&self, d: Vec3, out: &mut Spectrum) -> f64 {
+        let (theta, phi) = Self::angles(d);
+        self.sky_at(theta, phi, out);
+        if d.z <= 0.0 { 0.0 } else { self.density_at(theta, phi) }
+    }
+
+    #[inline]
+    fn density_at(&self, theta: f64, phi: f64) -> f64 {
+        let it = ((theta / (0.5 * PI) * self.n_theta as f64) as usize).min(self.n_theta - 1);
+        let ip = ((phi / (2.0 * PI) * self.n_phi as f64) as usize).min(self.n_phi - 1);
+        self.density[it * self.n_phi + ip]
+    }
+
+    /// A sky direction, its solid-angle pdf and its angles (θ, φ) for `sky_at`, from three
+    /// uniforms: a row by its marginal probability, a cell of the row by its conditional one, a
+    /// point uniform in solid angle in the cell (cos θ and φ uniform).
+    pub fn sample_sky(&self, u: [f64; 3]) -> (Vec3, f64, f64, f64) {
         let it = self.row_cdf.partition_point(|&v| v <= u[0]).min(self.n_theta - 1);
         // Reuse u[0]: its position within the chosen row's probability interval.
         let lo = if it == 0 { 0.0 } else { self.row_cdf[it - 1] };
@@ -183,14 +206,13 @@ impl Environment {
         let row = &self.cell_cdf[it * self.n_phi..(it + 1) * self.n_phi];
         let ip = row.partition_point(|&c| c <= v).min(self.n_phi - 1);
         let c = it * self.n_phi + ip;
-        let dth = 0.5 * PI / self.n_theta as f64;
         let dph = 2.0 * PI / self.n_phi as f64;
-        let (c0, c1) = ((it as f64 * dth).cos(), ((it + 1) as f64 * dth).cos());
-        // Uniform in solid angle within the cell: cos θ uniform, φ uniform.
+        let (c0, c1) = (self.row_cos[it], self.row_cos[it + 1]);
         let cos_t = c0 + u[1] * (c1 - c0);
         let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
         let phi = (ip as f64 + u[2]) * dph;
-        (Vec3::new(sin_t * phi.cos(), sin_t * phi.sin(), cos_t), self.density[c])
+        let (sp, cp) = phi.sin_cos();
+        (Vec3::new(sin_t * cp, sin_t * sp, cos_t), self.density[c], cos_t.clamp(-1.0, 1.0).acos(), phi)
     }
 
     /// Solid-angle pdf of `sample_sky` for direction `d` (0 below the horizon).
@@ -199,9 +221,7 @@ impl Environment {
             return 0.0;
         }
         let (theta, phi) = Self::angles(d);
-        let it = ((theta / (0.5 * PI) * self.n_theta as f64) as usize).min(self.n_theta - 1);
-        let ip = ((phi / (2.0 * PI) * self.n_phi as f64) as usize).min(self.n_phi - 1);
-        self.density[it * self.n_phi + ip]
+        self.density_at(theta, phi)
     }
 
     pub fn sun_on(&self) -> bool {
@@ -262,8 +282,9 @@ mod tests {
         let n = 400_000;
         let mut est = 0.0;
         for _ in 0..n {
-            let (d, pdf) = env.sample_sky([rng.uniform(), rng.uniform(), rng.uniform()]);
+            let (d, pdf, theta, phi) = env.sample_sky([rng.uniform(), rng.uniform(), rng.uniform()]);
             assert!((env.pdf_sky(d) - pdf).abs() <= 1e-9 * pdf);
+            assert!((theta - d.z.acos()).abs() < 1e-9 && (phi - d.y.atan2(d.x).rem_euclid(2.0 * PI)).abs() < 1e-9);
             est += d.z / pdf;
         }
         est /= n as f64;

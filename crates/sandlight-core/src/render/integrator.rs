@@ -140,11 +140,11 @@ impl Scene {
                         }
                     }
                 }
-                let (wi, pl) = env.sample_sky([rng.uniform(), rng.uniform(), rng.uniform()]);
+                let (wi, pl, theta, phi) = env.sample_sky([rng.uniform(), rng.uniform(), rng.uniform()]);
                 let (mu_i, _, dphi) = pair_angles(n, wi, wo);
                 if mu_i > 0.0 && self.terrain.intersect(origin, wi, 0.0, hit.far).is_none() {
                     self.brdf.eval(s, mu_i, mu_o, dphi, &mut f);
-                    env.sky(wi, &mut tmp);
+                    env.sky_at(theta, phi, &mut tmp);
                     let w = if use_brdf { mis_weight(st.heuristic, pl, self.brdf_pdf(s, mu_o, mu_i, dphi)) } else { 1.0 };
                     let k = mu_i * w / pl;
                     for b in 0..nb {
@@ -176,8 +176,8 @@ impl Scene {
             match self.terrain.intersect(origin, wi, 0.0, hit.far) {
                 None => {
                     if use_brdf {
-                        env.sky(wi, &mut tmp);
-                        let w_sky = if use_light { mis_weight(st.heuristic, pb, env.pdf_sky(wi)) } else { 1.0 };
+                        let p_sky = env.sky_and_pdf(wi, &mut tmp);
+                        let w_sky = if use_light { mis_weight(st.heuristic, pb, p_sky) } else { 1.0 };
                         let w_sun = if !env.in_sun(wi) { 0.0 } else if use_light { mis_weight(st.heuristic, pb, env.pdf_sun()) } else { 1.0 };
                         for b in 0..nb {
                             acc[b] += beta[b] * f[b] * k * (tmp[b] * w_sky + env.sun_radiance()[b] * w_sun);
