@@ -38,7 +38,13 @@ def render(
     with user_errors():
         parsed = Scene.load(scene).with_overrides(width=width, height=height, frames=frames, spp=spp, seed=seed,
                                                   threads=threads, write_linear=linear)
-        run = render_scene(parsed, output, video=video, progress=progress, log=typer.echo)
+        try:
+            run = render_scene(parsed, output, video=video, progress=progress, log=typer.echo)
+        except KeyboardInterrupt:
+            kept = len(list(Path(output).glob("frame_*.png")))
+            typer.echo(f"interrupted: the {kept} finished frame(s) in {output} are complete; no video was written",
+                       err=True)
+            raise typer.Exit(130) from None
         total = sum(run.render_seconds)
         typer.echo(f"{len(run.pngs)} frame(s) in {output} ({total:.1f} s rendering, {run.elapsed_s:.1f} s in all)"
                    + (f"; video {run.video}" if run.video else ""))

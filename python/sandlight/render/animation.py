@@ -17,7 +17,7 @@ import numpy as np
 
 from sandlight.errors import ParameterError
 from sandlight.render import post
-from sandlight.render.image import render_image
+from sandlight.render.image import _interrupt_requests, render_image
 from sandlight.render.scene import Scene
 
 __all__ = ["render_scene", "SceneRun"]
@@ -83,8 +83,6 @@ def render_scene(scene: Scene, out_dir, *, video=None, progress: bool = True, lo
     camera = scene.build_camera(terrain)
     table = scene.build_table(progress=progress)
     wl = scene.wavelength_nm
-    times = scene.times_h()
-    fractions = scene.day_fractions()
     quotient = _texture(scene, scene.height, scene.width)
     grain = None
     if scene.grain is not None:
@@ -92,7 +90,7 @@ def render_scene(scene: Scene, out_dir, *, video=None, progress: bool = True, lo
                                  size_px=scene.grain["size_px"], seed=scene.grain["seed"])
     fixed_white = None
     if scene.exposure == "auto-sequence":
-        fixed_white = max(post.white_level("auto", scene.build_lighting(t), wl) for t in times)
+        fixed_white = max(post.white_level("auto", scene.build_lighting(t), wl) for t in scene.times_h())
     elif not isinstance(scene.exposure, str):
         fixed_white = post.white_level(scene.exposure, None, wl)
 
@@ -106,34 +104,8 @@ def render_scene(scene: Scene, out_dir, *, video=None, progress: bool = True, lo
         bar.start()
         task = bar.add_task(scene.name, total=scene.frames * scene.height)
     try:
-        for k, (t, frac) in enumerate(zip(times, fractions)):
-            lighting = scene.build_lighting(t)
-            material = scene.build_material(float(frac))
-            if bar is not None:
-                bar.update(task, description=f"{scene.name}: frame {k + 1}/{scene.frames}, {int(t):02d}:{int(round(t % 1 * 60)) % 60:02d}, "
-                                             f"sun {lighting.sun_elevation_deg:.1f}°")
-            image = render_image(camera, terrain, table, lighting, material, scene.settings, frame=k,
-                                 on_rows=(lambda n: bar.advance(task, n)) if bar is not None else None)
-            xyz = post.spectral_to_xyz(image.radiance, wl)
-            shown = xyz
-            if quotient is not None:
-                shown = post.apply_quotient(shown, quotient, image.coverage, scene.texture["strength"])
-            if grain is not None:
-                shown = post.apply_quotient(shown, grain, image.coverage)
-            white = fixed_white if fixed_white is not None else post.white_level("auto", lighting, wl)
-            rgb = post.to_srgb(shown, white, exposure_ev=scene.exposure_ev, mode=scene.colour_mode)
-            png = post.write_png(out / f"frame_{k:04d}.png", rgb)
-            run.pngs.append(png)
-            if scene.write_linear != "none":
-                attrs = {"scene": scene.name, "time_h": float(t), "day_fraction": float(frac),
-                         "sun_direction": str(np.round(lighting.sun_direction, 6).tolist()),
-                         "white_Y": float(white), "exposure_ev": scene.exposure_ev}
-                run.netcdfs.append(post.write_netcdf(out / f"frame_{k:04d}.nc", image, xyz, attrs,
-                                                     spectral=scene.write_linear == "spectral"))
-            run.render_seconds.append(image.elapsed_s)
-            if log is not None:
-                log(f"frame {k + 1}/{scene.frames}: {t:5.2f} h, sun {lighting.sun_elevation_deg:5.1f}°, "
-                    f"{image.elapsed_s:.1f} s → {png}")
+        with _interrupt_requests() as interrupted:
+            _render_frames(scene, out, run, camera, terrain, table, quotient, grain, fixed_white, bar, task, interrupted, log)
     finally:
         if bar is not None:
             bar.stop()
@@ -141,3 +113,40 @@ def render_scene(scene: Scene, out_dir, *, video=None, progress: bool = True, lo
         run.video = post.write_video(video, run.pngs, scene.fps)
     run.elapsed_s = time.perf_counter() - start
     return run
+
+
+def _render_frames(scene, out, run, camera, terrain, table, quotient, grain, fixed_white, bar, task, interrupted, log):
+    """The frame loop of :func:`render_scene`; a Ctrl-C between frames is honoured before the next."""
+    wl = scene.wavelength_nm
+    for k, (t, frac) in enumerate(zip(scene.times_h(), scene.day_fractions())):
+        if interrupted[0]:
+            raise KeyboardInterrupt
+        lighting = scene.build_lighting(t)
+        material = scene.build_material(float(frac))
+        if bar is not None:
+            bar.update(task, description=f"{scene.name}: frame {k + 1}/{scene.frames}, {int(t):02d}:{int(round(t % 1 * 60)) % 60:02d}, "
+                                         f"sun {lighting.sun_elevation_deg:.1f}°")
+        image = render_image(camera, terrain, table, lighting, material, scene.settings, frame=k,
+                             on_rows=(lambda n: bar.advance(task, n)) if bar is not None else None)
+        xyz = post.spectral_to_xyz(image.radiance, wl)
+        shown = xyz
+        if quotient is not None:
+            shown = post.apply_quotient(shown, quotient, image.coverage, scene.texture["strength"])
+        if grain is not None:
+            shown = post.apply_quotient(shown, grain, image.coverage)
+        white = fixed_white if fixed_white is not None else post.white_level("auto", lighting, wl)
+        rgb = post.to_srgb(shown, white, exposure_ev=scene.exposure_ev, mode=scene.colour_mode)
+        png = post.write_png(out / f"frame_{k:04d}.png", rgb)
+        run.pngs.append(png)
+        if scene.write_linear != "none":
+            attrs = {"scene": scene.name, "time_h": float(t), "day_fraction": float(frac),
+                     "sun_direction": str(np.round(lighting.sun_direction, 6).tolist()),
+                     "white_Y": float(white), "exposure_ev": scene.exposure_ev}
+            run.netcdfs.append(post.write_netcdf(out / f"frame_{k:04d}.nc", image, xyz, attrs,
+                                                 spectral=scene.write_linear == "spectral"))
+        run.render_seconds.append(image.elapsed_s)
+        if log is not None:
+            log(f"frame {k + 1}/{scene.frames}: {t:5.2f} h, sun {lighting.sun_elevation_deg:5.1f}°, "
+                f"{image.elapsed_s:.1f} s → {png}")
+    if interrupted[0]:
+        raise KeyboardInterrupt

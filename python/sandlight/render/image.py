@@ -8,8 +8,11 @@ not depend on the batch sizes or the number of threads.
 
 from __future__ import annotations
 
+import contextlib
+import signal
+import threading
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -133,6 +136,29 @@ def native_scene(camera: Camera, terrain: PlaneTerrain | HeightfieldTerrain, tab
     return RenderScene(**args)
 
 
+@contextlib.contextmanager
+def _interrupt_requests() -> Iterator[list[bool]]:
+    """Catch Ctrl-C as a flag checked between row batches.
+
+    Python's default handler raises ``KeyboardInterrupt`` wherever the interpreter happens to
+    be, and one raised inside a garbage-collection callback is printed and dropped: a single
+    Ctrl-C could be lost. The flag is honoured at the next batch boundary instead.
+    """
+    flag = [False]
+    if threading.current_thread() is not threading.main_thread():
+        yield flag
+        return
+
+    def handler(signum, frame):
+        flag[0] = True
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        yield flag
+    finally:
+        signal.signal(signal.SIGINT, previous)
+
+
 def render_image(camera: Camera, terrain, table: BrdfTable, lighting: Lighting, material: MaterialMap | None = None,
                  settings: RenderSettings = RenderSettings(), *, frame: int = 0,
                  on_rows: Callable[[int], None] | None = None, progress: bool = False) -> RenderedImage:
@@ -171,21 +197,26 @@ def render_image(camera: Camera, terrain, table: BrdfTable, lighting: Lighting, 
         task = bar.add_task("rows", total=h)
     start = time.perf_counter()
     try:
-        row, batch = 0, 1
-        while row < h:
-            n = min(batch, h - row)
-            t0 = time.perf_counter()
-            rad, cov = scene.render_rows(row, n, settings.spp, settings.seed, frame, settings.threads)
-            radiance[row:row + n] = rad
-            coverage[row:row + n] = cov
-            row += n
-            dt = time.perf_counter() - t0
-            # Aim for a fixed wall time per call (Ctrl-C latency), growing at most 4× at a time.
-            batch = int(max(1, min(4 * n, n * TARGET_BATCH_SECONDS / max(dt, 1e-6))))
-            if on_rows is not None:
-                on_rows(n)
-            if bar is not None:
-                bar.update(task, completed=row)
+        with _interrupt_requests() as interrupted:
+            row, batch = 0, 1
+            while row < h:
+                if interrupted[0]:
+                    raise KeyboardInterrupt
+                n = min(batch, h - row)
+                t0 = time.perf_counter()
+                rad, cov = scene.render_rows(row, n, settings.spp, settings.seed, frame, settings.threads)
+                radiance[row:row + n] = rad
+                coverage[row:row + n] = cov
+                row += n
+                dt = time.perf_counter() - t0
+                # Aim for a fixed wall time per call (Ctrl-C latency), growing at most 4× at a time.
+                batch = int(max(1, min(4 * n, n * TARGET_BATCH_SECONDS / max(dt, 1e-6))))
+                if on_rows is not None:
+                    on_rows(n)
+                if bar is not None:
+                    bar.update(task, completed=row)
+            if interrupted[0]:
+                raise KeyboardInterrupt
     finally:
         if bar is not None:
             bar.stop()

@@ -5,7 +5,7 @@
 ``spectrum_to_xyz`` of the unit spectrum at band k (illuminant E, i.e. no illuminant: radiance is
 already light; CIE 1964 10° observer as the paper). That matrix reproduces ``spectrum_to_xyz`` of
 the full spectrum to within ΔE*ab 0.34 on sunlit sand and sky spectra (its PCHIP interpolation is
-not exactly linear) and is 30 times faster on a frame. Y = 1 for a spectrally flat radiance of
+not exactly linear) and is some fifty times faster on a frame. Y = 1 for a spectrally flat radiance of
 1 W m⁻² sr⁻¹ nm⁻¹. Then :func:`sandlight.colour.xyz_to_srgb` (``managed``: Bradford adaptation
 from the equal-energy white to D65, IEC 61966-2-1 encoding; or the paper's ``paper`` mode).
 
