@@ -71,6 +71,9 @@ pub struct Heightfield {
     mask_y: i64,
     inv_dx: f64,
     inv_dy: f64,
+    /// Lipschitz constant of the surface: the largest |∇h| of any patch (at its corners, where
+    /// the norm of a bilinear patch's gradient, convex along the cell, peaks).
+    lipschitz: f64,
 }
 
 /// A ray with the reciprocals of its horizontal direction components (divisions are slow).
@@ -123,9 +126,35 @@ impl Heightfield {
         }
         let mask = |n: usize| if wrap && n.is_power_of_two() { n as i64 - 1 } else { -1 };
         let (mask_x, mask_y) = (mask(nx), mask(ny));
-        let mut hf = Heightfield { nx: nx as i64, ny: ny as i64, x0, y0, dx, dy, h, wrap, outside, far_m, far_z, zmin, zmax, levels: Vec::new(), mask_x, mask_y, inv_dx: 1.0 / dx, inv_dy: 1.0 / dy };
+        let mut hf = Heightfield { nx: nx as i64, ny: ny as i64, x0, y0, dx, dy, h, wrap, outside, far_m, far_z, zmin, zmax, levels: Vec::new(), mask_x, mask_y, inv_dx: 1.0 / dx, inv_dy: 1.0 / dy, lipschitz: 0.0 };
         hf.build_levels();
+        hf.lipschitz = hf.max_gradient();
         Ok(hf)
+    }
+
+    fn max_gradient(&self) -> f64 {
+        // Periodic: cells 0..n; bounded: cells −1..n−1 including the ramps to the outside plane.
+        let (lo, hx, hy) = if self.wrap { (0, self.nx, self.ny) } else { (-1, self.nx, self.ny) };
+        let mut g2: f64 = 0.0;
+        for j in lo..hy {
+            for i in lo..hx {
+                let (h00, h10, h01, h11) = (self.node(i, j), self.node(i + 1, j), self.node(i, j + 1), self.node(i + 1, j + 1));
+                for (sx, sy) in [(h10 - h00, h01 - h00), (h11 - h01, h01 - h00), (h10 - h00, h11 - h10), (h11 - h01, h11 - h10)] {
+                    let (gx, gy) = (sx * self.inv_dx, sy * self.inv_dy);
+                    g2 = g2.max(gx * gx + gy * gy);
+                }
+            }
+        }
+        g2.sqrt()
+    }
+
+    /// Height of the surface at (x, y).
+    fn height(&self, x: f64, y: f64) -> f64 {
+        let fx = (x - self.x0) * self.inv_dx;
+        let fy = (y - self.y0) * self.inv_dy;
+        let (i, j) = (floor_i64(fx), floor_i64(fy));
+        let (u, v) = (fx - i as f64, fy - j as f64);
+        (1.0 - v) * ((1.0 - u) * self.node(i, j) + u * self.node(i + 1, j)) + v * ((1.0 - u) * self.node(i, j + 1) + u * self.node(i + 1, j + 1))
     }
 
     fn build_levels(&mut self) {
@@ -335,6 +364,11 @@ impl Heightfield {
         let mut t_end = t_far;
         if d.z > 0.0 {
             if o.z >= self.zmax {
+                return None;
+            }
+            // A ray from on or above the surface that rises faster than the surface can (its
+            // Lipschitz constant) never meets it: h(p) ≤ h(o) + L·|p − o| < z of the ray.
+            if d.z > self.lipschitz * dh * (1.0 + 1e-9) && o.z >= self.height(o.x, o.y) {
                 return None;
             }
             t_end = t_end.min((self.zmax - o.z) / d.z);
@@ -576,6 +610,28 @@ mod tests {
             }
             assert!(n <= 3, "{nx}×{ny}: {n} disagreements");
             assert!(blocked > 30 && blocked < 270, "{blocked}");
+        }
+    }
+
+    #[test]
+    fn lipschitz_bound_holds_and_steep_rays_escape() {
+        let hf = bumpy(64, 48, false);
+        let mut rng = Rng::for_ray(2, 0, 0);
+        let mut steepest: f64 = 0.0;
+        for _ in 0..20000 {
+            let (x, y) = (rng.uniform() * 40.0 - 8.0, rng.uniform() * 30.0 - 8.0);
+            let a = rng.uniform() * 6.283;
+            let (x2, y2) = (x + 1e-3 * a.cos(), y + 1e-3 * a.sin());
+            steepest = steepest.max((height(&hf, x2, y2) - height(&hf, x, y)).abs() / 1e-3);
+        }
+        assert!(steepest <= hf.lipschitz * (1.0 + 1e-6) && steepest > 0.8 * hf.lipschitz, "{steepest} vs {}", hf.lipschitz);
+        // Rays just steeper than the bound escape without a walk, and marching agrees.
+        let el = hf.lipschitz.atan() + 0.01;
+        for k in 0..50 {
+            let (x, y) = (k as f64 * 0.37, 3.0 + k as f64 * 0.21);
+            let o = Vec3::new(x, y, height(&hf, x, y) + 1e-6);
+            let d = Vec3::new(el.cos() * (k as f64).cos(), el.cos() * (k as f64).sin(), el.sin());
+            assert!(hf.intersect(o, d, 0.0).is_none() && march(&hf, o, d, 30.0).is_none());
         }
     }
 
