@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 import sandlight
-from sandlight.render import Camera, RenderSettings, Scene, post, render_image
+from sandlight.render import Camera, Scene, post, render_image
 
 
 def main() -> None:

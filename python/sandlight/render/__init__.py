@@ -20,7 +20,7 @@ renderer consumes, and turns spectral images into pictures and videos.
 >>> import numpy as np
 >>> from sandlight.render import BrdfTable
 >>> BrdfTable.lambertian(np.full(16, 0.4), np.arange(400, 701, 20)).albedo(0.5).round(3)[:3]
-array([ 0.4,  0.4,  0.4])
+array([0.4, 0.4, 0.4])
 """
 
 from sandlight.render.animation import SceneRun, render_scene

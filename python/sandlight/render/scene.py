@@ -331,7 +331,7 @@ class Scene:
             raise ParameterError("override", sorted(unknown)[0], "one of width, height, frames, spp, seed, threads, write_linear")
         scene = dataclasses.replace(self, settings=settings, **changes)
         if scene.frames > 1 and not scene.sun.end_h > scene.sun.start_h:
-            raise ParameterError("frames", scene.frames, f"1, since the scene's sun.end_h is not after sun.start_h")
+            raise ParameterError("frames", scene.frames, "1, since the scene's sun.end_h is not after sun.start_h")
         return scene
 
     # --- building -----------------------------------------------------------------------------

@@ -421,6 +421,56 @@ mod tests {
     }
 
     #[test]
+    fn table_sampler_passes_a_chi_square_test_against_its_pdf() {
+        // Histogram of sampled (μ, |Δφ|) on a 10 × 12 grid against the pdf integrated over each
+        // bin (midpoint rule on a 20 × 20 sub-grid); bins with fewer than 5 expected are pooled.
+        let s = test_stack();
+        let (level, mu_given, n) = (0.0, 0.45, 200_000usize);
+        let (bm, bp) = (10usize, 12usize);
+        let mut counts = vec![0.0; bm * bp];
+        let mut rng = Rng::for_ray(17, 1, 2);
+        for _ in 0..n {
+            let u = [rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()];
+            let (mu, dphi) = s.sample_table(level, mu_given, u);
+            let a = ((mu * bm as f64) as usize).min(bm - 1);
+            let b = ((dphi.abs() / PI * bp as f64) as usize).min(bp - 1);
+            counts[a * bp + b] += 1.0;
+        }
+        let sub = 20;
+        let (mut chi2, mut dof, mut pool_obs, mut pool_exp) = (0.0, 0i32, 0.0, 0.0);
+        for a in 0..bm {
+            for b in 0..bp {
+                let mut p = 0.0;
+                for i in 0..sub {
+                    for j in 0..sub {
+                        let mu = (a as f64 + (i as f64 + 0.5) / sub as f64) / bm as f64;
+                        let ph = PI * (b as f64 + (j as f64 + 0.5) / sub as f64) / bp as f64;
+                        // dω = dμ dφ, both signs of Δφ.
+                        p += s.pdf_table(level, mu_given, mu, ph) * 2.0 * (1.0 / (bm * sub) as f64) * (PI / (bp * sub) as f64);
+                    }
+                }
+                let expected = p * n as f64;
+                if expected < 5.0 {
+                    pool_obs += counts[a * bp + b];
+                    pool_exp += expected;
+                } else {
+                    chi2 += (counts[a * bp + b] - expected).powi(2) / expected;
+                    dof += 1;
+                }
+            }
+        }
+        if pool_exp > 0.0 {
+            chi2 += (pool_obs - pool_exp).powi(2) / pool_exp.max(1e-12);
+            dof += 1;
+        }
+        dof -= 1;
+        // Wilson–Hilferty: the 99.9 % point of χ²(k) is about k (1 − 2/(9k) + 3.09 √(2/(9k)))³.
+        let k = dof as f64;
+        let limit = k * (1.0 - 2.0 / (9.0 * k) + 3.09 * (2.0 / (9.0 * k)).sqrt()).powi(3);
+        assert!(chi2 < limit, "χ² = {chi2} with {dof} degrees of freedom (limit {limit})");
+    }
+
+    #[test]
     fn pair_angles_round_trip() {
         let n = Vec3::new(0.2, -0.1, 1.0).normalized();
         let given = Vec3::new(0.5, 0.3, 0.6).normalized();
