@@ -138,3 +138,40 @@ def test_relative_paths_are_read_from_the_scene_folder(tmp_path):
     # West edge black (0 m), east edge white (4 m).
     assert terrain.height_at(-31.9, 0.0) == pytest.approx(0.0, abs=0.02)
     assert terrain.height_at(31.9, 0.0) == pytest.approx(4.0, abs=0.02)
+
+
+def test_brdf_sources_appearance_and_netcdf_tables(tmp_path, monkeypatch):
+    import sandlight
+    from sandlight.render import BrdfTable
+
+    beach = shipped("beach-drying")
+    beach["render"]["bands"] = "400:700:100"
+    doc = copy.deepcopy(beach)
+    doc["sand"]["brdf"] = "appearance"
+
+    class FakeAppearance:  # the documented interface of issue 6's SandAppearance
+        def __init__(self, sample):
+            self.albedo_value = 0.6 - 0.4 * sample.saturation
+
+        def brdf(self, wi, wo, wavelengths_nm):
+            return np.full((len(wi), len(wavelengths_nm)), self.albedo_value / np.pi)
+
+    monkeypatch.setattr(sandlight, "SandAppearance", FakeAppearance, raising=False)
+    table = Scene.from_dict(doc).build_table()
+    assert table.n_levels == 16 and table.level_name == "saturation"
+    np.testing.assert_allclose(table.albedo(0.5, level=15), 0.2, rtol=1e-3)
+    monkeypatch.delattr(sandlight, "SandAppearance")
+    try:
+        from sandlight import SandAppearance  # noqa: F401
+    except ImportError:  # issue 6 not merged yet: a clear error
+        with pytest.raises(ParameterError, match="SandAppearance"):
+            Scene.from_dict(doc).build_table()
+    # A NetCDF stack whose levels match the scene's.
+    path = table.to_netcdf(tmp_path / "beach.nc")
+    doc["sand"]["brdf"] = "beach.nc"
+    loaded = Scene.from_dict(doc, base_dir=tmp_path).build_table()
+    np.testing.assert_allclose(loaded.f, table.f)
+    doc["sand"]["levels"] = 8
+    with pytest.raises(ParameterError, match="sand.levels"):
+        Scene.from_dict(doc, base_dir=tmp_path).build_table()
+    assert path.exists()
