@@ -175,6 +175,7 @@ impl PyRenderScene {
 
     /// First terrain hit of rays (origins, dirs: float64 (N, 3)): returns (t (N,), inf for none;
     /// normals (N, 3), zero for none). For tests and picking.
+    #[allow(clippy::type_complexity)]
     fn intersect<'py>(&self, py: Python<'py>, origins: PyReadonlyArray2<'py, f64>, dirs: PyReadonlyArray2<'py, f64>) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>)> {
         if origins.shape()[1] != 3 || dirs.shape() != origins.shape() {
             return Err(to_py(py, SandlightError::parameter("origins/dirs", format!("shapes {:?} and {:?}", origins.shape(), dirs.shape()), "two arrays of the same shape (N, 3)")));

@@ -78,7 +78,8 @@ fn check_axis(name: &str, axis: &[f64], lo: f64, hi: f64, must_span: bool) -> Re
 #[inline]
 fn bracket(axis: &[f64], x: f64) -> (usize, f64) {
     let n = axis.len();
-    if x <= axis[0] {
+    if x.is_nan() || x <= axis[0] {
+        // NaN: a caller never passes it, but it must not turn into an index underflow.
         return (0, 0.0);
     }
     if x >= axis[n - 1] {
@@ -184,7 +185,7 @@ impl BrdfStack {
     /// The (≤ 2) levels and weights of level coordinate `s` (clamped to [0, L−1]).
     #[inline]
     fn levels(&self, s: f64) -> [(usize, f64); 2] {
-        if self.n_levels == 1 || !(s > 0.0) {
+        if self.n_levels == 1 || s.is_nan() || s <= 0.0 {
             return [(0, 1.0), (0, 0.0)];
         }
         let top = (self.n_levels - 1) as f64;

@@ -12,6 +12,7 @@
 //!   (Veach & Guibas 1995; power heuristic β = 2, or the balance heuristic);
 //! - `Brdf`: the BRDF sample alone (sun found only when a sample falls in its disc);
 //! - `Light`: the light samples alone.
+//!
 //! The BRDF sample is drawn by cosine (`BrdfSampling::Cosine`, the paper's choice) or by the
 //! table-following sampler. A BRDF sample that meets the terrain continues the path (multiple
 //! scattering between dunes) up to `max_bounces` ground interactions; 1 gives direct lighting,
@@ -104,13 +105,9 @@ impl Scene {
         let d = self.camera.ray(px, py, rng.uniform(), rng.uniform());
         let Some(first) = self.terrain.intersect(self.camera.origin, d, 0.0, false) else {
             env.sky(d, &mut tmp);
-            for b in 0..nb {
-                acc[b] += tmp[b];
-            }
-            if env.in_sun(d) {
-                for b in 0..nb {
-                    acc[b] += env.sun_radiance()[b];
-                }
+            let sun = if env.in_sun(d) { 1.0 } else { 0.0 };
+            for (a, (&sky, &l_sun)) in acc[..nb].iter_mut().zip(tmp.iter().zip(env.sun_radiance())) {
+                *a += sky + sun * l_sun;
             }
             return false;
         };
@@ -168,7 +165,7 @@ impl Scene {
             let wi: Vec3 = direction_from(n, wo, mu_i, dphi_signed);
             let dphi = dphi_signed.abs().min(std::f64::consts::PI);
             let pb = self.brdf_pdf(s, mu_o, mu_i, dphi);
-            if !(pb > 0.0) {
+            if pb.is_nan() || pb <= 0.0 {
                 break;
             }
             self.brdf.eval(s, mu_i, mu_o, dphi, &mut f);

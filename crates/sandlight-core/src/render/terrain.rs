@@ -114,7 +114,7 @@ impl Heightfield {
         if !wrap && !outside.is_finite() {
             return Err(SandlightError::parameter("outside", outside, "a finite height in metres"));
         }
-        if !(far_m > 0.0) || far_m.is_nan() {
+        if far_m.is_nan() || far_m <= 0.0 {
             return Err(SandlightError::parameter("far_m", far_m, "a distance > 0 m"));
         }
         let mut zmin = h.iter().fold(f64::INFINITY, |a, &b| a.min(b as f64));
@@ -436,6 +436,10 @@ impl Terrain {
     /// First hit for t > t_min; `from_far`: the ray leaves a far-field point, which sees only the
     /// far plane.
     pub fn intersect(&self, o: Vec3, d: Vec3, t_min: f64, from_far: bool) -> Option<Hit> {
+        if !(o.is_finite() && d.is_finite()) {
+            // A non-finite ray would never leave the grid walk; it meets nothing.
+            return None;
+        }
         let up = Vec3::new(0.0, 0.0, 1.0);
         let plane = |z: f64| -> Option<Hit> {
             if d.z < 0.0 {
