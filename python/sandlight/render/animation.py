@@ -64,7 +64,7 @@ def render_scene(scene: Scene, out_dir, *, video=None, progress: bool = True, lo
         Folder for ``frame_NNNN.png`` and, unless ``scene.write_linear`` is ``"none"``,
         ``frame_NNNN.nc`` (linear XYZ, and the spectral radiance when it is ``"spectral"``).
     video : path-like, optional
-        MP4 file to encode from the frames.
+        MP4 file to encode from the frames (its folder is created if needed).
     progress : bool
         Show a progress bar over all frames.
     log : callable, optional
@@ -77,8 +77,10 @@ def render_scene(scene: Scene, out_dir, *, video=None, progress: bool = True, lo
     start = time.perf_counter()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    if video is not None and Path(video).suffix.lower() != ".mp4":
-        raise ParameterError("video", str(video), "a file name ending in .mp4")
+    if video is not None:
+        if Path(video).suffix.lower() != ".mp4":
+            raise ParameterError("video", str(video), "a file name ending in .mp4")
+        Path(video).parent.mkdir(parents=True, exist_ok=True)
     terrain = scene.build_terrain()
     camera = scene.build_camera(terrain)
     table = scene.build_table(progress=progress)
