@@ -32,7 +32,6 @@ from __future__ import annotations
 
 import functools
 import os
-import uuid
 from pathlib import Path
 
 import numpy as np
@@ -180,7 +179,7 @@ def write_png(path: str | os.PathLike, rgb: np.ndarray) -> Path:
     from PIL import Image
 
     from sandlight.colour import srgb_to_uint8
-    from sandlight.colour._io import write_atomically
+    from sandlight.io import write_atomically
 
     data = srgb_to_uint8(rgb)
     return write_atomically(path, lambda tmp: Image.fromarray(data, "RGB").save(tmp, format="PNG"))
@@ -194,7 +193,7 @@ def write_netcdf(path: str | os.PathLike, image, xyz: np.ndarray | None = None, 
         raise ParameterError("xyz", None, "an XYZ image when the spectral radiance is not written")
     import xarray as xr
 
-    from sandlight.colour._io import write_atomically
+    from sandlight.io import write_atomically
 
     h, w, _ = image.radiance.shape
     data = {"coverage": (("y", "x"), image.coverage, {"long_name": "fraction of samples that saw the ground"})}
@@ -218,7 +217,10 @@ def write_netcdf(path: str | os.PathLike, image, xyz: np.ndarray | None = None, 
 
 def write_video(path: str | os.PathLike, frames: list[Path], fps: float) -> Path:
     """Encode PNG frames as an H.264 MP4 (imageio-ffmpeg), atomically."""
-    import imageio.v2 as imageio
+    import imageio_ffmpeg
+    from PIL import Image
+
+    from sandlight.io import write_atomically
 
     if not frames:
         raise ParameterError("frames", frames, "at least one frame")
@@ -228,24 +230,26 @@ def write_video(path: str | os.PathLike, frames: list[Path], fps: float) -> Path
     target = Path(path)
     if target.suffix.lower() != ".mp4":
         raise ParameterError("video", str(path), "a file name ending in .mp4")
-    if not target.parent.is_dir():
-        raise FileNotFoundError(f"Output directory {str(target.parent)!r} does not exist (writing {str(target)!r}).")
-    # A temporary file beside the target (ffmpeg picks the container from the .mp4 suffix),
-    # renamed into place once complete.
-    tmp = target.with_name(f".{target.stem}.{os.getpid()}.{uuid.uuid4().hex}.mp4")
-    try:
-        with imageio.get_writer(tmp, format="FFMPEG", mode="I", fps=fps, codec="libx264", pixelformat="yuv420p",
-                                macro_block_size=1, ffmpeg_log_level="error") as writer:
-            for f in frames:
-                img = np.asarray(imageio.imread(f))[..., :3]
-                # libx264 with yuv420p needs even sizes: pad by repeating the last row/column.
-                pad = ((0, img.shape[0] % 2), (0, img.shape[1] % 2), (0, 0))
-                writer.append_data(np.pad(img, pad, mode="edge"))
-        os.replace(tmp, target)
-    except (OSError, RuntimeError) as exc:
-        tmp.unlink(missing_ok=True)
-        raise ModelFileError(f"could not encode {path} with ffmpeg: {exc}") from exc
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return target
+
+    def write(tmp: Path) -> None:
+        images = [np.asarray(Image.open(f).convert("RGB")) for f in frames]
+        h, w = images[0].shape[:2]
+        # libx264 with yuv420p needs even sizes: pad by repeating the last row/column.
+        pad = ((0, h % 2), (0, w % 2), (0, 0))
+        # The temporary name does not end in .mp4, so the container is named for ffmpeg.
+        writer = imageio_ffmpeg.write_frames(str(tmp), (w + w % 2, h + h % 2), fps=fps, codec="libx264",
+                                             pix_fmt_out="yuv420p", macro_block_size=1, ffmpeg_log_level="error",
+                                             output_params=["-f", "mp4"])
+        try:
+            writer.send(None)  # start ffmpeg
+            for img in images:
+                if img.shape[:2] != (h, w):
+                    raise ParameterError("frames", f"an image of {img.shape[1]}×{img.shape[0]} px", f"frames of one size ({w}×{h})")
+                writer.send(np.ascontiguousarray(np.pad(img, pad, mode="edge")))
+            writer.close()
+        except (OSError, RuntimeError) as exc:
+            raise ModelFileError(f"could not encode {path} with ffmpeg: {exc}") from exc
+        finally:
+            writer.close()
+
+    return write_atomically(target, write)

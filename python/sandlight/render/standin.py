@@ -117,7 +117,7 @@ def generate(path=None) -> str:
             print(f"{preset} {vary}={v:g}: " + " ".join(f"{x:.3f}" for x in r), file=sys.stderr)
     text = "\n".join(lines) + "\n"
     if path is not None:
-        from sandlight.colour._io import write_atomically
+        from sandlight.io import write_atomically
 
         write_atomically(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
     return text

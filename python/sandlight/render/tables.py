@@ -264,7 +264,7 @@ class BrdfTable:
         """Write the stack (level as the leading dimension of ``f``) atomically."""
         import xarray as xr
 
-        from sandlight.colour._io import write_atomically
+        from sandlight.io import write_atomically
 
         ds = xr.Dataset(
             {"f": ((self.level_name, "wavelength", "mu_i", "mu_o", "dphi"), self.f, {"units": "sr-1", "long_name": "BRDF"})},
