@@ -142,7 +142,6 @@ def test_relative_paths_are_read_from_the_scene_folder(tmp_path):
 
 def test_brdf_sources_appearance_and_netcdf_tables(tmp_path, monkeypatch):
     import sandlight
-    from sandlight.render import BrdfTable
 
     beach = shipped("beach-drying")
     beach["render"]["bands"] = "400:700:100"
