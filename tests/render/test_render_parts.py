@@ -159,3 +159,19 @@ def test_material_map_from_image(tmp_path):
     Image.fromarray(img).save(tmp_path / "map.png")
     m = MaterialMap.from_image(tmp_path / "map.png", extent_m=(0.0, 0.0, 10.0, 10.0), value_range=(0.2, 0.6))
     assert m.value_at(5.0, 10.0) == pytest.approx(0.6) and m.value_at(5.0, 0.0) == pytest.approx(0.2)
+
+
+def test_soft_highlights_keep_midtones_and_roll_off_smoothly():
+    y = np.linspace(0.0, 5.0, 501)
+    s = post.soft_highlights(y)
+    np.testing.assert_array_equal(s[y <= 0.8], y[y <= 0.8])
+    assert (np.diff(s) > 0).all() and s.max() < 1.0
+    slope = (post.soft_highlights(0.8 + 1e-6) - 0.8) / 1e-6
+    assert slope == pytest.approx(1.0, rel=1e-4)  # no kink at the knee
+    xyz = np.array([[0.3, 0.3, 0.3], [3.0, 3.0, 2.0]])
+    soft, clip = post.to_srgb(xyz, 1.0), post.to_srgb(xyz, 1.0, highlights="clip")
+    np.testing.assert_array_equal(soft[0], clip[0])
+    # A bright yellowish white is compressed (its hue kept), not clipped to flat white.
+    assert (soft[1] <= clip[1] + 1e-12).all() and soft[1].min() < clip[1].min() - 0.05
+    with pytest.raises(ParameterError, match="highlights"):
+        post.to_srgb(xyz, 1.0, highlights="filmic")

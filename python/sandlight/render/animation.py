@@ -137,7 +137,8 @@ def _render_frames(scene, out, run, camera, terrain, table, quotient, grain, fix
         if grain is not None:
             shown = post.apply_quotient(shown, grain, image.coverage)
         white = fixed_white if fixed_white is not None else post.white_level("auto", lighting, wl)
-        rgb = post.to_srgb(shown, white, exposure_ev=scene.exposure_ev, mode=scene.colour_mode)
+        rgb = post.to_srgb(shown, white, exposure_ev=scene.exposure_ev, mode=scene.colour_mode,
+                           highlights=scene.highlights)
         png = post.write_png(out / f"frame_{k:04d}.png", rgb)
         run.pngs.append(png)
         if scene.write_linear != "none":

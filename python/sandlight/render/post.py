@@ -13,7 +13,9 @@ from the equal-energy white to D65, IEC 61966-2-1 encoding; or the paper's ``pap
 white Lambertian horizontal surface under that sun and sky is shown as display white, so sand of
 albedo 0.3 sits at 0.3 in linear light whatever the hour (like a photographer's incident-light
 meter); ``"auto-sequence"`` uses the brightest frame's metering for all frames (dusk gets dark);
-a number is the luminance in cd m⁻² shown as white. ``exposure_ev`` brightens by 2^EV.
+a number is the luminance in cd m⁻² shown as white. ``exposure_ev`` brightens by 2^EV. Above 0.8
+of white, luminance is rolled off smoothly towards white (``highlights = "soft"``, the default)
+or clipped (``"clip"``).
 
 **Texture transfer** (paper §4.2.1): "The ground in the original image was isolated and blurred
 heavily. The original image was then divided by the blurred image pixel by pixel, yielding a
@@ -88,12 +90,38 @@ def white_level(exposure, lighting, wavelength_nm) -> float:
     return value / _luminance_per_y()
 
 
-def to_srgb(xyz, white_y: float, *, exposure_ev: float = 0.0, mode: str = "managed") -> np.ndarray:
-    """Encoded sRGB in [0, 1] of XYZ scaled so that Y = ``white_y`` is display white."""
+#: Highlight handling: "clip" (as sandlight.colour does) or "soft" (roll-off above SOFT_KNEE).
+HIGHLIGHTS = ("soft", "clip")
+SOFT_KNEE = 0.8
+
+
+def soft_highlights(y: np.ndarray, knee: float = SOFT_KNEE) -> np.ndarray:
+    """Luminance roll-off: identity up to ``knee``, then knee + (1 − knee)(1 − e^(−(Y − knee)/(1 − knee))),
+    which is continuous with slope 1 at the knee and approaches 1 (display white) smoothly."""
+    y = np.asarray(y, dtype=float)
+    over = np.maximum(y - knee, 0.0)
+    return np.where(y <= knee, y, knee + (1.0 - knee) * (1.0 - np.exp(-over / (1.0 - knee))))
+
+
+def to_srgb(xyz, white_y: float, *, exposure_ev: float = 0.0, mode: str = "managed",
+            highlights: str = "soft") -> np.ndarray:
+    """Encoded sRGB in [0, 1] of XYZ scaled so that Y = ``white_y`` is display white.
+
+    With ``highlights="soft"`` luminances above 0.8 of white are compressed towards white
+    (:func:`soft_highlights`, chromaticity kept) instead of clipped, so a bright sky at dawn keeps
+    its gradient; everything darker is unchanged.
+    """
     from sandlight.colour import xyz_to_srgb
 
+    if highlights not in HIGHLIGHTS:
+        raise ParameterError("highlights", highlights, "one of " + ", ".join(repr(h) for h in HIGHLIGHTS))
     scale = 2.0 ** float(exposure_ev) / max(float(white_y), 1e-300)
-    return xyz_to_srgb(np.asarray(xyz, dtype=float) * scale, mode, illuminant="E", observer=COLOUR_OBSERVER)
+    scaled = np.asarray(xyz, dtype=float) * scale
+    if highlights == "soft":
+        y = scaled[..., 1]
+        factor = np.where(y > SOFT_KNEE, soft_highlights(y) / np.maximum(y, 1e-300), 1.0)
+        scaled = scaled * factor[..., None]
+    return xyz_to_srgb(scaled, mode, illuminant="E", observer=COLOUR_OBSERVER)
 
 
 def _gaussian(image: np.ndarray, sigma: float) -> np.ndarray:

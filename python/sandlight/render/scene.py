@@ -31,6 +31,7 @@ from sandlight.render.camera import Camera
 from sandlight.render.image import ESTIMATORS, HEURISTICS, SAMPLINGS, RenderSettings
 from sandlight.render.light import DEFAULT_SKY_RESOLUTION, Lighting
 from sandlight.render.maps import MaterialMap, Waterlines
+from sandlight.render.post import HIGHLIGHTS
 from sandlight.render.tables import BrdfTable
 from sandlight.render.terrain import PlaneTerrain, dune_field, heightfield_from_image
 
@@ -126,6 +127,7 @@ class Scene:
     exposure: str | float
     exposure_ev: float
     colour_mode: str
+    highlights: str
     write_linear: str
     sun: SunSpec
     camera: dict
@@ -194,6 +196,7 @@ class Scene:
             exposure = out.number("exposure", None, 0.0, None, lo_open=True)
         exposure_ev = out.number("exposure_ev", 0.0, -20.0, 20.0)
         colour_mode = out.choice("colour_mode", COLOUR_MODES, "managed")
+        highlights = out.choice("highlights", HIGHLIGHTS, "soft")
         write_linear = out.choice("linear", LINEAR_OUTPUTS, "spectral")
         out.finish()
 
@@ -306,7 +309,7 @@ class Scene:
         post.finish()
         root.finish()
         return cls(name=name, description=description, source=source, width=width, height=height, frames=frames,
-                   fps=fps, exposure=exposure, exposure_ev=exposure_ev, colour_mode=colour_mode,
+                   fps=fps, exposure=exposure, exposure_ev=exposure_ev, colour_mode=colour_mode, highlights=highlights,
                    write_linear=write_linear, sun=sun, camera=camera, terrain=terrain, sample=sample, preset=preset,
                    brdf=brdf, vary=vary, levels=levels, standin_rays=standin_rays, material=material,
                    settings=settings, wavelength_nm=wavelength_nm,
