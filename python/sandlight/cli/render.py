@@ -19,7 +19,7 @@ from sandlight.cli._common import user_errors
 @app.command()
 def render(
     scene: str = typer.Argument(..., help="A shipped scene (desert-day, beach-drying) or a scene TOML file."),
-    output: Path = typer.Option(..., "--output", "-o", help="Folder for the frames (PNG, and NetCDF spectral images)."),
+    output: Path = typer.Option(..., "--output", "-o", help="Folder for the frames (PNG and linear NetCDF)."),
     video: Optional[Path] = typer.Option(None, "--video", help="Also encode the frames as this MP4 file."),
     width: Optional[int] = typer.Option(None, help="Image width in pixels (overrides output.width)."),
     height: Optional[int] = typer.Option(None, help="Image height in pixels (overrides output.height)."),
@@ -31,7 +31,8 @@ def render(
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
     """Render an animation of a sandy landscape under the sun and sky (paper §4.2): frames as
-    sRGB PNG and linear spectral NetCDF, optionally an MP4."""
+    sRGB PNG and linear NetCDF (XYZ, and with --linear spectral the spectral radiance),
+    optionally an MP4."""
     from sandlight.render.animation import render_scene
     from sandlight.render.scene import Scene
 
