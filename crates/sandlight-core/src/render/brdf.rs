@@ -177,6 +177,11 @@ impl BrdfStack {
         self.n_bands
     }
 
+    /// Whether no level depends on the angles (then Δφ is irrelevant and sampling is cosine).
+    pub fn is_flat(&self) -> bool {
+        self.flat.is_some()
+    }
+
     #[inline]
     fn index(&self, l: usize, i: usize, o: usize, p: usize) -> usize {
         (((l * self.mu_i.len() + i) * self.mu_o.len() + o) * self.dphi.len() + p) * self.n_bands
@@ -253,7 +258,8 @@ impl BrdfStack {
     /// Samples (μ, |Δφ|, sign) of a direction given the other direction's cosine `mu_given`,
     /// following the table. `u` are five uniforms in [0, 1). Returns (μ, signed Δφ).
     pub fn sample_table(&self, s: f64, mu_given: f64, u: [f64; 5]) -> (f64, f64) {
-        if u[0] < DEFENSIVE_COSINE {
+        // A flat table's cells weigh their projected solid angle: the mixture is cosine sampling.
+        if u[0] < DEFENSIVE_COSINE || self.flat.is_some() {
             return sample_cosine(u[1], u[2]);
         }
         // Reuse u[0] to pick the mixture component (rescaled to [0, 1)).
@@ -289,6 +295,9 @@ impl BrdfStack {
         if mu <= 0.0 {
             return 0.0;
         }
+        if self.flat.is_some() {
+            return mu / PI; // as `sample_table`: cosine
+        }
         let np1 = self.dphi.len() - 1;
         let n_cells = (self.mu_o.len() - 1) * np1;
         let c = cell_of(&self.mu_o, mu) * np1 + cell_of(&self.dphi, dphi);
@@ -309,18 +318,20 @@ pub fn sample_cosine(u1: f64, u2: f64) -> (f64, f64) {
     (mu, 2.0 * PI * u2 - PI)
 }
 
-/// Local geometry of a direction pair at a surface with unit normal `n`: (μ_a, μ_b, Δφ ∈ [0, π]).
+/// Local geometry of a direction pair at a surface with unit normal `n`: (μ_a, μ_b, cos Δφ).
+/// A direction along the normal has no azimuth: cos Δφ = 1 then.
 #[inline]
-pub fn pair_angles(n: Vec3, a: Vec3, b: Vec3) -> (f64, f64, f64) {
+pub fn pair_cosines(n: Vec3, a: Vec3, b: Vec3) -> (f64, f64, f64) {
     let ma = a.dot(n);
     let mb = b.dot(n);
     let ta = a - n * ma;
     let tb = b - n * mb;
     let la = ta.norm2();
     let lb = tb.norm2();
-    let dphi = if la < 1e-24 || lb < 1e-24 { 0.0 } else { (ta.dot(tb) / (la * lb).sqrt()).clamp(-1.0, 1.0).acos() };
-    (ma, mb, dphi)
+    let c = if la < 1e-24 || lb < 1e-24 { 1.0 } else { (ta.dot(tb) / (la * lb).sqrt()).clamp(-1.0, 1.0) };
+    (ma, mb, c)
 }
+
 
 /// World direction with cosine μ to `n` and azimuth Δφ from the tangent projection of `given`.
 #[inline]
@@ -472,12 +483,12 @@ mod tests {
     }
 
     #[test]
-    fn pair_angles_round_trip() {
+    fn pair_cosines_round_trip() {
         let n = Vec3::new(0.2, -0.1, 1.0).normalized();
         let given = Vec3::new(0.5, 0.3, 0.6).normalized();
         let w = direction_from(n, given, 0.4, -2.0);
-        let (ma, mb, dphi) = pair_angles(n, given, w);
-        assert!((mb - 0.4).abs() < 1e-12 && (dphi - 2.0).abs() < 1e-9 && (ma - given.dot(n)).abs() < 1e-12);
+        let (ma, mb, cos_dphi) = pair_cosines(n, given, w);
+        assert!((mb - 0.4).abs() < 1e-12 && (cos_dphi - 2.0f64.cos()).abs() < 1e-9 && (ma - given.dot(n)).abs() < 1e-12);
     }
 
     #[test]

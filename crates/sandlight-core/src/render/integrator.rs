@@ -20,7 +20,7 @@
 //! Shadow rays test visibility of the sampled light direction against the terrain.
 
 use crate::math::Vec3;
-use crate::render::brdf::{direction_from, pair_angles, sample_cosine, BrdfSampling, BrdfStack, Spectrum, MAX_BANDS};
+use crate::render::brdf::{direction_from, pair_cosines, sample_cosine, BrdfSampling, BrdfStack, Spectrum, MAX_BANDS};
 use crate::render::camera::Camera;
 use crate::render::environment::Environment;
 use crate::render::terrain::{Hit, MaterialMap, Terrain};
@@ -77,6 +77,12 @@ impl Scene {
         self.brdf.n_bands()
     }
 
+    /// Δφ from its cosine, skipped for angle-independent (Lambertian) tables, which ignore it.
+    #[inline]
+    fn azimuth(&self, cos_dphi: f64) -> f64 {
+        if self.brdf.is_flat() { 0.0 } else { cos_dphi.acos() }
+    }
+
     /// Solid-angle pdf of the BRDF sampler for light direction cosine μ_i, |Δφ|, view cosine μ_o.
     #[inline]
     fn brdf_pdf(&self, s: f64, mu_o: f64, mu_i: f64, dphi: f64) -> f64 {
@@ -126,8 +132,9 @@ impl Scene {
             if use_light {
                 if env.sun_on() {
                     let wi = env.sample_sun(rng.uniform(), rng.uniform());
-                    let (mu_i, _, dphi) = pair_angles(n, wi, wo);
+                    let (mu_i, _, cos_dphi) = pair_cosines(n, wi, wo);
                     if mu_i > 0.0 && self.terrain.intersect(origin, wi, 0.0, hit.far).is_none() {
+                        let dphi = self.azimuth(cos_dphi);
                         self.brdf.eval(s, mu_i, mu_o, dphi, &mut f);
                         let pl = env.pdf_sun();
                         let w = if use_brdf { mis_weight(st.heuristic, pl, self.brdf_pdf(s, mu_o, mu_i, dphi)) } else { 1.0 };
@@ -138,8 +145,9 @@ impl Scene {
                     }
                 }
                 let (wi, pl, theta, phi) = env.sample_sky([rng.uniform(), rng.uniform(), rng.uniform()]);
-                let (mu_i, _, dphi) = pair_angles(n, wi, wo);
+                let (mu_i, _, cos_dphi) = pair_cosines(n, wi, wo);
                 if mu_i > 0.0 && self.terrain.intersect(origin, wi, 0.0, hit.far).is_none() {
+                    let dphi = self.azimuth(cos_dphi);
                     self.brdf.eval(s, mu_i, mu_o, dphi, &mut f);
                     env.sky_at(theta, phi, &mut tmp);
                     let w = if use_brdf { mis_weight(st.heuristic, pl, self.brdf_pdf(s, mu_o, mu_i, dphi)) } else { 1.0 };

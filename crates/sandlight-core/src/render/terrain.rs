@@ -71,6 +71,9 @@ pub struct Heightfield {
     mask_y: i64,
     inv_dx: f64,
     inv_dy: f64,
+    /// Cell width and depth (m) at each hierarchy level (0: the patches).
+    cell_w: Vec<f64>,
+    cell_h: Vec<f64>,
     /// Lipschitz constant of the surface: the largest |∇h| of any patch (at its corners, where
     /// the norm of a bilinear patch's gradient, convex along the cell, peaks).
     lipschitz: f64,
@@ -83,6 +86,9 @@ struct Ray {
     d: Vec3,
     inv_x: f64,
     inv_y: f64,
+    /// 1 when the ray moves towards +x (+y), else 0: the far face of a cell is at index + ahead.
+    ahead_x: f64,
+    ahead_y: f64,
 }
 
 #[derive(Clone, Debug)]
@@ -126,8 +132,10 @@ impl Heightfield {
         }
         let mask = |n: usize| if wrap && n.is_power_of_two() { n as i64 - 1 } else { -1 };
         let (mask_x, mask_y) = (mask(nx), mask(ny));
-        let mut hf = Heightfield { nx: nx as i64, ny: ny as i64, x0, y0, dx, dy, h, wrap, outside, far_m, far_z, zmin, zmax, levels: Vec::new(), mask_x, mask_y, inv_dx: 1.0 / dx, inv_dy: 1.0 / dy, lipschitz: 0.0 };
+        let mut hf = Heightfield { nx: nx as i64, ny: ny as i64, x0, y0, dx, dy, h, wrap, outside, far_m, far_z, zmin, zmax, levels: Vec::new(), mask_x, mask_y, inv_dx: 1.0 / dx, inv_dy: 1.0 / dy, cell_w: Vec::new(), cell_h: Vec::new(), lipschitz: 0.0 };
         hf.build_levels();
+        hf.cell_w = (0..=hf.levels.len()).map(|k| dx * hf.scale(k) as f64).collect();
+        hf.cell_h = (0..=hf.levels.len()).map(|k| dy * hf.scale(k) as f64).collect();
         hf.lipschitz = hf.max_gradient();
         Ok(hf)
     }
@@ -258,21 +266,9 @@ impl Heightfield {
     /// Exit parameter of cell (i, j) at hierarchy level k: (t across x, t across y).
     #[inline(always)]
     fn cell_exit(&self, r: &Ray, k: usize, i: i64, j: i64) -> (f64, f64) {
-        let s = self.scale(k) as f64;
-        let tx = if r.d.x > 0.0 {
-            (self.x0 + (i + 1) as f64 * self.dx * s - r.o.x) * r.inv_x
-        } else if r.d.x < 0.0 {
-            (self.x0 + i as f64 * self.dx * s - r.o.x) * r.inv_x
-        } else {
-            f64::INFINITY
-        };
-        let ty = if r.d.y > 0.0 {
-            (self.y0 + (j + 1) as f64 * self.dy * s - r.o.y) * r.inv_y
-        } else if r.d.y < 0.0 {
-            (self.y0 + j as f64 * self.dy * s - r.o.y) * r.inv_y
-        } else {
-            f64::INFINITY
-        };
+        // The far face of the cell along each axis: index + 1 going forwards, index going back.
+        let tx = if r.d.x != 0.0 { (self.x0 + (i as f64 + r.ahead_x) * self.cell_w[k] - r.o.x) * r.inv_x } else { f64::INFINITY };
+        let ty = if r.d.y != 0.0 { (self.y0 + (j as f64 + r.ahead_y) * self.cell_h[k] - r.o.y) * r.inv_y } else { f64::INFINITY };
         (tx, ty)
     }
 
@@ -378,7 +374,7 @@ impl Heightfield {
             }
             t_end = t_end.min((self.zmin - o.z) / d.z);
         }
-        let ray = Ray { o, d, inv_x: 1.0 / d.x, inv_y: 1.0 / d.y };
+        let ray = Ray { o, d, inv_x: 1.0 / d.x, inv_y: 1.0 / d.y, ahead_x: (d.x > 0.0) as u8 as f64, ahead_y: (d.y > 0.0) as u8 as f64 };
         if let Some(h) = self.traverse(&ray, t_min, t_end) {
             return Some(h);
         }
