@@ -148,7 +148,8 @@ def test_material_map_blends_the_table_levels():
                                  level_name="saturation")
     light = Lighting.uniform(1.0, WL)
     img = render_image(downward_camera(), PlaneTerrain(), stack, light, MaterialMap.uniform(0.25),
-                       settings=RenderSettings(spp=16))
+                       settings=RenderSettings(spp=64))
+    # The image mean scatters by 0.05 % between seeds at 64 spp.
     np.testing.assert_allclose(img.radiance.mean(), 0.2 + 0.25 * 0.6, rtol=2e-3)
     with pytest.raises(ParameterError, match="material"):
         render_image(downward_camera(), PlaneTerrain(), stack, light, None)
