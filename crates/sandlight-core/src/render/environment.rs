@@ -31,9 +31,10 @@ pub struct Environment {
     n_bands: usize,
     /// radiance[(it·n_φ + ip)·n_bands + b]
     radiance: Vec<f32>,
-    /// Inclusive cumulative probability of the rows (θ), then of the cells within each row.
-    row_cdf: Vec<f64>,
-    cell_cdf: Vec<f64>,
+    /// Alias table over the cells (Walker 1977, Vose 1991): cell c is kept with probability
+    /// `alias_keep[c]`, else replaced by `alias_other[c]`: O(1) sampling, no search.
+    alias_keep: Vec<f64>,
+    alias_other: Vec<u32>,
     /// cos θ at the n_θ + 1 row edges.
     row_cos: Vec<f64>,
     /// P(cell) / Ω(cell)
@@ -99,24 +100,9 @@ impl Environment {
             }
         }
         let total: f64 = weights.iter().sum();
-        let mut row_cdf = vec![0.0; n_theta];
-        let mut cell_cdf = vec![0.0; n_cells];
-        let mut density = vec![0.0; n_cells];
-        let mut acc_rows = 0.0;
-        for it in 0..n_theta {
-            let row = &weights[it * n_phi..(it + 1) * n_phi];
-            let row_total: f64 = row.iter().sum();
-            let mut acc = 0.0;
-            for ip in 0..n_phi {
-                acc += row[ip] / row_total;
-                cell_cdf[it * n_phi + ip] = acc;
-                density[it * n_phi + ip] = weights[it * n_phi + ip] / total / omegas[it * n_phi + ip];
-            }
-            cell_cdf[(it + 1) * n_phi - 1] = 1.0;
-            acc_rows += row_total / total;
-            row_cdf[it] = acc_rows;
-        }
-        row_cdf[n_theta - 1] = 1.0;
+        let probabilities: Vec<f64> = weights.iter().map(|w| w / total).collect();
+        let density: Vec<f64> = probabilities.iter().zip(&omegas).map(|(p, o)| p / o).collect();
+        let (alias_keep, alias_other) = alias_table(&probabilities);
         let mut sun_rad = [0.0; MAX_BANDS];
         sun_rad[..n_bands].copy_from_slice(sun_radiance);
         // Cone of solid angle Ω: 1 − cos α = Ω / 2π.
@@ -126,8 +112,8 @@ impl Environment {
             n_phi,
             n_bands,
             radiance,
-            row_cdf,
-            cell_cdf,
+            alias_keep,
+            alias_other,
             row_cos: (0..=n_theta).map(|k| (k as f64 * dth).cos()).collect(),
             density,
             sun: s.normalized(),
@@ -161,8 +147,9 @@ impl Environment {
         let y = phi / (2.0 * PI) * self.n_phi as f64 - 0.5;
         let yf = floor_i64(y);
         let ty = y - yf as f64;
-        let j0 = yf.rem_euclid(self.n_phi as i64) as usize;
-        let j1 = (j0 + 1) % self.n_phi;
+        // φ ∈ [0, 2π) puts y in [−0.5, n_φ − 0.5): only the first column wraps (no division).
+        let j0 = if yf < 0 { self.n_phi - 1 } else { (yf as usize).min(self.n_phi - 1) };
+        let j1 = if j0 + 1 == self.n_phi { 0 } else { j0 + 1 };
         out[..nb].iter_mut().for_each(|v| *v = 0.0);
         for (i, wi) in [(i0, 1.0 - tx), (i0 + 1, tx)] {
             for (j, wj) in [(j0, 1.0 - ty), (j1, ty)] {
@@ -196,16 +183,15 @@ impl Environment {
     }
 
     /// A sky direction, its solid-angle pdf and its angles (θ, φ) for `sky_at`, from three
-    /// uniforms: a row by its marginal probability, a cell of the row by its conditional one, a
-    /// point uniform in solid angle in the cell (cos θ and φ uniform).
+    /// uniforms: a cell from the alias table, then a point uniform in solid angle in the cell
+    /// (cos θ and φ uniform).
     pub fn sample_sky(&self, u: [f64; 3]) -> (Vec3, f64, f64, f64) {
-        let it = self.row_cdf.partition_point(|&v| v <= u[0]).min(self.n_theta - 1);
-        // Reuse u[0]: its position within the chosen row's probability interval.
-        let lo = if it == 0 { 0.0 } else { self.row_cdf[it - 1] };
-        let v = ((u[0] - lo) / (self.row_cdf[it] - lo)).clamp(0.0, 1.0 - f64::EPSILON);
-        let row = &self.cell_cdf[it * self.n_phi..(it + 1) * self.n_phi];
-        let ip = row.partition_point(|&c| c <= v).min(self.n_phi - 1);
-        let c = it * self.n_phi + ip;
+        let n_cells = self.alias_keep.len();
+        // u[0] picks a cell and, with its fractional part, keeps it or takes its alias.
+        let x = u[0] * n_cells as f64;
+        let slot = (x as usize).min(n_cells - 1);
+        let c = if x - (slot as f64) < self.alias_keep[slot] { slot } else { self.alias_other[slot] as usize };
+        let (it, ip) = (c / self.n_phi, c % self.n_phi);
         let dph = 2.0 * PI / self.n_phi as f64;
         let (c0, c1) = (self.row_cos[it], self.row_cos[it + 1]);
         let cos_t = c0 + u[1] * (c1 - c0);
@@ -257,6 +243,27 @@ impl Environment {
     }
 }
 
+/// Alias table of a discrete distribution (Vose 1991): (keep probability, alias) per slot.
+fn alias_table(p: &[f64]) -> (Vec<f64>, Vec<u32>) {
+    let n = p.len();
+    let mut keep: Vec<f64> = p.iter().map(|&q| q * n as f64).collect();
+    let mut other: Vec<u32> = (0..n as u32).collect();
+    let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| keep[i] < 1.0);
+    while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
+        other[s] = l as u32;
+        keep[l] -= 1.0 - keep[s];
+        if keep[l] < 1.0 {
+            large.pop();
+            small.push(l);
+        }
+    }
+    // Leftovers differ from 1 only by rounding.
+    for i in small.into_iter().chain(large) {
+        keep[i] = 1.0;
+    }
+    (keep, other)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -289,6 +296,20 @@ mod tests {
         }
         est /= n as f64;
         assert!((est - PI).abs() < 0.01 * PI, "{est}");
+    }
+
+    #[test]
+    fn alias_table_reproduces_the_distribution() {
+        let p = [0.05, 0.4, 0.0, 0.15, 0.3, 0.1];
+        let (keep, other) = alias_table(&p);
+        let mut q = [0.0; 6];
+        for slot in 0..6 {
+            q[slot] += keep[slot] / 6.0;
+            q[other[slot] as usize] += (1.0 - keep[slot]) / 6.0;
+        }
+        for (a, b) in p.iter().zip(q) {
+            assert!((a - b).abs() < 1e-12);
+        }
     }
 
     #[test]

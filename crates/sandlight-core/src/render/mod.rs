@@ -18,7 +18,7 @@ pub mod terrain;
 use rayon::prelude::*;
 
 use crate::rng::Rng;
-pub use integrator::{Estimator, Heuristic, Scene, Settings};
+pub use integrator::{Estimator, Heuristic, Scene, Scratch, Settings};
 
 /// Seed of a frame: frames of one animation get decorrelated streams.
 #[inline]
@@ -40,13 +40,14 @@ pub fn render_rows(scene: &Scene, row0: usize, n_rows: usize, spp: u32, seed: u6
     radiance.par_chunks_mut(w * nb).zip(coverage.par_chunks_mut(w)).enumerate().for_each(|(r, (row, cov))| {
         let py = row0 + r;
         let mut acc = vec![0.0f64; nb];
+        let mut scratch = Scratch::default();
         for px in 0..w {
             acc.iter_mut().for_each(|v| *v = 0.0);
             let pixel = (py * w + px) as u64;
             let mut ground = 0u32;
             for k in 0..spp {
                 let mut rng = Rng::for_ray(seed, pixel, k as u64);
-                ground += scene.sample(px, py, &mut rng, &mut acc) as u32;
+                ground += scene.sample(px, py, &mut rng, &mut acc, &mut scratch) as u32;
             }
             let inv = 1.0 / spp.max(1) as f64;
             for b in 0..nb {
