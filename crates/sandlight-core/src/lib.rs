@@ -12,6 +12,7 @@ pub mod layers;
 pub mod math;
 pub mod medium;
 pub mod particle;
+pub mod render;
 pub mod rng;
 pub mod sizes;
 pub mod spheroid;

@@ -7,11 +7,13 @@ mod errors;
 mod gonio;
 mod medium;
 mod pool;
+mod render;
 
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<medium::PyMedium>()?;
     gonio::register(m)?;
+    render::register(m)?;
     Ok(())
 }
