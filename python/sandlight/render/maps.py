@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -66,28 +65,15 @@ class MaterialMap:
                    value_range: tuple[float, float]) -> MaterialMap:
         """A grayscale image (black → value_range[0], white → value_range[1]) spread over
         ``extent_m`` = (x_min, y_min, x_max, y_max); the top image row is the north edge."""
-        from PIL import Image, UnidentifiedImageError
+        from sandlight.render.grayscale import read_grayscale
 
-        path = Path(path)
-        if not path.is_file():
-            raise FileNotFoundError(f"map image {str(path)!r} does not exist")
-        try:
-            with Image.open(path) as im:
-                raw = np.asarray(im)
-        except (UnidentifiedImageError, OSError) as exc:
-            from sandlight.errors import ModelFileError
-
-            raise ModelFileError(f"{path}: not a readable image ({exc})") from exc
-        a = raw.astype(float)
-        if a.ndim == 3:
-            a = a[..., :3].mean(axis=-1) if a.shape[2] >= 3 else a[..., 0]
-        full = 65535.0 if raw.dtype == np.uint16 else (255.0 if raw.dtype == np.uint8 else max(a.max(), 1.0))
+        a = read_grayscale(path, "map image")
         x0, y0, x1, y1 = (float(v) for v in extent_m)
         if not (x1 > x0 and y1 > y0):
             raise ParameterError("extent_m", extent_m, "(x_min, y_min, x_max, y_max) with max > min")
         lo, hi = (float(v) for v in value_range)
         ny, nx = a.shape
-        values = lo + (hi - lo) * np.flipud(a / full)
+        values = lo + (hi - lo) * np.flipud(a)
         return cls(values, (x0, y0), ((x1 - x0) / max(nx - 1, 1), (y1 - y0) / max(ny - 1, 1)))
 
     def value_at(self, x, y) -> np.ndarray:

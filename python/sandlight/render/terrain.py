@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
-from pathlib import Path
 
 import numpy as np
 
@@ -256,23 +255,10 @@ def heightfield_from_image(path: str | os.PathLike, *, size_m: tuple[float, floa
     outside_m : float, optional
         Height of the surrounding plane (default: the mean height of the image border).
     """
-    from PIL import Image, UnidentifiedImageError
+    from sandlight.render.grayscale import read_grayscale
 
-    path = Path(path)
-    if not path.is_file():
-        raise FileNotFoundError(f"heightfield image {str(path)!r} does not exist")
-    try:
-        with Image.open(path) as im:
-            raw = np.asarray(im)
-    except (UnidentifiedImageError, OSError) as exc:
-        from sandlight.errors import ModelFileError
-
-        raise ModelFileError(f"{path}: not a readable image ({exc})") from exc
-    a = raw.astype(float)
-    if a.ndim == 3:
-        a = a[..., :3] @ np.array([0.2126, 0.7152, 0.0722]) if a.shape[2] >= 3 else a[..., 0]
-    full = 65535.0 if raw.dtype == np.uint16 else (255.0 if raw.dtype == np.uint8 else max(a.max(), 1.0))
-    return heightfield_from_array(np.flipud(a / full), size_m=size_m, height_range_m=height_range_m,
+    a = read_grayscale(path, "heightfield image")
+    return heightfield_from_array(np.flipud(a), size_m=size_m, height_range_m=height_range_m,
                                   origin_m=origin_m, wrap=wrap, outside_m=outside_m, far_m=far_m)
 
 
