@@ -3,6 +3,7 @@
 
 use pyo3::prelude::*;
 
+mod appearance;
 mod errors;
 mod gonio;
 mod medium;
@@ -13,5 +14,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<medium::PyMedium>()?;
     gonio::register(m)?;
+    appearance::register(m)?;
     Ok(())
 }
