@@ -5,8 +5,11 @@
 //! difference), piecewise linear in μ_i = cos θ_i and μ_o = cos θ_o and periodic piecewise linear
 //! in Δφ = φ_o − φ_i. Its definition, and the reference implementation this module must agree with
 //! to rounding, are in `python/sandlight/gonio/brdf.py` (`interpolate_band_grid`, `band_grid_f`).
-//! The spectral BRDF is that value times the directional-hemispherical reflectance at normal
-//! incidence of each wavelength (paper §3.3), so one spatial evaluation serves every wavelength.
+//! The spectral BRDF combines two wavelength-independent parts with per-wavelength weights,
+//! f(ω_i, ω_o, λ) = a(λ)·F(ω_i, ω_o) + b(λ)·P(μ_i)·P(μ_o), where P is a profile on the same μ
+//! nodes (piecewise linear, held below the lowest node): the paper's §3.3 product is b = 0 and
+//! a = the directional-hemispherical reflectance at normal incidence; `sandlight.appearance`
+//! documents the energy-conserving term b. One spatial evaluation serves every wavelength.
 
 use crate::error::SandlightError;
 
@@ -19,6 +22,8 @@ pub struct BandGrid {
     ascending: Vec<f64>,
     /// F[b_i][b_o][k] row-major, band 0 = cap (the Python layout).
     values: Vec<f64>,
+    /// P at the nodes, band order (cap first).
+    profile: Vec<f64>,
     /// For each of `LOOKUP` equal cells of μ ∈ [asc[0], 1], the last node ≤ the cell's start:
     /// the bracket search starts there and steps up at most a few nodes (no binary search).
     start: Vec<u16>,
@@ -31,8 +36,9 @@ impl BandGrid {
     /// Builds the grid.
     ///
     /// `band_cos_theta` are the μ of the nodes in band order (cap first, decreasing), `values`
-    /// is F[b_i, b_o, k] row-major with shape (stacks, stacks, slices).
-    pub fn new(stacks: usize, slices: usize, band_cos_theta: &[f64], values: Vec<f64>) -> Result<Self, SandlightError> {
+    /// is F[b_i, b_o, k] row-major with shape (stacks, stacks, slices), `profile` P at the nodes
+    /// in band order (zeros for the plain product).
+    pub fn new(stacks: usize, slices: usize, band_cos_theta: &[f64], values: Vec<f64>, profile: Vec<f64>) -> Result<Self, SandlightError> {
         if stacks < 2 || slices < 1 {
             return Err(SandlightError::parameter("stacks, slices", format!("{stacks}, {slices}"), "must be at least 2 and 1"));
         }
@@ -51,6 +57,9 @@ impl BandGrid {
         if values.iter().any(|v| !v.is_finite()) {
             return Err(SandlightError::parameter("grid", "a non-finite value", "must hold finite values"));
         }
+        if profile.len() != stacks || profile.iter().any(|v| !v.is_finite()) {
+            return Err(SandlightError::parameter("profile", format!("{} values", profile.len()), &format!("must hold {stacks} finite values, one per node")));
+        }
         let ascending: Vec<f64> = band_cos_theta.iter().rev().copied().collect();
         let (lo, hi) = (ascending[0], ascending[stacks - 1]);
         let start = (0..LOOKUP)
@@ -59,7 +68,7 @@ impl BandGrid {
                 (ascending.partition_point(|&a| a <= m).saturating_sub(1).min(stacks - 2)) as u16
             })
             .collect();
-        Ok(BandGrid { stacks, slices, ascending, values, start })
+        Ok(BandGrid { stacks, slices, ascending, values, profile, start })
     }
 
     /// Linear weights of μ on the nodes: (band a, band b, t) with value (1 − t)·F[a] + t·F[b].
@@ -81,9 +90,10 @@ impl BandGrid {
         (n - 1 - j, n - 2 - j, t)
     }
 
-    /// The interpolant at (μ_i, μ_o, Δφ), Δφ in radians (any real, periodic). No horizon test.
+    /// (F, P(μ_i)·P(μ_o)) at (μ_i, μ_o, Δφ), Δφ in radians (any real, periodic). No horizon
+    /// test.
     #[inline]
-    pub fn eval_mu(&self, mu_i: f64, mu_o: f64, dphi: f64) -> f64 {
+    pub fn eval_mu(&self, mu_i: f64, mu_o: f64, dphi: f64) -> (f64, f64) {
         let (a0, a1, ta) = self.bracket(mu_i);
         let (b0, b1, tb) = self.bracket(mu_o);
         let l = self.slices;
@@ -97,16 +107,20 @@ impl BandGrid {
             let row = (bi * self.stacks + bo) * l;
             (1.0 - tk) * v[row + k0] + tk * v[row + k1]
         };
-        (1.0 - ta) * ((1.0 - tb) * at(a0, b0) + tb * at(a0, b1)) + ta * ((1.0 - tb) * at(a1, b0) + tb * at(a1, b1))
+        let f = (1.0 - ta) * ((1.0 - tb) * at(a0, b0) + tb * at(a0, b1)) + ta * ((1.0 - tb) * at(a1, b0) + tb * at(a1, b1));
+        let p = &self.profile;
+        let pi = (1.0 - ta) * p[a0] + ta * p[a1];
+        let po = (1.0 - tb) * p[b0] + tb * p[b1];
+        (f, pi * po)
     }
 
-    /// The BRDF for directions towards the light `wi` and the viewer `wo` (local frame, z = the
+    /// (F, P·P) for directions towards the light `wi` and the viewer `wo` (local frame, z = the
     /// normal, any positive length): 0 if either is on or below the horizon, NaN if either has a
     /// NaN component. Err for a zero or infinite vector.
     #[inline]
-    pub fn eval_dirs(&self, wi: [f64; 3], wo: [f64; 3]) -> Result<f64, &'static str> {
+    pub fn eval_dirs(&self, wi: [f64; 3], wo: [f64; 3]) -> Result<(f64, f64), &'static str> {
         if wi.iter().chain(wo.iter()).any(|c| c.is_nan()) {
-            return Ok(f64::NAN);
+            return Ok((f64::NAN, f64::NAN));
         }
         let ni = (wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2]).sqrt();
         let no = (wo[0] * wo[0] + wo[1] * wo[1] + wo[2] * wo[2]).sqrt();
@@ -117,7 +131,7 @@ impl BandGrid {
             return Err("wo");
         }
         if !(wi[2] > 0.0 && wo[2] > 0.0) {
-            return Ok(0.0);
+            return Ok((0.0, 0.0));
         }
         // φ_o − φ_i from one atan2: sin and cos of the difference times |wi_xy||wo_xy|.
         let dphi = (wi[0] * wo[1] - wi[1] * wo[0]).atan2(wi[0] * wo[0] + wi[1] * wo[1]);
@@ -125,16 +139,17 @@ impl BandGrid {
     }
 }
 
-/// Spectral BRDF of `n` direction pairs: `out[p·W + w] = F(wi_p, wo_p) · spectrum[w]`
-/// (W = spectrum.len()). `wi`, `wo` are row-major (n, 3).
+/// Spectral BRDF of `n` direction pairs: `out[p·W + w] = F(wi_p, wo_p)·a[w] + P(μ_i)P(μ_o)·b[w]`
+/// (W = a.len() = b.len()). `wi`, `wo` are row-major (n, 3).
 ///
 /// Returns Err((name, row)) for the first zero or infinite direction.
-pub fn spectral_brdf(grid: &BandGrid, wi: &[f64], wo: &[f64], spectrum: &[f64], out: &mut [f64]) -> Result<(), (&'static str, usize)> {
-    let w = spectrum.len();
-    for (p, ((a, b), o)) in wi.chunks_exact(3).zip(wo.chunks_exact(3)).zip(out.chunks_exact_mut(w.max(1))).enumerate() {
-        let f = grid.eval_dirs([a[0], a[1], a[2]], [b[0], b[1], b[2]]).map_err(|name| (name, p))?;
-        for (dst, s) in o.iter_mut().zip(spectrum) {
-            *dst = f * s;
+pub fn spectral_brdf(grid: &BandGrid, wi: &[f64], wo: &[f64], a: &[f64], b: &[f64], out: &mut [f64]) -> Result<(), (&'static str, usize)> {
+    let w = a.len();
+    debug_assert_eq!(b.len(), w);
+    for (p, ((x, y), o)) in wi.chunks_exact(3).zip(wo.chunks_exact(3)).zip(out.chunks_exact_mut(w.max(1))).enumerate() {
+        let (f, pp) = grid.eval_dirs([x[0], x[1], x[2]], [y[0], y[1], y[2]]).map_err(|name| (name, p))?;
+        for ((dst, sa), sb) in o.iter_mut().zip(a).zip(b) {
+            *dst = f * sa + pp * sb;
         }
     }
     Ok(())
@@ -156,7 +171,8 @@ mod tests {
                 }
             }
         }
-        BandGrid::new(stacks, slices, &nodes, v).unwrap()
+        let profile: Vec<f64> = (0..stacks).map(|b| 1.0 - 0.1 * b as f64).collect();
+        BandGrid::new(stacks, slices, &nodes, v, profile).unwrap()
     }
 
     #[test]
@@ -168,7 +184,10 @@ mod tests {
                 for k in 0..6 {
                     let dphi = std::f64::consts::TAU * k as f64 / 6.0;
                     let want = 1.0 + bi as f64 + 10.0 * bo as f64 + 100.0 * k as f64;
-                    assert!((g.eval_mu(nodes[bi], nodes[bo], dphi) - want).abs() < 1e-9 * want);
+                    let (f, pp) = g.eval_mu(nodes[bi], nodes[bo], dphi);
+                    assert!((f - want).abs() < 1e-9 * want);
+                    let want_p = (1.0 - 0.1 * bi as f64) * (1.0 - 0.1 * bo as f64);
+                    assert!((pp - want_p).abs() < 1e-12);
                 }
             }
         }
@@ -182,26 +201,29 @@ mod tests {
         assert_eq!(g.eval_mu(0.0, 1.0, 0.0), g.eval_mu(lowest, 1.0, 0.0));
         // Half-way in Δφ between slices 0 and 1: the mean of the two.
         let half = std::f64::consts::TAU / 12.0;
-        let v = g.eval_mu(1.0, 1.0, half);
+        let v = g.eval_mu(1.0, 1.0, half).0;
         assert!((v - 51.0).abs() < 1e-9, "{v}");
+        // The profile is linear in μ between nodes: half-way between the cap and band 1.
+        let mid = 0.5 * (g.ascending[3] + g.ascending[2]);
+        assert!((g.eval_mu(mid, 1.0, 0.0).1 - 0.95).abs() < 1e-12);
         // Periodic: Δφ and Δφ + 2π agree.
-        assert!((g.eval_mu(0.5, 0.7, 1.0) - g.eval_mu(0.5, 0.7, 1.0 + std::f64::consts::TAU)).abs() < 1e-9);
+        assert!((g.eval_mu(0.5, 0.7, 1.0).0 - g.eval_mu(0.5, 0.7, 1.0 + std::f64::consts::TAU).0).abs() < 1e-9);
     }
 
     #[test]
     fn directions() {
         let g = grid(4, 6);
-        assert_eq!(g.eval_dirs([0.0, 0.0, 1.0], [1.0, 0.0, -0.1]).unwrap(), 0.0);
-        assert!(g.eval_dirs([f64::NAN, 0.0, 1.0], [0.0, 0.0, 1.0]).unwrap().is_nan());
+        assert_eq!(g.eval_dirs([0.0, 0.0, 1.0], [1.0, 0.0, -0.1]).unwrap(), (0.0, 0.0));
+        assert!(g.eval_dirs([f64::NAN, 0.0, 1.0], [0.0, 0.0, 1.0]).unwrap().0.is_nan());
         assert_eq!(g.eval_dirs([0.0, 0.0, 0.0], [0.0, 0.0, 1.0]), Err("wi"));
         // Scaling a direction does not change the value.
-        let a = g.eval_dirs([0.3, 0.2, 0.5], [-0.1, 0.4, 0.2]).unwrap();
-        let b = g.eval_dirs([3.0, 2.0, 5.0], [-0.1, 0.4, 0.2]).unwrap();
+        let a = g.eval_dirs([0.3, 0.2, 0.5], [-0.1, 0.4, 0.2]).unwrap().0;
+        let b = g.eval_dirs([3.0, 2.0, 5.0], [-0.1, 0.4, 0.2]).unwrap().0;
         assert!((a - b).abs() < 1e-12 * a);
         // Rotating both directions about the normal does not change the value.
         let (s, c) = 0.7f64.sin_cos();
         let rot = |w: [f64; 3]| [c * w[0] - s * w[1], s * w[0] + c * w[1], w[2]];
-        let r = g.eval_dirs(rot([0.3, 0.2, 0.5]), rot([-0.1, 0.4, 0.2])).unwrap();
+        let r = g.eval_dirs(rot([0.3, 0.2, 0.5]), rot([-0.1, 0.4, 0.2])).unwrap().0;
         assert!((a - r).abs() < 1e-9 * a);
     }
 
@@ -210,20 +232,22 @@ mod tests {
         let g = grid(3, 4);
         let wi = [0.1, 0.2, 0.9, 0.0, 0.0, 1.0];
         let wo = [0.3, -0.2, 0.5, 0.5, 0.5, 0.1];
-        let spectrum = [0.5, 2.0];
+        let (a, b) = ([0.5, 2.0], [0.25, 0.0]);
         let mut out = [0.0; 4];
-        spectral_brdf(&g, &wi, &wo, &spectrum, &mut out).unwrap();
-        let f0 = g.eval_dirs([0.1, 0.2, 0.9], [0.3, -0.2, 0.5]).unwrap();
-        assert_eq!(out[0], f0 * 0.5);
+        spectral_brdf(&g, &wi, &wo, &a, &b, &mut out).unwrap();
+        let (f0, p0) = g.eval_dirs([0.1, 0.2, 0.9], [0.3, -0.2, 0.5]).unwrap();
+        assert_eq!(out[0], f0 * 0.5 + p0 * 0.25);
         assert_eq!(out[1], f0 * 2.0);
         let bad = [0.0; 6];
-        assert_eq!(spectral_brdf(&g, &wi, &bad, &spectrum, &mut out), Err(("wo", 0)));
+        assert_eq!(spectral_brdf(&g, &wi, &bad, &a, &b, &mut out), Err(("wo", 0)));
     }
 
     #[test]
     fn rejects_bad_grids() {
-        assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.6], vec![0.0; 36]).is_err());
-        assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.1], vec![0.0; 35]).is_err());
-        assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.1], vec![f64::NAN; 36]).is_err());
+        let p = || vec![0.0; 3];
+        assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.6], vec![0.0; 36], p()).is_err());
+        assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.1], vec![0.0; 35], p()).is_err());
+        assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.1], vec![f64::NAN; 36], p()).is_err());
+        assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.1], vec![0.0; 36], vec![0.0; 2]).is_err());
     }
 }
