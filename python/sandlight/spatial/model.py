@@ -341,7 +341,8 @@ class SpatialModel:
 
         Parameters are those of `scores`.
         """
-        return self.mean_ + self.scores(samples, fixed=fixed) @ self.components_
+        scores = self.scores(samples, fixed=fixed)
+        return self.mean_ + scores @ self.components_
 
     def brdf(self, sample, *, fixed: str = "warn") -> SpatialBRDF:
         """The predicted BRDF of one sample (or one point of mesh coordinates) as a `SpatialBRDF`."""

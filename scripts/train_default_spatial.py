@@ -1,0 +1,133 @@
+#!/usr/bin/env python3
+"""Train the spatial model shipped with sandlight, and print the figures for the docs.
+
+This is the documented command behind ``python/sandlight/data/models/spatial-beach.npz`` (see
+docs/spatial-predictor.md): the paper's beach-scene mesh (§4.2.2), 16 degrees of saturation
+evenly spaced over [0, 1] at the default mineralogy (``SandSample()``), each measured with the
+virtual goniophotometer (31 × 30 patches, uniform incidence) at 550 nm, plus a held-out
+measurement at saturation 0.5 (between the nodes 7/15 and 8/15). It needs the native engine::
+
+    python scripts/train_default_spatial.py                  # in-process, engine threads = CPUs
+    python scripts/train_default_spatial.py --rays 1e8 --dask-local 8 --threads 1
+
+Resumable: interrupted, the same command continues from the stored nodes (and from each
+running node's checkpoint) in ``--work-dir``. At the end it copies the model into the package
+data and prints the settings, the time, ℓ and the explained variance, the reconstruction error
+next to the noise, and the held-out error.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import shutil
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE_MODEL = ROOT / "python" / "sandlight" / "data" / "models" / "spatial-beach.npz"
+
+
+def count(text: str) -> int:
+    value = float(text)
+    if value < 1 or value != int(value):
+        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number >= 1")
+    return int(value)
+
+
+def parse_args(argv=None):
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--nodes", type=int, default=16, help="saturation levels over [0, 1] (paper: 16)")
+    p.add_argument("--rays", type=count, default=50_000_000, help="goniophotometer trials per node")
+    p.add_argument("--holdout-rays", type=count, default=400_000_000, help="trials of the held-out measurement")
+    p.add_argument("--holdout", type=float, default=0.5, help="saturation of the held-out point")
+    p.add_argument("--wavelength", type=float, default=550.0, help="nm")
+    p.add_argument("--method", default="pooled", choices=["average", "pooled"],
+                   help="class estimator of the reduction (pooled: minimum variance)")
+    p.add_argument("--variance", type=float, default=0.999, help="signal-variance threshold for ℓ")
+    p.add_argument("--components", type=int, default=None, help="force ℓ")
+    p.add_argument("--seed", type=int, default=20261122, help="master seed")
+    p.add_argument("--work-dir", type=Path, default=ROOT / "build" / "train-default-spatial",
+                   help="job stores and intermediate files (resumable)")
+    p.add_argument("--threads", type=int, default=None,
+                   help="engine threads per node (default: all CPUs in-process, 1 with --workers/--dask-*)")
+    ex = p.add_mutually_exclusive_group()
+    ex.add_argument("--workers", type=int, help="local worker processes (default: nodes run one after the other "
+                    "in this process, each on all CPUs)")
+    ex.add_argument("--dask-local", type=int, help="start a Dask LocalCluster of N workers")
+    ex.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT (no checkpoints)")
+    p.add_argument("--no-install", action="store_true", help=f"do not copy the model to {PACKAGE_MODEL.relative_to(ROOT)}")
+    return p.parse_args(argv)
+
+
+def machine() -> str:
+    cpu = platform.processor() or platform.machine()
+    try:
+        with open("/proc/cpuinfo") as fh:
+            cpu = next(line.split(":", 1)[1].strip() for line in fh if "model name" in line)
+    except (OSError, StopIteration):
+        pass
+    return f"{cpu}, {os.cpu_count()} CPUs, Python {platform.python_version()}"
+
+
+def main(argv=None) -> int:
+    args = parse_args(argv)
+    import sandlight
+    from sandlight.jobs import make_executor
+    from sandlight.spatial import Mesh, train_spatial
+
+    mesh = Mesh.beach(args.nodes)
+    pooled = any(v is not None for v in (args.workers, args.dask_local, args.scheduler))
+    executor = make_executor(args.workers, args.dask_local, args.scheduler) if pooled else make_executor(workers=1)
+    threads = args.threads or (1 if pooled else os.cpu_count() or 1)
+    print(f"sandlight {sandlight.__version__} on {machine()}")
+    print(f"mesh: {mesh}; base: default SandSample(); {args.wavelength:g} nm; 31 x 30 patches; "
+          f"{args.rays:,} trials per node; held-out saturation {args.holdout:g} with {args.holdout_rays:,} trials; "
+          f"reduction {args.method}; {threads} engine thread(s) per node")
+    cpu0, start = time.process_time(), time.perf_counter()
+    run = train_spatial(args.work_dir, mesh, args.rays, args.wavelength, args.seed, holdout=[[args.holdout]],
+                        holdout_rays=args.holdout_rays, method=args.method, executor=executor, threads=threads,
+                        checkpoint=args.scheduler is None,
+                        model_params={"n_components": args.components, "variance_threshold": args.variance})
+    wall = time.perf_counter() - start
+    if not run.complete:
+        print("not complete: run the same command again to continue", file=sys.stderr)
+        return 1
+    model = run.model
+    model.training_set_["measurement_wall_s_last_run"] = round(run.measurement_s, 1)
+    model.training_set_["machine"] = machine()
+    model.save(run.model_path)
+    ratio, signal = model.explained_variance_ratio_, model.signal_variance_ratio_
+    ell = model.n_components_
+    summary = {
+        "nodes": mesh.n_nodes, "rays_per_node": args.rays, "holdout_rays": args.holdout_rays,
+        "wavelength_nm": args.wavelength, "method": args.method,
+        "wall_s_this_run": round(wall, 1), "measurement_s_this_run": round(run.measurement_s, 1),
+        "fit_s": round(run.fit_s, 2), "parent_cpu_s": round(time.process_time() - cpu0, 1),
+        "n_components": ell, "variance_threshold": args.variance,
+        "explained_variance_ratio": [round(float(x), 6) for x in ratio[:6]],
+        "signal_variance_ratio": None if signal is None else [round(float(x), 6) for x in signal[:6]],
+        "explained_variance_kept": float(ratio[:ell].sum()),
+        "signal_variance_kept": None if signal is None else float(signal[:ell].sum()),
+        "reconstruction_rms_sr-1": model.reconstruction_rms_, "node_noise_rms_sr-1": model.node_noise_rms_,
+        "node_normal_reflectance": [round(float(x), 5) for x in model.node_normal_reflectance_],
+        "holdout": [r.to_dict() for r in run.reports],
+    }
+    print(json.dumps(summary, indent=1))
+    for r in run.reports:
+        print(r.table())
+    (args.work_dir / "summary.json").write_text(json.dumps(summary, indent=1) + "\n", encoding="utf-8")
+    if not args.no_install:
+        PACKAGE_MODEL.parent.mkdir(parents=True, exist_ok=True)
+        tmp = PACKAGE_MODEL.with_name(f".{PACKAGE_MODEL.name}.tmp-{os.getpid()}")
+        shutil.copyfile(run.model_path, tmp)
+        os.replace(tmp, PACKAGE_MODEL)
+        print(f"installed {PACKAGE_MODEL} ({PACKAGE_MODEL.stat().st_size / 1e6:.2f} MB)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,24 @@
+"""Shared synthetic spatial models (small hemisphere, multinomial counts: fast and deterministic)."""
+
+import pytest
+
+import spatial_fakes
+from sandlight.spatial import Mesh, SpatialModel
+
+STACKS, SLICES = 7, 8
+RAYS = 10**8  # cheap: multinomial draws per row, not per ray
+
+
+@pytest.fixture(scope="session")
+def beach_mesh():
+    return Mesh.beach(6)
+
+
+@pytest.fixture(scope="session")
+def beach_nodes(beach_mesh):
+    return spatial_fakes.measured_nodes(beach_mesh, RAYS, stacks=STACKS, slices=SLICES, seed=3)
+
+
+@pytest.fixture(scope="session")
+def beach_model(beach_mesh, beach_nodes):
+    return SpatialModel().fit(beach_nodes, beach_mesh, training_set={"synthetic": True})
