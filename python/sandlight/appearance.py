@@ -501,10 +501,11 @@ class SandAppearance:
             eps = DEFENSIVE_COSINE_SHARE
             cos_branch = u1 < eps
             v1 = np.where(cos_branch, u1 / eps, (u1 - eps) / (1 - eps))
-        # Cosine-weighted hemisphere (Malley): μ = √(1 − u), φ = 2π u₂, pdf = μ/π.
+        # Cosine-weighted hemisphere (Malley): μ = √(1 − u), φ = φ_i + 2π u₂, pdf = μ/π (azimuths are
+        # drawn relative to the incident one, so that sampling commutes with rotations about z).
         c = cos_branch
         mu_o[c] = np.sqrt(1.0 - v1[c])
-        phi_o[c] = 2.0 * math.pi * u2[c]
+        phi_o[c] = phi_i[c] + 2.0 * math.pi * u2[c]
         t_rows = ~c
         if t_rows.any():
             v = v1[t_rows]
@@ -566,6 +567,9 @@ class SandAppearance:
         g, pp = self._native.evaluate_mu(MI.ravel(), MO.ravel(), DP.ravel())
         shape = MI.shape
         f = a[:, None, None, None] * g.reshape(shape)[None] + b[:, None, None, None] * pp.reshape(shape)[None]
+        # The model is reciprocal; averaging with the transpose removes the rounding (~1e-16) of the
+        # interpolation's summation order, so that readers may rely on exact symmetry.
+        f = 0.5 * (f + f.transpose(0, 2, 1, 3))
         albedo = self._albedo_mu(mu, wl)
         attrs = {
             "title": "Spectral BRDF of a sand sample (sandlight)",

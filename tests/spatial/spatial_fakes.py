@@ -80,3 +80,22 @@ def expected_unique(params, stacks=7, slices=8):
     cap = classes.class_of[h.cap]
     reflectance = float(np.dot(h.projected_solid_angles, unique[cap]))
     return unique / reflectance
+
+
+def fake_reflectance(params, wavelengths_nm):
+    """Synthetic training reflectance for a small SpectralModel: bright quartz (up to 0.85),
+    darkened by iron oxide in the blue and by water."""
+    wl = (np.asarray(wavelengths_nm, dtype=float) - 400.0) / 300.0
+    iron = np.sqrt(params["iron_oxide"] / 0.10)
+    return (0.45 + 0.4 * wl) * (1 - 0.6 * iron * (1 - wl)) * (1 - 0.45 * params["saturation"])
+
+
+def fitted_spectral_model(n=400, seed=1):
+    """A degree-1 SpectralModel over the default domain, fitted to `fake_reflectance`."""
+    from sandlight.predictor import Domain, SpectralModel
+
+    domain = Domain.default()
+    samples = domain.draw(n, seed, "random")
+    wl = np.arange(400.0, 701.0, 20.0)
+    R = np.array([fake_reflectance(s, wl) for s in samples])
+    return SpectralModel(degree=1).fit(samples, R, wavelengths_nm=wl, domain=domain)
