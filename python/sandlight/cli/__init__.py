@@ -10,6 +10,7 @@ from sandlight.cli import colour as _colour  # noqa: F401,E402
 from sandlight.cli import sky as _sky  # noqa: F401,E402
 from sandlight.cli import gonio as _gonio  # noqa: F401,E402
 from sandlight.cli import predict as _predict  # noqa: F401,E402
+from sandlight.cli import spatial as _spatial  # noqa: F401,E402
 
 
 def main() -> None:
