@@ -43,4 +43,4 @@ def test_appearance_command_writes_a_table(tmp_path):
         assert (ds["albedo"].values <= 1 + 1e-12).all()
     missing = runner.invoke(app, ["appearance", "--preset", "wet-beach", "--spatial-model", str(tmp_path / "no.npz"),
                                   "--spectral-model", str(spectral_path)])
-    assert missing.exit_code == 2 and "does not" in " ".join(missing.output.split())
+    assert missing.exit_code == 2 and "does not exist" in " ".join(missing.output.split())
