@@ -4,9 +4,7 @@ import pytest
 
 import spatial_fakes
 from sandlight.spatial import Mesh, SpatialModel
-
-STACKS, SLICES = 7, 8
-RAYS = 10**8  # cheap: multinomial draws per row, not per ray
+from spatial_fakes import RAYS, SLICES, STACKS
 
 
 @pytest.fixture(scope="session")

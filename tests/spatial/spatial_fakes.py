@@ -20,6 +20,9 @@ from sandlight.gonio import CollectorHemisphere
 from sandlight.gonio import synthetic
 from sandlight.testing import chandrasekhar
 
+#: Hemisphere and trials of the shared synthetic measurements (multinomial draws per row: cheap).
+STACKS, SLICES = 7, 8
+RAYS = 10**8
 GLANCING_SCALE = 0.15
 # c = ∫ G(μ) μ dω = 2π ∫_0^1 exp(−μ/s) μ dμ, so that the glancing term's albedo is G(μ_i) ≤ 1.
 _C = 2 * math.pi * GLANCING_SCALE**2 * (1 - math.exp(-1 / GLANCING_SCALE) * (1 + 1 / GLANCING_SCALE))

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import spatial_fakes
-from conftest import RAYS, SLICES, STACKS
+from spatial_fakes import RAYS, SLICES, STACKS
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
 from sandlight.gonio import CollectorHemisphere, EquivalenceClasses
 from sandlight.sample import SandSample
