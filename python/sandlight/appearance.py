@@ -89,6 +89,9 @@ from pathlib import Path
 import numpy as np
 
 from sandlight.errors import ParameterError
+# The interpolant's linear weights in μ: (band a, band b, t), shared with the BRDF itself so that
+# albedo, sampling tables and the BRDF bracket μ identically.
+from sandlight.gonio.brdf import _bracket
 
 __all__ = ["SandAppearance", "TABLE_FORMAT", "TABLE_FORMAT_VERSION", "DEFENSIVE_COSINE_SHARE", "COMBINATIONS",
            "SAMPLING_METHODS"]
@@ -120,13 +123,6 @@ def _mu_integral_weights(band_cos_theta: np.ndarray) -> np.ndarray:
     c[:-1] += h * (2.0 * a[:-1] + a[1:]) / 6.0
     c[0] += a[0] ** 2 / 2.0  # held value on [0, a_0]
     return c[::-1]
-
-
-def _bracket(nodes_desc: np.ndarray, mu: np.ndarray):
-    """(band a, band b, t): the interpolant's linear weights in μ (as gonio.brdf._bracket)."""
-    from sandlight.gonio.brdf import _bracket as bracket
-
-    return bracket(nodes_desc, mu)
 
 
 def _directions(name: str, w) -> np.ndarray:
