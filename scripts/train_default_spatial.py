@@ -60,6 +60,8 @@ def parse_args(argv=None):
     ex.add_argument("--dask-local", type=int, help="start a Dask LocalCluster of N workers")
     ex.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT (no checkpoints)")
     p.add_argument("--no-install", action="store_true", help=f"do not copy the model to {PACKAGE_MODEL.relative_to(ROOT)}")
+    p.add_argument("--figure", type=Path, default=ROOT / "docs" / "img" / "spatial-holdout.png",
+                   help="principal-plane plot of the held-out prediction against the measurement ('' for none)")
     return p.parse_args(argv)
 
 
@@ -71,6 +73,52 @@ def machine() -> str:
     except (OSError, StopIteration):
         pass
     return f"{cpu}, {os.cpu_count()} CPUs, Python {platform.python_version()}"
+
+
+def plot_holdout(model, holdout_dataset, method: str, path: Path) -> None:
+    """Normalised BRDF in the principal plane at the held-out point: measured (patch centroids,
+    with ±2 standard errors) against predicted (continuous interpolant)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from sandlight.spatial import node_brdfs
+
+    measured = node_brdfs(holdout_dataset, method)[0]
+    predicted = model.brdf(measured.sample)
+    h = measured.hemisphere
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    for zenith, colour in ((0.0, "C0"), (30.0, "C1"), (60.0, "C2"), (80.0, "C3")):
+        t = np.radians(zenith)
+        wi = np.array([np.sin(t), 0.0, np.cos(t)])
+        i = int(h.patch_index(wi))
+        wi_c = h.centroids[i]
+        # Outgoing patches whose centroid lies in the plane of incidence (Δφ = 0 or π).
+        dphi = np.mod(np.arctan2(h.centroids[:, 1], h.centroids[:, 0]) - np.arctan2(wi_c[1], wi_c[0]), 2 * np.pi)
+        plane = (np.isclose(dphi, 0, atol=1e-9) | np.isclose(dphi, np.pi, atol=1e-9) |
+                 np.isclose(dphi, 2 * np.pi, atol=1e-9)) | (h.band == 0)
+        signed = np.degrees(np.arccos(np.clip(h.centroids[plane, 2], -1, 1))) * np.where(
+            np.isclose(dphi[plane], np.pi, atol=1e-9), -1, 1)
+        order = np.argsort(signed)
+        value, err = measured.values[i, plane][order], measured.stderr[i, plane][order]
+        ax.errorbar(signed[order], value, yerr=2 * err, fmt="o", ms=2.5, color=colour, alpha=0.6,
+                    label=f"measured, θi = {np.degrees(np.arccos(wi_c[2])):.0f}°")
+        theta = np.radians(np.linspace(-89, 89, 357))
+        wo = np.stack([np.sin(theta), np.zeros_like(theta), np.cos(theta)], 1)  # positive θ: the light's side
+        az = np.arctan2(wi_c[1], wi_c[0])
+        rot = np.array([[np.cos(az), -np.sin(az), 0], [np.sin(az), np.cos(az), 0], [0, 0, 1]])
+        ax.plot(np.degrees(theta), predicted.f(np.broadcast_to(wi_c, wo.shape), wo @ rot.T), color=colour, lw=1.2)
+    ax.set(xlabel="outgoing zenith angle in the plane of incidence (°; positive: the light's side)",
+           ylabel="normalised BRDF (sr⁻¹)", yscale="log",
+           title=f"held-out saturation {measured.sample['saturation']:g}: prediction (lines) vs measurement")
+    ax.legend(fontsize=7, ncol=2)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
 
 
 def main(argv=None) -> int:
@@ -120,6 +168,9 @@ def main(argv=None) -> int:
     for r in run.reports:
         print(r.table())
     (args.work_dir / "summary.json").write_text(json.dumps(summary, indent=1) + "\n", encoding="utf-8")
+    if str(args.figure):
+        plot_holdout(model, run.holdout.dataset_path, args.method, args.figure)
+        print(f"wrote {args.figure}")
     if not args.no_install:
         PACKAGE_MODEL.parent.mkdir(parents=True, exist_ok=True)
         tmp = PACKAGE_MODEL.with_name(f".{PACKAGE_MODEL.name}.tmp-{os.getpid()}")
