@@ -49,6 +49,8 @@ def parse_args(argv=None):
                    help="class estimator of the reduction (pooled: minimum variance)")
     p.add_argument("--variance", type=float, default=0.999, help="signal-variance threshold for ℓ")
     p.add_argument("--components", type=int, default=None, help="force ℓ")
+    p.add_argument("--scaling", default="relative", choices=["relative", "none", "noise"],
+                   help="scaling of the values before the PCA (none: the paper)")
     p.add_argument("--seed", type=int, default=20261122, help="master seed")
     p.add_argument("--work-dir", type=Path, default=ROOT / "build" / "train-default-spatial",
                    help="job stores and intermediate files (resumable)")
@@ -73,6 +75,26 @@ def machine() -> str:
     except (OSError, StopIteration):
         pass
     return f"{cpu}, {os.cpu_count()} CPUs, Python {platform.python_version()}"
+
+
+def leave_one_out(nodes_dataset, mesh, method: str) -> dict:
+    """Mean leave-one-out scores of the interior nodes for each scaling and ℓ (choosing them)."""
+    import numpy as np
+
+    from sandlight.spatial import cross_validate, node_brdfs
+
+    brdfs = node_brdfs(nodes_dataset, method)
+    table = {}
+    for scaling in ("none", "relative", "noise"):
+        for ell in (1, 2, 3, 4, 5, 6, 8, 10):
+            results = [r for _, r in cross_validate(brdfs, mesh, {"n_components": ell, "scaling": scaling})]
+            table[f"{scaling} l={ell}"] = {
+                "relative_rms": round(float(np.mean([r.relative_rms for r in results])), 5),
+                "noise_rms": round(float(np.mean([r.noise_rms for r in results])), 5),
+                "model_error": round(float(np.mean([r.model_error for r in results])), 5),
+                "normalised_rms": round(float(np.mean([r.normalised_rms for r in results])), 4),
+                "n_values": int(np.mean([r.n_values for r in results]))}
+    return table
 
 
 def plot_holdout(model, holdout_dataset, method: str, path: Path) -> None:
@@ -139,7 +161,8 @@ def main(argv=None) -> int:
     run = train_spatial(args.work_dir, mesh, args.rays, args.wavelength, args.seed, holdout=[[args.holdout]],
                         holdout_rays=args.holdout_rays, method=args.method, executor=executor, threads=threads,
                         checkpoint=args.scheduler is None,
-                        model_params={"n_components": args.components, "variance_threshold": args.variance})
+                        model_params={"n_components": args.components, "variance_threshold": args.variance,
+                                      "scaling": args.scaling})
     wall = time.perf_counter() - start
     if not run.complete:
         print("not complete: run the same command again to continue", file=sys.stderr)
@@ -163,6 +186,7 @@ def main(argv=None) -> int:
         "reconstruction_rms_sr-1": model.reconstruction_rms_, "node_noise_rms_sr-1": model.node_noise_rms_,
         "node_normal_reflectance": [round(float(x), 5) for x in model.node_normal_reflectance_],
         "holdout": [r.to_dict() for r in run.reports],
+        "leave_one_out": leave_one_out(run.nodes.dataset_path, mesh, args.method),
     }
     print(json.dumps(summary, indent=1))
     for r in run.reports:

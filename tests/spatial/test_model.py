@@ -20,12 +20,20 @@ def test_scores_are_exact_at_the_nodes(beach_model, beach_mesh):
     np.testing.assert_array_equal(beach_model.scores(beach_mesh.nodes), beach_model.node_scores_)
 
 
-def test_prediction_at_a_node_is_its_rank_l_reconstruction(beach_model, beach_nodes, beach_mesh):
-    V = beach_model.components_
+@pytest.mark.parametrize("scaling", ["relative", "none", "noise"])
+def test_prediction_at_a_node_is_its_rank_l_reconstruction(beach_nodes, beach_mesh, scaling):
+    model = SpatialModel(n_components=2, scaling=scaling).fit(beach_nodes, beach_mesh)
+    s = model.scale_
+    V = model.components_ / s
+    np.testing.assert_allclose(V @ V.T, np.eye(2), atol=1e-12)  # orthonormal in the scaled space
+    if scaling == "none":
+        np.testing.assert_array_equal(s, 1.0)
+    elif scaling == "relative":
+        np.testing.assert_allclose(s, np.abs(model.mean_))
     for node, measured in zip(beach_mesh.nodes, beach_nodes):
-        f = measured.unique_values
-        projection = beach_model.mean_ + (f - beach_model.mean_) @ V.T @ V
-        np.testing.assert_allclose(beach_model.predict([node])[0], projection, rtol=1e-12, atol=1e-14)
+        g = (measured.unique_values - model.mean_) / s
+        projection = model.mean_ + s * (g @ V.T @ V)
+        np.testing.assert_allclose(model.predict([node])[0], projection, rtol=1e-12, atol=1e-14)
 
 
 def test_interpolation_is_the_barycentric_combination(beach_model):
@@ -64,6 +72,8 @@ def test_number_of_components(beach_nodes, beach_mesh):
         SpatialModel(n_components=6).fit(beach_nodes, beach_mesh)
     with pytest.raises(ParameterError):
         SpatialModel(variance_threshold=1.5).fit(beach_nodes, beach_mesh)
+    with pytest.raises(ParameterError, match="scaling"):
+        SpatialModel(scaling="log").fit(beach_nodes, beach_mesh)
 
 
 def test_more_components_reconstruct_better(beach_nodes, beach_mesh):
@@ -119,7 +129,7 @@ def test_predicted_brdf_object(beach_model):
 def test_save_load_round_trip(beach_model, tmp_path):
     path = beach_model.save(tmp_path / "m.npz")
     again = SpatialModel.load(path)
-    for name in ("mean_", "components_", "node_scores_", "node_normal_reflectance_", "explained_variance_ratio_",
+    for name in ("mean_", "components_", "scale_", "node_scores_", "node_normal_reflectance_", "explained_variance_ratio_",
                  "signal_variance_ratio_"):
         np.testing.assert_array_equal(getattr(again, name), getattr(beach_model, name))
     assert again.mesh_ == beach_model.mesh_

@@ -120,3 +120,14 @@ def test_tiny_run_with_the_real_engine(tmp_path):
     assert brdfs[2].normal_reflectance < brdfs[0].normal_reflectance
     model = SpatialModel().fit(brdfs, mesh)
     assert model.predict([[0.25]]).shape == (1, brdfs[0].unique_values.size)
+
+
+def test_leave_one_out_cross_validation():
+    from sandlight.spatial import cross_validate
+
+    mesh = Mesh.beach(6)
+    brdfs = spatial_fakes.measured_nodes(mesh, 10**8, stacks=STACKS, slices=SLICES)
+    results = cross_validate(brdfs, mesh, {"n_components": 2})
+    assert [k for k, _ in results] == [1, 2, 3, 4]  # the end nodes are on the hull
+    assert all(r.relative_rms < 0.1 for _, r in results)
+    assert results[0][1].point == {"saturation": pytest.approx(0.2)}

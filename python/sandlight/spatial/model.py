@@ -5,22 +5,30 @@ reflectance at normal incidence and compressed to the m unique values of its cla
 isotropy and reciprocity, paper §3.2.1):
 
 1. **PCA (§3.2.2).** The n compressed BRDFs f_i (rows of an n × m matrix) are centred on their
-   mean f̄ and decomposed by SVD. The first ℓ principal directions v_1 … v_ℓ (rows of
+   mean f̄, each value is divided by a scale s_j, and the result is decomposed by SVD. The
+   paper's PCA is unscaled (``scaling="none"``). sandlight's engine, however, gives sand whose
+   pores reach the surface filled with water flat mirror-like water surfaces (docs/transport.md),
+   and their specular reflection puts a few values near the grazing mirror direction at up to
+   10⁵ sr⁻¹ against a median of 0.3 sr⁻¹: unscaled, the variance is all in those few values and
+   the first component describes only them. The default ``scaling="relative"`` divides by the
+   mean BRDF (s_j = |f̄_j|), so that the PCA sees relative changes of every value alike;
+   ``"noise"`` divides by each value's RMS standard error (noise-whitened PCA). Either way the
+   scale floors at 10⁻³ of its median. The first ℓ principal directions v_1 … v_ℓ (rows of
    ``components_``) are kept, ℓ the smallest number whose cumulative *signal* variance reaches
    ``variance_threshold``: the Monte Carlo noise variance of each direction, Σ_j σ_j²/(n − 1)
    from the measured standard errors (m ≫ n: noise spreads evenly over the n − 1 directions the
    nodes span), is subtracted first, so that noise does not inflate ℓ. Node scores
-   f̃_i = V_ℓ (f_i − f̄).
+   f̃_i = V_ℓ ((f_i − f̄)/s).
 2. **Interpolation (§3.2.3, eqs. 6–7).** A new sample's mesh coordinates x are written as an
    affine combination x = Σ α_i x_i of the vertices of the simplex holding it (`Mesh.locate`)
    and its scores are f̃ = Σ α_i f̃_i. Exact at the nodes.
-3. **Reconstruction (§3.2.2 eq. 5, §3.2.4).** f = f̄ + V_ℓᵀ f̃ (the paper's eq. 5 leaves the
+3. **Reconstruction (§3.2.2 eq. 5, §3.2.4).** f = f̄ + s ⊙ (V_ℓᵀ f̃) (the paper's eq. 5 leaves the
    mean implicit), expanded to the r × r patch pairs and interpolated continuously over the
    hemisphere by the goniophotometer's interpolant (`sandlight.gonio.brdf.band_grid_f`).
 
 Every node BRDF satisfies Σ_k ω_p(k) f[cap, k] = 1; this linear constraint holds for the mean
-and vanishes on the centred data, hence on the principal directions, so every reconstruction is
-normalised too (to rounding).
+and vanishes on the centred (and scaled) data, hence on the principal directions, so every
+reconstruction is normalised too (to rounding).
 
 Public objects
 --------------
@@ -60,9 +68,10 @@ __all__ = ["SpatialModel", "SpatialBRDF", "SpatialApproximationWarning", "defaul
 
 MODEL_FORMAT = "sandlight-spatial-model"
 MODEL_FORMAT_VERSION = 1
-_ARRAYS = ("mean", "components", "explained_variance_ratio", "node_coordinates", "node_scores",
+_ARRAYS = ("mean", "components", "scale", "explained_variance_ratio", "node_coordinates", "node_scores",
            "node_normal_reflectance")
 FIXED_POLICIES = ("warn", "ignore", "error")
+SCALINGS = ("relative", "none", "noise")
 
 
 class SpatialApproximationWarning(UserWarning):
@@ -141,6 +150,10 @@ class SpatialModel:
         variance reaches ``variance_threshold`` (paper's beach scene: 3).
     variance_threshold : float
         In (0, 1]; used when ``n_components`` is None.
+    scaling : {'relative', 'none', 'noise'}
+        What each unique value is divided by before the PCA: the mean node BRDF (relative
+        deviations; default), nothing (the paper), or its RMS standard error over the nodes
+        (noise-whitened). See the module docstring.
 
     Attributes
     ----------
@@ -156,7 +169,10 @@ class SpatialModel:
     mean_ : ndarray (m,)
         Mean node BRDF f̄, sr⁻¹.
     components_ : ndarray (ℓ, m)
-        Principal directions (orthonormal rows).
+        Principal directions times the scale, sr⁻¹ per unit score: f = f̄ + f̃ · components_.
+    scale_ : ndarray (m,)
+        Scale of each value in the PCA (ones for ``scaling='none'``); components_ / scale_ has
+        orthonormal rows.
     explained_variance_ratio_ : ndarray (min(n, m),)
         Share of the nodes' variance along every principal direction.
     signal_variance_ratio_ : ndarray (min(n, m),) or None
@@ -167,22 +183,25 @@ class SpatialModel:
     node_normal_reflectance_ : ndarray (n,)
         Directional-hemispherical reflectance at normal incidence of every node measurement.
     reconstruction_rms_ : float
-        RMS over nodes and unique values of (rank-ℓ reconstruction − measurement), sr⁻¹.
+        RMS over nodes and unique values of (rank-ℓ reconstruction − measurement) / scale_
+        (a fraction of the mean BRDF for 'relative', sr⁻¹ for 'none').
     node_noise_rms_ : float or None
-        RMS of the measurements' standard errors, sr⁻¹: the reconstruction error expected from
-        noise alone when ℓ captures all the signal.
+        RMS of the measurements' standard errors / scale_: the reconstruction error expected
+        from noise alone when ℓ captures all the signal.
     training_set_ : dict
         How the node BRDFs were measured (rays, seed, wavelength, method, times ...), as given.
     holdout_scores_ : dict or None
         Held-out comparison attached by `sandlight.spatial.training.evaluate`.
     """
 
-    def __init__(self, n_components=None, variance_threshold=0.999):
+    def __init__(self, n_components=None, variance_threshold=0.999, scaling="relative"):
         self.n_components = n_components
         self.variance_threshold = variance_threshold
+        self.scaling = scaling
 
     def get_params(self, deep=True) -> dict:
-        return {"n_components": self.n_components, "variance_threshold": self.variance_threshold}
+        return {"n_components": self.n_components, "variance_threshold": self.variance_threshold,
+                "scaling": self.scaling}
 
     def set_params(self, **params) -> "SpatialModel":
         for k, v in params.items():
@@ -201,10 +220,25 @@ class SpatialModel:
             raise ParameterError("n_components", k, "None or an integer >= 1")
         if isinstance(t, bool) or not (isinstance(t, (int, float)) and 0 < t <= 1):
             raise ParameterError("variance_threshold", t, "a number in (0, 1]")
+        if self.scaling not in SCALINGS:
+            raise ParameterError("scaling", self.scaling, f"one of {SCALINGS}")
 
     def _check_is_fitted(self):
         if not hasattr(self, "node_scores_"):
             raise SandlightError("this SpatialModel is not fitted yet: call fit() or SpatialModel.load()")
+
+    def _scale(self, mean: np.ndarray, stderr) -> np.ndarray:
+        """Per-value scale of the PCA (module docstring), floored at 10⁻³ of its median."""
+        if self.scaling == "none":
+            return np.ones_like(mean)
+        if self.scaling == "relative":
+            raw = np.abs(mean)
+        else:
+            if stderr is None:
+                raise ParameterError("scaling", "noise", "measurements with finite standard errors")
+            raw = np.sqrt(np.mean(stderr**2, axis=0))
+        floor = 1e-3 * float(np.median(raw))
+        return np.maximum(raw, floor if floor > 0 else 1.0)
 
     @property
     def n_classes_(self) -> int:
@@ -248,13 +282,16 @@ class SpatialModel:
         stderr = S if np.isfinite(S).all() else None
         n, m = X.shape
 
-        # PCA (§3.2.2) by SVD of the centred node BRDFs: rows of vt are the principal directions.
+        # PCA (§3.2.2) by SVD of the centred node BRDFs, each value divided by its scale (see the
+        # module docstring): rows of vt are the principal directions in the scaled space.
         mean = X.mean(axis=0)
-        _, s, vt = np.linalg.svd(X - mean, full_matrices=False)
+        scale = self._scale(mean, stderr)
+        G = (X - mean) / scale
+        _, s, vt = np.linalg.svd(G, full_matrices=False)
         variance = s**2 / max(n - 1, 1)
         total = variance.sum()
         ratio = variance / total if total > 0 else np.r_[1.0, np.zeros(len(s) - 1)]
-        signal_ratio = None if stderr is None else _signal_variance_ratio(variance, stderr)
+        signal_ratio = None if stderr is None else _signal_variance_ratio(variance, stderr / scale)
         rank = max(n - 1, 1)  # centred data have rank ≤ n − 1
         if self.n_components is None:
             chosen = ratio if signal_ratio is None else signal_ratio
@@ -264,9 +301,10 @@ class SpatialModel:
             k = int(self.n_components)
             if k > rank:
                 raise ParameterError("n_components", k, f"<= n_nodes − 1 = {rank}")
-        components = vt[:k]
-        scores = (X - mean) @ components.T  # f̃_i
-        recon = mean + scores @ components  # eq. 5 with the mean
+        directions = vt[:k]
+        scores = G @ directions.T  # f̃_i
+        components = directions * scale  # f = f̄ + f̃ (V_ℓ ⊙ scale): eq. 5 with the mean and the scale
+        recon = mean + scores @ components
 
         self.mesh_ = mesh
         self.stacks_, self.slices_ = next(iter(geometry))
@@ -279,8 +317,9 @@ class SpatialModel:
         self.signal_variance_ratio_ = signal_ratio
         self.node_scores_ = scores
         self.node_normal_reflectance_ = np.array([b.normal_reflectance for b in brdfs])
-        self.reconstruction_rms_ = float(np.sqrt(np.mean((recon - X) ** 2)))
-        self.node_noise_rms_ = None if stderr is None else float(np.sqrt(np.mean(stderr**2)))
+        self.scale_ = scale
+        self.reconstruction_rms_ = float(np.sqrt(np.mean(((recon - X) / scale) ** 2)))
+        self.node_noise_rms_ = None if stderr is None else float(np.sqrt(np.mean((stderr / scale) ** 2)))
         self.training_set_ = _plain(dict(training_set or {}))
         self.holdout_scores_ = None
         return self
@@ -337,7 +376,7 @@ class SpatialModel:
         return np.einsum("kv,kvl->kl", w, self.node_scores_[idx])
 
     def predict(self, samples, *, fixed: str = "warn") -> np.ndarray:
-        """Normalised BRDFs f = f̄ + V_ℓᵀ f̃ as unique values (paper eq. 5), shape (k, m), sr⁻¹.
+        """Normalised BRDFs f = f̄ + s ⊙ V_ℓᵀ f̃ as unique values (paper eq. 5), shape (k, m), sr⁻¹.
 
         Parameters are those of `scores`.
         """
@@ -367,7 +406,8 @@ class SpatialModel:
                 "n_components": self.n_components_, "reconstruction_rms": self.reconstruction_rms_,
                 "node_noise_rms": self.node_noise_rms_, "training_set": self.training_set_,
                 "holdout_scores": self.holdout_scores_,
-                "units": {"mean": "sr-1", "components": "sr-1 per unit score", "node_coordinates":
+                "units": {"mean": "sr-1", "components": "sr-1 per unit score", "scale": "sr-1 (relative, none) or as stderr",
+                          "node_coordinates":
                           "units of the mesh parameters (SandSample)", "node_normal_reflectance": "1"}}
 
     def save(self, path) -> Path:
@@ -377,7 +417,7 @@ class SpatialModel:
         """
         self._check_is_fitted()
         path = Path(path)
-        arrays = {"mean": self.mean_, "components": self.components_,
+        arrays = {"mean": self.mean_, "components": self.components_, "scale": self.scale_,
                   "explained_variance_ratio": self.explained_variance_ratio_,
                   "node_coordinates": self.mesh_.nodes, "node_scores": self.node_scores_,
                   "node_normal_reflectance": self.node_normal_reflectance_}
@@ -456,7 +496,7 @@ class SpatialModel:
         m = EquivalenceClasses(CollectorHemisphere(stacks, slices)).n_classes
         mesh = Mesh(tuple(meta["mesh"]["parameters"]), data["node_coordinates"], meta["mesh"]["base"])
         n, d, k = mesh.n_nodes, mesh.dimension, int(meta["n_components"])
-        expected = {"mean": (m,), "components": (k, m), "node_coordinates": (n, d), "node_scores": (n, k),
+        expected = {"mean": (m,), "components": (k, m), "scale": (m,), "node_coordinates": (n, d), "node_scores": (n, k),
                     "node_normal_reflectance": (n,)}
         for name, shape in expected.items():
             if data[name].shape != shape:
@@ -475,6 +515,7 @@ class SpatialModel:
         model.n_components_ = k
         model.mean_ = data["mean"]
         model.components_ = data["components"]
+        model.scale_ = data["scale"]
         model.explained_variance_ratio_ = data["explained_variance_ratio"]
         model.signal_variance_ratio_ = data.get("signal_variance_ratio")
         model.node_scores_ = data["node_scores"]
