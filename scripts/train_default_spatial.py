@@ -78,7 +78,10 @@ def machine() -> str:
 
 
 def leave_one_out(nodes_dataset, mesh, method: str) -> dict:
-    """Mean leave-one-out scores of the interior nodes for each scaling and ℓ (choosing them)."""
+    """Mean leave-one-out scores of the interior nodes for each scaling and ℓ (choosing them).
+
+    The node measurements have fewer trials than the held-out one, so values are scored when
+    measured to better than 5 % (not 2 %) relative standard error."""
     import numpy as np
 
     from sandlight.spatial import cross_validate, node_brdfs
@@ -87,7 +90,8 @@ def leave_one_out(nodes_dataset, mesh, method: str) -> dict:
     table = {}
     for scaling in ("none", "relative", "noise"):
         for ell in (1, 2, 3, 4, 5, 6, 8, 10):
-            results = [r for _, r in cross_validate(brdfs, mesh, {"n_components": ell, "scaling": scaling})]
+            results = [r for _, r in cross_validate(brdfs, mesh, {"n_components": ell, "scaling": scaling},
+                                                    max_relative_stderr=0.05)]
             table[f"{scaling} l={ell}"] = {
                 "relative_rms": round(float(np.mean([r.relative_rms for r in results])), 5),
                 "noise_rms": round(float(np.mean([r.noise_rms for r in results])), 5),
