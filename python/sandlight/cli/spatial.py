@@ -83,6 +83,8 @@ def train_spatial_command(
     components: Optional[int] = typer.Option(None, "--components", help="Principal components ℓ (default: by "
                                              "--variance)."),
     variance: float = typer.Option(0.999, "--variance", help="Signal-variance threshold for ℓ."),
+    scaling: str = typer.Option("relative", "--scaling", help="Scaling of the values before the PCA: relative, "
+                                "none (the paper) or noise."),
     fit_only: bool = typer.Option(False, "--fit-only", help="Only refit from the complete datasets in --out."),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
 ) -> None:
@@ -116,7 +118,8 @@ def train_spatial_command(
                             holdout_rays=None if holdout_rays is None else parse_count(holdout_rays, "--holdout-rays"),
                             stacks=stacks, slices=slices, method=method, executor=executor, threads=threads,
                             checkpoint=scheduler is None, fit_only=fit_only, progress=progress,
-                            model_params={"n_components": components, "variance_threshold": variance})
+                            model_params={"n_components": components, "variance_threshold": variance,
+                                          "scaling": scaling})
     if not run.complete:
         console.print(f"stopped with {run.nodes.n_done}/{run.nodes.n_total} nodes: run again to continue")
         raise typer.Exit(1)
