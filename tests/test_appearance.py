@@ -2,7 +2,6 @@
 
 import math
 import sys
-import warnings
 from pathlib import Path
 
 import numpy as np
