@@ -150,6 +150,7 @@ def plot_holdout(model, holdout_dataset, method: str, path: Path) -> None:
 def main(argv=None) -> int:
     args = parse_args(argv)
     import sandlight
+    from sandlight.errors import Cancelled
     from sandlight.jobs import make_executor
     from sandlight.spatial import Mesh, train_spatial
 
@@ -162,11 +163,15 @@ def main(argv=None) -> int:
           f"{args.rays:,} trials per node; held-out saturation {args.holdout:g} with {args.holdout_rays:,} trials; "
           f"reduction {args.method}; {threads} engine thread(s) per node")
     cpu0, start = time.process_time(), time.perf_counter()
-    run = train_spatial(args.work_dir, mesh, args.rays, args.wavelength, args.seed, holdout=[[args.holdout]],
-                        holdout_rays=args.holdout_rays, method=args.method, executor=executor, threads=threads,
-                        checkpoint=args.scheduler is None,
-                        model_params={"n_components": args.components, "variance_threshold": args.variance,
-                                      "scaling": args.scaling})
+    try:
+        run = train_spatial(args.work_dir, mesh, args.rays, args.wavelength, args.seed, holdout=[[args.holdout]],
+                            holdout_rays=args.holdout_rays, method=args.method, executor=executor, threads=threads,
+                            checkpoint=args.scheduler is None,
+                            model_params={"n_components": args.components, "variance_threshold": args.variance,
+                                          "scaling": args.scaling})
+    except Cancelled as exc:
+        print(f"interrupted: {exc}", file=sys.stderr)
+        return 130
     wall = time.perf_counter() - start
     if not run.complete:
         print("not complete: run the same command again to continue", file=sys.stderr)
