@@ -121,8 +121,10 @@ def plot_holdout(model, holdout_dataset, method: str, path: Path) -> None:
         wi = np.array([np.sin(t), 0.0, np.cos(t)])
         i = int(h.patch_index(wi))
         wi_c = h.centroids[i]
-        # Outgoing patches whose centroid lies in the plane of incidence (Δφ = 0 or π).
-        dphi = np.mod(np.arctan2(h.centroids[:, 1], h.centroids[:, 0]) - np.arctan2(wi_c[1], wi_c[0]), 2 * np.pi)
+        # Outgoing patches whose centroid lies in the plane of incidence (Δφ = 0 or π); at normal
+        # incidence, the plane through the centroids of slice 0.
+        az = np.arctan2(wi_c[1], wi_c[0]) if i != h.cap else np.arctan2(h.centroids[1, 1], h.centroids[1, 0])
+        dphi = np.mod(np.arctan2(h.centroids[:, 1], h.centroids[:, 0]) - az, 2 * np.pi)
         plane = (np.isclose(dphi, 0, atol=1e-9) | np.isclose(dphi, np.pi, atol=1e-9) |
                  np.isclose(dphi, 2 * np.pi, atol=1e-9)) | (h.band == 0)
         signed = np.degrees(np.arccos(np.clip(h.centroids[plane, 2], -1, 1))) * np.where(
@@ -133,7 +135,6 @@ def plot_holdout(model, holdout_dataset, method: str, path: Path) -> None:
                     label=f"measured, θi = {np.degrees(np.arccos(wi_c[2])):.0f}°")
         theta = np.radians(np.linspace(-89, 89, 357))
         wo = np.stack([np.sin(theta), np.zeros_like(theta), np.cos(theta)], 1)  # positive θ: the light's side
-        az = np.arctan2(wi_c[1], wi_c[0])
         rot = np.array([[np.cos(az), -np.sin(az), 0], [np.sin(az), np.cos(az), 0], [0, 0, 1]])
         ax.plot(np.degrees(theta), predicted.f(np.broadcast_to(wi_c, wo.shape), wo @ rot.T), color=colour, lw=1.2)
     ax.set(xlabel="outgoing zenith angle in the plane of incidence (°; positive: the light's side)",

@@ -8,19 +8,27 @@ viewer; any positive length).
 
 The spatial part
 ----------------
-f̂ is the spatial model's prediction for the sample, interpolated over the hemisphere exactly as
-the goniophotometer's continuous BRDF (`sandlight.gonio.brdf.interpolate_band_grid`: trilinear in
+f̂ is the spatial model's prediction for the sample, interpolated over the hemisphere as the
+goniophotometer's continuous BRDF (`sandlight.gonio.brdf.interpolate_band_grid`: trilinear in
 μ_i = cos θ_i, μ_o = cos θ_o and Δφ = φ_o − φ_i on the band-centroid grid, held constant below the
-lowest band's centroid), after three steps applied to its node values:
+lowest band's centroid), with four changes to its nodes:
 
-1. **Mirror symmetry.** F[b_i, b_o, k] and F[b_i, b_o, −k] are averaged. The medium is
+1. **The cap as a step.** The goniophotometer's interpolant puts the cap's node at μ = 1 and ramps
+   linearly to the first band's centroid (μ = 0.982 at 31 × 30), so the cap's value covers a
+   projected solid angle about 8 times the cap's own (μ ≥ 0.9989). Where that value is a narrow
+   peak — the mirror reflection of flat water surfaces back towards normal incidence, 70 sr⁻¹ for
+   saturated sand against 0.14 sr⁻¹ in the first band — the interpolant's ∫ f̂(n, ω_o) cos θ_o dω_o
+   is 4.4 instead of 1. Here the cap's value holds over the cap (nodes at μ = 1 and at its lower
+   edge z_c) and the first band's value from just below z_c (10⁻⁶ of the gap) to its centroid:
+   integrals over the cap and the first band match the patch values, elsewhere nothing changes.
+2. **Mirror symmetry.** F[b_i, b_o, k] and F[b_i, b_o, −k] are averaged. The medium is
    statistically invariant under reflection in any vertical plane (spheroids of uniformly random
    orientation, unpolarised light), so f depends on |Δφ| only; the goniophotometer does not
    impose this (its classes use isotropy and reciprocity), so averaging halves the noise variance
    of most values. Reciprocity is kept.
-2. **Non-negativity.** Negative node values (possible only where the PCA reconstruction of a
+3. **Non-negativity.** Negative node values (possible only where the PCA reconstruction of a
    near-zero value undershoots) are set to 0; `n_negative_nodes` counts them.
-3. **Normalisation of the continuous BRDF.** The measured values satisfy Σ_k ω_p(k) f̂[cap, k] = 1
+4. **Normalisation of the continuous BRDF.** The measured values satisfy Σ_k ω_p(k) f̂[cap, k] = 1
    over patches; the piecewise-linear interpolant integrates to slightly different values. The
    grid is divided by the exact integral ∫ f̂(n, ω_o) cos θ_o dω_o of the interpolant, so that the
    continuous BRDF satisfies the paper's §3.3 normalisation exactly.
@@ -241,15 +249,22 @@ class SandAppearance:
         self.spatial = model.brdf(self.sand_sample, fixed=fixed)
         h = self.spatial.hemisphere
         self._stacks, self._slices = h.stacks, h.slices
-        self._nodes = np.ascontiguousarray(h.band_cos_theta)
+        # Step 1 of the module docstring: the cap's step. Nodes in μ (decreasing): the pole and the
+        # cap's lower edge z_c with the cap's values, just below z_c and at the band centroids
+        # with the bands' values.
+        band_nodes = h.band_cos_theta
+        z_cap = float(h.bounds[h.cap, 0])
+        below = z_cap - 1e-6 * (z_cap - band_nodes[1])
+        self._nodes = np.ascontiguousarray(np.r_[1.0, z_cap, below, band_nodes[1:]])
+        node_band = np.r_[0, 0, 1, np.arange(1, self._stacks)]
         self._mu_weights = _mu_integral_weights(self._nodes)
 
-        # Steps 1–3 of the module docstring.
+        # Steps 2–4 of the module docstring.
         grid = self.spatial.grid()
         k = np.arange(self._slices)
         grid = 0.5 * (grid + grid[:, :, (-k) % self._slices])
         self.n_negative_nodes = int((grid < 0).sum())
-        grid = np.maximum(grid, 0.0)
+        grid = np.maximum(grid, 0.0)[np.ix_(node_band, node_band)]
         # A[b] = ∫ f̂ cos θ_o dω_o for incidence at node b: exact for the interpolant, whose Δφ
         # integral is (2π/L) Σ_k F and whose μ_o integral is Σ c_q (_mu_integral_weights).
         albedo_nodes = (grid.sum(axis=2) * (2.0 * math.pi / self._slices)) @ self._mu_weights
@@ -267,7 +282,7 @@ class SandAppearance:
             norm = 2.0 * math.pi * float(d @ self._mu_weights)
             profile = d / math.sqrt(norm) if norm > 0 else np.zeros_like(d)
         else:
-            profile = np.zeros(self._stacks)
+            profile = np.zeros(len(self._nodes))
         self._profile = np.ascontiguousarray(profile)
         # ∫ P(μ_i)P(μ_o) cos θ_o dω_o = P(μ_i) · 2π Σ c_q P_q.
         self._profile_albedo_nodes = profile * (2.0 * math.pi * float(profile @ self._mu_weights))
@@ -394,7 +409,7 @@ class SandAppearance:
         mu, dphi = np.broadcast_arrays(mu, dphi)
         a_ref, b_ref = (float(np.mean(x)) for x in self._weights(self.normal_reflectance))
         solid = (z1 - z0) * (phi1 - phi0)
-        pmf = np.empty((self._stacks, r))
+        pmf = np.empty((len(self._nodes), r))
         for b, mu_i in enumerate(self._nodes):
             g, pp = self._native.evaluate_mu(np.full(mu.size, mu_i), mu.ravel(), dphi.ravel())
             f = (a_ref * g + b_ref * pp).reshape(mu.shape)
@@ -559,14 +574,19 @@ class SandAppearance:
         a, b = self._weights(self.reflectance_at(wl))
         mu = np.linspace(0.0, 1.0, int(n_mu))
         dphi = np.linspace(0.0, math.pi, int(n_dphi))
-        MI, MO, DP = np.meshgrid(mu, mu, dphi, indexing="ij")
-        g, pp = self._native.evaluate_mu(MI.ravel(), MO.ravel(), DP.ravel())
-        shape = MI.shape
-        f = a[:, None, None, None] * g.reshape(shape)[None] + b[:, None, None, None] * pp.reshape(shape)[None]
+        # Table values in μ are cos-weighted averages over each table node's interpolation hat
+        # (module docstring), by Gauss quadrature on the pieces where the model is linear.
+        x, W = self._hat_quadrature(mu)  # points (P,), weights (n_mu, P) normalised per node
+        XI, XO, DP = np.meshgrid(x, x, dphi, indexing="ij")
+        g, pp = self._native.evaluate_mu(XI.ravel(), XO.ravel(), DP.ravel())
+        shape = XI.shape
+        g = np.einsum("ix,xyk,jy->ijk", W, g.reshape(shape), W, optimize=True)
+        pp = np.einsum("ix,xyk,jy->ijk", W, pp.reshape(shape), W, optimize=True)
+        f = a[:, None, None, None] * g[None] + b[:, None, None, None] * pp[None]
         # The model is reciprocal; averaging with the transpose removes the rounding (~1e-16) of the
-        # interpolation's summation order, so that readers may rely on exact symmetry.
+        # summation order, so that readers may rely on exact symmetry.
         f = 0.5 * (f + f.transpose(0, 2, 1, 3))
-        albedo = self._albedo_mu(mu, wl)
+        albedo = W @ self._albedo_mu(x, wl)  # the same averages of the model's albedo
         attrs = {
             "title": "Spectral BRDF of a sand sample (sandlight)",
             "format": TABLE_FORMAT, "format_version": TABLE_FORMAT_VERSION,
@@ -598,6 +618,38 @@ class SandAppearance:
                     "dphi": ("dphi", dphi, {"units": "rad", "long_name": "azimuth difference |phi_o - phi_i|"})},
             attrs=attrs)
         return ds
+
+    def _hat_quadrature(self, mu: np.ndarray):
+        """Quadrature of ∫ g(μ) h_q(μ) μ dμ / ∫ h_q(μ) μ dμ for the hats h_q of the table nodes μ.
+
+        Each hat's support is cut at the model's μ nodes, where the model is linear between
+        cuts, and integrated by 2-point Gauss–Legendre, exact for the cubic g·h_q·μ.
+
+        Returns
+        -------
+        points : ndarray (P,)
+        weights : ndarray (n_mu, P)
+            Row q sums to 1 (normalised by ∫ h_q μ dμ).
+        """
+        cuts = np.unique(np.r_[self._nodes, mu])
+        cuts = cuts[(cuts >= 0.0) & (cuts <= 1.0)]
+        gx = np.array([-1.0, 1.0]) / math.sqrt(3.0)
+        pieces_lo, pieces_hi = cuts[:-1], cuts[1:]
+        mid, half = 0.5 * (pieces_lo + pieces_hi), 0.5 * (pieces_hi - pieces_lo)
+        points = (mid[:, None] + half[:, None] * gx[None, :]).ravel()
+        base = np.repeat(half, 2)  # Gauss weights are 1 on [−1, 1]
+        n = mu.size
+        weights = np.zeros((n, points.size))
+        for q in range(n):
+            lo = mu[q - 1] if q > 0 else mu[q]
+            hi = mu[q + 1] if q < n - 1 else mu[q]
+            hat = np.where(points <= mu[q],
+                           (points - lo) / (mu[q] - lo) if q > 0 else 0.0,
+                           (hi - points) / (hi - mu[q]) if q < n - 1 else 0.0)
+            hat = np.where((points >= lo) & (points <= hi), np.clip(hat, 0.0, 1.0), 0.0)
+            weights[q] = base * hat * points
+        weights /= weights.sum(axis=1, keepdims=True)
+        return points, weights
 
     def to_table(self, path, n_mu: int = 32, n_dphi: int = 32, wavelengths_nm=None) -> Path:
         """Write the BRDF on a regular grid to NetCDF (format 'sandlight-brdf-table', atomic).
