@@ -355,3 +355,35 @@ def test_table_arguments(app):
         app.table(n_mu=1)
     ds = app.table(n_mu=3, n_dphi=2, wavelengths_nm=[550.0])
     assert ds["f"].shape == (1, 3, 3, 2)
+
+
+# ---- the shipped spatial model ----------------------------------------------------------------
+from sandlight.spatial.model import default_model_path  # noqa: E402
+
+shipped = pytest.mark.skipif(not default_model_path().is_file(), reason="shipped spatial model not trained yet")
+
+
+@shipped
+@pytest.mark.parametrize("preset", SandSample.presets())
+def test_shipped_spatial_model_conserves_energy_for_every_preset(preset, spectral):
+    app = SandAppearance(preset, spectral, None, fixed="ignore")
+    wi = from_angles(np.linspace(0, 90, 181))
+    albedo = app.albedo(wi)
+    assert (albedo >= 0).all() and (albedo <= 1 + 1e-12).all()
+    np.testing.assert_allclose(app.albedo([0, 0, 1])[0], app.normal_reflectance, atol=1e-12)
+
+
+@shipped
+@pytest.mark.parametrize("saturation", [0.0, 0.5, 1.0])
+def test_normal_incidence_peak_does_not_rescale_the_brdf(saturation):
+    # Saturated sand has a narrow mirror peak back towards normal incidence (flat water). The
+    # continuous BRDF keeps the measured values elsewhere: at normal incidence, its values at the
+    # outgoing band centroids equal the spatial prediction's patch values (Δφ-independent there).
+    flat = lambda s: (np.arange(400.0, 701.0, 20.0), np.full(16, 0.5))  # noqa: E731
+    app = SandAppearance(SandSample(saturation=saturation), flat, None, combination="product")
+    h = app.spatial.hemisphere
+    bands = 1 + h.slices * np.arange(h.n_bands)  # first patch of every band
+    f = app.brdf([0, 0, 1], h.centroids[bands], [550.0])[:, 0] / 0.5
+    np.testing.assert_allclose(f, app.spatial.values[h.cap, bands], rtol=0.05)
+    # and the albedo at normal incidence is exactly the spectral value.
+    assert app.albedo([0, 0, 1], [550.0])[0, 0] == pytest.approx(0.5, abs=1e-12)

@@ -85,7 +85,11 @@ Table export
 `SandAppearance.to_table` writes f on a regular grid (format 'sandlight-brdf-table', described
 in docs/spatial-predictor.md): variable ``f`` (wavelength, mu_i, mu_o, dphi) in sr⁻¹, coordinates
 ``wavelength`` (nm), ``mu_i`` and ``mu_o`` (cos θ, ascending, uniform, including 0 and 1) and
-``dphi`` (rad, uniform on [0, π]); the μ = 0 rows hold the limit μ → 0⁺.
+``dphi`` (rad, uniform on [0, π]). In μ_i and μ_o each value is the cos-weighted average of f
+over the node's multilinear-interpolation hat, ∫ f h_q μ dμ / ∫ h_q μ dμ (exact Gauss quadrature
+on the pieces where f is linear), so that interpolating the table conserves the energy of
+features narrower than its spacing (the normal-incidence reflection of water); in Δφ values are
+point samples. ``albedo`` holds the model's albedo averaged the same way.
 """
 
 from __future__ import annotations
@@ -562,6 +566,13 @@ class SandAppearance:
             Points in Δφ, uniform on [0, π] (≥ 2).
         wavelengths_nm : array_like, optional
             Default: the spectral model's wavelengths.
+
+        Returns
+        -------
+        xarray.Dataset
+            ``f`` (wavelength, mu_i, mu_o, dphi) in sr⁻¹ (hat averages in μ, module docstring),
+            ``albedo`` (wavelength, mu_i), ``normal_reflectance`` (wavelength), with units and
+            the format attributes.
         """
         import xarray as xr
 
@@ -602,7 +613,8 @@ class SandAppearance:
                             "wi points towards the light, wo towards the viewer; f in sr-1 with "
                             "L_o = integral of f L_i cos(theta_i) d(omega_i)"),
             "interpolation": ("multilinear in (mu_i, mu_o, dphi); f is reciprocal (f[:, i, j, k] == f[:, j, i, k]) "
-                              "and even in dphi; rows at mu = 0 hold the limit mu -> 0+"),
+                              "and even in dphi; in mu_i and mu_o each value is the cos-weighted average of the "
+                              "model over the node's interpolation hat (energy-conserving), in dphi a point sample"),
         }
         ds = xr.Dataset(
             {"f": (("wavelength", "mu_i", "mu_o", "dphi"), f,
