@@ -26,6 +26,7 @@ _NATIVE_API = {
     "brdf": "sandlight.gonio.measure", "fixed_incidence": "sandlight.gonio.measure",
     "IsotropicScatterers": "sandlight.gonio.measure", "LambertianSurface": "sandlight.gonio.measure",
     "SpectralModel": "sandlight.predictor",
+    "SpatialModel": "sandlight.spatial", "SandAppearance": "sandlight.appearance",
 }
 
 

@@ -4,6 +4,7 @@
 //! `sizes` → `particle` (one grain's interaction) → `medium`, `transport` (free paths, boundary)
 //! → `driver` (parallel runs and tallies). No PyO3 here: bindings live in `sandlight-py`.
 
+pub mod appearance;
 pub mod driver;
 pub mod error;
 pub mod fresnel;

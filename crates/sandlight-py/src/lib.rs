@@ -3,6 +3,7 @@
 
 use pyo3::prelude::*;
 
+mod appearance;
 mod errors;
 mod gonio;
 mod medium;
@@ -15,5 +16,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<medium::PyMedium>()?;
     gonio::register(m)?;
     render::register(m)?;
+    appearance::register(m)?;
     Ok(())
 }

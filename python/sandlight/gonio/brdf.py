@@ -45,7 +45,7 @@ from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import ReducedBRDF, check_counts, reduce_counts
 from sandlight.gonio.symmetry import EquivalenceClasses
 
-__all__ = ["MeasuredBRDF"]
+__all__ = ["MeasuredBRDF", "band_grid", "band_grid_f", "interpolate_band_grid"]
 
 
 def _version() -> str:
@@ -234,35 +234,8 @@ class MeasuredBRDF:
         reciprocal, continuous and equal to the reduced values at the patch centroids by
         construction (module docstring).
         """
-        wi = _unit("wi", wi)
-        wo = _unit("wo", wo)
-        shape = np.broadcast_shapes(wi.shape, wo.shape)[:-1]
-        wi = np.broadcast_to(wi, shape + (3,)).reshape(-1, 3)
-        wo = np.broadcast_to(wo, shape + (3,)).reshape(-1, 3)
         unique = self.reduced.unique_values if normalised else self.reduced.unique_absolute
-        classes = self.classes
-        grid = unique[classes.table]  # (stacks, stacks, slices): F[b_i, b_o, k]
-
-        nodes = self.hemisphere.band_cos_theta  # decreasing: cap (1), band 1, …, band B
-        bi0, bi1, ti = _bracket(nodes, wi[:, 2])
-        bo0, bo1, to = _bracket(nodes, wo[:, 2])
-        dphi = np.arctan2(wo[:, 1], wo[:, 0]) - np.arctan2(wi[:, 1], wi[:, 0])
-        # (NaN rows are computed on 0 and set to NaN at the end.)
-        x = np.mod(np.nan_to_num(dphi) * (self.slices / (2.0 * math.pi)), self.slices)
-        k0 = np.floor(x)
-        tk = x - k0
-        k0 = k0.astype(np.int64) % self.slices  # x can round up to exactly `slices`
-        k1 = (k0 + 1) % self.slices
-
-        value = np.zeros(len(wi))
-        for b_in, w_in in ((bi0, 1.0 - ti), (bi1, ti)):
-            for b_out, w_out in ((bo0, 1.0 - to), (bo1, to)):
-                for k, w_k in ((k0, 1.0 - tk), (k1, tk)):
-                    value += w_in * w_out * w_k * grid[b_in, b_out, k]
-        above = (wi[:, 2] > 0) & (wo[:, 2] > 0)
-        value = np.where(above, value, 0.0)
-        nan = np.isnan(wi).any(axis=1) | np.isnan(wo).any(axis=1)
-        return np.where(nan, np.nan, value).reshape(shape)
+        return band_grid_f(self.hemisphere, unique, wi, wo)
 
     # Comparison -------------------------------------------------------------------------------
 
@@ -285,6 +258,105 @@ class MeasuredBRDF:
         wl = "None" if self.wavelength_nm is None else f"{self.wavelength_nm:g}"
         return (f"MeasuredBRDF(stacks={self.stacks}, slices={self.slices}, rays={self.rays}, "
                 f"wavelength_nm={wl}, normal_reflectance={self.normal_reflectance:.4g})")
+
+
+def band_grid(hemisphere: CollectorHemisphere, unique_values) -> np.ndarray:
+    """Node values F[b_i, b_o, k] of the continuous BRDF (module docstring) from unique values.
+
+    Parameters
+    ----------
+    hemisphere : CollectorHemisphere
+        The collector hemisphere (stacks, slices).
+    unique_values : array_like, shape (m,)
+        One value per class of isotropy and reciprocity (`EquivalenceClasses`), sr⁻¹.
+
+    Returns
+    -------
+    numpy.ndarray, shape (stacks, stacks, slices)
+        F[b_i, b_o, k]: the value of the class of (incoming band b_i, outgoing band b_o, slice
+        difference k); band 0 is the cap.
+    """
+    classes = EquivalenceClasses(hemisphere)
+    u = np.asarray(unique_values, dtype=float)
+    if u.shape != (classes.n_classes,):
+        raise ParameterError("unique_values", f"an array of shape {u.shape}", f"must have shape ({classes.n_classes},)")
+    return u[classes.table]
+
+
+def interpolate_band_grid(grid, band_cos_theta, mu_i, mu_o, dphi) -> np.ndarray:
+    """The continuous BRDF's interpolant on the band grid (module docstring), in (μ_i, μ_o, Δφ).
+
+    Parameters
+    ----------
+    grid : array_like, shape (stacks, stacks, slices)
+        Node values F[b_i, b_o, k] (`band_grid`).
+    band_cos_theta : array_like, shape (stacks,)
+        μ of the nodes, decreasing (``CollectorHemisphere.band_cos_theta``).
+    mu_i, mu_o : array_like
+        cos θ of the incoming and outgoing directions; values below the lowest node (down to 0
+        and below) take the lowest node's value, values above 1 the cap's.
+    dphi : array_like
+        φ_o − φ_i in radians, any real (periodic).
+
+    Returns
+    -------
+    numpy.ndarray
+        Trilinear interpolant, broadcast shape of the inputs. No horizon test: μ ≤ 0 gives the
+        limit μ → 0⁺ (callers working with directions set those to 0).
+    """
+    grid = np.asarray(grid, dtype=float)
+    nodes = np.asarray(band_cos_theta, dtype=float)
+    mu_i, mu_o, dphi = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (mu_i, mu_o, dphi)))
+    shape = mu_i.shape
+    slices = grid.shape[2]
+    bi0, bi1, ti = _bracket(nodes, mu_i.ravel())
+    bo0, bo1, to = _bracket(nodes, mu_o.ravel())
+    # (NaN rows are computed on 0 by the callers, which set them to NaN at the end.)
+    x = np.mod(np.nan_to_num(dphi.ravel()) * (slices / (2.0 * math.pi)), slices)
+    k0 = np.floor(x)
+    tk = x - k0
+    k0 = k0.astype(np.int64) % slices  # x can round up to exactly `slices`
+    k1 = (k0 + 1) % slices
+
+    value = np.zeros(mu_i.size)
+    for b_in, w_in in ((bi0, 1.0 - ti), (bi1, ti)):
+        for b_out, w_out in ((bo0, 1.0 - to), (bo1, to)):
+            for k, w_k in ((k0, 1.0 - tk), (k1, tk)):
+                value += w_in * w_out * w_k * grid[b_in, b_out, k]
+    return value.reshape(shape)
+
+
+def band_grid_f(hemisphere: CollectorHemisphere, unique_values, wi, wo) -> np.ndarray:
+    """Continuous BRDF f(ω_i, ω_o) from the m unique values of a BRDF (paper §3.2.4).
+
+    This is `MeasuredBRDF.f` for any unique values (e.g. a BRDF reconstructed by the spatial
+    predictor): trilinear in (cos θ_i, cos θ_o, φ_o − φ_i) on the band-centroid grid.
+
+    Parameters
+    ----------
+    hemisphere : CollectorHemisphere
+    unique_values : array_like, shape (m,)
+        sr⁻¹.
+    wi, wo : array_like, shape (..., 3)
+        Directions (any positive length), broadcast together.
+
+    Returns
+    -------
+    numpy.ndarray, shape (...)
+        f in sr⁻¹; 0 where either direction has z ≤ 0; NaN where a direction has a NaN.
+    """
+    wi = _unit("wi", wi)
+    wo = _unit("wo", wo)
+    shape = np.broadcast_shapes(wi.shape, wo.shape)[:-1]
+    wi = np.broadcast_to(wi, shape + (3,)).reshape(-1, 3)
+    wo = np.broadcast_to(wo, shape + (3,)).reshape(-1, 3)
+    dphi = np.arctan2(wo[:, 1], wo[:, 0]) - np.arctan2(wi[:, 1], wi[:, 0])
+    value = interpolate_band_grid(band_grid(hemisphere, unique_values), hemisphere.band_cos_theta,
+                                  np.nan_to_num(wi[:, 2]), np.nan_to_num(wo[:, 2]), dphi)
+    above = (wi[:, 2] > 0) & (wo[:, 2] > 0)
+    value = np.where(above, value, 0.0)
+    nan = np.isnan(wi).any(axis=1) | np.isnan(wo).any(axis=1)
+    return np.where(nan, np.nan, value).reshape(shape)
 
 
 def _same_float(a, b) -> bool:

@@ -1,0 +1,181 @@
+"""Commands of the spatial predictor and the explicit BRDF: train-spatial, appearance."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import List, Optional
+
+import numpy as np
+import typer
+from rich.console import Console
+
+from sandlight.cli._app import app
+from sandlight.cli._common import load_sample, parse_count, user_errors
+
+console = Console()
+
+
+def _axis(text: str):
+    """``NAME=start:stop:count`` (count points, ends included) or ``NAME=v1,v2,...``."""
+    from sandlight.errors import ParameterError
+
+    name, sep, values = text.partition("=")
+    if not sep or not name.strip():
+        raise ParameterError("--axis", text, "NAME=start:stop:count or NAME=v1,v2,... (e.g. saturation=0:1:16)")
+    try:
+        if ":" in values:
+            start, stop, n = values.split(":")
+            if float(n) != int(float(n)) or int(float(n)) < 2:
+                raise ValueError
+            return name.strip(), np.linspace(float(start), float(stop), int(float(n)))
+        return name.strip(), np.array([float(v) for v in values.split(",")])
+    except ValueError:
+        raise ParameterError("--axis", text, "NAME=start:stop:count with count >= 2, or NAME=v1,v2,...") from None
+
+
+def _point(text: str) -> dict:
+    """``NAME=VALUE[,NAME=VALUE...]``."""
+    from sandlight.errors import ParameterError
+
+    try:
+        return {k.strip(): float(v) for k, v in (item.split("=") for item in text.split(","))}
+    except ValueError:
+        raise ParameterError("--holdout", text, "NAME=VALUE[,NAME=VALUE...] (e.g. saturation=0.5)") from None
+
+
+def _nodes_file(path: Path):
+    """Scattered nodes from a CSV file whose header names the parameters."""
+    from sandlight.errors import ParameterError
+
+    try:
+        with open(path, encoding="utf-8") as fh:
+            header = [h.strip() for h in fh.readline().split(",")]
+        values = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    except (OSError, ValueError) as exc:
+        raise ParameterError("--nodes", str(path), f"a readable CSV file with a header of parameter names ({exc})") from None
+    return tuple(header), values
+
+
+@app.command("train-spatial")
+def train_spatial_command(
+    sample_file: Optional[Path] = typer.Argument(None, help="Base sample (TOML/JSON) giving the parameters the mesh "
+                                                 "does not vary (default: SandSample())."),
+    preset: Optional[str] = typer.Option(None, "--preset", help="Base sample: a named preset."),
+    out: Path = typer.Option(..., "--out", help="Output directory (job stores, model, report)."),
+    axis: List[str] = typer.Option(None, "--axis", help="Grid axis NAME=start:stop:count or NAME=v1,v2,... "
+                                   "(repeatable; default saturation=0:1:16, the paper's beach scene)."),
+    nodes: Optional[Path] = typer.Option(None, "--nodes", help="Scattered nodes: CSV with a header of parameter "
+                                         "names (instead of --axis)."),
+    rays: str = typer.Option("1e7", "--rays", "-n", help="Goniophotometer trials per node."),
+    wavelength: float = typer.Option(550.0, "--wavelength", "-w", help="Wavelength of the measurements (nm)."),
+    seed: int = typer.Option(0, "--seed", help="Master seed."),
+    holdout: List[str] = typer.Option(None, "--holdout", help="Held-out point NAME=VALUE[,NAME=VALUE] measured and "
+                                      "compared with the prediction (repeatable)."),
+    holdout_rays: Optional[str] = typer.Option(None, "--holdout-rays", help="Trials per held-out point "
+                                               "(default --rays)."),
+    stacks: int = typer.Option(31, "--stacks"),
+    slices: int = typer.Option(30, "--slices"),
+    method: str = typer.Option("average", "--method", help="Reduction: average (the paper) or pooled."),
+    threads: int = typer.Option(1, "--threads", help="Engine threads per node."),
+    workers: Optional[int] = typer.Option(None, "--workers", help="Local worker processes (1: in-process)."),
+    dask_local: Optional[int] = typer.Option(None, "--dask-local", help="Start a Dask LocalCluster of N workers."),
+    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address, tcp://HOST:PORT."),
+    components: Optional[int] = typer.Option(None, "--components", help="Principal components ℓ (default: by "
+                                             "--variance)."),
+    variance: float = typer.Option(0.999, "--variance", help="Signal-variance threshold for ℓ."),
+    scaling: str = typer.Option("relative", "--scaling", help="Scaling of the values before the PCA: relative, "
+                                "none (the paper) or noise."),
+    fit_only: bool = typer.Option(False, "--fit-only", help="Only refit from the complete datasets in --out."),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
+) -> None:
+    """Measure the BRDF at every mesh node and fit the spatial predictor (paper §3.2).
+
+    Resumable: run the same command again to continue after an interruption."""
+    from sandlight.jobs import make_executor
+    from sandlight.sample import SandSample
+    from sandlight.spatial import Mesh, train_spatial
+
+    with user_errors():
+        base = SandSample() if sample_file is None and preset is None else load_sample(sample_file, preset)
+        if nodes is not None:
+            if axis:
+                from sandlight.errors import ParameterError
+
+                raise ParameterError("--axis/--nodes", "both", "a grid (--axis) or scattered nodes (--nodes), not both")
+            names, values = _nodes_file(nodes)
+            mesh = Mesh(names, values, base)
+        else:
+            mesh = Mesh.grid(base, **dict(_axis(a) for a in (axis or ["saturation=0:1:16"])))
+        points = [_point(h) for h in holdout or []]
+        missing = [p for p in points if set(p) != set(mesh.parameters)]
+        if missing:
+            from sandlight.errors import ParameterError
+
+            raise ParameterError("--holdout", missing[0], f"a value for each mesh parameter {mesh.parameters}")
+        executor = None if fit_only else make_executor(workers, dask_local, scheduler)
+        n = parse_count(rays, "--rays")
+        run = train_spatial(out, mesh, n, wavelength, seed, holdout=[[p[k] for k in mesh.parameters] for p in points],
+                            holdout_rays=None if holdout_rays is None else parse_count(holdout_rays, "--holdout-rays"),
+                            stacks=stacks, slices=slices, method=method, executor=executor, threads=threads,
+                            checkpoint=scheduler is None, fit_only=fit_only, progress=progress,
+                            model_params={"n_components": components, "variance_threshold": variance,
+                                          "scaling": scaling})
+    if not run.complete:
+        console.print(f"stopped with {run.nodes.n_done}/{run.nodes.n_total} nodes: run again to continue")
+        raise typer.Exit(1)
+    model = run.model
+    ratio = model.explained_variance_ratio_
+    signal = model.signal_variance_ratio_
+    ell = model.n_components_
+    console.print(f"mesh: {mesh}")
+    console.print(f"principal components: ℓ = {ell}; explained variance {ratio[:ell].sum():.5%}"
+                  + ("" if signal is None else f", signal variance {signal[:ell].sum():.5%}"))
+    noise = "" if model.node_noise_rms_ is None else f" (node noise RMS {model.node_noise_rms_:.4g} sr⁻¹)"
+    console.print(f"reconstruction RMS {model.reconstruction_rms_:.4g} sr⁻¹{noise}")
+    for report in run.reports:
+        console.print(report.table())
+    console.print(f"times: measurement {run.measurement_s:.1f} s (this run), fit {run.fit_s:.2f} s")
+    console.print(f"model: {run.model_path}")
+
+
+@app.command()
+def appearance(
+    sample_file: Optional[Path] = typer.Argument(None, help="Sample description (TOML or JSON)."),
+    preset: Optional[str] = typer.Option(None, "--preset", help="Named preset instead of a file."),
+    table: Optional[Path] = typer.Option(None, "--table", help="Write the BRDF table (NetCDF, "
+                                         "format sandlight-brdf-table)."),
+    n_mu: int = typer.Option(32, "--n-mu", help="Table points in cos θ_i and cos θ_o (uniform on [0, 1])."),
+    n_dphi: int = typer.Option(32, "--n-dphi", help="Table points in Δφ (uniform on [0, π])."),
+    spectral_model: Optional[Path] = typer.Option(None, "--spectral-model", help="Spectral model file (default: "
+                                                  "the shipped one)."),
+    spatial_model: Optional[Path] = typer.Option(None, "--spatial-model", help="Spatial model file (default: the "
+                                                 "shipped beach model)."),
+    combination: str = typer.Option("energy", "--combination", help="energy (default) or product (the paper's "
+                                    "formula, may exceed unit albedo)."),
+) -> None:
+    """The explicit spectral BRDF of a sample (paper §3.3): albedo summary and NetCDF table export."""
+    import warnings
+
+    from sandlight.appearance import SandAppearance
+    from sandlight.spatial import SpatialApproximationWarning
+
+    with user_errors():
+        sample = load_sample(sample_file, preset)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", SpatialApproximationWarning)
+            app_ = SandAppearance(sample, spectral_model, spatial_model, combination=combination)
+        for w in caught:
+            console.print(f"[yellow]note:[/] {w.message}")
+        angles = np.array([0.0, 30.0, 60.0, 80.0, 89.0])
+        t = np.radians(angles)
+        albedo = app_.albedo(np.stack([np.sin(t), 0 * t, np.cos(t)], axis=1))
+        wl = app_.wavelengths_nm
+        pick = np.unique(np.linspace(0, len(wl) - 1, min(4, len(wl))).round().astype(int))
+        console.print(f"{app_}")
+        console.print("albedo (directional-hemispherical reflectance) by incidence:")
+        console.print("  θ_i  " + "".join(f"{wl[i]:>9g} nm" for i in pick))
+        for a, row in zip(angles, albedo):
+            console.print(f"  {a:4g}°" + "".join(f"{row[i]:>12.4f}" for i in pick))
+        if table is not None:
+            app_.to_table(table, n_mu, n_dphi)
+            console.print(f"wrote {table} ({len(wl)} wavelengths × {n_mu} × {n_mu} × {n_dphi})")

@@ -1,0 +1,573 @@
+"""The spatial predictor: the normalised BRDF of a sample from its mesh position (paper §3.2).
+
+Given the BRDFs measured at the nodes x_i of a `Mesh` (each reduced, normalised to unit
+reflectance at normal incidence and compressed to the m unique values of its classes of
+isotropy and reciprocity, paper §3.2.1):
+
+1. **PCA (§3.2.2).** The n compressed BRDFs f_i (rows of an n × m matrix) are centred on their
+   mean f̄, each value is divided by a scale s_j, and the result is decomposed by SVD. The
+   paper's PCA is unscaled (``scaling="none"``). sandlight's engine, however, gives sand whose
+   pores reach the surface filled with water flat mirror-like water surfaces (docs/transport.md),
+   and their specular reflection puts a few values near the grazing mirror direction at up to
+   10⁵ sr⁻¹ against a median of 0.3 sr⁻¹: unscaled, the variance is all in those few values and
+   the first component describes only them. The default ``scaling="relative"`` divides by the
+   mean BRDF (s_j = |f̄_j|), so that the PCA sees relative changes of every value alike;
+   ``"noise"`` divides by each value's RMS standard error (noise-whitened PCA). Either way the
+   scale floors at 10⁻³ of its median. The first ℓ principal directions v_1 … v_ℓ (rows of
+   ``components_``) are kept, ℓ the smallest number whose cumulative *signal* variance reaches
+   ``variance_threshold``: the Monte Carlo noise variance of each direction, Σ_j σ_j²/(n − 1)
+   from the measured standard errors (m ≫ n: noise spreads evenly over the n − 1 directions the
+   nodes span), is subtracted first, so that noise does not inflate ℓ. Node scores
+   f̃_i = V_ℓ ((f_i − f̄)/s).
+2. **Interpolation (§3.2.3, eqs. 6–7).** A new sample's mesh coordinates x are written as an
+   affine combination x = Σ α_i x_i of the vertices of the simplex holding it (`Mesh.locate`)
+   and its scores are f̃ = Σ α_i f̃_i. Exact at the nodes.
+3. **Reconstruction (§3.2.2 eq. 5, §3.2.4).** f = f̄ + s ⊙ (V_ℓᵀ f̃) (the paper's eq. 5 leaves the
+   mean implicit), expanded to the r × r patch pairs and interpolated continuously over the
+   hemisphere by the goniophotometer's interpolant (`sandlight.gonio.brdf.band_grid_f`).
+
+Every node BRDF satisfies Σ_k ω_p(k) f[cap, k] = 1; this linear constraint holds for the mean
+and vanishes on the centred (and scaled) data, hence on the principal directions, so every
+reconstruction is normalised too (to rounding).
+
+Public objects
+--------------
+SpatialModel
+    The estimator (scikit-learn conventions: hyper-parameters in ``__init__``, learned attributes
+    ending in ``_``), with ``fit``, ``scores``, ``predict``, ``brdf``, ``save`` and ``load``.
+SpatialBRDF
+    A predicted normalised BRDF: unique values, full array and the continuous f(ω_i, ω_o).
+SpatialApproximationWarning
+    A sample differs from the mesh's base sample in a parameter the mesh does not vary.
+default_model, default_model_path
+    The model shipped in the package (``sandlight/data/models/spatial-beach.npz``).
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import os
+import warnings
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Mapping, Sequence
+
+import numpy as np
+
+from sandlight.errors import ModelFileError, ParameterError, SandlightError
+from sandlight.gonio.brdf import MeasuredBRDF, band_grid, band_grid_f
+from sandlight.gonio.hemisphere import CollectorHemisphere
+from sandlight.gonio.symmetry import EquivalenceClasses
+from sandlight.predictor.spectral import ModelVersionWarning, _plain
+from sandlight.spatial.mesh import Mesh
+
+__all__ = ["SpatialModel", "SpatialBRDF", "SpatialApproximationWarning", "default_model", "default_model_path",
+           "MODEL_FORMAT", "MODEL_FORMAT_VERSION"]
+
+MODEL_FORMAT = "sandlight-spatial-model"
+MODEL_FORMAT_VERSION = 1
+_ARRAYS = ("mean", "components", "scale", "explained_variance_ratio", "node_coordinates", "node_scores",
+           "node_normal_reflectance")
+FIXED_POLICIES = ("warn", "ignore", "error")
+SCALINGS = ("relative", "none", "noise")
+
+
+class SpatialApproximationWarning(UserWarning):
+    """A sample differs from the spatial model's base sample in a parameter the mesh does not
+    vary: its BRDF shape is taken at its mesh coordinates with the base's other parameters (the
+    paper's assumption for its beach scene, §4.2.2)."""
+
+
+def _sandlight_version() -> str:
+    import sandlight
+
+    return sandlight.__version__
+
+
+@dataclass(frozen=True, eq=False)
+class SpatialBRDF:
+    """A BRDF normalised to unit reflectance at normal incidence, predicted by a `SpatialModel`.
+
+    Attributes
+    ----------
+    stacks, slices : int
+        Collector hemisphere of the model.
+    unique_values : numpy.ndarray, shape (m,)
+        The m unique values f̂ in sr⁻¹ (read-only).
+    coordinates : numpy.ndarray, shape (d,)
+        Mesh coordinates of the sample.
+    nodes, weights : numpy.ndarray, shape (d + 1,)
+        The simplex's node indices and barycentric weights (eq. 6).
+    sample : dict
+        The sample's parameters (empty when predicted from coordinates).
+    """
+
+    stacks: int
+    slices: int
+    unique_values: np.ndarray
+    coordinates: np.ndarray
+    nodes: np.ndarray
+    weights: np.ndarray
+    sample: dict = field(default_factory=dict)
+
+    @property
+    def hemisphere(self) -> CollectorHemisphere:
+        return CollectorHemisphere(self.stacks, self.slices)
+
+    @property
+    def classes(self) -> EquivalenceClasses:
+        return EquivalenceClasses(self.hemisphere)
+
+    @property
+    def values(self) -> np.ndarray:
+        """f̂[i, j] for every (incoming, outgoing) patch pair, (r, r), sr⁻¹."""
+        return self.classes.expand(self.unique_values)
+
+    def grid(self) -> np.ndarray:
+        """Node values F[b_i, b_o, k] of the continuous BRDF, (stacks, stacks, slices), sr⁻¹."""
+        return band_grid(self.hemisphere, self.unique_values)
+
+    def f(self, wi, wo) -> np.ndarray:
+        """Continuous normalised BRDF f̂(ω_i, ω_o) in sr⁻¹ (`sandlight.gonio.brdf.band_grid_f`).
+
+        Parameters
+        ----------
+        wi, wo : array_like, shape (..., 3)
+            Directions towards the light and the viewer (local frame, z = normal).
+        """
+        return band_grid_f(self.hemisphere, self.unique_values, wi, wo)
+
+
+class SpatialModel:
+    """Normalised-BRDF predictor over a mesh of sample parameters (paper §3.2).
+
+    Parameters
+    ----------
+    n_components : int, optional
+        ℓ, the principal components kept. Default: the smallest ℓ whose cumulative signal
+        variance reaches ``variance_threshold`` (paper's beach scene: 3).
+    variance_threshold : float
+        In (0, 1]; used when ``n_components`` is None.
+    scaling : {'relative', 'none', 'noise'}
+        What each unique value is divided by before the PCA: the mean node BRDF (relative
+        deviations; default), nothing (the paper), or its RMS standard error over the nodes
+        (noise-whitened). See the module docstring.
+
+    Attributes
+    ----------
+    mesh_ : Mesh
+        Nodes, mesh parameters and the base sample.
+    stacks_, slices_ : int
+        Collector hemisphere of the measurements (m unique values).
+    wavelength_nm_ : float or None
+        Wavelength of the measurements (the spatial component is assumed independent of it,
+        as in the paper's beach scene).
+    n_components_ : int
+        ℓ.
+    mean_ : ndarray (m,)
+        Mean node BRDF f̄, sr⁻¹.
+    components_ : ndarray (ℓ, m)
+        Principal directions times the scale, sr⁻¹ per unit score: f = f̄ + f̃ · components_.
+    scale_ : ndarray (m,)
+        Scale of each value in the PCA (ones for ``scaling='none'``); components_ / scale_ has
+        orthonormal rows.
+    explained_variance_ratio_ : ndarray (min(n, m),)
+        Share of the nodes' variance along every principal direction.
+    signal_variance_ratio_ : ndarray (min(n, m),) or None
+        The same after subtracting the Monte Carlo noise variance (when the BRDFs carried
+        standard errors); ℓ is chosen on these. Saved in files when present.
+    node_scores_ : ndarray (n, ℓ)
+        f̃_i of every node.
+    node_normal_reflectance_ : ndarray (n,)
+        Directional-hemispherical reflectance at normal incidence of every node measurement.
+    reconstruction_rms_ : float
+        RMS over nodes and unique values of (rank-ℓ reconstruction − measurement) / scale_
+        (a fraction of the mean BRDF for 'relative', sr⁻¹ for 'none').
+    node_noise_rms_ : float or None
+        RMS of the measurements' standard errors / scale_: the reconstruction error expected
+        from noise alone when ℓ captures all the signal.
+    training_set_ : dict
+        How the node BRDFs were measured (rays, seed, wavelength, method, times ...), as given.
+    holdout_scores_ : dict or None
+        Held-out comparison attached by `sandlight.spatial.training.evaluate`.
+    """
+
+    def __init__(self, n_components=None, variance_threshold=0.999, scaling="relative"):
+        self.n_components = n_components
+        self.variance_threshold = variance_threshold
+        self.scaling = scaling
+
+    def get_params(self, deep=True) -> dict:
+        return {"n_components": self.n_components, "variance_threshold": self.variance_threshold,
+                "scaling": self.scaling}
+
+    def set_params(self, **params) -> "SpatialModel":
+        for k, v in params.items():
+            if k not in self.get_params():
+                raise ParameterError(k, v, f"one of {sorted(self.get_params())}")
+            setattr(self, k, v)
+        return self
+
+    def __repr__(self):
+        changed = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items() if v != type(self)().get_params()[k])
+        return f"SpatialModel({changed})"
+
+    def _validate_params(self):
+        k, t = self.n_components, self.variance_threshold
+        if k is not None and not (isinstance(k, (int, np.integer)) and not isinstance(k, bool) and k >= 1):
+            raise ParameterError("n_components", k, "None or an integer >= 1")
+        if isinstance(t, bool) or not (isinstance(t, (int, float)) and 0 < t <= 1):
+            raise ParameterError("variance_threshold", t, "a number in (0, 1]")
+        if self.scaling not in SCALINGS:
+            raise ParameterError("scaling", self.scaling, f"one of {SCALINGS}")
+
+    def _check_is_fitted(self):
+        if not hasattr(self, "node_scores_"):
+            raise SandlightError("this SpatialModel is not fitted yet: call fit() or SpatialModel.load()")
+
+    def _scale(self, mean: np.ndarray, stderr) -> np.ndarray:
+        """Per-value scale of the PCA (module docstring), floored at 10⁻³ of its median."""
+        if self.scaling == "none":
+            return np.ones_like(mean)
+        if self.scaling == "relative":
+            raw = np.abs(mean)
+        else:
+            if stderr is None:
+                raise ParameterError("scaling", "noise", "measurements with finite standard errors")
+            raw = np.sqrt(np.mean(stderr**2, axis=0))
+        floor = 1e-3 * float(np.median(raw))
+        return np.maximum(raw, floor if floor > 0 else 1.0)
+
+    @property
+    def n_classes_(self) -> int:
+        """m, the number of unique values."""
+        return self.mean_.shape[0]
+
+    # ---- fitting -----------------------------------------------------------------------------
+    def fit(self, brdfs: Sequence[MeasuredBRDF], mesh: Mesh, *, training_set: Mapping | None = None) -> "SpatialModel":
+        """Fit the PCA basis to the node BRDFs.
+
+        Parameters
+        ----------
+        brdfs : sequence of MeasuredBRDF
+            One measurement per node of ``mesh``, in node order, on one collector hemisphere.
+        mesh : Mesh
+        training_set : mapping, optional
+            Description of the measurements (kept in ``training_set_`` and in saved files).
+
+        Returns
+        -------
+        self
+        """
+        self._validate_params()
+        if not isinstance(mesh, Mesh):
+            raise ParameterError("mesh", type(mesh).__name__, "a sandlight.spatial.Mesh")
+        brdfs = list(brdfs)
+        if len(brdfs) != mesh.n_nodes or not all(isinstance(b, MeasuredBRDF) for b in brdfs):
+            raise ParameterError("brdfs", f"{len(brdfs)} objects", f"one MeasuredBRDF per mesh node ({mesh.n_nodes})")
+        geometry = {(b.stacks, b.slices) for b in brdfs}
+        if len(geometry) != 1:
+            raise ParameterError("brdfs", sorted(geometry), "measurements on one collector hemisphere (stacks, slices)")
+        wavelengths = {b.wavelength_nm for b in brdfs}
+        if len(wavelengths) != 1:
+            raise ParameterError("brdfs", sorted(wavelengths, key=str), "measurements at one wavelength")
+        X = np.stack([b.unique_values for b in brdfs])
+        S = np.stack([b.unique_stderr for b in brdfs])
+        bad = ~np.isfinite(X).all(axis=1)
+        if bad.any():
+            raise ParameterError("brdfs", f"node {int(np.argmax(bad))} has undefined values (a class saw no incidence "
+                                 "or R = 0)", "finite normalised BRDFs: measure with more rays")
+        stderr = S if np.isfinite(S).all() else None
+        n, m = X.shape
+
+        # PCA (§3.2.2) by SVD of the centred node BRDFs, each value divided by its scale (see the
+        # module docstring): rows of vt are the principal directions in the scaled space.
+        mean = X.mean(axis=0)
+        scale = self._scale(mean, stderr)
+        G = (X - mean) / scale
+        _, s, vt = np.linalg.svd(G, full_matrices=False)
+        variance = s**2 / max(n - 1, 1)
+        total = variance.sum()
+        ratio = variance / total if total > 0 else np.r_[1.0, np.zeros(len(s) - 1)]
+        signal_ratio = None if stderr is None else _signal_variance_ratio(variance, stderr / scale)
+        rank = max(n - 1, 1)  # centred data have rank ≤ n − 1
+        if self.n_components is None:
+            chosen = ratio if signal_ratio is None else signal_ratio
+            k = int(np.searchsorted(np.cumsum(chosen), self.variance_threshold * (1 - 1e-12))) + 1
+            k = min(k, rank)
+        else:
+            k = int(self.n_components)
+            if k > rank:
+                raise ParameterError("n_components", k, f"<= n_nodes − 1 = {rank}")
+        directions = vt[:k]
+        scores = G @ directions.T  # f̃_i
+        components = directions * scale  # f = f̄ + f̃ (V_ℓ ⊙ scale): eq. 5 with the mean and the scale
+        recon = mean + scores @ components
+
+        self.mesh_ = mesh
+        self.stacks_, self.slices_ = next(iter(geometry))
+        wl = next(iter(wavelengths))
+        self.wavelength_nm_ = None if wl is None else float(wl)
+        self.n_components_ = k
+        self.mean_ = mean
+        self.components_ = components
+        self.explained_variance_ratio_ = ratio
+        self.signal_variance_ratio_ = signal_ratio
+        self.node_scores_ = scores
+        self.node_normal_reflectance_ = np.array([b.normal_reflectance for b in brdfs])
+        self.scale_ = scale
+        self.reconstruction_rms_ = float(np.sqrt(np.mean(((recon - X) / scale) ** 2)))
+        self.node_noise_rms_ = None if stderr is None else float(np.sqrt(np.mean((stderr / scale) ** 2)))
+        self.training_set_ = _plain(dict(training_set or {}))
+        self.holdout_scores_ = None
+        return self
+
+    # ---- prediction --------------------------------------------------------------------------
+    def _locate(self, samples, fixed: str):
+        if fixed not in FIXED_POLICIES:
+            raise ParameterError("fixed", fixed, f"one of {FIXED_POLICIES}")
+        from sandlight.sample import SandSample
+
+        many = samples if isinstance(samples, Sequence) and not isinstance(samples, str) and samples and \
+            isinstance(samples[0], (SandSample, Mapping)) else None
+        if isinstance(samples, (SandSample, Mapping)):
+            many = [samples]
+        if many is not None and fixed != "ignore":
+            for s in many:
+                diff = self.mesh_.differing_parameters(s)
+                if diff:
+                    text = ", ".join(f"{k} = {a!r} (base {b!r})" for k, a, b in ((k, *v) for k, v in diff.items()))
+                    message = (f"the spatial model's mesh varies only {', '.join(self.mesh_.parameters)}; this sample "
+                               f"differs from its base sample in {text}")
+                    if fixed == "error":
+                        name = next(iter(diff))
+                        raise ParameterError(name, diff[name][0], f"{diff[name][1]!r}, the value of the spatial model's "
+                                             f"base sample (pass fixed='warn' or 'ignore' to accept the approximation)")
+                    warnings.warn(message + ": its BRDF shape is taken at its mesh coordinates with the base's other "
+                                  "parameters", SpatialApproximationWarning, stacklevel=3)
+        x = self.mesh_.coordinates(samples)
+        idx, w = self.mesh_.locate(x)
+        return x, idx, w, many
+
+    def scores(self, samples, *, fixed: str = "warn") -> np.ndarray:
+        """Principal components f̃ = Σ α_i f̃_i of samples (paper eqs. 6–7).
+
+        Parameters
+        ----------
+        samples : SandSample, dict, sequence of them, or array_like (k, d)
+            Samples, or mesh coordinates in the order ``mesh_.parameters``.
+        fixed : {'warn', 'ignore', 'error'}
+            What to do when a sample differs from the mesh's base sample in a parameter the mesh
+            does not vary (`SpatialApproximationWarning`, nothing, or `ParameterError`).
+
+        Returns
+        -------
+        numpy.ndarray, shape (k, ℓ)
+
+        Raises
+        ------
+        ParameterError
+            A sample outside the mesh.
+        """
+        self._check_is_fitted()
+        _, idx, w, _ = self._locate(samples, fixed)
+        return np.einsum("kv,kvl->kl", w, self.node_scores_[idx])
+
+    def predict(self, samples, *, fixed: str = "warn") -> np.ndarray:
+        """Normalised BRDFs f = f̄ + s ⊙ V_ℓᵀ f̃ as unique values (paper eq. 5), shape (k, m), sr⁻¹.
+
+        Parameters are those of `scores`.
+        """
+        scores = self.scores(samples, fixed=fixed)
+        return self.mean_ + scores @ self.components_
+
+    def brdf(self, sample, *, fixed: str = "warn") -> SpatialBRDF:
+        """The predicted BRDF of one sample (or one point of mesh coordinates) as a `SpatialBRDF`."""
+        self._check_is_fitted()
+        x, idx, w, many = self._locate(sample, fixed)
+        if x.shape[0] != 1:
+            raise ParameterError("sample", f"{x.shape[0]} samples", "one sample (use predict for many)")
+        unique = self.mean_ + np.einsum("v,vl->l", w[0], self.node_scores_[idx[0]]) @ self.components_
+        unique.setflags(write=False)
+        sample_dict = {}
+        if many is not None:
+            s = many[0]
+            sample_dict = s.to_dict() if hasattr(s, "to_dict") else dict(s)
+        return SpatialBRDF(self.stacks_, self.slices_, unique, x[0], idx[0], w[0], sample_dict)
+
+    # ---- persistence -------------------------------------------------------------------------
+    def _metadata(self) -> dict:
+        return {"format": MODEL_FORMAT, "format_version": MODEL_FORMAT_VERSION,
+                "sandlight_version": _sandlight_version(), "params": self.get_params(),
+                "mesh": {"parameters": list(self.mesh_.parameters), "base": self.mesh_.base},
+                "stacks": self.stacks_, "slices": self.slices_, "wavelength_nm": self.wavelength_nm_,
+                "n_components": self.n_components_, "reconstruction_rms": self.reconstruction_rms_,
+                "node_noise_rms": self.node_noise_rms_, "training_set": self.training_set_,
+                "holdout_scores": self.holdout_scores_,
+                "units": {"mean": "sr-1", "components": "sr-1 per unit score", "scale": "sr-1 (relative, none) or as stderr",
+                          "node_coordinates":
+                          "units of the mesh parameters (SandSample)", "node_normal_reflectance": "1"}}
+
+    def save(self, path) -> Path:
+        """Write the model as plain arrays + JSON metadata in an ``.npz`` file (never pickle).
+
+        Written atomically (temporary file, then rename). Returns the path.
+        """
+        self._check_is_fitted()
+        path = Path(path)
+        arrays = {"mean": self.mean_, "components": self.components_, "scale": self.scale_,
+                  "explained_variance_ratio": self.explained_variance_ratio_,
+                  "node_coordinates": self.mesh_.nodes, "node_scores": self.node_scores_,
+                  "node_normal_reflectance": self.node_normal_reflectance_}
+        if self.signal_variance_ratio_ is not None:
+            arrays["signal_variance_ratio"] = self.signal_variance_ratio_
+        metadata = np.array(json.dumps(_plain(self._metadata()), sort_keys=True))
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+        try:
+            with open(tmp, "wb") as fh:
+                np.savez_compressed(fh, metadata=metadata, **arrays)
+            os.replace(tmp, path)
+        except BaseException:
+            tmp.unlink(missing_ok=True)
+            raise
+        return path
+
+    @classmethod
+    def load(cls, path) -> "SpatialModel":
+        """Read a model written by `save`.
+
+        Raises
+        ------
+        ModelFileError
+            The file is missing, truncated, corrupt, not a sandlight spatial model, of a newer
+            format version, or internally inconsistent.
+
+        Warns
+        -----
+        ModelVersionWarning
+            The file was written by another sandlight version.
+        """
+        path = Path(path)
+        if not path.is_file():
+            raise ModelFileError(f"spatial model file {path} does not exist")
+        try:
+            with np.load(path, allow_pickle=False) as npz:
+                if "metadata" not in npz.files:
+                    raise ModelFileError(f"{path} is not a sandlight spatial model (an .npz file without a metadata entry)")
+                # Reading every member in full makes zipfile check its CRC-32.
+                data = {name: npz[name] for name in npz.files}
+        except ModelFileError:
+            raise
+        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
+            raise ModelFileError(f"{path} is not a readable sandlight spatial model file (truncated, corrupt or "
+                                 f"another format): {exc}") from exc
+        try:
+            meta = json.loads(str(data["metadata"][()]))
+        except (ValueError, TypeError) as exc:
+            raise ModelFileError(f"{path}: the metadata entry is not valid JSON ({exc})") from exc
+        if not isinstance(meta, dict) or meta.get("format") != MODEL_FORMAT:
+            raise ModelFileError(f"{path} is not a sandlight spatial model (format "
+                                 f"{meta.get('format') if isinstance(meta, dict) else None!r})")
+        version = meta.get("format_version")
+        if not isinstance(version, int) or not 1 <= version <= MODEL_FORMAT_VERSION:
+            raise ModelFileError(f"{path} has spatial model format version {version!r}; this sandlight reads versions "
+                                 f"1..{MODEL_FORMAT_VERSION} (upgrade sandlight)")
+        try:
+            model = cls._from_parts(meta, data)
+        except (KeyError, TypeError, ValueError) as exc:  # ParameterError is a ValueError
+            raise ModelFileError(f"{path} is an incomplete or inconsistent spatial model file: {exc}") from exc
+        if meta.get("sandlight_version") != _sandlight_version():
+            warnings.warn(f"{path} was written by sandlight {meta.get('sandlight_version')}, this is sandlight "
+                          f"{_sandlight_version()}: predictions follow the engine that measured the model",
+                          ModelVersionWarning, stacklevel=2)
+        return model
+
+    @classmethod
+    def _from_parts(cls, meta: dict, data: dict) -> "SpatialModel":
+        missing = [a for a in _ARRAYS if a not in data]
+        if missing:
+            raise KeyError(f"missing arrays {missing}")
+        model = cls(**meta["params"])
+        model._validate_params()
+        stacks, slices = int(meta["stacks"]), int(meta["slices"])
+        m = EquivalenceClasses(CollectorHemisphere(stacks, slices)).n_classes
+        mesh = Mesh(tuple(meta["mesh"]["parameters"]), data["node_coordinates"], meta["mesh"]["base"])
+        n, d, k = mesh.n_nodes, mesh.dimension, int(meta["n_components"])
+        expected = {"mean": (m,), "components": (k, m), "scale": (m,), "node_coordinates": (n, d), "node_scores": (n, k),
+                    "node_normal_reflectance": (n,)}
+        for name, shape in expected.items():
+            if data[name].shape != shape:
+                raise ValueError(f"array {name!r} has shape {data[name].shape}, expected {shape}")
+        for name in (*_ARRAYS, "signal_variance_ratio"):
+            if name not in data:
+                continue
+            if data[name].dtype.kind != "f":
+                raise ValueError(f"array {name!r} has dtype {data[name].dtype}")
+            if not np.isfinite(data[name]).all():
+                raise ValueError(f"array {name!r} holds NaN or inf")
+        model.mesh_ = mesh
+        model.stacks_, model.slices_ = stacks, slices
+        wl = meta.get("wavelength_nm")
+        model.wavelength_nm_ = None if wl is None else float(wl)
+        model.n_components_ = k
+        model.mean_ = data["mean"]
+        model.components_ = data["components"]
+        model.scale_ = data["scale"]
+        model.explained_variance_ratio_ = data["explained_variance_ratio"]
+        model.signal_variance_ratio_ = data.get("signal_variance_ratio")
+        model.node_scores_ = data["node_scores"]
+        model.node_normal_reflectance_ = data["node_normal_reflectance"]
+        model.reconstruction_rms_ = meta.get("reconstruction_rms")
+        model.node_noise_rms_ = meta.get("node_noise_rms")
+        model.training_set_ = meta.get("training_set") or {}
+        model.holdout_scores_ = meta.get("holdout_scores")
+        return model
+
+
+def _signal_variance_ratio(variance: np.ndarray, stderr: np.ndarray) -> np.ndarray:
+    """Share of the noise-free variance along each principal direction.
+
+    With n node BRDFs of m ≫ n unique values each, independent noise of variances σ_j² does not
+    favour any direction of the (n − 1)-dimensional space the centred nodes span: each principal
+    direction picks up ≈ Σ_j σ_j² / (n − 1) of noise variance (the centred noise matrix E has
+    E Eᵀ ≈ Σ_j σ_j² (I − 11ᵀ/n) when m ≫ n). That floor is subtracted from every component's
+    variance (clamped at 0) before the shares are taken. σ_j² is the mean squared standard error
+    of value j over the nodes.
+    """
+    n = stderr.shape[0]
+    floor = float(np.sum(np.mean(stderr**2, axis=0))) / max(n - 1, 1)
+    signal = np.maximum(variance - floor, 0.0)
+    total = signal.sum()
+    if total <= 0:  # all variance is noise: nothing beyond the mean is resolved
+        return np.r_[1.0, np.zeros(len(variance) - 1)]
+    return signal / total
+
+
+# ---- the shipped model -------------------------------------------------------------------------
+def default_model_path() -> Path:
+    """Where the shipped default spatial model lives in the installed package."""
+    from importlib.resources import files
+
+    return Path(str(files("sandlight") / "data" / "models" / "spatial-beach.npz"))
+
+
+@functools.lru_cache(maxsize=1)
+def default_model() -> SpatialModel:
+    """The spatial model shipped with sandlight: 16 saturations 0–1 at the default mineralogy,
+    measured at 550 nm (loaded once, then cached).
+
+    Raises
+    ------
+    ModelFileError
+        The package has no default model (a source checkout before
+        ``scripts/train_default_spatial.py`` was run).
+    """
+    path = default_model_path()
+    if not path.is_file():
+        raise ModelFileError(f"the default spatial model is not installed (expected at {path}); train it with "
+                             f"scripts/train_default_spatial.py, or pass a model file")
+    return SpatialModel.load(path)
+
