@@ -206,10 +206,9 @@ def main(argv=None) -> int:
         plot_holdout(model, run.holdout.dataset_path, args.method, args.figure)
         print(f"wrote {args.figure}")
     if not args.no_install:
-        PACKAGE_MODEL.parent.mkdir(parents=True, exist_ok=True)
-        tmp = PACKAGE_MODEL.with_name(f".{PACKAGE_MODEL.name}.tmp-{os.getpid()}")
-        shutil.copyfile(run.model_path, tmp)
-        os.replace(tmp, PACKAGE_MODEL)
+        from sandlight.io import write_atomically
+
+        write_atomically(PACKAGE_MODEL, lambda tmp: shutil.copyfile(run.model_path, tmp))
         print(f"installed {PACKAGE_MODEL} ({PACKAGE_MODEL.stat().st_size / 1e6:.2f} MB)")
     return 0
 

@@ -127,10 +127,9 @@ def main(argv=None) -> int:
           f"{mc_equal_s / single_s:.3g}×")
 
     if not args.no_install:
-        PACKAGE_MODEL.parent.mkdir(parents=True, exist_ok=True)
-        tmp = PACKAGE_MODEL.with_name(f".{PACKAGE_MODEL.name}.tmp-{os.getpid()}")
-        shutil.copyfile(run.model_path, tmp)
-        os.replace(tmp, PACKAGE_MODEL)
+        from sandlight.io import write_atomically
+
+        write_atomically(PACKAGE_MODEL, lambda tmp: shutil.copyfile(run.model_path, tmp))
         SpectralModel.load(PACKAGE_MODEL)  # the installed file reads back
         print(f"\ninstalled {PACKAGE_MODEL}")
     return 0

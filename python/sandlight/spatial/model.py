@@ -47,7 +47,6 @@ from __future__ import annotations
 
 import functools
 import json
-import os
 import warnings
 import zipfile
 from dataclasses import dataclass, field
@@ -62,6 +61,7 @@ from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.symmetry import EquivalenceClasses
 from sandlight.predictor.spectral import ModelVersionWarning, _plain
 from sandlight.spatial.mesh import Mesh
+from sandlight.io import atomic_path
 
 __all__ = ["SpatialModel", "SpatialBRDF", "SpatialApproximationWarning", "default_model", "default_model_path",
            "MODEL_FORMAT", "MODEL_FORMAT_VERSION"]
@@ -424,15 +424,9 @@ class SpatialModel:
         if self.signal_variance_ratio_ is not None:
             arrays["signal_variance_ratio"] = self.signal_variance_ratio_
         metadata = np.array(json.dumps(_plain(self._metadata()), sort_keys=True))
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
-        try:
+        with atomic_path(path) as tmp:
             with open(tmp, "wb") as fh:
                 np.savez_compressed(fh, metadata=metadata, **arrays)
-            os.replace(tmp, path)
-        except BaseException:
-            tmp.unlink(missing_ok=True)
-            raise
         return path
 
     @classmethod

@@ -41,7 +41,7 @@ from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import REDUCTION_METHODS
 from sandlight.gonio.symmetry import EquivalenceClasses
 from sandlight.jobs import DaskExecutor, Executor, InProcessExecutor, Job, JobStatus, LocalExecutor, derive_seed
-from sandlight.jobs.store import atomic_write
+from sandlight.io import write_atomically
 from sandlight.spatial.mesh import Mesh
 from sandlight.spatial.model import SpatialModel
 
@@ -464,5 +464,5 @@ def train_spatial(out_dir, mesh: Mesh, rays: int, wavelength_nm: float = 550.0, 
     fit_s = time.perf_counter() - start
     model_path = model.save(out / "spatial-model.npz")
     text = json.dumps([r.to_dict() for r in reports], indent=1) + "\n"
-    atomic_write(out / "holdout-report.json", lambda tmp: tmp.write_text(text, encoding="utf-8"))
+    write_atomically(out / "holdout-report.json", lambda tmp: tmp.write_text(text, encoding="utf-8"))
     return TrainingRun(model, reports, model_path, statuses[0], holdout_status, measurement_s, fit_s)
