@@ -57,3 +57,53 @@ def write_atomically(path, write: Callable[[Path], object], *, make_dirs: bool =
     with atomic_path(path, make_dirs=make_dirs) as tmp:
         write(tmp)
     return Path(path)
+
+
+def read_model_npz(path, *, kind: str, format_name: str, max_version: int) -> tuple[dict, dict]:
+    """Reads a trained model stored as plain arrays plus a JSON ``metadata`` entry (never pickle).
+
+    Every member is read in full, so zipfile checks its CRC-32 and a flipped bit anywhere is
+    caught. ``kind`` (e.g. "spectral model") names the file in messages.
+
+    Returns
+    -------
+    (metadata, arrays) : tuple of dict
+
+    Raises
+    ------
+    sandlight.errors.ModelFileError
+        The file is missing, truncated, corrupt, not a sandlight ``kind`` (format name) or of a
+        format version outside 1 .. ``max_version``.
+    """
+    import json
+    import zipfile
+
+    import numpy as np
+
+    from sandlight.errors import ModelFileError
+
+    path = Path(path)
+    if not path.is_file():
+        raise ModelFileError(f"{kind} file {path} does not exist")
+    try:
+        with np.load(path, allow_pickle=False) as npz:
+            if "metadata" not in npz.files:
+                raise ModelFileError(f"{path} is not a sandlight {kind} (an .npz file without a metadata entry)")
+            data = {name: npz[name] for name in npz.files}
+    except ModelFileError:
+        raise
+    except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
+        raise ModelFileError(f"{path} is not a readable sandlight {kind} file (truncated, corrupt or another "
+                             f"format): {exc}") from exc
+    try:
+        meta = json.loads(str(data["metadata"][()]))
+    except (ValueError, TypeError) as exc:
+        raise ModelFileError(f"{path}: the metadata entry is not valid JSON ({exc})") from exc
+    if not isinstance(meta, dict) or meta.get("format") != format_name:
+        raise ModelFileError(f"{path} is not a sandlight {kind} (format "
+                             f"{meta.get('format') if isinstance(meta, dict) else None!r})")
+    version = meta.get("format_version")
+    if not isinstance(version, int) or not 1 <= version <= max_version:
+        raise ModelFileError(f"{path} has {kind} format version {version!r}; this sandlight reads versions "
+                             f"1..{max_version} (upgrade sandlight)")
+    return meta, data

@@ -37,7 +37,6 @@ import inspect
 import json
 import math
 import warnings
-import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Mapping, Sequence
@@ -46,7 +45,7 @@ import numpy as np
 
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
-from sandlight.io import atomic_path
+from sandlight.io import atomic_path, read_model_npz
 
 MODEL_FORMAT = "sandlight-spectral-model"
 MODEL_FORMAT_VERSION = 1
@@ -581,32 +580,7 @@ class SpectralModel:
             The file was written by another sandlight version.
         """
         path = Path(path)
-        if not path.is_file():
-            raise ModelFileError(f"spectral model file {path} does not exist")
-        try:
-            with np.load(path, allow_pickle=False) as npz:
-                if "metadata" not in npz.files:
-                    raise ModelFileError(f"{path} is not a sandlight spectral model (an .npz "
-                                         f"file without a metadata entry)")
-                # Reading every member in full makes zipfile check its CRC-32: a flipped bit
-                # anywhere raises here.
-                data = {name: npz[name] for name in npz.files}
-        except ModelFileError:
-            raise
-        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
-            raise ModelFileError(f"{path} is not a readable sandlight spectral model file "
-                                 f"(truncated, corrupt or another format): {exc}") from exc
-        try:
-            meta = json.loads(str(data["metadata"][()]))
-        except (ValueError, TypeError) as exc:
-            raise ModelFileError(f"{path}: the metadata entry is not valid JSON ({exc})") from exc
-        if not isinstance(meta, dict) or meta.get("format") != MODEL_FORMAT:
-            raise ModelFileError(f"{path} is not a sandlight spectral model (format "
-                                 f"{meta.get('format') if isinstance(meta, dict) else None!r})")
-        version = meta.get("format_version")
-        if not isinstance(version, int) or version > MODEL_FORMAT_VERSION or version < 1:
-            raise ModelFileError(f"{path} has model format version {version!r}; this sandlight "
-                                 f"reads versions 1..{MODEL_FORMAT_VERSION} (upgrade sandlight)")
+        meta, data = read_model_npz(path, kind="spectral model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION)
         try:
             model = cls._from_parts(meta, data)
         except (KeyError, TypeError, ValueError) as exc:

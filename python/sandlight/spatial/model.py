@@ -48,7 +48,6 @@ from __future__ import annotations
 import functools
 import json
 import warnings
-import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Mapping, Sequence
@@ -61,7 +60,7 @@ from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.symmetry import EquivalenceClasses
 from sandlight.predictor.spectral import ModelVersionWarning, _plain
 from sandlight.spatial.mesh import Mesh
-from sandlight.io import atomic_path
+from sandlight.io import atomic_path, read_model_npz
 
 __all__ = ["SpatialModel", "SpatialBRDF", "SpatialApproximationWarning", "default_model", "default_model_path",
            "MODEL_FORMAT", "MODEL_FORMAT_VERSION"]
@@ -445,30 +444,7 @@ class SpatialModel:
             The file was written by another sandlight version.
         """
         path = Path(path)
-        if not path.is_file():
-            raise ModelFileError(f"spatial model file {path} does not exist")
-        try:
-            with np.load(path, allow_pickle=False) as npz:
-                if "metadata" not in npz.files:
-                    raise ModelFileError(f"{path} is not a sandlight spatial model (an .npz file without a metadata entry)")
-                # Reading every member in full makes zipfile check its CRC-32.
-                data = {name: npz[name] for name in npz.files}
-        except ModelFileError:
-            raise
-        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
-            raise ModelFileError(f"{path} is not a readable sandlight spatial model file (truncated, corrupt or "
-                                 f"another format): {exc}") from exc
-        try:
-            meta = json.loads(str(data["metadata"][()]))
-        except (ValueError, TypeError) as exc:
-            raise ModelFileError(f"{path}: the metadata entry is not valid JSON ({exc})") from exc
-        if not isinstance(meta, dict) or meta.get("format") != MODEL_FORMAT:
-            raise ModelFileError(f"{path} is not a sandlight spatial model (format "
-                                 f"{meta.get('format') if isinstance(meta, dict) else None!r})")
-        version = meta.get("format_version")
-        if not isinstance(version, int) or not 1 <= version <= MODEL_FORMAT_VERSION:
-            raise ModelFileError(f"{path} has spatial model format version {version!r}; this sandlight reads versions "
-                                 f"1..{MODEL_FORMAT_VERSION} (upgrade sandlight)")
+        meta, data = read_model_npz(path, kind="spatial model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION)
         try:
             model = cls._from_parts(meta, data)
         except (KeyError, TypeError, ValueError) as exc:  # ParameterError is a ValueError
