@@ -200,3 +200,19 @@ class TestInvalidInputs:
         with pytest.raises(ParameterError) as info:
             sky.radiance([0.0, 0.0, 1.0], [500.0, 900.0])
         assert info.value.name == "wavelengths_nm" and info.value.value == 900.0
+
+
+def test_radiance_is_never_negative_with_a_low_sun():
+    # Near a sun a few degrees up, the daylight basis would dip below zero in the violet.
+    import numpy as np
+
+    from sandlight.sky import PreethamSky
+
+    elev = np.radians(4.7)
+    sky = PreethamSky(3.0, [np.cos(elev), 0.0, np.sin(elev)])
+    theta = np.radians(np.linspace(0, 89, 40))
+    phi = np.radians(np.linspace(-30, 30, 31))
+    t, p = np.meshgrid(theta, phi)
+    dirs = np.stack([np.sin(t) * np.cos(p), np.sin(t) * np.sin(p), np.cos(t)], axis=-1)
+    radiance = sky.radiance(dirs, np.arange(380.0, 781.0, 10.0))
+    assert np.all(np.isfinite(radiance)) and radiance.min() >= 0.0 and radiance.max() > 0.0

@@ -76,19 +76,13 @@ class Lighting:
     @classmethod
     def preetham(cls, turbidity: float, sun_direction, wavelength_nm, *,
                  resolution: tuple[int, int] = DEFAULT_SKY_RESOLUTION) -> Lighting:
-        """Preetham et al. (1999) sky and sun for a turbidity and a sun direction (above the horizon).
-
-        Negative spectral radiances are set to 0: with a low sun the model's chromaticity near
-        the horizon lies far from the daylight locus, and the CIE daylight basis S0 + M1 S1 + M2 S2
-        then dips below zero in the violet (e.g. −0.09 W m⁻² sr⁻¹ nm⁻¹ at 400 nm, sun 4.7° up,
-        T = 3, next to the sun, where the maximum is 0.41).
-        """
+        """Preetham et al. (1999) sky and sun for a turbidity and a sun direction (above the horizon)."""
         from sandlight.sky import PreethamSky
 
         n_theta, n_phi = _resolution(resolution)
         sky = PreethamSky(turbidity, sun_direction)
         wl = np.atleast_1d(np.asarray(wavelength_nm, dtype=float))
-        radiance = np.maximum(sky.radiance(sky_grid_directions(n_theta, n_phi), wl), 0.0)
+        radiance = sky.radiance(sky_grid_directions(n_theta, n_phi), wl)
         return cls(wl, radiance, sky.sun_direction, sky.sun_radiance(wl), sky.sun_solid_angle)
 
     @classmethod

@@ -354,7 +354,14 @@ class PreethamSky:
         Returns
         -------
         numpy.ndarray
-            W m⁻² sr⁻¹ nm⁻¹, shape ``directions.shape[:-1] + wavelengths.shape``.
+            W m⁻² sr⁻¹ nm⁻¹, shape ``directions.shape[:-1] + wavelengths.shape``, ≥ 0.
+
+        Notes
+        -----
+        With a low sun the model's chromaticity near the horizon lies far from the daylight
+        locus, and the CIE daylight basis S0 + M1·S1 + M2·S2 then dips below zero in the violet
+        (e.g. −0.09 W m⁻² sr⁻¹ nm⁻¹ at 400 nm next to a sun 4.7° up, T = 3, where the maximum is
+        0.41). A negative radiance is unphysical, so those values are set to 0.
         """
         wavelengths = real_array("wavelengths_nm", wavelengths_nm, *SKY_WAVELENGTH_RANGE_NM)
         if wavelengths.ndim > 1:
@@ -369,7 +376,7 @@ class PreethamSky:
                  / (y_integrals[0] + m1 * y_integrals[1] + m2 * y_integrals[2]))
         if wavelengths.ndim == 1:
             scale, m1, m2 = (v[..., np.newaxis] for v in (scale, m1, m2))
-        return scale * (s0 + m1 * s1 + m2 * s2)
+        return np.maximum(scale * (s0 + m1 * s1 + m2 * s2), 0.0)
 
     # --- sun -----------------------------------------------------------------------------------
 
