@@ -31,22 +31,11 @@ import platform
 import time
 
 import sandlight
+from sandlight.machine import cpu_model
 
 WAVELENGTH_NM = 550.0
 PROJECTED_RAYS = 1e8
 SAMPLES = ("default", "red-dune", "ottawa-quartz", "wet-beach")
-
-
-def cpu_model() -> str:
-    """The CPU model name from /proc/cpuinfo (Linux), else ``platform.processor()``."""
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as f:
-            for line in f:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or "unknown"
 
 
 def load_average() -> str:

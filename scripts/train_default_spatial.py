@@ -21,7 +21,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import shutil
 import sys
 import time
@@ -65,16 +64,6 @@ def parse_args(argv=None):
     p.add_argument("--figure", type=Path, default=ROOT / "docs" / "img" / "spatial-holdout.png",
                    help="principal-plane plot of the held-out prediction against the measurement ('' for none)")
     return p.parse_args(argv)
-
-
-def machine() -> str:
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as fh:
-            cpu = next(line.split(":", 1)[1].strip() for line in fh if "model name" in line)
-    except (OSError, StopIteration):
-        pass
-    return f"{cpu}, {os.cpu_count()} CPUs, Python {platform.python_version()}"
 
 
 def leave_one_out(nodes_dataset, mesh, method: str) -> dict:
@@ -153,13 +142,14 @@ def main(argv=None) -> int:
     import sandlight
     from sandlight.errors import Cancelled
     from sandlight.jobs import make_executor
+    from sandlight.machine import describe as describe_machine
     from sandlight.spatial import Mesh, train_spatial
 
     mesh = Mesh.beach(args.nodes)
     pooled = any(v is not None for v in (args.workers, args.dask_local, args.scheduler))
     executor = make_executor(args.workers, args.dask_local, args.scheduler) if pooled else make_executor(workers=1)
     threads = args.threads or (1 if pooled else os.cpu_count() or 1)
-    print(f"sandlight {sandlight.__version__} on {machine()}")
+    print(f"sandlight {sandlight.__version__} on {describe_machine()}")
     print(f"mesh: {mesh}; base: default SandSample(); {args.wavelength:g} nm; 31 x 30 patches; "
           f"{args.rays:,} trials per node; held-out saturation {args.holdout:g} with {args.holdout_rays:,} trials; "
           f"reduction {args.method}; {threads} engine thread(s) per node")
@@ -179,7 +169,7 @@ def main(argv=None) -> int:
         return 1
     model = run.model
     model.training_set_["measurement_wall_s_last_run"] = round(run.measurement_s, 1)
-    model.training_set_["machine"] = machine()
+    model.training_set_["machine"] = describe_machine()
     model.save(run.model_path)
     ratio, signal = model.explained_variance_ratio_, model.signal_variance_ratio_
     ell = model.n_components_

@@ -18,8 +18,6 @@ prediction over Monte Carlo at equal accuracy.
 from __future__ import annotations
 
 import argparse
-import os
-import platform
 import shutil
 import sys
 import time
@@ -49,17 +47,6 @@ def parse_args(argv=None):
     return p.parse_args(argv)
 
 
-def machine() -> str:
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo") as fh:
-            cpu = next(line.split(":", 1)[1].strip() for line in fh if "model name" in line)
-    except (OSError, StopIteration):
-        pass
-    return f"{cpu}, {os.cpu_count()} CPUs, {platform.system()} {platform.release()}, " \
-           f"Python {platform.python_version()}"
-
-
 def time_per_call(fn, repeat: int) -> float:
     best = float("inf")
     for _ in range(3):
@@ -77,10 +64,11 @@ def main(argv=None) -> int:
     import sandlight
     from sandlight.jobs import make_executor
     from sandlight.predictor import Domain, SpectralModel, train_spectral
+    from sandlight.machine import describe as describe_machine
     from sandlight.predictor.training import engine_simulate, wavelength_grid
 
     executor = make_executor(args.workers, args.dask_local, args.scheduler)
-    print(f"sandlight {sandlight.__version__}; machine: {machine()}")
+    print(f"sandlight {sandlight.__version__}; machine: {describe_machine()}")
     print(f"training {args.samples} samples + {args.holdout} hold-out, {args.rays} rays, "
           f"wavelengths {args.wavelengths} nm, seed {args.seed}, executor "
           f"{executor.describe()}, work dir {args.work_dir}")

@@ -67,7 +67,13 @@ def test_ctrl_c_stops_a_long_run_cleanly(tmp_path):
                             env={**os.environ, "COLUMNS": "200"},
                             # A shell's background job inherits SIGINT ignored; give the child the default.
                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
-    time.sleep(5.0)  # past start-up, inside the Monte Carlo run
+    # Interrupt once the run has started (start-up time varies with the machine's load).
+    deadline = time.monotonic() + 120
+    line = b""
+    while b"tracing" not in line and time.monotonic() < deadline:
+        line = proc.stdout.readline()
+    assert b"tracing" in line, "the run never started"
+    time.sleep(1.0)
     proc.send_signal(signal.SIGINT)
     try:
         _, err = proc.communicate(timeout=30)

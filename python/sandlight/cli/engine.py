@@ -39,8 +39,9 @@ def reflectance(
 
     with user_errors():
         sample = load_sample(sample_file, preset)
-        result = run(sample, parse_range(wavelengths, "--wavelengths"), rays=parse_count(rays, "--rays"),
-                     incidence_deg=incidence, seed=seed, threads=threads)
+        wl, n = parse_range(wavelengths, "--wavelengths"), parse_count(rays, "--rays")
+        console.print(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
+        result = run(sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads)
         _report(result, output, plot, title=str(sample_file or preset or "red-dune"))
 
 
