@@ -59,6 +59,23 @@ def write_atomically(path, write: Callable[[Path], object], *, make_dirs: bool =
     return Path(path)
 
 
+def write_model_npz(path, metadata: dict, arrays: dict, *, compressed: bool = False) -> Path:
+    """Writes a trained model as plain arrays plus a JSON ``metadata`` entry (never pickle),
+    atomically; :func:`read_model_npz` reads it back."""
+    import json
+
+    import numpy as np
+
+    meta = np.array(json.dumps(metadata, sort_keys=True))
+    save = np.savez_compressed if compressed else np.savez
+
+    def write(tmp):
+        with open(tmp, "wb") as fh:
+            save(fh, metadata=meta, **arrays)
+
+    return write_atomically(path, write)
+
+
 def read_model_npz(path, *, kind: str, format_name: str, max_version: int) -> tuple[dict, dict]:
     """Reads a trained model stored as plain arrays plus a JSON ``metadata`` entry (never pickle).
 

@@ -298,3 +298,16 @@ def make_executor(workers: int | None = None, dask_local: int | None = None,
     if workers is not None and int(workers) == 1:
         return InProcessExecutor()
     return LocalExecutor(workers)
+
+
+def resolve_executor(executor) -> Executor:
+    """An Executor as given, or one named ``"local"`` (default, also for None), ``"in-process"``
+    or ``"dask"``."""
+    if isinstance(executor, Executor):
+        return executor
+    choices = {"local": LocalExecutor, "in-process": InProcessExecutor, "dask": DaskExecutor}
+    if executor is None:
+        return LocalExecutor()
+    if executor not in choices:
+        raise ParameterError("executor", executor, f"an Executor or one of {sorted(choices)}")
+    return choices[executor]()

@@ -45,7 +45,7 @@ import numpy as np
 
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
-from sandlight.io import atomic_path, read_model_npz
+from sandlight.io import read_model_npz, write_model_npz
 
 MODEL_FORMAT = "sandlight-spectral-model"
 MODEL_FORMAT_VERSION = 1
@@ -558,11 +558,7 @@ class SpectralModel:
                   "explained_variance_ratio": self.explained_variance_ratio_,
                   "scale_center": self.scale_center_, "scale_halfwidth": self.scale_halfwidth_,
                   "powers": self.powers_, "W": self.W_}
-        metadata = np.array(json.dumps(_plain(self._metadata()), sort_keys=True))
-        with atomic_path(path) as tmp:
-            with open(tmp, "wb") as fh:
-                np.savez(fh, metadata=metadata, **arrays)
-        return path
+        return write_model_npz(path, _plain(self._metadata()), arrays)
 
     @classmethod
     def load(cls, path) -> "SpectralModel":

@@ -35,8 +35,8 @@ from pathlib import Path
 import numpy as np
 
 from sandlight.errors import ParameterError
-from sandlight.jobs import (DaskExecutor, Executor, InProcessExecutor, Job, JobStatus,
-                            LocalExecutor, derive_seed)
+from sandlight.jobs import Job, JobStatus, derive_seed
+from sandlight.jobs.executors import resolve_executor
 from sandlight.io import write_atomically
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
 from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
@@ -131,17 +131,6 @@ def _check_domain_against_sample(domain: Domain) -> None:
     domain.check_covers(PARAMETERS)
 
 
-def _executor(executor) -> Executor:
-    if isinstance(executor, Executor):
-        return executor
-    choices = {"local": LocalExecutor, "in-process": InProcessExecutor, "dask": DaskExecutor}
-    if executor is None:
-        return LocalExecutor()
-    if executor not in choices:
-        raise ParameterError("executor", executor, f"an Executor or one of {sorted(choices)}")
-    return choices[executor]()
-
-
 def training_job(path, n_samples: int, wavelengths_nm, rays: int, seed: int, *,
                  domain: Domain | None = None, design: str = "lhs", simulate=None) -> Job:
     """The job behind :func:`generate_training_set` (same arguments), without running it."""
@@ -220,7 +209,7 @@ def generate_training_set(path, n_samples: int, wavelengths_nm, rays: int, seed:
     """
     job = training_job(path, n_samples, wavelengths_nm, rays, seed, domain=domain,
                        design=design, simulate=simulate)
-    return job.run(_executor(executor), max_tasks=max_tasks, max_retries=max_retries,
+    return job.run(resolve_executor(executor), max_tasks=max_tasks, max_retries=max_retries,
                    progress=progress, description=f"{Path(path).name}", unit="sample")
 
 
@@ -320,7 +309,7 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
                                  derive_seed(seed, "holdout"), domain=domain, design="random",
                                  simulate=simulate))
     start = time.perf_counter()
-    executor = _executor(executor) if not fit_only else None
+    executor = resolve_executor(executor) if not fit_only else None
     statuses = [job.status() if fit_only else job.run(
         executor, max_tasks=max_tasks, progress=progress, description=job.path.name,
         unit="sample") for job in jobs]

@@ -46,7 +46,6 @@ default_model, default_model_path
 from __future__ import annotations
 
 import functools
-import json
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -60,7 +59,7 @@ from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.symmetry import EquivalenceClasses
 from sandlight.predictor.spectral import ModelVersionWarning, _plain
 from sandlight.spatial.mesh import Mesh
-from sandlight.io import atomic_path, read_model_npz
+from sandlight.io import read_model_npz, write_model_npz
 
 __all__ = ["SpatialModel", "SpatialBRDF", "SpatialApproximationWarning", "default_model", "default_model_path",
            "MODEL_FORMAT", "MODEL_FORMAT_VERSION"]
@@ -111,11 +110,12 @@ class SpatialBRDF:
     weights: np.ndarray
     sample: dict = field(default_factory=dict)
 
-    @property
+    # Built once per object: the classes take ~0.1 s at 901 patches and every array property uses them.
+    @functools.cached_property
     def hemisphere(self) -> CollectorHemisphere:
         return CollectorHemisphere(self.stacks, self.slices)
 
-    @property
+    @functools.cached_property
     def classes(self) -> EquivalenceClasses:
         return EquivalenceClasses(self.hemisphere)
 
@@ -422,11 +422,7 @@ class SpatialModel:
                   "node_normal_reflectance": self.node_normal_reflectance_}
         if self.signal_variance_ratio_ is not None:
             arrays["signal_variance_ratio"] = self.signal_variance_ratio_
-        metadata = np.array(json.dumps(_plain(self._metadata()), sort_keys=True))
-        with atomic_path(path) as tmp:
-            with open(tmp, "wb") as fh:
-                np.savez_compressed(fh, metadata=metadata, **arrays)
-        return path
+        return write_model_npz(path, _plain(self._metadata()), arrays, compressed=True)
 
     @classmethod
     def load(cls, path) -> "SpatialModel":

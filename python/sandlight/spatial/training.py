@@ -40,7 +40,8 @@ from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import REDUCTION_METHODS
 from sandlight.gonio.symmetry import EquivalenceClasses
-from sandlight.jobs import DaskExecutor, Executor, InProcessExecutor, Job, JobStatus, LocalExecutor, derive_seed
+from sandlight.jobs import Job, JobStatus, derive_seed
+from sandlight.jobs.executors import resolve_executor
 from sandlight.io import write_atomically
 from sandlight.spatial.mesh import Mesh
 from sandlight.spatial.model import SpatialModel
@@ -170,17 +171,6 @@ def node_job(path, mesh_or_samples, wavelength_nm: float, rays: int, seed: int, 
                var_attrs=var_attrs, attrs=attrs, task_dim="node")
 
 
-def _executor(executor) -> Executor:
-    if isinstance(executor, Executor):
-        return executor
-    choices = {"local": LocalExecutor, "in-process": InProcessExecutor, "dask": DaskExecutor}
-    if executor is None:
-        return LocalExecutor()
-    if executor not in choices:
-        raise ParameterError("executor", executor, f"an Executor or one of {sorted(choices)}")
-    return choices[executor]()
-
-
 def measure_nodes(path, mesh: Mesh, wavelength_nm: float, rays: int, seed: int, executor=None, *,
                   progress: bool = True, max_tasks: int | None = None, **job_options) -> JobStatus:
     """Measure every node of ``mesh`` (resumable: the same call continues an interrupted run).
@@ -190,7 +180,7 @@ def measure_nodes(path, mesh: Mesh, wavelength_nm: float, rays: int, seed: int, 
     dataset once complete.
     """
     job = node_job(path, mesh, wavelength_nm, rays, seed, **job_options)
-    return job.run(_executor(executor), max_tasks=max_tasks, progress=progress, description=Path(path).name,
+    return job.run(resolve_executor(executor), max_tasks=max_tasks, progress=progress, description=Path(path).name,
                    unit="node")
 
 
@@ -438,7 +428,7 @@ def train_spatial(out_dir, mesh: Mesh, rays: int, wavelength_nm: float = 550.0, 
     if fit_only:
         statuses = [job.status() for job in jobs]
     else:
-        ex = _executor(executor)
+        ex = resolve_executor(executor)
         statuses = [job.run(ex, max_tasks=max_tasks, progress=progress, description=job.path.name, unit="node")
                     for job in jobs]
     measurement_s = time.perf_counter() - start
