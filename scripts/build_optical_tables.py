@@ -209,7 +209,7 @@ def build_quartz(src: Path) -> Table:
 
 
 # --------------------------------------------------------------------------------------------
-# Hematite and magnetite (Querry 1985)
+# Hematite (Querry 1985, Longtin 1988) and magnetite (Querry 1985)
 # --------------------------------------------------------------------------------------------
 
 QUERRY_1985 = ("M. R. Querry, Optical constants, Contractor Report CRDC-CR-85034, US Army "
@@ -217,34 +217,70 @@ QUERRY_1985 = ("M. R. Querry, Optical constants, Contractor Report CRDC-CR-85034
                "https://apps.dtic.mil/sti/citations/ADA158623")
 
 
+LONGTIN_1988 = ("D. R. Longtin, E. P. Shettle, J. R. Hummel, J. D. Pryce, A wind dependent desert "
+                "aerosol model: radiative properties, Air Force Geophysics Laboratory report "
+                "AFGL-TR-88-0112 (1988)")
+ARIA_ORIGIN = ("ARIA (Aerosol Refractive Index Archive, University of Oxford EODG) as bundled in the "
+               "PyPI package srfm, GitHub eodg-oxford/srfm, commit "
+               "f8841cd3e64675c45448590892b3d15980c51f2d, src/srfm/data/ARIA/")
+# Where the hematite table switches source: Querry's k up to the end of the charge-transfer
+# region, where Querry and Triaud agree within 20 %; Longtin's from its first point beyond the
+# absorption edge; between the two, k is log-linear (one straight line in log k).
+HEMATITE_QUERRY_UNTIL_NM = 550.0
+HEMATITE_LONGTIN_FROM_NM = 633.0
+
+
+def orientation_average(w_o, v_o, w_e, v_e, grid, log: bool):
+    """(2 o + e)/3 on `grid`: for weak absorption the mean absorption coefficient of unpolarised
+    light over random orientations is (2 alpha_o + alpha_e)/3; n is averaged the same way."""
+    if not log:
+        return (2.0 * interp_linear(grid, w_o, v_o) + interp_linear(grid, w_e, v_e)) / 3.0
+    # Querry's far-infrared rows (beyond 47 um) have k < 0; they are far outside any grid here.
+    o, e = v_o > 0, v_e > 0
+    return (2.0 * interp_loglinear(grid, w_o[o], v_o[o]) + interp_loglinear(grid, w_e[e], v_e[e])) / 3.0
+
+
 def build_hematite(src: Path) -> Table:
     csv = src / "csv"
     w_o, n_o, k_o = read_source_csv(csv / "hematite_Fe2O3_Querry1985_o.csv")
     w_e, n_e, k_e = read_source_csv(csv / "hematite_Fe2O3_Querry1985_e.csv")
-    keep = bracket(w_o)
-    grid = w_o[keep]
-    # The e-ray table has no 1930 nm row (it lists 1950 nm twice); interpolating it onto the
-    # o-ray wavelengths fills that one point and is the identity everywhere else.
-    n_e_grid = interp_linear(grid, w_e, n_e)
-    k_e_grid = interp_loglinear(grid, w_e, k_e)
-    # Orientation average (2 o + e)/3 of n and of k: for weak absorption the mean absorption
-    # coefficient of unpolarised light over random orientations is (2 alpha_o + alpha_e)/3.
-    n = (2.0 * n_o[keep] + n_e_grid) / 3.0
-    k = (2.0 * k_o[keep] + k_e_grid) / 3.0
+    w_lo, _, k_lo = read_source_csv(csv / "hematite_O_Longtin_1988.csv")
+    w_le, _, k_le = read_source_csv(csv / "hematite_E_Longtin_1988.csv")
+    grid = w_o[bracket(w_o)]
+    # The Querry e-ray table has no 1930 nm row (it lists 1950 nm twice); interpolating it onto
+    # the o-ray wavelengths fills that one point and is the identity everywhere else.
+    n = orientation_average(w_o, n_o, w_e, n_e, grid, log=False)
+    k_querry = orientation_average(w_o, k_o, w_e, k_e, grid, log=True)
+    k_longtin = orientation_average(w_lo, k_lo, w_le, k_le, np.clip(grid, w_lo[0], None), log=True)
+    # Querry's k beyond the edge (0.02-0.04 in the near-infrared) comes from the reflectance of
+    # pressed pellets, where scattering losses read as absorption; the hematite grain-size
+    # series (GDS69) and the transparency of hematite powders beyond 1000 nm say it is 20-3000
+    # times too high (docs/optical-constants.md). Longtin's k is used there instead.
+    k_a = orientation_average(w_o, k_o, w_e, k_e, np.array([HEMATITE_QUERRY_UNTIL_NM]), log=True)[0]
+    k_b = orientation_average(w_lo, k_lo, w_le, k_le, np.array([HEMATITE_LONGTIN_FROM_NM]), log=True)[0]
+    t = (grid - HEMATITE_QUERRY_UNTIL_NM) / (HEMATITE_LONGTIN_FROM_NM - HEMATITE_QUERRY_UNTIL_NM)
+    k_edge = k_a * (k_b / k_a) ** np.clip(t, 0.0, 1.0)
+    k = np.where(grid <= HEMATITE_QUERRY_UNTIL_NM, k_querry,
+                 np.where(grid >= HEMATITE_LONGTIN_FROM_NM, k_longtin, k_edge))
     header = [
         ("material", "hematite"),
         ("description", "alpha-Fe2O3 (uniaxial), randomly oriented grains"),
-        ("status", "measured"),
-        ("source", QUERRY_1985 + " [hematite, ordinary and extraordinary rays]"),
+        ("status", "measured (two sources joined across the absorption edge)"),
+        ("source", QUERRY_1985 + " [hematite, ordinary and extraordinary rays: n at all "
+                   "wavelengths, k up to 550 nm]"),
+        ("source", LONGTIN_1988 + " [hematite, ordinary and extraordinary rays: k from 633 nm]"),
         ("origin", RII_ORIGIN + "main/Fe2O3/nk/Querry-o.yml, Querry-e.yml"),
-        ("licence", RII_LICENCE),
+        ("origin", ARIA_ORIGIN + "Minerals/Hematite/o-ray_(Longtin_et_al._1988), "
+                   "e-ray_(Longtin_et_al._1988)"),
+        ("licence", RII_LICENCE + " for Querry; MIT (srfm package, which bundles ARIA) for "
+                    "Longtin"),
         ("units", UNITS),
-        ("sampling", "source points, 10 nm, 350-2500 nm"),
+        ("sampling", "Querry's source points, 10 nm, 350-2500 nm"),
         ("method", "n = (2 n_o + n_e)/3 and k = (2 k_o + k_e)/3: orientation average for randomly "
                    "oriented grains (exact for the mean absorption coefficient when absorption is "
-                   "weak)"),
-        ("method", "e-ray interpolated onto the o-ray wavelengths (only 1930 nm is missing in the "
-                   "e-ray table, which repeats 1950 nm)"),
+                   "weak); k interpolated linearly in log k"),
+        ("method", f"k: Querry up to {HEMATITE_QUERRY_UNTIL_NM:g} nm, Longtin from "
+                   f"{HEMATITE_LONGTIN_FROM_NM:g} nm, log-linear between the two end values"),
         ("built_by", BUILT_BY),
     ]
     return Table("hematite", header, grid, n, k)
@@ -553,19 +589,23 @@ def report(src: Path, tables: dict[str, Table]) -> str:
     at = np.array([400, 450, 500, 550, 600, 650, 700, 800, 1000, 1500, 2000, 2500], dtype=float)
     csv = src / "csv"
     hem = tables["hematite"]
+    w_qo, n_qo, k_qo = read_source_csv(csv / "hematite_Fe2O3_Querry1985_o.csv")
+    w_qe, n_qe, k_qe = read_source_csv(csv / "hematite_Fe2O3_Querry1985_e.csv")
     w_t, n_t, k_t = read_source_csv(csv / "hematite_Triaud_2005.csv")
     w_lo, n_lo, k_lo = read_source_csv(csv / "hematite_O_Longtin_1988.csv")
     w_le, n_le, k_le = read_source_csv(csv / "hematite_E_Longtin_1988.csv")
     out.append("| λ (nm) | n Querry (2o+e)/3 | n Triaud | n Longtin (2o+e)/3 "
-               "| k Querry (2o+e)/3 | k Triaud | k Longtin (2o+e)/3 |")
-    out.append("|---|---|---|---|---|---|---|")
+               "| k Querry (2o+e)/3 | k Triaud | k Longtin (2o+e)/3 | k shipped |")
+    out.append("|---|---|---|---|---|---|---|---|")
     for lam in at:
-        nq = np.interp(lam, hem.wavelength_nm, hem.n)
-        kq = interp_loglinear(lam, hem.wavelength_nm, hem.k)
+        grid = np.array([lam])
+        nq = orientation_average(w_qo, n_qo, w_qe, n_qe, grid, log=False)[0]
+        kq = orientation_average(w_qo, k_qo, w_qe, k_qe, grid, log=True)[0]
         nl = (2 * np.interp(lam, w_lo, n_lo) + np.interp(lam, w_le, n_le)) / 3
         kl = (2 * interp_loglinear(lam, w_lo, k_lo) + interp_loglinear(lam, w_le, k_le)) / 3
         out.append(f"| {lam:.0f} | {nq:.3f} | {np.interp(lam, w_t, n_t):.3f} | {nl:.3f} "
-                   f"| {kq:.3g} | {interp_loglinear(lam, w_t, k_t):.3g} | {kl:.3g} |")
+                   f"| {kq:.3g} | {interp_loglinear(lam, w_t, k_t):.3g} | {kl:.3g} "
+                   f"| {interp_loglinear(lam, hem.wavelength_nm, hem.k):.3g} |")
     out.append("")
     wat = tables["water"]
     wopp = csv / "water_H2O_WOPPv3_Roettgers_absorption_k.csv"

@@ -129,7 +129,11 @@ def test_more_iron_oxide_is_darker_at_450nm():
 
 
 def test_wet_sand_is_darker_than_dry_at_every_visible_wavelength():
-    dry = SandSample(saturation=0.0)
+    # Light-coloured sand (0.2 wt% iron oxide, reflectance ≥ 0.1): wetting darkens it. Sand darker
+    # than the ~2 % that the flat water surfaces of filled pores reflect specularly can come out
+    # brighter when wet (the default sample at 400 nm: 0.018 dry, 0.023 saturated), so the
+    # claim is not made for it.
+    dry = SandSample(saturation=0.0, iron_oxide=0.002)
     wl = np.arange(400, 701, 50)
     assert _clearly_less(_dhr(dry.replace(saturation=1.0), wl), _dhr(dry, wl))
 

@@ -76,14 +76,25 @@ def test_provenance_of_all_materials_and_provisional_status():
         assert ("PROVISIONAL" in status) == (material in PROVISIONAL + ("quartz",))
 
 
-def test_hematite_is_orientation_average_of_querry():
+def test_hematite_k_is_querry_below_the_edge_and_longtin_beyond():
     # README o-ray k (rounded there to 2-3 digits) and Querry 1985 e-ray k at the same points.
-    k_o = {400.0: 1.29, 550.0: 0.50, 650.0: 0.057}
-    k_e = {400.0: 1.096, 550.0: 0.46, 650.0: 0.103}
+    k_o = {400.0: 1.29, 550.0: 0.50}
+    k_e = {400.0: 1.096, 550.0: 0.46}
     for wavelength, ko in k_o.items():
         k = complex_index("hematite", wavelength).imag
         assert k == pytest.approx((2 * ko + k_e[wavelength]) / 3, abs=0.004)
         assert min(ko, k_e[wavelength]) - 0.005 <= k <= max(ko, k_e[wavelength]) + 0.005
+    # Beyond the edge, Longtin et al. 1988 (o- and e-ray alike): 0.00974 at 633 nm, 1.8e-5 at
+    # 1300 nm; the 10 nm grid interpolates log-linearly between their points.
+    assert complex_index("hematite", 1300.0).imag == pytest.approx(1.8e-5, rel=1e-3)
+    k633 = complex_index("hematite", 633.0).imag
+    assert 0.0097 * 0.8 < k633 < 0.0097 * 1.25
+    # Between 550 and 633 nm k falls monotonically across the edge, by 50x.
+    k = complex_index("hematite", np.arange(550.0, 634.0, 10.0)).imag
+    assert np.all(np.diff(k) < 0)
+    # n stays Querry's everywhere (o-ray 3.008, e-ray ~2.8 near 680 nm): no jump at the join.
+    n = complex_index("hematite", np.arange(540.0, 700.0, 10.0)).real
+    assert np.max(np.abs(np.diff(n))) < 0.06
 
 
 def test_quartz_index_is_orientation_average_at_590nm():
@@ -110,7 +121,9 @@ def test_absorption_shapes_that_make_iron_oxides_red_or_yellow():
     assert k("goethite", 920) > 2 * k("goethite", 760)
     # Goethite's edge lies bluer than hematite's: less absorbing in green and red (yellow vs red).
     assert k("goethite", 550) < k("hematite", 550) / 3
-    assert k("goethite", 650) < k("hematite", 650) / 10
+    assert k("goethite", 600) < k("hematite", 600) / 3
+    # Hematite is transparent beyond its edge (Longtin): k < 1e-4 from 1000 nm on.
+    assert k("hematite", 1000) < 2e-4 and k("hematite", 2000) < 1e-4
     # Kaolinite O-H combination and overtone bands.
     assert k("kaolinite", 2207) > 10 * k("kaolinite", 2000)
     assert k("kaolinite", 1400) > 5 * k("kaolinite", 1300)

@@ -8,9 +8,9 @@ Per unit mass of solids:
 
 * iron oxide m_fe = ``iron_oxide`` (hematite m_fe·r, goethite m_fe·(1 − r), r = ``hematite_ratio``),
   magnetite m_mag = ``magnetite``;
-* form ``coating``: the iron oxide sits in a kaolinite matrix coating the quartz grains (sand and
-  silt), iron-oxide volume share ``coating_iron_share``: coating volume V_c = V_fe / share, of
-  which V_c − V_fe is kaolinite; thickness t_c = V_c / (total quartz surface) — a uniform film;
+* form ``coating``: the iron oxide sits in a kaolinite matrix coating every host particle (sand,
+  silt and clay), iron-oxide volume share ``coating_iron_share``: coating volume V_c = V_fe / share,
+  of which V_c − V_fe is kaolinite; thickness t_c = V_c / (total host surface) — a uniform film;
 * form ``mixed``: the iron oxide is dispersed inside the quartz grains (volume fraction
   V_fe/(V_fe + V_quartz));
 * form ``particles``: separate spherical hematite and goethite particles of diameter
@@ -138,9 +138,12 @@ def compose(sample) -> Composition:
         quartz_core = {"quartz": v_q / total, "hematite": v_hem / total, "goethite": v_goe / total}
     elif form == "coating" and v_fe > 0:
         v_coat = v_fe / sample.coating_iron_share
-        # Volumes are per gram of solids (cm³) and S/V in mm⁻¹, so the volume unit cancels: t in mm.
-        quartz_surface = v_sand * sv_sand + v_silt * sv_silt
-        t_coat = v_coat / quartz_surface if quartz_surface > 0 else 0.0
+        # The coating covers every host particle, clay included: the iron oxide of red and yellow
+        # sands sits in clay-sized coatings and aggregates, so clean white clay beside stained
+        # grains is not what such sands are (docs/transport.md). Volumes are per gram of solids
+        # (cm³) and S/V in mm⁻¹, so the volume unit cancels: t in mm.
+        host_surface = v_sand * sv_sand + v_silt * sv_silt + v_clay * _surface_per_volume(clay_sizes, eps)
+        t_coat = v_coat / host_surface if host_surface > 0 else 0.0
         coating = {"hematite": v_hem / v_coat, "goethite": v_goe / v_coat, "kaolinite": (v_coat - v_fe) / v_coat}
 
     pops = []
@@ -151,7 +154,7 @@ def compose(sample) -> Composition:
 
     add("quartz sand", v_sand, sand_sizes, eps, quartz_core, coating, t_coat)
     add("quartz silt", v_silt, silt_sizes, eps, quartz_core, coating, t_coat)
-    add("kaolinite clay", v_clay, clay_sizes, eps, {"kaolinite": 1.0})
+    add("kaolinite clay", v_clay, clay_sizes, eps, {"kaolinite": 1.0}, coating, t_coat)
     add("magnetite", v_magn, sand_sizes, eps, {"magnetite": 1.0})
     if form == "particles":
         d = sample.iron_oxide_particle_size_um * 1e-3
