@@ -172,3 +172,21 @@ class TestSwatchesCommand:
         assert result.exit_code == 1
         assert "No spectral model is available" in result.output
         assert "Traceback" not in result.output
+
+
+class TestSwatchesWithTheEngine:
+    def test_engine_grid_of_real_samples(self, tmp_path):
+        out = tmp_path / "engine.png"
+        result = CliRunner().invoke(app, ["swatches", "--x", "iron_oxide=0.001:0.02:2",
+                                          "--y", "saturation=0:0:1", "--engine-rays", "200",
+                                          "--size", "300x200", "-o", str(out)])
+        assert result.exit_code == 0, result.output
+        with Image.open(out) as im:
+            assert im.size == (300, 200)
+
+    def test_engine_rays_must_be_positive(self, tmp_path):
+        result = CliRunner().invoke(app, ["swatches", "--engine-rays", "0",
+                                          "-o", str(tmp_path / "g.png")])
+        assert result.exit_code == 2
+        assert "--engine-rays 0" in result.output and "Traceback" not in result.output
+

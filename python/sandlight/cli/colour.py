@@ -57,6 +57,21 @@ def _load_sample(preset: Optional[str], sample_file: Optional[Path]) -> Any:
     return SandSample()
 
 
+_ENGINE_HELP = ("Compute the colours with the Monte Carlo engine at this many rays per wavelength "
+                "(e.g. 20000) instead of the shipped spectral predictor: slower, any sample.")
+
+
+def _provider(engine_rays: Optional[int]):
+    """The reflectance provider the user chose: ``None`` (the predictor) or the engine."""
+    if engine_rays is None:
+        return None
+    if engine_rays < 1:
+        _fail(f"--engine-rays {engine_rays} is not allowed: a number of rays ≥ 1, e.g. 20000")
+    from sandlight.colour.provider import engine_reflectance_provider
+
+    return engine_reflectance_provider(engine_rays)
+
+
 def _grid_axes(x: Optional[str], y: Optional[str]):
     from sandlight.colour.swatches import parse_grid_spec
 
@@ -96,6 +111,7 @@ def swatches_command(
     mode: Mode = typer.Option(Mode.managed, "--mode", help="sRGB conversion."),
     lab: bool = typer.Option(False, "--lab/--no-lab", help="Print L*a*b* in each cell."),
     size: Optional[str] = typer.Option(None, "--size", help="WIDTHxHEIGHT of the PNG in pixels."),
+    engine_rays: Optional[int] = typer.Option(None, "--engine-rays", help=_ENGINE_HELP),
 ) -> None:
     """Swatch grid of sand colours as two sample parameters vary (paper Figures 6 and 7)."""
     from sandlight.colour.swatches import figure6, figure7, swatch_grid
@@ -106,16 +122,17 @@ def swatches_command(
         _fail("give --figure or --x/--y, not both")
     size_px = _parse_size(size, "--size")
     axes = _grid_axes(x, y) if (x is not None or y is not None) else None
+    provider = _provider(engine_rays)
 
     def action():
         base = _load_sample(preset, sample)
         if axes is not None:
-            grid = swatch_grid(base, axes[0], axes[1], mode=mode.value)
+            grid = swatch_grid(base, axes[0], axes[1], mode=mode.value, reflectance=provider)
             title = f"sRGB ({mode.value}), D50, CIE 1964 10°"
         elif figure in (None, PaperFigure.six):
-            grid, title = figure6(base, mode=mode.value), f"Figure 6 — sRGB ({mode.value})"
+            grid, title = figure6(base, mode=mode.value, reflectance=provider), f"Figure 6 — sRGB ({mode.value})"
         else:
-            grid, title = figure7(base, mode=mode.value), f"Figure 7 — sRGB ({mode.value})"
+            grid, title = figure7(base, mode=mode.value, reflectance=provider), f"Figure 7 — sRGB ({mode.value})"
         grid.save_png(output, size_px=size_px, show_lab=lab, title=title)
         clipped = int(grid.out_of_gamut.sum())
         typer.echo(f"wrote {output} ({grid.rgb.shape[1]}×{grid.rgb.shape[0]} swatches"
@@ -140,6 +157,7 @@ def colourise_command(
                                 help="Shift in linear light instead of encoded sRGB (paper)."),
     tile: Optional[str] = typer.Option(None, "--tile", help="Grid tile WIDTHxHEIGHT in pixels."),
     labels: bool = typer.Option(True, "--labels/--no-labels", help="Grid: axes with values."),
+    engine_rays: Optional[int] = typer.Option(None, "--engine-rays", help=_ENGINE_HELP),
 ) -> None:
     """Give a photo of sand the colour of a sample (paper §4.1.1), or a grid of colours."""
     from sandlight.colour.colourise import (
@@ -160,6 +178,7 @@ def colourise_command(
         if preset is None and sample is None:
             _fail("give --preset NAME or --sample FILE (or --grid with --x/--y)")
     tile_px = _parse_size(tile, "--tile")
+    provider = _provider(engine_rays)
     try:
         photo = load_image(default_texture_path() if image is None else image)
     except (FileNotFoundError, SandlightError) as exc:
@@ -168,11 +187,12 @@ def colourise_command(
     def action():
         base = _load_sample(preset, sample)
         if not grid:
-            save_image(output, colourise(photo, base, mode=mode.value, linear=linear))
+            save_image(output, colourise(photo, base, mode=mode.value, linear=linear,
+                                         reflectance=provider))
             typer.echo(f"wrote {output} ({photo.shape[1]}×{photo.shape[0]})")
             return
         result = colourise_grid(photo, base, axes[0], axes[1], tile_px=tile_px,
-                                mode=mode.value, linear=linear)
+                                mode=mode.value, linear=linear, reflectance=provider)
         if labels and output.suffix.lower() != ".png":
             _fail(f"--output {str(output)!r}: a labelled grid is written as .png "
                   f"(or use --no-labels)")

@@ -23,6 +23,7 @@ from sandlight.colour.colourise import (
 from sandlight.colour.provider import (
     ReflectanceProvider,
     default_reflectance_provider,
+    engine_reflectance_provider,
     reflectance_of,
 )
 from sandlight.colour.sample_colour import sample_lab, sample_rgb, sample_xyz
@@ -53,7 +54,8 @@ from sandlight.colour.swatches import (
 __all__ = [
     "ColourisedGrid", "colourise", "colourise_grid", "default_texture_path", "load_image",
     "save_image",
-    "ReflectanceProvider", "default_reflectance_provider", "reflectance_of",
+    "ReflectanceProvider", "default_reflectance_provider", "engine_reflectance_provider",
+    "reflectance_of",
     "sample_lab", "sample_rgb", "sample_xyz",
     "DEFAULT_ILLUMINANT", "DEFAULT_OBSERVER", "PREDICTOR_WAVELENGTHS_NM", "spectrum_to_xyz",
     "white_point_xyz",
