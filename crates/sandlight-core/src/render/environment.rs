@@ -372,6 +372,17 @@ mod tests {
     }
 
     #[test]
+    fn a_uniform_sky_leaves_mis_to_brdf_sampling() {
+        // Nothing is brighter than average: the compensated technique draws nothing (pdf 0
+        // everywhere), while the full distribution stays positive for light-only sampling.
+        let env = sky(8, 16, |_, _| 2.5);
+        let (_, pdf, _, _) = env.sample_sky([0.3, 0.6, 0.2], true);
+        assert_eq!(pdf, 0.0);
+        assert_eq!(env.pdf_sky(Vec3::new(0.2, 0.1, 0.9).normalized(), true), 0.0);
+        assert!(env.pdf_sky(Vec3::new(0.2, 0.1, 0.9).normalized(), false) > 0.0);
+    }
+
+    #[test]
     fn alias_table_reproduces_the_distribution() {
         let p = [0.05, 0.4, 0.0, 0.15, 0.3, 0.1];
         let (keep, other) = alias_table(&p);
