@@ -54,9 +54,14 @@ def main() -> None:
     image = None
     for threads in (1, 2):
         settings = dataclasses.replace(scene.settings, threads=threads)
+        cpu0 = time.process_time()
         image = render_image(camera, terrain, table, lighting, None, settings)
-        print(f"  {threads} thread(s): {image.elapsed_s:.2f} s, {samples / image.elapsed_s / 1e6:.2f} M samples/s, "
-              f"{image.elapsed_s / samples * 1e9 * threads:.0f} ns per sample per thread")
+        cpu = time.process_time() - cpu0
+        # CPU seconds (all threads of this process) hardly depend on other jobs sharing the cores:
+        # on idle cores the wall time would be about cpu / threads.
+        print(f"  {threads} thread(s): {image.elapsed_s:.2f} s wall, {cpu:.2f} s CPU, "
+              f"{samples / image.elapsed_s / 1e6:.2f} M samples/s, {cpu / samples * 1e9:.0f} ns CPU per sample; "
+              f"load average now {os.getloadavg()[0]:.2f}")
     t0 = time.perf_counter()
     xyz = post.spectral_to_xyz(image.radiance, scene.wavelength_nm)
     rgb = post.to_srgb(xyz, post.white_level("auto", lighting, scene.wavelength_nm))
