@@ -21,8 +21,9 @@ dimension of ``f`` (any name, with a coordinate of the level values).
 
 Constructors: :meth:`BrdfTable.lambertian` (f = a(λ)/π), :meth:`BrdfTable.oren_nayar` (an
 analytic rough-diffuse BRDF with a backscatter lobe, for tests), :meth:`BrdfTable.from_function`
-(tabulate any ``brdf(wi, wo, wavelengths_nm)``, e.g. ``SandAppearance.brdf``),
-:meth:`BrdfTable.from_netcdf`, :meth:`BrdfTable.stack`.
+(tabulate any ``brdf(wi, wo, wavelengths_nm)`` on a grid), :meth:`BrdfTable.from_appearance`
+(a ``SandAppearance`` exactly, on its own nodes), :meth:`BrdfTable.from_netcdf`,
+:meth:`BrdfTable.stack`.
 """
 
 from __future__ import annotations
