@@ -140,31 +140,27 @@ def test_relative_paths_are_read_from_the_scene_folder(tmp_path):
     assert terrain.height_at(31.9, 0.0) == pytest.approx(4.0, abs=0.02)
 
 
-def test_brdf_sources_appearance_and_netcdf_tables(tmp_path, monkeypatch):
-    import sandlight
+def test_brdf_sources_appearance_and_netcdf_tables(tmp_path):
+    from sandlight.appearance import SandAppearance
 
     beach = shipped("beach-drying")
     beach["render"]["bands"] = "400:700:100"
     doc = copy.deepcopy(beach)
-    doc["sand"]["brdf"] = "appearance"
-
-    class FakeAppearance:  # the documented interface of issue 6's SandAppearance
-        def __init__(self, sample):
-            self.albedo_value = 0.6 - 0.4 * sample.saturation
-
-        def brdf(self, wi, wo, wavelengths_nm):
-            return np.full((len(wi), len(wavelengths_nm)), self.albedo_value / np.pi)
-
-    monkeypatch.setattr(sandlight, "SandAppearance", FakeAppearance, raising=False)
-    table = Scene.from_dict(doc).build_table()
+    assert doc["sand"]["brdf"] == "appearance"
+    scene = Scene.from_dict(doc)
+    with pytest.warns(UserWarning):  # the spatial mesh varies saturation only (SpatialApproximationWarning)
+        table = scene.build_table()
     assert table.n_levels == 16 and table.level_name == "saturation"
-    np.testing.assert_allclose(table.albedo(0.5, level=15), 0.2, rtol=1e-3)
-    monkeypatch.delattr(sandlight, "SandAppearance")
-    try:
-        from sandlight import SandAppearance  # noqa: F401
-    except ImportError:  # issue 6 not merged yet: a clear error
-        with pytest.raises(ParameterError, match="SandAppearance"):
-            Scene.from_dict(doc).build_table()
+    # Level k is SandAppearance of the sample at saturation k/15 (same nodes as the model).
+    with pytest.warns(UserWarning):
+        wet = SandAppearance(scene.sample.replace(saturation=1.0))
+    wi, wo = np.array([[0.6, 0.0, 0.8]]), np.array([[-0.3, 0.1, 0.95]])
+    mu_i, mu_o = wi[0, 2], wo[0, 2] / np.linalg.norm(wo)
+    dphi = abs(np.arctan2(wo[0, 1], wo[0, 0]))
+    from scipy.interpolate import RegularGridInterpolator  # the renderer's trilinear lookup
+    got = [RegularGridInterpolator((table.mu_i, table.mu_o, table.dphi), table.f[15, b])([mu_i, mu_o, dphi])[0]
+           for b in range(table.wavelength_nm.size)]
+    np.testing.assert_allclose(got, wet.brdf(wi, wo, table.wavelength_nm)[0], rtol=1e-6)
     # A NetCDF stack whose levels match the scene's.
     path = table.to_netcdf(tmp_path / "beach.nc")
     doc["sand"]["brdf"] = "beach.nc"

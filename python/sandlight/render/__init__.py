@@ -5,8 +5,8 @@ Rust (``crates/sandlight-core/src/render``); this package describes scenes, prep
 renderer consumes, and turns spectral images into pictures and videos.
 
 - :mod:`~sandlight.render.tables`: :class:`BrdfTable`, spectral BRDF tables and stacks of them.
-- :mod:`~sandlight.render.standin`: the STAND-IN Lambertian tables of the shipped scenes (until
-  issue 6's ``SandAppearance`` exists).
+- :mod:`~sandlight.render.standin`: Lambertian tables with the engine's spectra (``brdf =
+  "standin"``, an option for comparison; the scenes shade with ``SandAppearance``).
 - :mod:`~sandlight.render.terrain`: :class:`PlaneTerrain`, :class:`HeightfieldTerrain`,
   :func:`dune_field`, :func:`heightfield_from_image`.
 - :mod:`~sandlight.render.maps`: :class:`MaterialMap`, :class:`Waterlines`.

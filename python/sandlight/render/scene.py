@@ -254,7 +254,7 @@ class Scene:
                 sample = SandSample.preset(preset)
             except ParameterError as exc:
                 raise sand.error("sand.preset", preset, exc.allowed) from None
-        brdf = sand.string("brdf", "standin")
+        brdf = sand.string("brdf", "appearance")
         if brdf not in BRDF_SOURCES and not brdf.endswith(".nc"):
             raise sand.error("sand.brdf", brdf, "'standin', 'appearance' or the path of a NetCDF BRDF table (*.nc)")
         vary = sand.raw("vary")
@@ -367,7 +367,7 @@ class Scene:
         return Camera.heading(pos, c["heading_deg"], c["pitch_deg"], c["fov_deg"], self.width, self.height)
 
     def build_table(self, progress: bool = False) -> BrdfTable:
-        """The BRDF stack: the STAND-IN (sandlight.render.standin), tabulated SandAppearance, or a file."""
+        """The BRDF stack: tabulated SandAppearance, the Lambertian stand-in (sandlight.render.standin), or a file."""
         if self.brdf == "standin":
             from sandlight.render.standin import standin_table
 
@@ -505,14 +505,12 @@ def _parse_texture(t: Table, base_dir: Path) -> dict | None:
 
 
 def _appearance_table(sample, vary, levels, wavelength_nm) -> BrdfTable:
-    """Tabulate issue 6's SandAppearance(sample).brdf per level (raises if it is not installed)."""
-    try:
-        from sandlight import SandAppearance  # type: ignore[attr-defined]
-    except ImportError as exc:
-        raise ParameterError("sand.brdf", "appearance",
-                             f"'standin' or a NetCDF table: sandlight.SandAppearance is not available ({exc})") from None
+    """`SandAppearance` of the sample (of each level's sample when ``vary`` is set), tabulated
+    exactly on its own nodes (`BrdfTable.from_appearance`) and stacked."""
+    from sandlight.appearance import SandAppearance
+
     tables = []
     for v in levels:
         s = sample if vary is None else sample.replace(**{vary: float(v)})
-        tables.append(BrdfTable.from_function(SandAppearance(s).brdf, wavelength_nm, source="SandAppearance.brdf"))
+        tables.append(BrdfTable.from_appearance(SandAppearance(s), wavelength_nm))
     return BrdfTable.stack(tables, levels if vary else [0.0], vary or "level")

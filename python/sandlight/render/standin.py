@@ -1,14 +1,13 @@
-"""STAND-IN BRDF tables for the shipped scenes, until issue 6's ``SandAppearance.to_table`` exists.
+"""Lambertian BRDF tables from the transport engine: the ``brdf = "standin"`` option of scene files.
 
-**This is a stand-in, to be replaced.** The paper shades with the spatial × spectral predictor of
-§3.3 (issue 6: ``SandAppearance`` and its exported NetCDF table). Until that model ships, the
-scenes use, for each level of the varied parameter, a *Lambertian* BRDF f = R(λ)/π whose albedo
+The shipped scenes shade with the paper's model, the spatial × spectral predictor of §3.3
+(``brdf = "appearance"``: `sandlight.SandAppearance`, tabulated by `BrdfTable.from_appearance`).
+This module provides the simpler alternative they used before that model existed, kept for
+comparisons: for each level of the varied parameter a *Lambertian* BRDF f = R(λ)/π whose albedo
 R(λ) is the sample's directional-hemispherical reflectance at normal incidence computed by this
 project's Monte Carlo engine (:func:`sandlight.reflectance`, the SPLITS-style model of issue 2).
-Its colour and its darkening with water are the engine's; its angular shape (sand's backscatter
-and forward scattering) is missing. Once issue 6 lands, a scene selects the real BRDF with
-``brdf = "appearance"`` (tabulating ``SandAppearance.brdf``) or ``brdf = "<file.nc>"`` (a table
-exported by ``SandAppearance.to_table``).
+Its colour and its darkening with water are the engine's; sand's angular shape (backscatter, the
+mirror reflection of wet sand at grazing angles) is missing.
 
 The spectra of the shipped scenes are precomputed in ``sandlight/data/scenes/standin-reflectance.csv``
 (regenerate with ``python -m sandlight.render.standin``); any other sample or level is computed

@@ -21,8 +21,9 @@ dimension of ``f`` (any name, with a coordinate of the level values).
 
 Constructors: :meth:`BrdfTable.lambertian` (f = a(λ)/π), :meth:`BrdfTable.oren_nayar` (an
 analytic rough-diffuse BRDF with a backscatter lobe, for tests), :meth:`BrdfTable.from_function`
-(tabulate any ``brdf(wi, wo, wavelengths_nm)``, e.g. ``SandAppearance.brdf``),
-:meth:`BrdfTable.from_netcdf`, :meth:`BrdfTable.stack`.
+(tabulate any ``brdf(wi, wo, wavelengths_nm)`` on a grid), :meth:`BrdfTable.from_appearance`
+(a ``SandAppearance`` exactly, on its own nodes), :meth:`BrdfTable.from_netcdf`,
+:meth:`BrdfTable.stack`.
 """
 
 from __future__ import annotations
@@ -38,8 +39,9 @@ from sandlight.errors import ModelFileError, ParameterError
 
 __all__ = ["BrdfTable", "DEFAULT_MU", "DEFAULT_DPHI"]
 
-#: Default μ grid of tabulated analytic BRDFs: denser towards grazing, where BRDFs change fast.
-DEFAULT_MU = np.unique(np.concatenate([np.cos(np.radians(np.linspace(90.0, 0.0, 19))), [0.0, 1.0]]))
+#: Default μ grid of tabulated analytic BRDFs: denser towards grazing, where BRDFs change fast
+#: (every 5° of zenith angle; rounding makes cos 90° exactly 0 rather than a second node at 6e-17).
+DEFAULT_MU = np.unique(np.round(np.cos(np.radians(np.linspace(90.0, 0.0, 19))), 15))
 #: Default Δφ grid: every 15°.
 DEFAULT_DPHI = np.radians(np.arange(0.0, 180.1, 15.0))
 
@@ -199,6 +201,40 @@ class BrdfTable:
                                  f"a function returning shape ({wi.size // 3}, {wl.size})")
         f = np.moveaxis(values.reshape(mu.size, mu.size, dp.size, wl.size), -1, 0)
         return cls(np.maximum(f, 0.0), wl, mu, mu, dp, [0.0], "level", source or getattr(brdf, "__qualname__", "function"))
+
+    @classmethod
+    def from_appearance(cls, appearance, wavelength_nm, *, level_value: float = 0.0,
+                        level_name: str = "level") -> BrdfTable:
+        """Tabulate a `sandlight.SandAppearance` exactly, on the nodes of its own interpolant.
+
+        `SandAppearance.brdf` is trilinear in (μ_i, μ_o, Δφ) between its spatial model's nodes
+        (band centroids plus the cap's step, held constant below the lowest centroid; even in Δφ
+        with nodes every 2π/L), so a table with exactly those nodes (plus μ = 0, and Δφ = π when L
+        is odd) reproduces it everywhere under the renderer's trilinear lookup: no resampling
+        error, the wet sand's narrow mirror peaks keep their height, width and energy.
+        Resampling it on another grid instead either spreads the peak (too much energy next to
+        it) or misses it.
+
+        Parameters
+        ----------
+        appearance : sandlight.SandAppearance
+        wavelength_nm : array_like
+            Wavelengths of the table, nm, within the appearance model's range.
+        level_value : float
+            Level value of this table (for `stack`).
+        level_name : str
+        """
+        # The interpolant's μ nodes (descending, 1 first) and azimuth slices are internals of
+        # SandAppearance; tests/render/test_render_appearance.py checks the reproduction.
+        nodes = np.asarray(appearance._nodes, dtype=float)
+        slices = int(appearance._slices)
+        mu = np.unique(np.r_[0.0, nodes, 1.0])
+        dphi = 2.0 * np.pi * np.arange(slices // 2 + 1) / slices
+        dphi = np.r_[dphi[dphi < np.pi - 1e-9], np.pi]
+        table = cls.from_function(appearance.brdf, wavelength_nm, mu=mu, dphi=dphi, min_mu=0.5 * float(nodes.min()),
+                                  source=f"SandAppearance ({appearance.combination}), tabulated on its own nodes")
+        return cls(table.f, table.wavelength_nm, table.mu_i, table.mu_o, table.dphi, [float(level_value)], level_name,
+                   table.source)
 
     @classmethod
     def stack(cls, tables: Sequence[BrdfTable], level_values, level_name: str) -> BrdfTable:

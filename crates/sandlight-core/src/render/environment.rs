@@ -14,6 +14,17 @@
 //! radiance floor keeps the pdf positive everywhere. Within a cell, directions are uniform in
 //! solid angle, so pdf(ω) = P(cell)/Ω(cell) exactly.
 //!
+//! **Compensated sky sampling for MIS** (Karlík et al. 2019, "MIS compensation"). Combined with
+//! BRDF sampling, the sky technique only needs to find what BRDF sampling misses: sky brighter
+//! than average. Its cell weights are max(0, L̄_c − ⟨L̄⟩) × Ω_c × (cos θ_c + 0.05), ⟨L̄⟩ the
+//! solid-angle mean of the band-mean radiance; a uniform sky has none, and MIS then takes the
+//! sky from BRDF sampling alone (the sky technique draws nothing: pdf 0). Cells dimmer than
+//! average get no sky samples; BRDF sampling, whose pdf is positive wherever the BRDF is, covers
+//! them alone. Without this a nearly perfect BRDF sampler loses to MIS: on saturated sand seen
+//! at grazing angles the mirror peak carries most of the reflection, sky samples land in the dim
+//! diffuse part and take the weight of the BRDF samples there, and the estimate becomes an
+//! on/off variable. The light-only estimator keeps the full distribution, positive everywhere.
+//!
 //! **Sun.** A uniform disc of spectral radiance L☉(λ) and solid angle Ω☉ around the direction
 //! `sun`, sampled uniformly in its cone (pdf 1/Ω☉); a zero radiance disables it.
 
@@ -31,14 +42,12 @@ pub struct Environment {
     n_bands: usize,
     /// radiance[(it·n_φ + ip)·n_bands + b]
     radiance: Vec<f32>,
-    /// Alias table over the cells (Walker 1977, Vose 1991): cell c is kept with probability
-    /// `alias_keep[c]`, else replaced by `alias_other[c]`: O(1) sampling, no search.
-    alias_keep: Vec<f64>,
-    alias_other: Vec<u32>,
+    /// The sky's sampling distribution over the cells, for light sampling alone.
+    full: CellDistribution,
+    /// The compensated distribution, for MIS with BRDF sampling (None: nothing brighter than average).
+    compensated: Option<CellDistribution>,
     /// cos θ at the n_θ + 1 row edges.
     row_cos: Vec<f64>,
-    /// P(cell) / Ω(cell)
-    density: Vec<f64>,
     sun: Vec3,
     sun_cos_half_angle: f64,
     sun_solid_angle: f64,
@@ -99,10 +108,21 @@ impl Environment {
                 omegas[c] = omega;
             }
         }
-        let total: f64 = weights.iter().sum();
-        let probabilities: Vec<f64> = weights.iter().map(|w| w / total).collect();
-        let density: Vec<f64> = probabilities.iter().zip(&omegas).map(|(p, o)| p / o).collect();
-        let (alias_keep, alias_other) = alias_table(&probabilities);
+        let full = CellDistribution::new(&weights, &omegas);
+        // Compensation: radiance above its solid-angle mean (relative threshold: rounding of a
+        // uniform sky must not leave a few cells with all the probability).
+        let mut excess = vec![0.0; n_cells];
+        for it in 0..n_theta {
+            let cos_centre = ((it as f64 + 0.5) * dth).cos();
+            for ip in 0..n_phi {
+                let c = it * n_phi + ip;
+                let above = means[c] - mean_sky;
+                if above > 1e-6 * mean_sky {
+                    excess[c] = above * omegas[c] * (cos_centre + 0.05);
+                }
+            }
+        }
+        let compensated = (excess.iter().sum::<f64>() > 0.0).then(|| CellDistribution::new(&excess, &omegas));
         let mut sun_rad = [0.0; MAX_BANDS];
         sun_rad[..n_bands].copy_from_slice(sun_radiance);
         // Cone of solid angle Ω: 1 − cos α = Ω / 2π.
@@ -112,10 +132,9 @@ impl Environment {
             n_phi,
             n_bands,
             radiance,
-            alias_keep,
-            alias_other,
+            full,
+            compensated,
             row_cos: (0..=n_theta).map(|k| (k as f64 * dth).cos()).collect(),
-            density,
             sun: s.normalized(),
             sun_cos_half_angle: 1.0 - one_minus_cos,
             sun_solid_angle: sun_solid_angle_sr,
@@ -168,29 +187,38 @@ impl Environment {
         self.sky_at(theta, phi, out);
     }
 
-    /// Sky radiance in direction `d` into `out`, and the pdf of `sample_sky` for it.
-    pub fn sky_and_pdf(&self, d: Vec3, out: &mut Spectrum) -> f64 {
+    #[inline]
+    fn distribution(&self, compensated: bool) -> Option<&CellDistribution> {
+        if compensated { self.compensated.as_ref() } else { Some(&self.full) }
+    }
+
+    /// Sky radiance in direction `d` into `out`, and the pdf of `sample_sky(_, compensated)` for it.
+    pub fn sky_and_pdf(&self, d: Vec3, out: &mut Spectrum, compensated: bool) -> f64 {
         let (theta, phi) = Self::angles(d);
         self.sky_at(theta, phi, out);
-        if d.z <= 0.0 { 0.0 } else { self.density_at(theta, phi) }
+        if d.z <= 0.0 { 0.0 } else { self.density_at(theta, phi, compensated) }
     }
 
     #[inline]
-    fn density_at(&self, theta: f64, phi: f64) -> f64 {
+    fn density_at(&self, theta: f64, phi: f64, compensated: bool) -> f64 {
         let it = ((theta / (0.5 * PI) * self.n_theta as f64) as usize).min(self.n_theta - 1);
         let ip = ((phi / (2.0 * PI) * self.n_phi as f64) as usize).min(self.n_phi - 1);
-        self.density[it * self.n_phi + ip]
+        self.distribution(compensated).map_or(0.0, |dist| dist.density[it * self.n_phi + ip])
     }
 
     /// A sky direction, its solid-angle pdf and its angles (θ, φ) for `sky_at`, from three
-    /// uniforms: a cell from the alias table, then a point uniform in solid angle in the cell
-    /// (cos θ and φ uniform).
-    pub fn sample_sky(&self, u: [f64; 3]) -> (Vec3, f64, f64, f64) {
-        let n_cells = self.alias_keep.len();
+    /// uniforms: a cell from the alias table of the full or the compensated distribution, then a
+    /// point uniform in solid angle in the cell (cos θ and φ uniform). A pdf of 0: the
+    /// compensated technique draws nothing (uniform sky).
+    pub fn sample_sky(&self, u: [f64; 3], compensated: bool) -> (Vec3, f64, f64, f64) {
+        let Some(dist) = self.distribution(compensated) else {
+            return (Vec3::new(0.0, 0.0, 1.0), 0.0, 0.0, 0.0);
+        };
+        let n_cells = dist.keep.len();
         // u[0] picks a cell and, with its fractional part, keeps it or takes its alias.
         let x = u[0] * n_cells as f64;
         let slot = (x as usize).min(n_cells - 1);
-        let c = if x - (slot as f64) < self.alias_keep[slot] { slot } else { self.alias_other[slot] as usize };
+        let c = if x - (slot as f64) < dist.keep[slot] { slot } else { dist.other[slot] as usize };
         let (it, ip) = (c / self.n_phi, c % self.n_phi);
         let dph = 2.0 * PI / self.n_phi as f64;
         let (c0, c1) = (self.row_cos[it], self.row_cos[it + 1]);
@@ -198,16 +226,16 @@ impl Environment {
         let sin_t = (1.0 - cos_t * cos_t).max(0.0).sqrt();
         let phi = (ip as f64 + u[2]) * dph;
         let (sp, cp) = phi.sin_cos();
-        (Vec3::new(sin_t * cp, sin_t * sp, cos_t), self.density[c], cos_t.clamp(-1.0, 1.0).acos(), phi)
+        (Vec3::new(sin_t * cp, sin_t * sp, cos_t), dist.density[c], cos_t.clamp(-1.0, 1.0).acos(), phi)
     }
 
-    /// Solid-angle pdf of `sample_sky` for direction `d` (0 below the horizon).
-    pub fn pdf_sky(&self, d: Vec3) -> f64 {
+    /// Solid-angle pdf of `sample_sky(_, compensated)` for direction `d` (0 below the horizon).
+    pub fn pdf_sky(&self, d: Vec3, compensated: bool) -> f64 {
         if d.z <= 0.0 {
             return 0.0;
         }
         let (theta, phi) = Self::angles(d);
-        self.density_at(theta, phi)
+        self.density_at(theta, phi, compensated)
     }
 
     pub fn sun_on(&self) -> bool {
@@ -240,6 +268,27 @@ impl Environment {
         let phi = 2.0 * PI * u2;
         let (a, b) = self.sun.orthonormal_basis();
         (a * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + self.sun * cos_t).normalized()
+    }
+}
+
+/// A discrete distribution over the sky cells with its alias table (Walker 1977, Vose 1991):
+/// cell c is kept with probability `keep[c]`, else replaced by `other[c]` (O(1) sampling).
+#[derive(Clone, Debug)]
+struct CellDistribution {
+    keep: Vec<f64>,
+    other: Vec<u32>,
+    /// P(cell) / Ω(cell)
+    density: Vec<f64>,
+}
+
+impl CellDistribution {
+    /// From non-negative cell weights (positive sum) and the cells' solid angles.
+    fn new(weights: &[f64], omegas: &[f64]) -> Self {
+        let total: f64 = weights.iter().sum();
+        let probabilities: Vec<f64> = weights.iter().map(|w| w / total).collect();
+        let density = probabilities.iter().zip(omegas).map(|(p, o)| p / o).collect();
+        let (keep, other) = alias_table(&probabilities);
+        CellDistribution { keep, other, density }
     }
 }
 
@@ -283,19 +332,54 @@ mod tests {
 
     #[test]
     fn sky_sampling_pdf_is_consistent() {
-        // E[g/pdf] = ∫ g dω for g = cos θ (π) under a strongly non-uniform sky distribution.
+        // E[g/pdf] = ∫ g dω over the support of the pdf, for g = cos θ, under a strongly
+        // non-uniform sky: the whole hemisphere (π) for the full distribution, the cells brighter
+        // than average for the compensated one.
         let env = sky(24, 48, |th, ph| 1.0 + 20.0 * (-(th - 1.0).powi(2) * 8.0 - (ph - 2.0).powi(2)).exp());
-        let mut rng = Rng::for_ray(1, 2, 3);
-        let n = 400_000;
-        let mut est = 0.0;
-        for _ in 0..n {
-            let (d, pdf, theta, phi) = env.sample_sky([rng.uniform(), rng.uniform(), rng.uniform()]);
-            assert!((env.pdf_sky(d) - pdf).abs() <= 1e-9 * pdf);
-            assert!((theta - d.z.acos()).abs() < 1e-9 && (phi - d.y.atan2(d.x).rem_euclid(2.0 * PI)).abs() < 1e-9);
-            est += d.z / pdf;
+        for compensated in [false, true] {
+            let mut rng = Rng::for_ray(1, 2, 3);
+            let n = 400_000;
+            let mut est = 0.0;
+            for _ in 0..n {
+                let (d, pdf, theta, phi) = env.sample_sky([rng.uniform(), rng.uniform(), rng.uniform()], compensated);
+                assert!(pdf > 0.0 && (env.pdf_sky(d, compensated) - pdf).abs() <= 1e-9 * pdf);
+                assert!((theta - d.z.acos()).abs() < 1e-9 && (phi - d.y.atan2(d.x).rem_euclid(2.0 * PI)).abs() < 1e-9);
+                est += d.z / pdf;
+            }
+            est /= n as f64;
+            let (m, k) = (480, 960);
+            let (mut quad, mut support) = (0.0, 0.0);
+            for a in 0..m {
+                let th = (a as f64 + 0.5) * 0.5 * PI / m as f64;
+                for b in 0..k {
+                    let ph = (b as f64 + 0.5) * 2.0 * PI / k as f64;
+                    let d = Vec3::new(th.sin() * ph.cos(), th.sin() * ph.sin(), th.cos());
+                    let domega = th.sin() * (0.5 * PI / m as f64) * (2.0 * PI / k as f64);
+                    if env.pdf_sky(d, compensated) > 0.0 {
+                        quad += d.z * domega;
+                        support += domega;
+                    }
+                }
+            }
+            assert!((est - quad).abs() < 0.01 * quad, "compensated {compensated}: {est} vs {quad}");
+            if compensated {
+                // Only the bright spot and the cells near the zenith are left (weights ∝ cos θ + 0.05).
+                assert!(support < 0.6 * 2.0 * PI, "{support}");
+            } else {
+                assert!((quad - PI).abs() < 1e-3);
+            }
         }
-        est /= n as f64;
-        assert!((est - PI).abs() < 0.01 * PI, "{est}");
+    }
+
+    #[test]
+    fn a_uniform_sky_leaves_mis_to_brdf_sampling() {
+        // Nothing is brighter than average: the compensated technique draws nothing (pdf 0
+        // everywhere), while the full distribution stays positive for light-only sampling.
+        let env = sky(8, 16, |_, _| 2.5);
+        let (_, pdf, _, _) = env.sample_sky([0.3, 0.6, 0.2], true);
+        assert_eq!(pdf, 0.0);
+        assert_eq!(env.pdf_sky(Vec3::new(0.2, 0.1, 0.9).normalized(), true), 0.0);
+        assert!(env.pdf_sky(Vec3::new(0.2, 0.1, 0.9).normalized(), false) > 0.0);
     }
 
     #[test]

@@ -157,9 +157,11 @@ impl Scene {
                         }
                     }
                 }
-                let (wi, pl, theta, phi) = env.sample_sky([rng.uniform(), rng.uniform(), rng.uniform()]);
+                // With MIS the sky technique is compensated (environment docs): BRDF sampling
+                // covers the sky dimmer than average.
+                let (wi, pl, theta, phi) = env.sample_sky([rng.uniform(), rng.uniform(), rng.uniform()], use_brdf);
                 let (mu_i, _, cos_dphi) = pair_cosines(n, wi, wo);
-                if mu_i > 0.0 && self.terrain.intersect(origin, wi, 0.0, hit.far).is_none() {
+                if pl > 0.0 && mu_i > 0.0 && self.terrain.intersect(origin, wi, 0.0, hit.far).is_none() {
                     let dphi = self.azimuth(cos_dphi);
                     self.brdf.eval(s, mu_i, mu_o, dphi, f);
                     env.sky_at(theta, phi, tmp);
@@ -194,7 +196,7 @@ impl Scene {
             match self.terrain.intersect(origin, wi, 0.0, hit.far) {
                 None => {
                     if use_brdf {
-                        let p_sky = env.sky_and_pdf(wi, tmp);
+                        let p_sky = env.sky_and_pdf(wi, tmp, use_light);
                         let w_sky = if use_light { mis_weight(st.heuristic, pb, p_sky) } else { 1.0 };
                         let w_sun = if !env.in_sun(wi) { 0.0 } else if use_light { mis_weight(st.heuristic, pb, env.pdf_sun()) } else { 1.0 };
                         for b in 0..nb {
