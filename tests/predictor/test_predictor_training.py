@@ -260,3 +260,6 @@ class TestCommandLine:
         assert result.exit_code == 0, result.output
         expected = model.predict(sample)[0]
         assert f"{expected[0]:.4f}" in result.output and "reflectance of s" in result.output
+        # it names the model that answered and its (here missing) hold-out score
+        assert "model spectral: 13 parameters, 3 forms; no hold-out score" in result.output
+        assert "extrapolated" not in result.output

@@ -104,16 +104,27 @@ def predict(
     extrapolate: bool = typer.Option(False, "--extrapolate",
                                      help="Allow samples outside the training domain."),
 ) -> None:
-    """Predict the spectral reflectance of a sand sample in microseconds."""
+    """Predict the spectral reflectance of a sand sample in microseconds.
+
+    Without --model, the most accurate shipped model whose training domain contains the sample
+    answers; the command says which one and its hold-out error.
+    """
     from sandlight.errors import SandlightError
-    from sandlight.predictor.spectral import SpectralModel, default_model
+    from sandlight.predictor.bank import ModelBank, default_model
+    from sandlight.predictor.spectral import SpectralModel
 
     try:
-        model = default_model() if model_path is None else SpectralModel.load(model_path)
+        bank = default_model() if model_path is None else ModelBank(
+            [SpectralModel.load(model_path)])
         sample, label = _load_sample(sample_file, preset)
-        reflectance = model.predict([sample], extrapolate=extrapolate)[0]
+        values, used = bank.predict([sample], extrapolate=extrapolate, return_models=True)
     except SandlightError as exc:
         _fail(str(exc))
+    reflectance, model = values[0], bank.model(str(used[0]))
+    outside = not model.domain_.contains(
+        {k: [v] for k, v in sample.to_dict().items()}, [sample.iron_oxide_form])[0]
+    typer.echo(f"model {bank.describe(model.name_)}"
+               + (" [extrapolated: the sample is outside its domain]" if outside else ""))
     wavelengths = model.wavelengths_
     if output is not None:
         from sandlight.io import write_atomically
