@@ -192,6 +192,21 @@ class TestPipeline:
         loaded = SpectralModel.load(refit.model_path)
         assert loaded.holdout_scores_["n_samples"] == 40
 
+    def test_holdout_rays_and_model_name(self, tmp_path):
+        kw = dict(n_samples=N, rays=RAYS, wavelengths_nm=WL, seed=3, n_holdout=20,
+                  executor=InProcessExecutor(), domain=SMALL,
+                  simulate=predictor_fakes.fake_reflectance, progress=False)
+        run = train_spectral(tmp_path, holdout_rays=RAYS * 16, name="small",
+                             description="a small domain", **kw)
+        with xr.open_dataset(tmp_path / "holdout" / "dataset.nc") as ho, \
+                xr.open_dataset(tmp_path / "training" / "dataset.nc") as tr:
+            assert (ho.attrs["rays"], tr.attrs["rays"]) == (RAYS * 16, RAYS)
+            # the fake engine's noise falls as 1/√rays: 4× less in the hold-out
+            ratio = np.sqrt((tr["stderr"] ** 2).mean() / (ho["stderr"] ** 2).mean())
+            assert float(ratio) == pytest.approx(4.0, rel=0.1)
+        loaded = SpectralModel.load(run.model_path)
+        assert (loaded.name_, loaded.description_) == ("small", "a small domain")
+
 
 class TestCommandLine:
     @pytest.fixture

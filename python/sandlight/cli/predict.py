@@ -26,6 +26,9 @@ def train_spectral_command(
     seed: int = typer.Option(0, "--seed", help="Master seed (draws and engine seeds)."),
     holdout: Optional[int] = typer.Option(None, "--holdout",
                                           help="Hold-out samples (default: max(20, N/10))."),
+    holdout_rays: Optional[int] = typer.Option(None, "--holdout-rays",
+                                               help="Rays per hold-out sample (default: "
+                                                    "--rays)."),
     workers: Optional[int] = typer.Option(None, "--workers",
                                           help="Local worker processes (1: in-process) "
                                                "(default: one per CPU)."),
@@ -40,6 +43,7 @@ def train_spectral_command(
                                                     "--variance)."),
     variance: float = typer.Option(0.999, "--variance", help="Explained variance threshold."),
     ridge: float = typer.Option(0.0, "--ridge", help="Ridge penalty (0: least squares)."),
+    degree: int = typer.Option(3, "--degree", help="Degree of the monomials (paper: 3)."),
     forms: str = typer.Option("separate", "--forms", help="'separate' or 'onehot'."),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
 ) -> None:
@@ -53,9 +57,9 @@ def train_spectral_command(
         executor = None if fit_only else make_executor(workers, dask_local, scheduler)
         run = train_spectral(
             out, samples, rays, wavelengths, seed, n_holdout=holdout, executor=executor,
-            fit_only=fit_only, progress=progress,
+            fit_only=fit_only, progress=progress, holdout_rays=holdout_rays,
             model_params={"n_components": n_components, "variance_threshold": variance,
-                          "ridge": ridge, "forms": forms})
+                          "ridge": ridge, "forms": forms, "degree": degree})
     except Cancelled as exc:
         _fail(str(exc), 130)
     except SandlightError as exc:

@@ -221,8 +221,8 @@ def file_sha256(path) -> str:
     return h.hexdigest()
 
 
-def fit_training_set(path, holdout=None, **model_params) -> tuple[SpectralModel,
-                                                                  HoldoutReport | None]:
+def fit_training_set(path, holdout=None, *, name: str = "spectral", description: str = "",
+                     **model_params) -> tuple[SpectralModel, HoldoutReport | None]:
     """Fit a SpectralModel on a training-set dataset and score it on a hold-out dataset.
 
     Parameters
@@ -231,6 +231,8 @@ def fit_training_set(path, holdout=None, **model_params) -> tuple[SpectralModel,
         Training dataset (``.nc``) or its job store directory.
     holdout : str or Path, optional
         Hold-out dataset or job store; its scores are attached to the model.
+    name, description : str
+        The model's ``name_`` and ``description_``.
     **model_params
         SpectralModel hyper-parameters.
     """
@@ -240,7 +242,8 @@ def fit_training_set(path, holdout=None, **model_params) -> tuple[SpectralModel,
     with xr.open_dataset(path) as ds:
         ds = ds.load()
     reference = {"path": str(path), "sha256": file_sha256(path)}
-    model = SpectralModel(**model_params).fit(ds, training_set=reference)
+    model = SpectralModel(**model_params).fit(ds, training_set=reference, name=name,
+                                              description=description)
     report = None
     if holdout is not None:
         holdout = _dataset_file(holdout)
@@ -281,7 +284,8 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
                    seed: int = 0, *, n_holdout: int | None = None, executor=None,
                    domain: Domain | None = None, fit_only: bool = False, simulate=None,
                    progress: bool = True, max_tasks: int | None = None,
-                   model_params: dict | None = None) -> TrainingRun:
+                   model_params: dict | None = None, holdout_rays: int | None = None,
+                   name: str = "spectral", description: str = "") -> TrainingRun:
     """Generate the training and hold-out sets, fit, evaluate and save a spectral model.
 
     Layout of ``out_dir``: ``training/`` and ``holdout/`` (job stores, each with its
@@ -293,6 +297,11 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
     n_holdout : int, optional
         Hold-out samples (random design, independent seed ``derive_seed(seed, "holdout")``);
         default max(20, n_samples // 10).
+    holdout_rays : int, optional
+        Rays per hold-out sample and wavelength (default ``rays``). More rays make the
+        reference less noisy, so that the hold-out error measures the model, not the noise.
+    name, description : str
+        The model's ``name_`` and ``description_`` (kept in the model file).
     max_tasks : int, optional
         Stop each job after this many samples (for testing resumption).
     model_params : dict, optional
@@ -305,7 +314,8 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
     jobs = [training_job(out / "training", n_samples, wavelengths_nm, rays, seed, domain=domain,
                          design="lhs", simulate=simulate)]
     if n_holdout > 0:
-        jobs.append(training_job(out / "holdout", n_holdout, wavelengths_nm, rays,
+        jobs.append(training_job(out / "holdout", n_holdout, wavelengths_nm,
+                                 rays if holdout_rays is None else holdout_rays,
                                  derive_seed(seed, "holdout"), domain=domain, design="random",
                                  simulate=simulate))
     start = time.perf_counter()
@@ -325,6 +335,7 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
     start = time.perf_counter()
     model, report = fit_training_set(statuses[0].dataset_path,
                                      holdout_status.dataset_path if holdout_status else None,
+                                     name=name, description=description,
                                      **(model_params or {}))
     fit_s = time.perf_counter() - start
     model_path = model.save(out / "spectral-model.npz")
