@@ -111,7 +111,8 @@ class ModelBank:
         return f"{text}; {m.description_}" if m.description_ else text
 
     # -- prediction ------------------------------------------------------------------------------
-    def _named_columns(self, samples) -> tuple[dict, np.ndarray]:
+    def _named_columns(self, samples) -> tuple[dict, np.ndarray, np.ndarray]:
+        """Columns by name, the distinct form names and each sample's index into them."""
         if isinstance(samples, np.ndarray) and samples.dtype.names is None:
             raise ParameterError("samples", f"a plain array of shape {samples.shape}",
                                  "named parameters (SandSample(s), dicts, a structured array, a "
@@ -120,8 +121,16 @@ class ModelBank:
         columns = _columns(samples)
         if FORM_PARAMETER not in columns:
             raise ParameterError(FORM_PARAMETER, None, "the iron-oxide form of every sample")
-        forms = np.asarray(columns[FORM_PARAMETER]).astype(str)
-        return columns, forms
+        names, index = np.unique(np.asarray(columns[FORM_PARAMETER]).astype(str),
+                                 return_inverse=True)
+        return columns, names, index.reshape(-1)
+
+    @staticmethod
+    def _codes(model: SpectralModel, names: np.ndarray, index: np.ndarray) -> np.ndarray:
+        """Each sample's form code in ``model.forms_`` (−1: a form the model does not know)."""
+        lookup = np.array([model.forms_.index(f) if f in model.forms_ else -1 for f in names],
+                          dtype=np.intp)
+        return lookup[index]
 
     def select(self, samples) -> np.ndarray:
         """Rank (index into ``models``) of the model that predicts each sample, −1 where none
@@ -131,21 +140,19 @@ class ModelBank:
         parameter it fixes has that value (a missing one does not match) and the form is one it
         was trained on.
         """
-        columns, forms = self._named_columns(samples)
-        return self._select(columns, forms)
+        return self._select(*self._named_columns(samples))
 
-    def _select(self, columns: dict, forms: np.ndarray) -> np.ndarray:
-        choice = np.full(forms.shape[0], -1, dtype=np.intp)
+    def _select(self, columns: dict, names: np.ndarray, index: np.ndarray) -> np.ndarray:
+        choice = np.full(index.shape[0], -1, dtype=np.intp)
         for rank, m in enumerate(self.models):
             domain = m.domain_
             if any(n not in columns for n in (*domain.names, *domain.fixed)):
                 continue
-            free = choice < 0
-            if not free.any():
-                break
+            free = np.flatnonzero((choice < 0) & (self._codes(m, names, index) >= 0))
+            if not free.size:
+                continue
             sub = {n: np.asarray(columns[n])[free] for n in (*domain.names, *domain.fixed)}
-            covered = domain.contains(sub, forms[free])
-            choice[np.flatnonzero(free)[covered]] = rank
+            choice[free[domain.contains(sub)]] = rank
         return choice
 
     def predict(self, samples, *, extrapolate: bool = False, return_models: bool = False):
@@ -173,9 +180,9 @@ class ModelBank:
             of the broadest model) unless ``extrapolate``; a missing parameter, NaN or an unknown
             form always.
         """
-        columns, forms = self._named_columns(samples)
-        choice = self._select(columns, forms)
-        out = np.empty((forms.shape[0], self.wavelengths_.size))
+        columns, names, index = self._named_columns(samples)
+        choice = self._select(columns, names, index)
+        out = np.empty((index.shape[0], self.wavelengths_.size))
         uncovered = np.flatnonzero(choice < 0)
         if uncovered.size:
             row = {k: np.asarray(v)[uncovered] for k, v in columns.items()}
@@ -187,7 +194,7 @@ class ModelBank:
             if rows.size:
                 values = np.column_stack([np.asarray(columns[n], dtype=float)[rows]
                                           for n in m.parameter_names_])
-                out[rows] = m.predict(values, forms=forms[rows])
+                out[rows] = m.predict(values, forms=self._codes(m, names, index)[rows])
         if not return_models:
             return out
         names = np.array([m.name_ for m in self.models] + [self.fallback.name_])

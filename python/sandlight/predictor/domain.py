@@ -502,7 +502,7 @@ class Domain:
         return (values[:, self.names.index("silt")]
                 + CLAY_WEIGHT * values[:, self.names.index("clay")])
 
-    def contains(self, columns: Mapping, forms) -> np.ndarray:
+    def contains(self, columns: Mapping, forms=None) -> np.ndarray:
         """Which samples lie inside this domain (the test of :meth:`check`, without raising).
 
         Parameters
@@ -510,8 +510,8 @@ class Domain:
         columns : mapping of str to array_like (n,)
             Parameter values by SandSample name (every dimension and fixed parameter of the
             domain must be present; others are ignored).
-        forms : array_like of str (n,)
-            Iron-oxide form of each sample.
+        forms : array_like of str (n,), optional
+            Iron-oxide form of each sample (None: not checked).
 
         Returns
         -------
@@ -520,7 +520,9 @@ class Domain:
             bound), every fixed parameter equals its value and the form is one of ``forms``.
             NaN is outside.
         """
-        inside = np.isin(np.asarray(forms).astype(str), self.forms)
+        n = len(next(iter(columns.values()))) if columns else len(forms)
+        inside = (np.ones(n, dtype=bool) if forms is None
+                  else np.isin(np.asarray(forms).astype(str), self.forms))
         for name, value in self.fixed.items():
             column = np.asarray(columns[name], dtype=float)
             inside &= (column == value) | np.isclose(column, value, rtol=1e-9, atol=0)
