@@ -73,7 +73,7 @@ BANK = (
     BankEntry("broad",
               "every SandSample parameter over its range (coverage; error about ten times the "
               "target)",
-              samples=3000, holdout=300, rays=1_000, holdout_rays=1_000,
+              samples=3000, holdout=300, rays=500, holdout_rays=1_000,
               model_params={"degree": 3, "n_components": 6}),
 )
 
