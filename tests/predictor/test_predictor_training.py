@@ -207,6 +207,24 @@ class TestPipeline:
         loaded = SpectralModel.load(run.model_path)
         assert (loaded.name_, loaded.description_) == ("small", "a small domain")
 
+    def test_fit_domain_keeps_the_samples_inside_it(self, tmp_path):
+        kw = dict(n_samples=N, rays=RAYS, wavelengths_nm=WL, seed=3, n_holdout=40,
+                  executor=InProcessExecutor(), domain=SMALL,
+                  simulate=predictor_fakes.fake_reflectance, progress=False)
+        low, high = SMALL.dimension("grain_size").low, SMALL.dimension("grain_size").high
+        middle = float(np.sqrt(low * high))
+        sub = SMALL.restrict(grain_size=(middle, high))
+        run = train_spectral(tmp_path, fit_domain=sub, **kw)
+        with xr.open_dataset(tmp_path / "training" / "dataset.nc") as tr, \
+                xr.open_dataset(tmp_path / "holdout" / "dataset.nc") as ho:
+            n_train = int((tr["grain_size"].values >= middle).sum())
+            n_hold = int((ho["grain_size"].values >= middle).sum())
+        assert 0 < n_train < N and 0 < n_hold < 40
+        assert run.model.domain_ == sub and run.model.training_set_["n_used"] == n_train
+        assert run.report.n_samples == n_hold
+        with pytest.raises(ParameterError, match="grain_size"):
+            run.model.predict(SMALL.restrict(grain_size=(low, middle * 0.9)).draw(1, seed=1))
+
 
 class TestCommandLine:
     @pytest.fixture

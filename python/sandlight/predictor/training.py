@@ -221,7 +221,18 @@ def file_sha256(path) -> str:
     return h.hexdigest()
 
 
+def _inside(ds, domain: Domain):
+    """The samples of a training-set dataset that lie inside ``domain``."""
+    columns = {n: ds[n].values for n in (*domain.names, *domain.fixed)}
+    keep = np.flatnonzero(domain.contains(columns, ds[FORM_PARAMETER].values.astype(str)))
+    if keep.size == 0:
+        raise ParameterError("fit_domain", domain.to_dict(), "a domain holding some of the "
+                             "dataset's samples")
+    return ds.isel(sample=keep)
+
+
 def fit_training_set(path, holdout=None, *, name: str = "spectral", description: str = "",
+                     fit_domain: Domain | None = None,
                      **model_params) -> tuple[SpectralModel, HoldoutReport | None]:
     """Fit a SpectralModel on a training-set dataset and score it on a hold-out dataset.
 
@@ -233,6 +244,10 @@ def fit_training_set(path, holdout=None, *, name: str = "spectral", description:
         Hold-out dataset or job store; its scores are attached to the model.
     name, description : str
         The model's ``name_`` and ``description_``.
+    fit_domain : Domain, optional
+        Fit (and score) only the samples inside this domain, which becomes the model's domain:
+        e.g. a range that leaves out a point where the engine is discontinuous. Default: the
+        dataset's domain.
     **model_params
         SpectralModel hyper-parameters.
     """
@@ -242,12 +257,20 @@ def fit_training_set(path, holdout=None, *, name: str = "spectral", description:
     with xr.open_dataset(path) as ds:
         ds = ds.load()
     reference = {"path": str(path), "sha256": file_sha256(path)}
-    model = SpectralModel(**model_params).fit(ds, training_set=reference, name=name,
-                                              description=description)
+    if fit_domain is not None:
+        ds = _inside(ds, fit_domain)
+        reference["n_used"] = int(ds.sizes["sample"])
+    model = SpectralModel(**model_params).fit(ds, domain=fit_domain, training_set=reference,
+                                              name=name, description=description)
     report = None
     if holdout is not None:
         holdout = _dataset_file(holdout)
-        report = evaluate(model, holdout, attach=True)
+        if fit_domain is not None:
+            with xr.open_dataset(holdout) as ho:
+                holdout_ds = _inside(ho.load(), fit_domain)
+            report = evaluate(model, holdout_ds, attach=True)
+        else:
+            report = evaluate(model, holdout, attach=True)
         model.holdout_scores_["path"] = str(holdout)
         model.holdout_scores_["sha256"] = file_sha256(holdout)
     return model, report
@@ -285,7 +308,8 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
                    domain: Domain | None = None, fit_only: bool = False, simulate=None,
                    progress: bool = True, max_tasks: int | None = None,
                    model_params: dict | None = None, holdout_rays: int | None = None,
-                   name: str = "spectral", description: str = "") -> TrainingRun:
+                   name: str = "spectral", description: str = "",
+                   fit_domain: Domain | None = None) -> TrainingRun:
     """Generate the training and hold-out sets, fit, evaluate and save a spectral model.
 
     Layout of ``out_dir``: ``training/`` and ``holdout/`` (job stores, each with its
@@ -302,6 +326,8 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
         reference less noisy, so that the hold-out error measures the model, not the noise.
     name, description : str
         The model's ``name_`` and ``description_`` (kept in the model file).
+    fit_domain : Domain, optional
+        Fit and score only the samples inside this sub-domain (see :func:`fit_training_set`).
     max_tasks : int, optional
         Stop each job after this many samples (for testing resumption).
     model_params : dict, optional
@@ -336,7 +362,7 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
     model, report = fit_training_set(statuses[0].dataset_path,
                                      holdout_status.dataset_path if holdout_status else None,
                                      name=name, description=description,
-                                     **(model_params or {}))
+                                     fit_domain=fit_domain, **(model_params or {}))
     fit_s = time.perf_counter() - start
     model_path = model.save(out / "spectral-model.npz")
     text = json.dumps(report.to_dict() if report else None, indent=1) + "\n"
