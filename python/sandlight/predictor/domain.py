@@ -29,8 +29,8 @@ clay (mass fraction)         [0, 0.10]        linear
 Concentrations: log with an offset
 ----------------------------------
 The engine's reflectance falls fastest at the lowest absorber concentrations: at 400 nm a
-coated quartz sand goes from 0.85 (no iron oxide) to 0.57 at c = 10⁻⁴, 0.40 at 3·10⁻⁴, 0.23 at
-10⁻³ and 0.13 at 10⁻² (SandSample defaults, 10⁴ rays). A thin coating absorbs a fraction
+coated quartz sand (SandSample defaults, pure goethite) goes from 0.86 (no iron oxide) to 0.61
+at c = 10⁻⁴, 0.44 at 3·10⁻⁴, 0.24 at 10⁻³ and 0.02 at 10⁻² (5000 rays). A thin coating absorbs a fraction
 ∝ c of the light at each grain and the light meets many grains, so r changes by about the same
 amount per *factor* of c above the concentration where the coating starts to matter, and is flat
 below it. The coordinate t = ln(c + c₀) follows that: ~ln c above c₀, flat below, finite at 0.
