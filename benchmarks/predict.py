@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """Speed of the spectral predictor: spectra per second (batched) and single-call latency.
 
-Targets (issue 5): ≥ 1 million spectra per second on one core for batched array input, ≤ 1 ms
-for a single call. Run on one core::
+Targets (issue 5): ≥ 1 million spectra per second on one core for batched input, ≤ 1 ms for a
+single call. Run on one core::
 
-    python benchmarks/predict.py                       # the shipped model
+    python benchmarks/predict.py                       # every shipped model, and the bank
     python benchmarks/predict.py --model out/spectral-model.npz
     python benchmarks/predict.py --synthetic           # no model needed: a model of the
-                                                       # default model's shape (13 parameters,
+                                                       # broad model's shape (13 parameters,
                                                        # 3 forms, k = 6, 16 wavelengths)
 """
 
@@ -36,7 +36,7 @@ def synthetic_model():
     B = np.random.default_rng(0).standard_normal((X.shape[1], 6))
     R = 0.4 + 0.05 * np.tanh(X @ B) @ np.random.default_rng(1).standard_normal((6, wl.size))
     return SpectralModel(n_components=6).fit(values, R, wavelengths_nm=wl, domain=domain,
-                                              forms=codes)
+                                              forms=codes, name="synthetic")
 
 
 def best_time(fn, repeat: int, rounds: int = 5) -> float:
@@ -50,41 +50,73 @@ def best_time(fn, repeat: int, rounds: int = 5) -> float:
     return best
 
 
+def bench_model(model, batch: int) -> None:
+    """Batched and single-call speed of one SpectralModel on draws from its own domain."""
+    import numpy as np
+
+    domain = model.domain_
+    X, codes = domain.draw_arrays(batch, seed=7, design="random")
+    print(f"model {model.name_}: {len(model.parameter_names_)} parameters, forms {model.forms_} "
+          f"({model.forms}), degree {model.degree}, k = {model.n_components_}, "
+          f"{model.powers_.shape[0]} monomials, {model.wavelengths_.size} wavelengths")
+    batched = best_time(lambda: model.predict(X, codes), 1, rounds=3)
+    one_form = best_time(lambda: model.predict(X, np.zeros_like(codes)), 1, rounds=3)
+    print(f"  batched ({batch} spectra, mixed forms): {batch / batched:,.0f} spectra/s")
+    print(f"  batched ({batch} spectra, one form):    {batch / one_form:,.0f} spectra/s")
+    row, code = X[:1], codes[:1]
+    print(f"  single call, array input:  "
+          f"{best_time(lambda: model.predict(row, code), 2000) * 1e6:.0f} µs")
+    sample = domain.draw(1, seed=8)[0]
+    print(f"  single call, dict input:   {best_time(lambda: model.predict(sample), 2000) * 1e6:.0f} µs")
+
+
+def bench_bank(bank, batch: int) -> None:
+    """The bank: routing plus prediction, for named input drawn from each model's domain."""
+    import numpy as np
+
+    print(f"bank {[m.name_ for m in bank.models]}:")
+    per_model = -(-batch // len(bank.models))
+    columns: dict = {}
+    for m in bank.models:  # equal shares of samples inside each model's domain
+        draws = m.domain_.draw(per_model, seed=9, design="random")
+        for key in draws[0]:
+            columns.setdefault(key, []).extend(d[key] for d in draws)
+    names = sorted(columns)
+    table = np.empty(len(columns[names[0]]), dtype=[(n, "U16" if n == "iron_oxide_form" else "f8")
+                                                    for n in names])
+    for n in names:
+        table[n] = columns[n]
+    n = table.shape[0]
+    batched = best_time(lambda: bank.predict(table), 1, rounds=3)
+    print(f"  batched ({n} spectra as a structured array, every model): {n / batched:,.0f} spectra/s")
+    try:
+        from sandlight.sample import SandSample
+    except ImportError:
+        return
+    for m in bank.models:
+        sand = SandSample(**m.domain_.draw(1, seed=8)[0])
+        print(f"  single call, SandSample of {m.name_}: "
+              f"{best_time(lambda: bank.predict(sand), 2000) * 1e6:.0f} µs")
+
+
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     source = p.add_mutually_exclusive_group()
-    source.add_argument("--model", help="model file (default: the shipped model)")
+    source.add_argument("--model", help="model file (default: the shipped models)")
     source.add_argument("--synthetic", action="store_true", help="fit a synthetic model")
     p.add_argument("--batch", type=int, default=1_000_000, help="spectra per batched call")
     args = p.parse_args(argv)
 
-    import numpy as np
-
     from sandlight.predictor import SpectralModel, default_model
 
-    model = (synthetic_model() if args.synthetic else
-             SpectralModel.load(args.model) if args.model else default_model())
-    domain = model.domain_
-    X, codes = domain.draw_arrays(args.batch, seed=7, design="random")
-    print(f"model: {len(model.parameter_names_)} parameters, forms {model.forms_} "
-          f"({model.forms}), k = {model.n_components_}, {model.powers_.shape[0]} monomials, "
-          f"{model.wavelengths_.size} wavelengths")
-
-    batched = best_time(lambda: model.predict(X, codes), 1, rounds=3)
-    one_form = best_time(lambda: model.predict(X, np.zeros_like(codes)), 1, rounds=3)
-    print(f"batched ({args.batch} spectra, mixed forms): {args.batch / batched:,.0f} spectra/s")
-    print(f"batched ({args.batch} spectra, one form):    {args.batch / one_form:,.0f} spectra/s")
-
-    row, code = X[:1], codes[:1]
-    print(f"single call, array input:  {best_time(lambda: model.predict(row, code), 2000) * 1e6:.0f} µs")
-    sample = domain.draw(1, seed=8)[0]
-    print(f"single call, dict input:   {best_time(lambda: model.predict(sample), 2000) * 1e6:.0f} µs")
-    try:
-        from sandlight.sample import SandSample
-    except ImportError:
+    if args.synthetic or args.model:
+        bench_model(synthetic_model() if args.synthetic else SpectralModel.load(args.model),
+                    args.batch)
         return 0
-    sand = SandSample(**sample)
-    print(f"single call, SandSample:   {best_time(lambda: model.predict(sand), 2000) * 1e6:.0f} µs")
+    bank = default_model()
+    for model in bank.models:
+        bench_model(model, args.batch)
+    bench_bank(bank, args.batch)
     return 0
 
 

@@ -1,18 +1,20 @@
 #!/usr/bin/env python3
-"""Train the spectral model shipped with sandlight, and print the figures for the docs.
+"""Train the bank of spectral models shipped with sandlight, and print the figures for the docs.
 
-This is the documented command behind ``python/sandlight/data/models/spectral-default.npz``
-(see docs/spectral-predictor.md). It needs the native engine (a built sandlight)::
+This is the documented command behind ``python/sandlight/data/models/spectral-*.npz`` (see
+docs/spectral-predictor.md, "Shipped models"). It needs the native engine (a built sandlight)::
 
-    python scripts/train_default_spectral.py                      # local pool, one worker/CPU
-    python scripts/train_default_spectral.py --dask-local 8
+    python scripts/train_default_spectral.py --workers 2          # every model of the bank
+    python scripts/train_default_spectral.py --only reference-wet --dask-local 8
     python scripts/train_default_spectral.py --scheduler tcp://head:8786
 
-It is resumable: interrupted (Ctrl-C, kill, a lost node), the same command continues from the
-stored samples in ``--work-dir``. At the end it copies the model into the package data and
-prints: the settings, k and the explained variance, the hold-out RMS and maximum error per
-wavelength next to the Monte Carlo noise, the time taken, the machine, and the speed-up of
-prediction over Monte Carlo at equal accuracy.
+Each model is trained by :func:`sandlight.predictor.train_spectral` into ``--work-dir/NAME``:
+resumable (interrupted by Ctrl-C, kill or a lost node, the same command continues from the
+stored samples). At the end of each model it prints the settings, k and the explained variance,
+the hold-out RMS and maximum error per wavelength next to the Monte Carlo noise, the time taken,
+the machine, and the speed-up of prediction over Monte Carlo at equal accuracy; then it copies
+the model into the package data. Package files ``spectral-*.npz`` of models not in the bank are
+removed (``--no-install`` leaves the package alone).
 """
 
 from __future__ import annotations
@@ -21,29 +23,94 @@ import argparse
 import shutil
 import sys
 import time
+from dataclasses import dataclass, field
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGE_MODEL = ROOT / "python" / "sandlight" / "data" / "models" / "spectral-default.npz"
+PACKAGE_DIR = ROOT / "python" / "sandlight" / "data" / "models"
+
+
+@dataclass(frozen=True)
+class BankEntry:
+    """How one shipped model is trained."""
+
+    name: str
+    description: str
+    samples: int
+    holdout: int
+    rays: int
+    holdout_rays: int
+    model_params: dict = field(default_factory=dict)
+
+    def fit_domain(self):
+        """The sub-domain the model is fitted on and covers (None: the generation domain).
+
+        The engine's reflectance jumps between saturation 0 (no water) and any saturation > 0
+        (water films switch the grain interfaces: −0.03 at 400 nm for the reference sand with
+        2 % iron oxide, the same at S = 10⁻⁶ and S = 0.05). The film model therefore starts at
+        S = 10⁻³ and dry sand has its own model.
+        """
+        if self.name == "reference-film":
+            return self.domain().restrict(saturation=(0.001, 0.15))
+        return None
+
+    def domain(self):
+        from sandlight.predictor import Dimension, Domain
+
+        # The reference-sand models vary the paper's Figure 6/7 parameters. Iron oxide from
+        # 0.1 wt% (the paper's figures: 0.1–5 %) on a log scale; the saturation range is split
+        # at the reference sand's film_saturation (0.15), where the engine switches from water
+        # films to filled pores: r(S) has a kink there that no polynomial follows.
+        iron = Dimension("iron_oxide", 0.001, 0.05, "log")
+        hematite = Dimension("hematite_ratio", 0.0, 1.0)
+        if self.name == "reference-dry":
+            return Domain.reference([iron, hematite])  # saturation fixed at 0 (no water)
+        if self.name == "reference-film":
+            return Domain.reference([iron, hematite, Dimension("saturation", 0.0, 0.15)])
+        if self.name == "reference-wet":
+            return Domain.reference([iron, hematite, Dimension("saturation", 0.15, 1.0)])
+        return Domain.default()
+
+
+#: The shipped bank (docs/spectral-predictor.md gives the measurements behind these choices).
+BANK = (
+    BankEntry("reference-dry",
+              "reference sand (SandSample defaults), dry (saturation 0), iron oxide 0.1-5 %, "
+              "any hematite ratio",
+              samples=600, holdout=120, rays=10_000, holdout_rays=40_000,
+              model_params={"degree": 4, "n_components": 6}),
+    BankEntry("reference-film",
+              "reference sand (SandSample defaults) with iron oxide 0.1-5 %, any hematite ratio, "
+              "saturation 0.001-0.15 (water films)",
+              samples=900, holdout=150, rays=10_000, holdout_rays=40_000,
+              model_params={"degree": 4, "n_components": 6}),
+    BankEntry("reference-wet",
+              "reference sand (SandSample defaults) with iron oxide 0.1-5 %, any hematite ratio, "
+              "saturation 0.15-1 (filled pores)",
+              samples=900, holdout=150, rays=10_000, holdout_rays=40_000,
+              model_params={"degree": 4, "n_components": 6}),
+    BankEntry("broad",
+              "every SandSample parameter over its range (coverage; error about ten times the "
+              "target)",
+              samples=3000, holdout=300, rays=500, holdout_rays=1_000,
+              model_params={"degree": 3, "n_components": 6}),
+)
 
 
 def parse_args(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--samples", type=int, default=3000, help="training samples (paper: 3000)")
-    p.add_argument("--holdout", type=int, default=300, help="hold-out samples")
-    p.add_argument("--rays", type=int, default=100_000, help="rays per sample and wavelength")
+    p.add_argument("--only", action="append", choices=[e.name for e in BANK],
+                   help="train only this model (repeatable; default: the whole bank)")
     p.add_argument("--wavelengths", default="400:700:20", help="nm, start:stop:step")
     p.add_argument("--seed", type=int, default=20240601, help="master seed")
-    p.add_argument("--ridge", type=float, default=0.0, help="ridge penalty")
-    p.add_argument("--forms", default="separate", choices=["separate", "onehot"])
     p.add_argument("--work-dir", type=Path, default=ROOT / "build" / "train-default-spectral",
-                   help="job stores and intermediate files (resumable)")
+                   help="job stores and intermediate files (resumable), one directory per model")
     ex = p.add_mutually_exclusive_group()
     ex.add_argument("--workers", type=int, help="local worker processes")
     ex.add_argument("--dask-local", type=int, help="start a Dask LocalCluster of N workers")
     ex.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT")
     p.add_argument("--no-install", action="store_true",
-                   help=f"do not copy the model to {PACKAGE_MODEL.relative_to(ROOT)}")
+                   help=f"do not copy the models to {PACKAGE_DIR.relative_to(ROOT)}")
     return p.parse_args(argv)
 
 
@@ -57,40 +124,44 @@ def time_per_call(fn, repeat: int) -> float:
     return best
 
 
-def main(argv=None) -> int:
-    args = parse_args(argv)
+def train_one(entry: BankEntry, args, executor):
     import numpy as np
 
-    import sandlight
-    from sandlight.jobs import make_executor
-    from sandlight.predictor import Domain, SpectralModel, train_spectral
-    from sandlight.machine import describe as describe_machine
+    from sandlight.predictor import train_spectral
     from sandlight.predictor.training import engine_simulate, wavelength_grid
 
-    executor = make_executor(args.workers, args.dask_local, args.scheduler)
-    print(f"sandlight {sandlight.__version__}; machine: {describe_machine()}")
-    print(f"training {args.samples} samples + {args.holdout} hold-out, {args.rays} rays, "
-          f"wavelengths {args.wavelengths} nm, seed {args.seed}, executor "
-          f"{executor.describe()}, work dir {args.work_dir}")
+    domain = entry.domain()
+    print(f"\n=== {entry.name}: {entry.description}")
+    print(f"dimensions {domain.names}, forms {domain.forms}; {entry.samples} training samples at "
+          f"{entry.rays} rays, {entry.holdout} hold-out samples at {entry.holdout_rays} rays; "
+          f"model {entry.model_params}")
     start = time.perf_counter()
-    run = train_spectral(args.work_dir, args.samples, args.rays, args.wavelengths, args.seed,
-                         n_holdout=args.holdout, executor=executor,
-                         model_params={"ridge": args.ridge, "forms": args.forms})
+    run = train_spectral(args.work_dir / entry.name, entry.samples, entry.rays, args.wavelengths,
+                         args.seed, n_holdout=entry.holdout, holdout_rays=entry.holdout_rays,
+                         executor=executor, domain=domain, model_params=entry.model_params,
+                         name=entry.name, description=entry.description,
+                         fit_domain=entry.fit_domain())
     total_s = time.perf_counter() - start
     model, report = run.model, run.report
 
     k = model.n_components_
     ratio, signal = model.explained_variance_ratio_, model.signal_variance_ratio_
-    print(f"\nprincipal components: k = {k}")
+    print(f"principal components: k = {k}")
     print("  explained variance (raw):    " + ", ".join(f"{r:.5%}" for r in ratio[:k])
           + f"  -> {ratio[:k].sum():.4%}")
     if signal is not None:
         print("  explained variance (signal): " + ", ".join(f"{r:.5%}" for r in signal[:k])
               + f"  -> {signal[:k].sum():.4%}")
-    print(f"training RMS error {model.training_rms_:.5f} (PCA truncation floor "
-          f"{model.reconstruction_rms_:.5f})\n")
+    print(f"monomials: {model.powers_.shape[0]} per form; training RMS error "
+          f"{model.training_rms_:.5f} (PCA truncation floor {model.reconstruction_rms_:.5f})")
+    # Training noise carried into the predictions: least squares with m coefficients fitted to
+    # n noisy samples passes on about σ·√(m/n) at an average point (σ the training noise).
+    sigma_train = float(np.sqrt(np.mean(run_noise(run.training.dataset_path) ** 2)))
+    n_form = entry.samples / len(domain.forms)
+    print(f"training noise {sigma_train:.5f} per sample; carried into predictions ≈ "
+          f"{sigma_train * np.sqrt(model.powers_.shape[0] / n_form):.5f}")
     print(report.table())
-    print(f"\nwall time of this run: {total_s:.0f} s (generation {run.generation_s:.0f} s, fit "
+    print(f"wall time of this run: {total_s:.0f} s (generation {run.generation_s:.0f} s, fit "
           f"{run.fit_s:.1f} s); a resumed run counts only its own part")
 
     # Speed-up at equal accuracy: Monte Carlo noise falls as 1/√rays, so reaching the model's
@@ -98,28 +169,61 @@ def main(argv=None) -> int:
     # ε is the hold-out RMS error against Monte Carlo, an upper bound of the model's error
     # (it includes the reference's noise): the speed-up printed is a lower bound.
     wl = wavelength_grid(args.wavelengths)
-    samples = Domain.default().draw(3, seed=args.seed + 1, design="random")
-    mc_s = time_per_call(lambda: [engine_simulate(s, wl, rays=args.rays, seed=1)
+    samples = (entry.fit_domain() or domain).draw(3, seed=args.seed + 1, design="random")
+    mc_s = time_per_call(lambda: [engine_simulate(s, wl, rays=entry.rays, seed=1)
                                   for s in samples], 1) / len(samples)
     error = report.rms_error_overall
-    noise = float(np.sqrt(np.mean(report.mc_noise_rms**2)))
-    rays_equal = args.rays * (noise / error) ** 2
-    mc_equal_s = mc_s * rays_equal / args.rays
+    noise = sigma_train
+    rays_equal = entry.rays * (noise / error) ** 2
+    mc_equal_s = mc_s * rays_equal / entry.rays
     one = samples[0]
     single_s = time_per_call(lambda: model.predict(one), 2000)
-    print(f"\nMonte Carlo: {mc_s:.3f} s per sample at {args.rays} rays (noise {noise:.5f}); "
+    print(f"Monte Carlo: {mc_s:.3f} s per sample at {entry.rays} rays (noise {noise:.5f}); "
           f"hold-out RMS error {error:.5f} (model error alone ≈ "
           f"{float(np.sqrt(np.mean(report.model_error_estimate**2))):.5f})")
     print(f"equal accuracy needs ≈ {rays_equal:.3g} rays, {mc_equal_s:.3g} s per sample; "
           f"prediction takes {single_s * 1e6:.0f} µs per call: speed-up ≥ "
           f"{mc_equal_s / single_s:.3g}×")
+    return run
 
-    if not args.no_install:
-        from sandlight.io import write_atomically
 
-        write_atomically(PACKAGE_MODEL, lambda tmp: shutil.copyfile(run.model_path, tmp))
-        SpectralModel.load(PACKAGE_MODEL)  # the installed file reads back
-        print(f"\ninstalled {PACKAGE_MODEL}")
+def run_noise(dataset_path):
+    import xarray as xr
+
+    with xr.open_dataset(dataset_path) as ds:
+        return ds["stderr"].values
+
+
+def main(argv=None) -> int:
+    args = parse_args(argv)
+    import sandlight
+    from sandlight.io import write_atomically
+    from sandlight.jobs import make_executor
+    from sandlight.machine import describe as describe_machine
+    from sandlight.predictor import ModelBank, SpectralModel
+
+    executor = make_executor(args.workers, args.dask_local, args.scheduler)
+    entries = [e for e in BANK if not args.only or e.name in args.only]
+    print(f"sandlight {sandlight.__version__}; machine: {describe_machine()}")
+    print(f"models {[e.name for e in entries]}, wavelengths {args.wavelengths} nm, seed "
+          f"{args.seed}, executor {executor.describe()}, work dir {args.work_dir}")
+    runs = {e.name: train_one(e, args, executor) for e in entries}
+    if args.no_install:
+        return 0
+    for name, run in runs.items():
+        target = PACKAGE_DIR / f"spectral-{name}.npz"
+        write_atomically(target, lambda tmp: shutil.copyfile(run.model_path, tmp))
+        SpectralModel.load(target)  # the installed file reads back
+        print(f"installed {target}")
+    names = {f"spectral-{e.name}.npz" for e in BANK}
+    for stale in sorted(PACKAGE_DIR.glob("spectral-*.npz")):
+        if stale.name not in names:
+            stale.unlink()
+            print(f"removed {stale} (not a model of the bank)")
+    bank = ModelBank.load(sorted(PACKAGE_DIR.glob("spectral-*.npz")))
+    print("\nthe shipped bank, most accurate first:")
+    for rank in range(len(bank.models)):
+        print(f"  {bank.describe(rank)}")
     return 0
 
 

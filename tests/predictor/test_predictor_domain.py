@@ -67,9 +67,14 @@ class TestDraw:
                 assert sorted(strata) == list(range(len(u))), (name, f)
 
     def test_scales(self, draws):
-        # sqrt scale: uniform in √c, so the median is at (√0.1 / 2)² = 0.025, not 0.05;
+        # log scale with offset c₀ = 1e-4: uniform in ln(c + c₀) over [0, 0.1], so the median is
+        # √(c₀·(0.1 + c₀)) − c₀ ≈ 3.06e-3 and a third of the draws lie below 1e-3
+        # ((ln(1.1e-3) − ln(1e-4))/(ln(0.1001) − ln(1e-4)) = 0.347);
         # log scale: the median of grain_size is the geometric mean √(0.05·2) ≈ 0.316 mm.
-        assert np.median(column(draws, "iron_oxide")) == pytest.approx(0.025, rel=0.05)
+        iron = column(draws, "iron_oxide")
+        assert np.median(iron) == pytest.approx(math.sqrt(1e-4 * 0.1001) - 1e-4, rel=0.05)
+        assert np.mean(iron < 1e-3) == pytest.approx(0.347, abs=0.02)
+        assert iron.min() >= 0.0
         assert np.median(column(draws, "grain_size")) == pytest.approx(math.sqrt(0.1), rel=0.05)
         assert np.median(column(draws, "porosity")) == pytest.approx(0.40, rel=0.02)
 
@@ -151,7 +156,9 @@ class TestCheck:
         np.testing.assert_allclose(DEFAULT.scaled(lo), -1.0, atol=1e-14)
         np.testing.assert_allclose(DEFAULT.scaled(hi), 1.0, atol=1e-14)
         mid = np.array([[math.sqrt(0.05 * 2) if n == "grain_size" else
-                         (0.025 if n == "iron_oxide" else 0.5 * (d.low + d.high))
+                         # midpoint of ln(c + 1e-4) over [0, 0.1]: √(1e-4·0.1001) − 1e-4
+                         (math.sqrt(1e-4 * 0.1001) - 1e-4 if n == "iron_oxide"
+                          else 0.5 * (d.low + d.high))
                          for n, d in zip(DEFAULT.names, DEFAULT.dimensions)]])
         for n in ("grain_size", "iron_oxide", "porosity"):
             assert DEFAULT.scaled(mid)[0, DEFAULT.names.index(n)] == pytest.approx(0.0, abs=1e-12)

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import sandlight
-import sandlight.predictor.spectral as spectral
+import sandlight.predictor.bank as bank
 from sandlight.errors import ModelFileError, SandlightError
-from sandlight.predictor import ModelVersionWarning, SpectralModel, default_model
+from sandlight.predictor import Dimension, Domain, ModelVersionWarning, SpectralModel, default_model
 from test_predictor_spectral import SMALL, WL, exact_cubic_problem
 
 
@@ -19,6 +19,7 @@ def model():
     m = SpectralModel(ridge=1e-9).fit(train, R, wavelengths_nm=WL, domain=SMALL,
                                       training_set={"path": "somewhere/dataset.nc", "seed": 3})
     m.holdout_scores_ = {"rms_error_overall": 0.001}
+    m.name_, m.description_ = "small", "a test model"
     return m
 
 
@@ -66,10 +67,13 @@ class TestRoundTrip:
         with np.load(saved, allow_pickle=False) as npz:  # no object arrays anywhere
             assert {npz[k].dtype.kind for k in npz.files} <= {"f", "i", "U"}
             meta = json.loads(str(npz["metadata"][()]))
-        assert meta["format"] == "sandlight-spectral-model" and meta["format_version"] == 1
+        assert meta["format"] == "sandlight-spectral-model" and meta["format_version"] == 2
         assert meta["sandlight_version"] == sandlight.__version__
         assert meta["parameter_names"] == list(SMALL.names)
         assert meta["domain"]["fixed"]["depth_mm"] == float("inf")
+        iron = meta["domain"]["dimensions"][SMALL.names.index("iron_oxide")]
+        assert (iron["scale"], iron["offset"]) == ("log", 1e-4)
+        assert (meta["name"], meta["description"]) == ("small", "a test model")
 
     def test_save_is_deterministic_and_atomic(self, model, saved, tmp_path):
         again = model.save(tmp_path / "again.npz")
@@ -126,8 +130,8 @@ class TestRefused:
             SpectralModel.load(path)
 
     def test_newer_format_version(self, saved, tmp_path):
-        path = with_metadata(saved, tmp_path / "x.npz", format_version=2)
-        with pytest.raises(ModelFileError, match="format version 2.*upgrade"):
+        path = with_metadata(saved, tmp_path / "x.npz", format_version=3)
+        with pytest.raises(ModelFileError, match="format version 3.*upgrade"):
             SpectralModel.load(path)
 
     def test_inconsistent_shapes(self, saved, tmp_path):
@@ -162,19 +166,51 @@ def test_other_sandlight_version_warns(model, saved, tmp_path):
     np.testing.assert_array_equal(loaded.predict(samples), model.predict(samples))
 
 
+def test_format_1_file_still_loads(tmp_path):
+    """Format 1 had √c-scaled concentrations, no log offsets and no model name: such a file
+    reads back with the same predictions, named after the file."""
+    iron = SMALL.dimension("iron_oxide")
+    dims = tuple(Dimension("iron_oxide", iron.low, iron.high, "sqrt") if d.name == "iron_oxide"
+                 else d for d in SMALL.dimensions)
+    domain = Domain(dims, SMALL.forms, SMALL.fixed, SMALL.texture_limit)
+    train, R, _, _ = exact_cubic_problem(domain, 300, seed=3)
+    model = SpectralModel(ridge=1e-9).fit(train, R, wavelengths_nm=WL, domain=domain)
+    saved = model.save(tmp_path / "new.npz")
+
+    def as_format_1(name, array):
+        if name != "metadata":
+            return array
+        meta = json.loads(str(array[()]))
+        meta["format_version"] = 1
+        del meta["name"], meta["description"]
+        for d in meta["domain"]["dimensions"]:
+            del d["offset"]
+        return np.array(json.dumps(meta))
+
+    old = rewrite(saved, tmp_path / "spectral-old.npz", as_format_1)
+    loaded = SpectralModel.load(old)
+    assert loaded.name_ == "spectral-old" and loaded.domain_ == domain
+    samples = domain.draw(20, seed=4)
+    np.testing.assert_array_equal(loaded.predict(samples), model.predict(samples))
+
+
 class TestDefaultModel:
     def test_absent_default_model_is_a_clear_error(self, monkeypatch, tmp_path):
-        monkeypatch.setattr(spectral, "default_model_path", lambda: tmp_path / "none.npz")
+        monkeypatch.setattr(bank, "default_model_dir", lambda: tmp_path)
         default_model.cache_clear()
-        with pytest.raises(SandlightError, match="default spectral model is not installed"):
+        with pytest.raises(SandlightError, match="no spectral model is installed"):
             default_model()
 
-    def test_present_default_model_is_loaded_once(self, monkeypatch, saved, model):
-        monkeypatch.setattr(spectral, "default_model_path", lambda: saved)
+    def test_present_default_models_are_loaded_once(self, monkeypatch, saved, model, tmp_path):
+        models = tmp_path / "models"
+        models.mkdir()
+        saved.rename(models / "spectral-small.npz")
+        monkeypatch.setattr(bank, "default_model_dir", lambda: models)
         default_model.cache_clear()
         try:
             first = default_model()
             assert default_model() is first
+            assert [m.name_ for m in first.models] == ["small"]
             samples = SMALL.draw(3, seed=2)
             np.testing.assert_array_equal(first.predict(samples), model.predict(samples))
         finally:

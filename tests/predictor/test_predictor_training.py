@@ -192,6 +192,39 @@ class TestPipeline:
         loaded = SpectralModel.load(refit.model_path)
         assert loaded.holdout_scores_["n_samples"] == 40
 
+    def test_holdout_rays_and_model_name(self, tmp_path):
+        kw = dict(n_samples=N, rays=RAYS, wavelengths_nm=WL, seed=3, n_holdout=20,
+                  executor=InProcessExecutor(), domain=SMALL,
+                  simulate=predictor_fakes.fake_reflectance, progress=False)
+        run = train_spectral(tmp_path, holdout_rays=RAYS * 16, name="small",
+                             description="a small domain", **kw)
+        with xr.open_dataset(tmp_path / "holdout" / "dataset.nc") as ho, \
+                xr.open_dataset(tmp_path / "training" / "dataset.nc") as tr:
+            assert (ho.attrs["rays"], tr.attrs["rays"]) == (RAYS * 16, RAYS)
+            # the fake engine's noise falls as 1/√rays: 4× less in the hold-out
+            ratio = np.sqrt((tr["stderr"] ** 2).mean() / (ho["stderr"] ** 2).mean())
+            assert float(ratio) == pytest.approx(4.0, rel=0.1)
+        loaded = SpectralModel.load(run.model_path)
+        assert (loaded.name_, loaded.description_) == ("small", "a small domain")
+
+    def test_fit_domain_keeps_the_samples_inside_it(self, tmp_path):
+        kw = dict(n_samples=N, rays=RAYS, wavelengths_nm=WL, seed=3, n_holdout=40,
+                  executor=InProcessExecutor(), domain=SMALL,
+                  simulate=predictor_fakes.fake_reflectance, progress=False)
+        low, high = SMALL.dimension("grain_size").low, SMALL.dimension("grain_size").high
+        middle = float(np.sqrt(low * high))
+        sub = SMALL.restrict(grain_size=(middle, high))
+        run = train_spectral(tmp_path, fit_domain=sub, **kw)
+        with xr.open_dataset(tmp_path / "training" / "dataset.nc") as tr, \
+                xr.open_dataset(tmp_path / "holdout" / "dataset.nc") as ho:
+            n_train = int((tr["grain_size"].values >= middle).sum())
+            n_hold = int((ho["grain_size"].values >= middle).sum())
+        assert 0 < n_train < N and 0 < n_hold < 40
+        assert run.model.domain_ == sub and run.model.training_set_["n_used"] == n_train
+        assert run.report.n_samples == n_hold
+        with pytest.raises(ParameterError, match="grain_size"):
+            run.model.predict(SMALL.restrict(grain_size=(low, middle * 0.9)).draw(1, seed=1))
+
 
 class TestCommandLine:
     @pytest.fixture
@@ -260,3 +293,6 @@ class TestCommandLine:
         assert result.exit_code == 0, result.output
         expected = model.predict(sample)[0]
         assert f"{expected[0]:.4f}" in result.output and "reflectance of s" in result.output
+        # it names the model that answered and its (here missing) hold-out score
+        assert "model spectral: 13 parameters, 3 forms; no hold-out score" in result.output
+        assert "extrapolated" not in result.output

@@ -26,6 +26,9 @@ def train_spectral_command(
     seed: int = typer.Option(0, "--seed", help="Master seed (draws and engine seeds)."),
     holdout: Optional[int] = typer.Option(None, "--holdout",
                                           help="Hold-out samples (default: max(20, N/10))."),
+    holdout_rays: Optional[int] = typer.Option(None, "--holdout-rays",
+                                               help="Rays per hold-out sample (default: "
+                                                    "--rays)."),
     workers: Optional[int] = typer.Option(None, "--workers",
                                           help="Local worker processes (1: in-process) "
                                                "(default: one per CPU)."),
@@ -40,6 +43,7 @@ def train_spectral_command(
                                                     "--variance)."),
     variance: float = typer.Option(0.999, "--variance", help="Explained variance threshold."),
     ridge: float = typer.Option(0.0, "--ridge", help="Ridge penalty (0: least squares)."),
+    degree: int = typer.Option(3, "--degree", help="Degree of the monomials (paper: 3)."),
     forms: str = typer.Option("separate", "--forms", help="'separate' or 'onehot'."),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
 ) -> None:
@@ -53,9 +57,9 @@ def train_spectral_command(
         executor = None if fit_only else make_executor(workers, dask_local, scheduler)
         run = train_spectral(
             out, samples, rays, wavelengths, seed, n_holdout=holdout, executor=executor,
-            fit_only=fit_only, progress=progress,
+            fit_only=fit_only, progress=progress, holdout_rays=holdout_rays,
             model_params={"n_components": n_components, "variance_threshold": variance,
-                          "ridge": ridge, "forms": forms})
+                          "ridge": ridge, "forms": forms, "degree": degree})
     except Cancelled as exc:
         _fail(str(exc), 130)
     except SandlightError as exc:
@@ -104,16 +108,27 @@ def predict(
     extrapolate: bool = typer.Option(False, "--extrapolate",
                                      help="Allow samples outside the training domain."),
 ) -> None:
-    """Predict the spectral reflectance of a sand sample in microseconds."""
+    """Predict the spectral reflectance of a sand sample in microseconds.
+
+    Without --model, the most accurate shipped model whose training domain contains the sample
+    answers; the command says which one and its hold-out error.
+    """
     from sandlight.errors import SandlightError
-    from sandlight.predictor.spectral import SpectralModel, default_model
+    from sandlight.predictor.bank import ModelBank, default_model
+    from sandlight.predictor.spectral import SpectralModel
 
     try:
-        model = default_model() if model_path is None else SpectralModel.load(model_path)
+        bank = default_model() if model_path is None else ModelBank(
+            [SpectralModel.load(model_path)])
         sample, label = _load_sample(sample_file, preset)
-        reflectance = model.predict([sample], extrapolate=extrapolate)[0]
+        values, used = bank.predict([sample], extrapolate=extrapolate, return_models=True)
     except SandlightError as exc:
         _fail(str(exc))
+    reflectance, model = values[0], bank.model(str(used[0]))
+    outside = not model.domain_.contains(
+        {k: [v] for k, v in sample.to_dict().items()}, [sample.iron_oxide_form])[0]
+    typer.echo(f"model {bank.describe(model.name_)}"
+               + (" [extrapolated: the sample is outside its domain]" if outside else ""))
     wavelengths = model.wavelengths_
     if output is not None:
         from sandlight.io import write_atomically

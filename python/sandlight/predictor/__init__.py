@@ -2,8 +2,11 @@
 
 Public objects
 --------------
-SpectralModel, evaluate, HoldoutReport, default_model
+SpectralModel, evaluate, HoldoutReport
     The spectral predictor r(x) ≈ r̄ + U_k Wᵀ φ(x) (:mod:`sandlight.predictor.spectral`).
+ModelBank, default_model
+    Several models, each sample predicted by the most accurate one covering it; the shipped
+    bank (:mod:`sandlight.predictor.bank`).
 Domain, Dimension
     Training domains over SandSample parameters (:mod:`sandlight.predictor.domain`).
 generate_training_set, fit_training_set, train_spectral
@@ -11,12 +14,14 @@ generate_training_set, fit_training_set, train_spectral
     (:mod:`sandlight.predictor.training`).
 """
 
+from sandlight.predictor.bank import ModelBank, default_model
 from sandlight.predictor.domain import Dimension, Domain
 from sandlight.predictor.spectral import (HoldoutReport, ModelVersionWarning, SpectralModel,
-                                          default_model, evaluate)
+                                          evaluate)
 from sandlight.predictor.training import (fit_training_set, generate_training_set,
                                           train_spectral, wavelength_grid)
 
-__all__ = ["SpectralModel", "evaluate", "HoldoutReport", "ModelVersionWarning", "default_model",
+__all__ = ["SpectralModel", "evaluate", "HoldoutReport", "ModelVersionWarning", "ModelBank",
+           "default_model",
            "Domain", "Dimension", "generate_training_set", "fit_training_set", "train_spectral",
            "wavelength_grid"]

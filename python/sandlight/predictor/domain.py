@@ -8,23 +8,35 @@ training samples (Latin hypercube or random, seeded) and checks that inputs lie 
 Default domain (:meth:`Domain.default`)
 ---------------------------------------
 
-===========================  ===============  ======  ===========================================
-dimension                    range            scale   why this scale
-===========================  ===============  ======  ===========================================
-iron_oxide (mass fraction)   [0, 0.10]        sqrt    Kubelka–Munk: for weak absorption
-magnetite (mass fraction)    [0, 0.05]        sqrt    1 − r∞ ≈ √(2K/S) ∝ √c, so r is ~linear in √c
+===========================  ===============  ================  ===============================
+dimension                    range            scale             why this scale
+===========================  ===============  ================  ===============================
+iron_oxide (mass fraction)   [0, 0.10]        log, c₀ = 1e-4    see "Concentrations" below
+magnetite (mass fraction)    [0, 0.05]        log, c₀ = 1e-4    see "Concentrations" below
 hematite_ratio               [0, 1]           linear
-coating_iron_share           [0.1, 1]         linear  narrower than SandSample (0.01): see below
-iron_oxide_particle_size_um  [0.1, 50] µm     log     sizes act multiplicatively (path lengths)
+coating_iron_share           [0.1, 1]         linear            narrower than SandSample (0.01)
+iron_oxide_particle_size_um  [0.1, 50] µm     log               sizes act multiplicatively
 saturation                   [0, 1]           linear
 film_saturation              [0, 1]           linear
 porosity                     [0.25, 0.55]     linear
-grain_size (mm)              [0.05, 2] mm     log     spans 40×; effects scale with ln d
+grain_size (mm)              [0.05, 2] mm     log               spans 40×; effects scale with ln d
 grain_size_spread            [1, 3]           linear
 aspect_ratio                 [1, 3]           linear
-silt (mass fraction)         [0, 0.15]        linear  drawn inside the USDA sand class, below
+silt (mass fraction)         [0, 0.15]        linear            drawn inside the USDA sand class
 clay (mass fraction)         [0, 0.10]        linear
-===========================  ===============  ======  ===========================================
+===========================  ===============  ================  ===============================
+
+Concentrations: log with an offset
+----------------------------------
+The engine's reflectance falls fastest at the lowest absorber concentrations: at 400 nm a
+coated quartz sand (SandSample defaults, pure goethite) goes from 0.86 (no iron oxide) to 0.61
+at c = 10⁻⁴, 0.44 at 3·10⁻⁴, 0.24 at 10⁻³ and 0.02 at 10⁻² (5000 rays). A thin coating absorbs a fraction
+∝ c of the light at each grain and the light meets many grains, so r changes by about the same
+amount per *factor* of c above the concentration where the coating starts to matter, and is flat
+below it. The coordinate t = ln(c + c₀) follows that: ~ln c above c₀, flat below, finite at 0.
+c₀ = 10⁻⁴ (0.01 wt%) is where the drop begins; the √c scale of format-1 models (Kubelka–Munk's
+1 − r∞ ∝ √(K/S) at weak absorption) spreads the same range 0–0.1 so that the first 0.01 wt%, where
+half the drop happens, takes 3 % of the coordinate.
 
 ``coating_iron_share`` is trained on [0.1, 1], not SandSample's [0.01, 1]: with 10 wt% iron oxide
 a coating of 1 % iron-oxide share would be ten times the mass of the solids, which the mass
@@ -41,9 +53,16 @@ share* s = silt/(silt + clay) ∈ [0, 1]; then silt + clay = 0.15·f/(s + 1.5·(
 predictor itself takes silt and clay as inputs (smooth in both, and defined at zero fines, where
 the silt share is not) and checks the class constraint.
 
-"Drawn on a scale" means uniform in the transformed value: sqrt-scaled parameters are denser near
-zero, where reflectance changes fastest; log-scaled ones are log-uniform. Regression features
-are the transformed values mapped linearly to [−1, 1].
+"Drawn on a scale" means uniform in the transformed value: log-scaled parameters are log-uniform
+(with an offset: uniform in ln(c + c₀), so about a third of the draws of iron oxide fall below
+10⁻³). Regression features are the transformed values mapped linearly to [−1, 1].
+
+Reference-sand domains (:meth:`Domain.reference`)
+------------------------------------------------
+Narrow domains in which only a few parameters vary (the paper's Figures 6 and 7 vary iron oxide,
+the hematite/goethite ratio and the degree of saturation) and every other parameter is fixed at
+the *reference sand*, :data:`REFERENCE_SAND` (SandSample's defaults). With few dimensions the
+cubic has few monomials and fits the engine much more closely.
 """
 
 from __future__ import annotations
@@ -64,7 +83,15 @@ CLAY_WEIGHT = 1.5
 #: Parameters derived from the dimensions rather than drawn.
 DERIVED = ("sand",)
 FORM_PARAMETER = "iron_oxide_form"
-SCALES = ("linear", "sqrt", "log")
+SCALES = ("linear", "log", "sqrt")
+#: Offset c₀ of the log scale of absorber concentrations, mass fraction (module docstring).
+CONCENTRATION_OFFSET = 1e-4
+#: The reference sand of the narrow domains: SandSample's defaults (docs/sample.md), semi-infinite.
+REFERENCE_SAND = {"iron_oxide": 0.01, "hematite_ratio": 0.5, "magnetite": 0.0,
+                  "coating_iron_share": 0.2, "iron_oxide_particle_size_um": 1.0,
+                  "saturation": 0.0, "film_saturation": 0.15, "porosity": 0.40,
+                  "grain_size": 0.25, "grain_size_spread": 1.4, "aspect_ratio": 1.4,
+                  "silt": 0.04, "clay": 0.01, "depth_mm": math.inf}
 
 
 @dataclass(frozen=True)
@@ -77,10 +104,16 @@ class Dimension:
         The SandSample parameter.
     low, high : float
         Range, low < high, in the parameter's unit.
-    scale : {"linear", "sqrt", "log"}
-        Scale on which the parameter is drawn uniformly and regressed (log needs low > 0).
+    scale : {"linear", "log", "sqrt"}
+        Scale on which the parameter is drawn uniformly and regressed: t = x, t = ln(x + offset)
+        (needs low + offset > 0) or t = √x (needs low >= 0; the scale of format-1 model files,
+        kept so that they still load).
     unit : str
         Unit, for messages and metadata ("1" for fractions).
+    offset : float
+        Offset c₀ >= 0 of the log scale, in the parameter's unit (0 for the others): ln(x + c₀)
+        is ~ln x above c₀ and flattens below it, so that a concentration range starting at 0
+        is resolved down to about c₀ (see the module docstring).
     """
 
     name: str
@@ -88,6 +121,7 @@ class Dimension:
     high: float
     scale: str = "linear"
     unit: str = "1"
+    offset: float = 0.0
 
     def __post_init__(self):
         if self.scale not in SCALES:
@@ -95,22 +129,29 @@ class Dimension:
         if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
             raise ParameterError(self.name, (self.low, self.high),
                                  "a finite range (low, high) with low < high")
-        if self.scale == "log" and self.low <= 0:
-            raise ParameterError(self.name, (self.low, self.high), "low > 0 on a log scale")
+        if not (math.isfinite(self.offset) and self.offset >= 0):
+            raise ParameterError(f"{self.name}.offset", self.offset, "a finite number >= 0")
+        if self.offset and self.scale != "log":
+            raise ParameterError(f"{self.name}.offset", self.offset,
+                                 "0 unless the scale is 'log'")
+        if self.scale == "log" and self.low + self.offset <= 0:
+            raise ParameterError(self.name, (self.low, self.high),
+                                 f"low + offset > 0 on a log scale (offset {self.offset:g})"
+                                 if self.offset else "low > 0 on a log scale")
         if self.scale == "sqrt" and self.low < 0:
             raise ParameterError(self.name, (self.low, self.high), "low >= 0 on a sqrt scale")
 
     def forward(self, x):
         """Transformed value (the scale's coordinate)."""
         if self.scale == "log":
-            return np.log(x)
+            return np.log(np.add(x, self.offset)) if self.offset else np.log(x)
         if self.scale == "sqrt":
             return np.sqrt(x)
         return np.asarray(x, dtype=float)
 
     def inverse(self, t):
         if self.scale == "log":
-            return np.exp(t)
+            return np.exp(t) - self.offset if self.offset else np.exp(t)
         if self.scale == "sqrt":
             return np.square(t)
         return t
@@ -121,13 +162,17 @@ class Dimension:
         # Clip: exp/square of the end points may round a hair outside the range.
         return np.clip(self.inverse(t0 + np.asarray(u) * (t1 - t0)), self.low, self.high)
 
+    def to_dict(self) -> dict:
+        return {"name": self.name, "low": self.low, "high": self.high, "scale": self.scale,
+                "unit": self.unit, "offset": self.offset}
+
 
 def _default_dimensions() -> tuple[Dimension, ...]:
     limit = SAND_CLASS_LIMIT
     return (
-        Dimension("iron_oxide", 0.0, 0.10, "sqrt"),
+        Dimension("iron_oxide", 0.0, 0.10, "log", offset=CONCENTRATION_OFFSET),
         Dimension("hematite_ratio", 0.0, 1.0),
-        Dimension("magnetite", 0.0, 0.05, "sqrt"),
+        Dimension("magnetite", 0.0, 0.05, "log", offset=CONCENTRATION_OFFSET),
         Dimension("coating_iron_share", 0.1, 1.0),
         Dimension("iron_oxide_particle_size_um", 0.1, 50.0, "log", "um"),
         Dimension("saturation", 0.0, 1.0),
@@ -200,6 +245,34 @@ class Domain:
     def default(cls) -> "Domain":
         """The default domain: every float parameter of SandSample over its full range."""
         return cls()
+
+    @classmethod
+    def reference(cls, dimensions, forms=FORMS, reference: Mapping | None = None) -> "Domain":
+        """A narrow domain: ``dimensions`` vary, every other parameter is fixed at the
+        reference sand.
+
+        Parameters
+        ----------
+        dimensions : sequence of Dimension
+            The varying parameters, in predictor input order.
+        forms : sequence of str
+            Iron-oxide forms covered.
+        reference : mapping, optional
+            Values of the fixed parameters (default :data:`REFERENCE_SAND`); needs every float
+            parameter of SandSample except ``sand`` (derived).
+
+        Examples
+        --------
+        >>> d = Domain.reference([Dimension("iron_oxide", 0.001, 0.05, "log"),
+        ...                       Dimension("saturation", 0.0, 1.0)])
+        >>> d.names, d.fixed["grain_size"]
+        (('iron_oxide', 'saturation'), 0.25)
+        """
+        dimensions = tuple(dimensions)
+        varied = {d.name for d in dimensions}
+        reference = REFERENCE_SAND if reference is None else reference
+        fixed = {k: float(v) for k, v in reference.items() if k not in varied}
+        return cls(dimensions, tuple(forms), fixed, SAND_CLASS_LIMIT)
 
     def restrict(self, *, forms=None, texture_limit=None, **changes) -> "Domain":
         """A smaller domain.
@@ -279,8 +352,7 @@ class Domain:
     # ---- serialisation -----------------------------------------------------------------------
     def to_dict(self) -> dict:
         """Plain-JSON description (``inf`` stays a float; Python's json writes ``Infinity``)."""
-        return {"dimensions": [{"name": d.name, "low": d.low, "high": d.high, "scale": d.scale,
-                                "unit": d.unit} for d in self.dimensions],
+        return {"dimensions": [d.to_dict() for d in self.dimensions],
                 "forms": list(self.forms), "fixed": dict(self.fixed),
                 "texture_limit": self.texture_limit}
 
@@ -403,29 +475,64 @@ class Domain:
             raise ParameterError(self.names[col], float(values[row, col]), "a finite number")
         for j, dim in enumerate(self.dimensions):
             column = values[:, j]
-            tol = 1e-9 * (dim.high - dim.low)  # round-off of values written to text and read back
             if extrapolate:
-                bad = column <= 0 if dim.scale == "log" else (
+                bad = column + dim.offset <= 0 if dim.scale == "log" else (
                     column < 0 if dim.scale == "sqrt" else None)
                 if bad is not None and bad.any():
                     raise ParameterError(dim.name, float(column[np.argmax(bad)]),
-                                         "> 0" if dim.scale == "log" else ">= 0")
+                                         f"> {0.0 - dim.offset:g}" if dim.scale == "log" else ">= 0")
                 continue
-            bad = (column < dim.low - tol) | (column > dim.high + tol)
+            bad = ~_inside(dim, column)
             if bad.any():
                 raise ParameterError(
                     dim.name, float(column[np.argmax(bad)]),
                     f"[{dim.low:g}, {dim.high:g}] {dim.unit}, the training domain of this "
                     f"predictor (pass extrapolate=True to evaluate outside it)")
         if self._texture_drawn and not extrapolate:
-            index = self.names.index("silt"), self.names.index("clay")
-            load = values[:, index[0]] + CLAY_WEIGHT * values[:, index[1]]
+            load = self._texture_load(values)
             bad = load > self.texture_limit * (1 + 1e-9)
             if bad.any():
                 raise ParameterError(
                     "silt + 1.5·clay", float(load[np.argmax(bad)]),
                     f"<= {self.texture_limit:g} (sand texture class of the training domain; pass "
                     f"extrapolate=True to evaluate outside it)")
+
+    def _texture_load(self, values: np.ndarray) -> np.ndarray:
+        """silt + 1.5·clay of each row (texture dimensions only)."""
+        return (values[:, self.names.index("silt")]
+                + CLAY_WEIGHT * values[:, self.names.index("clay")])
+
+    def contains(self, columns: Mapping, forms=None) -> np.ndarray:
+        """Which samples lie inside this domain (the test of :meth:`check`, without raising).
+
+        Parameters
+        ----------
+        columns : mapping of str to array_like (n,)
+            Parameter values by SandSample name (every dimension and fixed parameter of the
+            domain must be present; others are ignored).
+        forms : array_like of str (n,), optional
+            Iron-oxide form of each sample (None: not checked).
+
+        Returns
+        -------
+        ndarray of bool (n,)
+            True where every dimension is inside its range (and the texture inside the class
+            bound), every fixed parameter equals its value and the form is one of ``forms``.
+            NaN is outside.
+        """
+        n = len(next(iter(columns.values()))) if columns else len(forms)
+        inside = (np.ones(n, dtype=bool) if forms is None
+                  else np.isin(np.asarray(forms).astype(str), self.forms))
+        for name, value in self.fixed.items():
+            column = np.asarray(columns[name], dtype=float)
+            inside &= (column == value) | np.isclose(column, value, rtol=1e-9, atol=0)
+        if self.dimensions:
+            values = np.column_stack([np.asarray(columns[n], dtype=float) for n in self.names])
+            for j, dim in enumerate(self.dimensions):
+                inside &= _inside(dim, values[:, j])
+            if self._texture_drawn:
+                inside &= self._texture_load(values) <= self.texture_limit * (1 + 1e-9)
+        return inside
 
     def scaled(self, values: np.ndarray) -> np.ndarray:
         """Regression coordinates: each column's transformed value mapped to [−1, 1]."""
@@ -442,3 +549,10 @@ class Domain:
         t0 = np.array([float(d.forward(d.low)) for d in self.dimensions])
         t1 = np.array([float(d.forward(d.high)) for d in self.dimensions])
         return (t0 + t1) / 2, (t1 - t0) / 2
+
+
+def _inside(dim: Dimension, column: np.ndarray) -> np.ndarray:
+    """Values inside the dimension's range, with a relative tolerance of 1e-9 of the range for
+    the round-off of values written to text and read back (NaN is outside)."""
+    tol = 1e-9 * (dim.high - dim.low)
+    return (column >= dim.low - tol) & (column <= dim.high + tol)

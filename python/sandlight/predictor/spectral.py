@@ -16,7 +16,7 @@ evaluate, HoldoutReport
     Error of a model against Monte Carlo hold-out samples, per wavelength, next to the Monte
     Carlo noise of those samples.
 default_model
-    The model shipped in the package (``sandlight/data/models/spectral-default.npz``).
+    The bank of models shipped in the package (:mod:`sandlight.predictor.bank`).
 ModelVersionWarning
     A model file written by another sandlight version was loaded.
 
@@ -32,7 +32,6 @@ training data come from sandlight's SPLITS-like transport engine instead of SPLI
 
 from __future__ import annotations
 
-import functools
 import inspect
 import json
 import math
@@ -48,7 +47,9 @@ from sandlight.predictor.domain import FORM_PARAMETER, Domain
 from sandlight.io import read_model_npz, write_model_npz
 
 MODEL_FORMAT = "sandlight-spectral-model"
-MODEL_FORMAT_VERSION = 1
+#: 2: log scales take an offset (Dimension.offset); models carry a name and a description.
+#: Format-1 files (sqrt-scaled concentrations, no name) still load.
+MODEL_FORMAT_VERSION = 2
 _ARRAYS = ("wavelengths_nm", "mean", "components", "explained_variance_ratio", "scale_center",
            "scale_halfwidth", "powers", "W")
 #: Samples per block of the fast evaluator: the block's monomials (m × block doubles, 4.5 MB
@@ -241,6 +242,11 @@ class SpectralModel:
         Reference to the training data (path, checksum, size, seed, rays ...), as given.
     holdout_scores_ : dict or None
         Hold-out scores attached by :func:`evaluate` (``attach=True``).
+    name_ : str
+        Name of the model (e.g. in a :class:`~sandlight.predictor.bank.ModelBank`); the file
+        name without extension for format-1 files.
+    description_ : str
+        What the model covers, in words (may be empty).
 
     Examples
     --------
@@ -342,7 +348,8 @@ class SpectralModel:
 
     # -- fitting ------------------------------------------------------------------------------
     def fit(self, X, R=None, *, stderr=None, wavelengths_nm=None, domain: Domain | None = None,
-            forms=None, training_set: Mapping | None = None) -> "SpectralModel":
+            forms=None, training_set: Mapping | None = None, name: str = "spectral",
+            description: str = "") -> "SpectralModel":
         """Fit the PCA basis and the regression.
 
         Parameters
@@ -363,6 +370,8 @@ class SpectralModel:
             Form names or codes when X is a plain float array.
         training_set : mapping, optional
             Reference to the training data, kept in ``training_set_`` and in saved files.
+        name, description : str
+            Kept in ``name_`` and ``description_`` (and in saved files).
 
         Returns
         -------
@@ -466,6 +475,7 @@ class SpectralModel:
         self.W_ = W
         self.training_set_ = {**info, **dict(training_set or {})}
         self.holdout_scores_ = None
+        self.name_, self.description_ = str(name), str(description)
         self._plan = _monomial_plan(self.powers_)
         residual = self._evaluate(Xs, codes) - R
         self.training_rms_ = float(np.sqrt(np.mean(residual**2)))
@@ -538,7 +548,8 @@ class SpectralModel:
     # -- persistence --------------------------------------------------------------------------
     def _metadata(self) -> dict:
         return {"format": MODEL_FORMAT, "format_version": MODEL_FORMAT_VERSION,
-                "sandlight_version": _sandlight_version(), "params": self.get_params(),
+                "sandlight_version": _sandlight_version(), "name": self.name_,
+                "description": self.description_, "params": self.get_params(),
                 "parameter_names": list(self.parameter_names_), "forms": list(self.forms_),
                 "n_components": self.n_components_, "domain": self.domain_.to_dict(),
                 "training_set": self.training_set_, "holdout_scores": self.holdout_scores_,
@@ -578,7 +589,7 @@ class SpectralModel:
         path = Path(path)
         meta, data = read_model_npz(path, kind="spectral model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION)
         try:
-            model = cls._from_parts(meta, data)
+            model = cls._from_parts(meta, data, default_name=path.stem)
         except (KeyError, TypeError, ValueError) as exc:
             raise ModelFileError(f"{path} is an incomplete or inconsistent spectral model "
                                  f"file: {exc}") from exc
@@ -589,7 +600,7 @@ class SpectralModel:
         return model
 
     @classmethod
-    def _from_parts(cls, meta: dict, data: dict) -> "SpectralModel":
+    def _from_parts(cls, meta: dict, data: dict, default_name: str) -> "SpectralModel":
         missing = [a for a in _ARRAYS if a not in data]
         if missing:
             raise KeyError(f"missing arrays {missing}")
@@ -631,6 +642,8 @@ class SpectralModel:
         model.holdout_scores_ = meta.get("holdout_scores")
         model.training_rms_ = meta.get("training_rms")
         model.reconstruction_rms_ = meta.get("reconstruction_rms")
+        model.name_ = str(meta.get("name") or default_name)  # format 1 had no name
+        model.description_ = str(meta.get("description", ""))
         model._plan = _monomial_plan(model.powers_)
         return model
 
@@ -767,29 +780,3 @@ def evaluate(model: SpectralModel, holdout, *, attach: bool = False) -> HoldoutR
     if attach:
         model.holdout_scores_ = report.to_dict()
     return report
-
-
-# ---- the shipped model ------------------------------------------------------------------------
-def default_model_path() -> Path:
-    """Where the shipped default model lives in the installed package."""
-    from importlib.resources import files
-
-    return Path(str(files("sandlight") / "data" / "models" / "spectral-default.npz"))
-
-
-@functools.lru_cache(maxsize=1)
-def default_model() -> SpectralModel:
-    """The spectral model shipped with sandlight (loaded once, then cached).
-
-    Raises
-    ------
-    ModelFileError
-        The package has no default model (e.g. a source checkout before
-        ``scripts/train_default_spectral.py`` was run).
-    """
-    path = default_model_path()
-    if not path.is_file():
-        raise ModelFileError(f"the default spectral model is not installed (expected at {path}); "
-                             f"train it with scripts/train_default_spectral.py, or pass a model "
-                             f"file (sandlight predict --model PATH)")
-    return SpectralModel.load(path)

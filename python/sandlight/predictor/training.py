@@ -221,8 +221,19 @@ def file_sha256(path) -> str:
     return h.hexdigest()
 
 
-def fit_training_set(path, holdout=None, **model_params) -> tuple[SpectralModel,
-                                                                  HoldoutReport | None]:
+def _inside(ds, domain: Domain):
+    """The samples of a training-set dataset that lie inside ``domain``."""
+    columns = {n: ds[n].values for n in (*domain.names, *domain.fixed)}
+    keep = np.flatnonzero(domain.contains(columns, ds[FORM_PARAMETER].values.astype(str)))
+    if keep.size == 0:
+        raise ParameterError("fit_domain", domain.to_dict(), "a domain holding some of the "
+                             "dataset's samples")
+    return ds.isel(sample=keep)
+
+
+def fit_training_set(path, holdout=None, *, name: str = "spectral", description: str = "",
+                     fit_domain: Domain | None = None,
+                     **model_params) -> tuple[SpectralModel, HoldoutReport | None]:
     """Fit a SpectralModel on a training-set dataset and score it on a hold-out dataset.
 
     Parameters
@@ -231,6 +242,12 @@ def fit_training_set(path, holdout=None, **model_params) -> tuple[SpectralModel,
         Training dataset (``.nc``) or its job store directory.
     holdout : str or Path, optional
         Hold-out dataset or job store; its scores are attached to the model.
+    name, description : str
+        The model's ``name_`` and ``description_``.
+    fit_domain : Domain, optional
+        Fit (and score) only the samples inside this domain, which becomes the model's domain:
+        e.g. a range that leaves out a point where the engine is discontinuous. Default: the
+        dataset's domain.
     **model_params
         SpectralModel hyper-parameters.
     """
@@ -240,11 +257,20 @@ def fit_training_set(path, holdout=None, **model_params) -> tuple[SpectralModel,
     with xr.open_dataset(path) as ds:
         ds = ds.load()
     reference = {"path": str(path), "sha256": file_sha256(path)}
-    model = SpectralModel(**model_params).fit(ds, training_set=reference)
+    if fit_domain is not None:
+        ds = _inside(ds, fit_domain)
+        reference["n_used"] = int(ds.sizes["sample"])
+    model = SpectralModel(**model_params).fit(ds, domain=fit_domain, training_set=reference,
+                                              name=name, description=description)
     report = None
     if holdout is not None:
         holdout = _dataset_file(holdout)
-        report = evaluate(model, holdout, attach=True)
+        if fit_domain is not None:
+            with xr.open_dataset(holdout) as ho:
+                holdout_ds = _inside(ho.load(), fit_domain)
+            report = evaluate(model, holdout_ds, attach=True)
+        else:
+            report = evaluate(model, holdout, attach=True)
         model.holdout_scores_["path"] = str(holdout)
         model.holdout_scores_["sha256"] = file_sha256(holdout)
     return model, report
@@ -281,7 +307,9 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
                    seed: int = 0, *, n_holdout: int | None = None, executor=None,
                    domain: Domain | None = None, fit_only: bool = False, simulate=None,
                    progress: bool = True, max_tasks: int | None = None,
-                   model_params: dict | None = None) -> TrainingRun:
+                   model_params: dict | None = None, holdout_rays: int | None = None,
+                   name: str = "spectral", description: str = "",
+                   fit_domain: Domain | None = None) -> TrainingRun:
     """Generate the training and hold-out sets, fit, evaluate and save a spectral model.
 
     Layout of ``out_dir``: ``training/`` and ``holdout/`` (job stores, each with its
@@ -293,6 +321,13 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
     n_holdout : int, optional
         Hold-out samples (random design, independent seed ``derive_seed(seed, "holdout")``);
         default max(20, n_samples // 10).
+    holdout_rays : int, optional
+        Rays per hold-out sample and wavelength (default ``rays``). More rays make the
+        reference less noisy, so that the hold-out error measures the model, not the noise.
+    name, description : str
+        The model's ``name_`` and ``description_`` (kept in the model file).
+    fit_domain : Domain, optional
+        Fit and score only the samples inside this sub-domain (see :func:`fit_training_set`).
     max_tasks : int, optional
         Stop each job after this many samples (for testing resumption).
     model_params : dict, optional
@@ -305,7 +340,8 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
     jobs = [training_job(out / "training", n_samples, wavelengths_nm, rays, seed, domain=domain,
                          design="lhs", simulate=simulate)]
     if n_holdout > 0:
-        jobs.append(training_job(out / "holdout", n_holdout, wavelengths_nm, rays,
+        jobs.append(training_job(out / "holdout", n_holdout, wavelengths_nm,
+                                 rays if holdout_rays is None else holdout_rays,
                                  derive_seed(seed, "holdout"), domain=domain, design="random",
                                  simulate=simulate))
     start = time.perf_counter()
@@ -325,7 +361,8 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
     start = time.perf_counter()
     model, report = fit_training_set(statuses[0].dataset_path,
                                      holdout_status.dataset_path if holdout_status else None,
-                                     **(model_params or {}))
+                                     name=name, description=description,
+                                     fit_domain=fit_domain, **(model_params or {}))
     fit_s = time.perf_counter() - start
     model_path = model.save(out / "spectral-model.npz")
     text = json.dumps(report.to_dict() if report else None, indent=1) + "\n"

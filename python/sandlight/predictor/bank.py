@@ -1,0 +1,253 @@
+"""A bank of spectral models: each sample is predicted by the most accurate model covering it.
+
+One cubic over every parameter of SandSample is far less accurate than a cubic over a few
+parameters with the rest fixed (docs/spectral-predictor.md, "Results"). sandlight therefore ships
+several :class:`~sandlight.predictor.spectral.SpectralModel` files: narrow, accurate ones over
+the parameters the paper varies (iron oxide, hematite/goethite ratio, saturation) around a
+reference sand, and a broad one over the whole default domain for coverage. A
+:class:`ModelBank` ranks them by hold-out error and predicts each sample with the first model
+whose training domain contains it.
+
+Public objects
+--------------
+ModelBank
+    The bank: ``predict``, ``select``, ``models``, ``wavelengths_``.
+default_model, default_model_dir
+    The bank of the models shipped in ``sandlight/data/models/spectral-*.npz``.
+"""
+
+from __future__ import annotations
+
+import functools
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+from sandlight.errors import ModelFileError, ParameterError, SandlightError
+from sandlight.predictor.domain import FORM_PARAMETER
+from sandlight.predictor.spectral import SpectralModel, _columns
+
+#: File names of shipped spectral models inside ``sandlight/data/models``.
+SHIPPED_PATTERN = "spectral-*.npz"
+
+
+def holdout_rms(model: SpectralModel) -> float:
+    """A model's hold-out RMS error over all wavelengths (reflectance), inf when unscored."""
+    scores = model.holdout_scores_ or {}
+    value = scores.get("rms_error_overall")
+    return float(value) if value is not None else float("inf")
+
+
+class ModelBank:
+    """Spectral models tried in order of accuracy; each sample goes to the first that covers it.
+
+    Parameters
+    ----------
+    models : sequence of SpectralModel
+        Fitted models at the same wavelengths. They are ranked by hold-out RMS error
+        (``holdout_scores_``; unscored models last), ties by fewer input parameters.
+
+    Attributes
+    ----------
+    models : tuple of SpectralModel
+        The models, most accurate first.
+    wavelengths_ : ndarray (n_wl,)
+        Wavelengths of every model, nm.
+    fallback : SpectralModel
+        The model with the most input parameters (the broadest domain): it predicts the samples
+        no model covers when ``extrapolate=True``, and names the offending parameter otherwise.
+
+    Examples
+    --------
+    >>> bank = default_model()                                          # doctest: +SKIP
+    >>> r, used = bank.predict([SandSample.preset("red-dune")], return_models=True)  # doctest: +SKIP
+    >>> bank.describe(used[0])                                          # doctest: +SKIP
+    'broad: 13 parameters, 3 forms; hold-out RMS error 0.05 (300 samples)'
+    """
+
+    def __init__(self, models: Sequence[SpectralModel]):
+        models = list(models)
+        if not models:
+            raise ParameterError("models", [], "at least one fitted SpectralModel")
+        for m in models:
+            m._check_is_fitted()
+        wl = np.asarray(models[0].wavelengths_)
+        for m in models[1:]:
+            if m.wavelengths_.shape != wl.shape or not np.allclose(m.wavelengths_, wl):
+                raise ParameterError(f"wavelengths of model {m.name_!r}", m.wavelengths_.tolist(),
+                                     f"those of the other models of the bank, {wl.tolist()} nm")
+        names = [m.name_ for m in models]
+        if len(set(names)) != len(names):
+            raise ParameterError("model names", names, "distinct names (name_) in one bank")
+        self.models = tuple(sorted(models, key=lambda m: (holdout_rms(m),
+                                                          len(m.parameter_names_))))
+        self.wavelengths_ = wl
+        self.fallback = max(self.models, key=lambda m: len(m.parameter_names_))
+
+    def __repr__(self):
+        return f"ModelBank({', '.join(m.name_ for m in self.models)})"
+
+    @classmethod
+    def load(cls, paths) -> "ModelBank":
+        """A bank of the model files ``paths`` (see :meth:`SpectralModel.load` for errors)."""
+        return cls([SpectralModel.load(p) for p in paths])
+
+    def model(self, name: str) -> SpectralModel:
+        """The model called ``name``."""
+        for m in self.models:
+            if m.name_ == name:
+                return m
+        raise ParameterError("model", name, f"one of {[m.name_ for m in self.models]}")
+
+    def describe(self, which) -> str:
+        """One line on a model (given by name or rank): its name, domain size and hold-out error."""
+        m = self.models[which] if isinstance(which, (int, np.integer)) else self.model(which)
+        scores = m.holdout_scores_ or {}
+        error = (f"hold-out RMS error {holdout_rms(m):.4f} over "
+                 f"{m.wavelengths_[0]:g}–{m.wavelengths_[-1]:g} nm "
+                 f"({scores.get('n_samples', '?')} samples)" if scores else "no hold-out score")
+        text = f"{m.name_}: {len(m.parameter_names_)} parameters, {len(m.forms_)} forms; {error}"
+        return f"{text}; {m.description_}" if m.description_ else text
+
+    # -- prediction ------------------------------------------------------------------------------
+    def _named_columns(self, samples) -> tuple[dict, np.ndarray, np.ndarray]:
+        """Columns by name, the distinct form names and each sample's index into them."""
+        if isinstance(samples, np.ndarray) and samples.dtype.names is None:
+            raise ParameterError("samples", f"a plain array of shape {samples.shape}",
+                                 "named parameters (SandSample(s), dicts, a structured array, a "
+                                 "DataFrame or an xarray.Dataset): the models of a bank take "
+                                 "different parameters; use bank.model(name).predict for arrays")
+        columns = _columns(samples)
+        if FORM_PARAMETER not in columns:
+            raise ParameterError(FORM_PARAMETER, None, "the iron-oxide form of every sample")
+        names, index = np.unique(np.asarray(columns[FORM_PARAMETER]).astype(str),
+                                 return_inverse=True)
+        return columns, names, index.reshape(-1)
+
+    @staticmethod
+    def _codes(model: SpectralModel, names: np.ndarray, index: np.ndarray) -> np.ndarray:
+        """Each sample's form code in ``model.forms_`` (−1: a form the model does not know)."""
+        lookup = np.array([model.forms_.index(f) if f in model.forms_ else -1 for f in names],
+                          dtype=np.intp)
+        return lookup[index]
+
+    def select(self, samples) -> np.ndarray:
+        """Rank (index into ``models``) of the model that predicts each sample, −1 where none
+        covers it.
+
+        A model covers a sample when every input parameter is inside its training range, every
+        parameter it fixes has that value (a missing one does not match) and the form is one it
+        was trained on.
+        """
+        return self._select(*self._named_columns(samples))
+
+    def _select(self, columns: dict, names: np.ndarray, index: np.ndarray) -> np.ndarray:
+        choice = np.full(index.shape[0], -1, dtype=np.intp)
+        for rank, m in enumerate(self.models):
+            domain = m.domain_
+            if any(n not in columns for n in (*domain.names, *domain.fixed)):
+                continue
+            free = np.flatnonzero((choice < 0) & (self._codes(m, names, index) >= 0))
+            if not free.size:
+                continue
+            sub = {n: np.asarray(columns[n])[free] for n in (*domain.names, *domain.fixed)}
+            choice[free[domain.contains(sub)]] = rank
+        return choice
+
+    def predict(self, samples, *, extrapolate: bool = False, return_models: bool = False):
+        """Predicted directional-hemispherical reflectance at normal incidence.
+
+        Parameters
+        ----------
+        samples : SandSample, list of SandSample or dict, structured array, DataFrame or
+                  xarray.Dataset
+            Samples with named parameters, including ``iron_oxide_form``.
+        extrapolate : bool
+            Predict samples that no model covers with ``fallback`` (its polynomial is then
+            evaluated outside its domain) instead of raising.
+        return_models : bool
+            Also return the name of the model used for each sample.
+
+        Returns
+        -------
+        ndarray (n_samples, n_wavelengths), and with ``return_models`` an array of str (n,)
+
+        Raises
+        ------
+        ParameterError
+            A sample outside every model's domain (naming the parameter, its value and the range
+            of the broadest model) unless ``extrapolate``; a missing parameter, NaN or an unknown
+            form always.
+        """
+        columns, names, index = self._named_columns(samples)
+        choice = self._select(columns, names, index)
+        out = np.empty((index.shape[0], self.wavelengths_.size))
+        uncovered = np.flatnonzero(choice < 0)
+        if uncovered.size:
+            row = {k: np.asarray(v)[uncovered] for k, v in columns.items()}
+            if not extrapolate:
+                self._raise_uncovered(row)
+            out[uncovered] = self.fallback.predict(row, extrapolate=True)
+        for rank, m in enumerate(self.models):
+            rows = np.flatnonzero(choice == rank)
+            if rows.size:
+                values = np.column_stack([np.asarray(columns[n], dtype=float)[rows]
+                                          for n in m.parameter_names_])
+                out[rows] = m.predict(values, forms=self._codes(m, names, index)[rows])
+        if not return_models:
+            return out
+        names = np.array([m.name_ for m in self.models] + [self.fallback.name_])
+        return out, names[np.where(choice < 0, len(self.models), choice)]
+
+
+    def _raise_uncovered(self, row: dict):
+        """Raise a ParameterError naming why the first of ``row``'s samples is not covered."""
+        names = [m.name_ for m in self.models]
+        hint = (f"no model of the bank {names} covers this sample (pass extrapolate=True to use "
+                f"{self.fallback.name_!r} outside its domain)")
+        for name, value in self.fallback.domain_.fixed.items():
+            if name not in row:
+                raise ParameterError(name, None, f"a value ({self.fallback.name_!r} is trained "
+                                     f"at {name} = {value:g}); {hint}")
+        try:
+            # The broadest model names the parameter out of its range (or a missing one, NaN).
+            self.fallback.predict(row)
+        except ParameterError as exc:
+            raise ParameterError(exc.name, exc.value, f"{exc.allowed}; {hint}") from None
+        raise ParameterError("sample", {k: _scalar(v[0]) for k, v in row.items()}, hint)
+
+
+def _scalar(value):
+    return value.item() if isinstance(value, np.generic) else value
+
+
+def default_model_dir() -> Path:
+    """Where the shipped spectral models live in the installed package."""
+    from importlib.resources import files
+
+    return Path(str(files("sandlight") / "data" / "models"))
+
+
+@functools.lru_cache(maxsize=1)
+def default_model() -> ModelBank:
+    """The bank of spectral models shipped with sandlight (loaded once, then cached).
+
+    Raises
+    ------
+    ModelFileError
+        The package has no spectral model (e.g. a source checkout before
+        ``scripts/train_default_spectral.py`` was run), or a shipped file is unreadable.
+    """
+    paths = sorted(default_model_dir().glob(SHIPPED_PATTERN))
+    if not paths:
+        raise ModelFileError(f"no spectral model is installed (expected {SHIPPED_PATTERN} in "
+                             f"{default_model_dir()}); train them with "
+                             f"scripts/train_default_spectral.py, or pass a model file "
+                             f"(sandlight predict --model PATH)")
+    try:
+        return ModelBank.load(paths)
+    except SandlightError as exc:
+        if isinstance(exc, ModelFileError):
+            raise
+        raise ModelFileError(f"the shipped spectral models do not form a bank: {exc}") from exc
