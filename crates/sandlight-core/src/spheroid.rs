@@ -85,6 +85,29 @@ impl Spheroid {
         Some(Hit { point, normal: self.normal_at(point) })
     }
 
+    /// Whether the point `x` (relative to the centre) lies strictly inside.
+    #[inline]
+    pub fn contains(&self, x: Vec3) -> bool {
+        x.norm2() * self.inv_a2 + self.k * x.dot(self.u).powi(2) < 1.0
+    }
+
+    /// Distance t > 0 along the unit direction `d` from the point `p` outside the particle to
+    /// where the ray enters it, if it does. A ray starting inside or on the surface gets None
+    /// (a ray leaving a convex particle cannot meet it again). The root is taken in the form
+    /// C/(−B/2 + √disc), free of cancellation for distant particles.
+    #[inline]
+    pub fn entry_distance(&self, p: Vec3, d: Vec3) -> Option<f64> {
+        let (a, hb, c) = self.quad(p, d);
+        if c <= 0.0 || hb >= 0.0 {
+            return None;
+        }
+        let disc = hb * hb - a * c;
+        if disc <= 0.0 {
+            return None;
+        }
+        Some(c / (-hb + disc.sqrt()))
+    }
+
     /// Chord from the surface point `x0` along the inward direction `d` to the far surface.
     /// x0 is on the surface, so one root of the quadratic is 0 and the other is −B/A exactly;
     /// using it avoids the cancellation of the general formula.
