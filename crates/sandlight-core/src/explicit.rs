@@ -21,6 +21,7 @@
 //! encounter probability), the same rate per unit pore length as in the on-the-fly medium;
 //! a fine particle is drawn, hit and traced exactly as there, and a ray through it is moved by
 //! its extent (unless that would put it inside a packed grain, then it leaves where it hit).
+//! Fines fill the pores below the cut plane only.
 //!
 //! Pore water follows the on-the-fly rules (each pore entered is water-filled with the pore's
 //! probability, a water-filled surface pore presents a flat water surface).
@@ -99,9 +100,9 @@ impl Scene {
     }
 
     /// The nearest packed grain the ray from `o` along unit `d` enters within distance
-    /// `max_t`: (distance, particle, centre of the image hit). `bottom_z` excludes grains whose
-    /// centre is below it. Err(()) if the ray crossed too many cells.
-    fn nearest(&self, o: Vec3, d: Vec3, max_t: f64, bottom_z: f64) -> Result<Option<(f64, usize, Vec3)>, ()> {
+    /// `max_t`: (distance, particle, centre of the image hit). Only grains with centres in
+    /// [`bottom_z`, `top_z`) count. Err(()) if the ray crossed too many cells.
+    fn nearest(&self, o: Vec3, d: Vec3, max_t: f64, bottom_z: f64, top_z: f64) -> Result<Option<(f64, usize, Vec3)>, ()> {
         let per = self.packing.period;
         let oa = [o.x, o.y, o.z];
         let da = [d.x, d.y, d.z];
@@ -133,8 +134,8 @@ impl Scene {
                 let p0 = self.packing.particles[k].centre;
                 let shift: [f64; 3] = std::array::from_fn(|a| (b[a] - e.block[a] as i64) as f64 * pa[a]);
                 let c = Vec3::new(p0.x + shift[0], p0.y + shift[1], p0.z + shift[2]);
-                // The cut: only grains with centres below z = H (and above the bottom).
-                if c.z >= per.z || c.z < bottom_z {
+                // The cut: only grains with centres below the top (and above the bottom).
+                if c.z >= top_z || c.z < bottom_z {
                     continue;
                 }
                 if let Some(t) = self.shapes[k].entry_distance(o - c, d) {
@@ -172,6 +173,34 @@ impl Scene {
             let c = Vec3::new(p0.x + (b[0] - e.block[0] as i64) as f64 * pa[0], p0.y + (b[1] - e.block[1] as i64) as f64 * pa[1], p0.z + (b[2] - e.block[2] as i64) as f64 * pa[2]);
             self.shapes[k].contains(x - c)
         })
+    }
+
+    /// Pore chords of the packed grains (mm): along `n_lines` random lines (uniform start,
+    /// isotropic direction) through the unbounded periodic packing, the lengths between leaving
+    /// one grain and entering the next, `per_line` of them per line (the first, partial, pore
+    /// segment of each line is dropped). For isotropic uniform lines their mean is 4φ/S_v.
+    pub fn pore_chords(&self, n_lines: usize, per_line: usize, seed: u64) -> Vec<f64> {
+        let per = self.packing.period;
+        let mut out = Vec::with_capacity(n_lines * per_line);
+        for line in 0..n_lines {
+            let mut rng = Rng::for_ray(seed, 0x9ac3, line as u64);
+            let mut o = Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, rng.uniform() * per.z);
+            let d = Spheroid::random_axis(&mut rng);
+            let mut first = true;
+            let mut got = 0;
+            while got < per_line {
+                let Ok(Some((t, k, c))) = self.nearest(o, d, f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY) else { break };
+                if !first {
+                    out.push(t);
+                    got += 1;
+                }
+                first = false;
+                let (len, _) = self.shapes[k].chord_from_surface(o + d * t - c, d);
+                o = o + d * (t + len);
+                o = Vec3::new(o.x.rem_euclid(per.x), o.y.rem_euclid(per.y), o.z.rem_euclid(per.z));
+            }
+        }
+        out
     }
 
     /// Bytes held by the scene (particles, shapes, grid).
@@ -248,7 +277,7 @@ impl Explicit {
             let t_top = if d.z > 0.0 { (scene.top_mm - o.z) / d.z } else { f64::INFINITY };
             let t_bottom = if d.z < 0.0 && self.bottom_mm.is_finite() { (bottom_z - scene.packing.max_extent_mm() - o.z) / d.z } else { f64::INFINITY };
             let reach = s_fines.min(t_top).min(t_bottom);
-            let hit = match scene.nearest(o, d, reach, if self.bottom_mm.is_finite() { bottom_z } else { f64::NEG_INFINITY }) {
+            let hit = match scene.nearest(o, d, reach, if self.bottom_mm.is_finite() { bottom_z } else { f64::NEG_INFINITY }, per.z) {
                 Ok(h) => h,
                 Err(()) => return done(Fate::Capped, events),
             };
@@ -303,7 +332,13 @@ impl Explicit {
                 }
                 None => {
                     // A fine particle in the pore, drawn as the on-the-fly engine draws one.
+                    // Fines fill the pores below the cut plane only (thinning: no event above).
                     let x = o + d * s_fines;
+                    if x.z >= per.z {
+                        events -= 1;
+                        o = x;
+                        continue;
+                    }
                     let u = rng.uniform();
                     let i = self.fines.iter().find(|f| u < f.0).map_or(self.fines[self.fines.len() - 1].1, |f| f.1);
                     let ptype = &self.medium.types[i];
@@ -383,7 +418,7 @@ mod tests {
             let h = shape.sample_hit(d, &mut rng, 100).unwrap();
             let centre = Vec3::new(2.5, 2.5, 2.5);
             let o = centre + h.point - d * 0.4;
-            let (t, k, c) = ex.scene.nearest(o, d, 1.0, f64::NEG_INFINITY).unwrap().expect("the ray aims at the grain");
+            let (t, k, c) = ex.scene.nearest(o, d, 1.0, f64::NEG_INFINITY, f64::INFINITY).unwrap().expect("the ray aims at the grain");
             let rel = o + d * t - c;
             assert!((rel - h.point).norm2() < 1e-20, "hit {rel:?} vs {:?}", h.point);
             let (mut r1, mut r2) = (rng.clone(), rng.clone());

@@ -38,6 +38,9 @@ use crate::medium::Particulate;
 use crate::rng::Rng;
 use crate::spheroid::{equatorial_ratio, Spheroid};
 
+/// Populations whose area-weighted median size (mm) is below this are fines, not packed.
+pub const FINES_BELOW_MM: f64 = 0.05;
+
 /// Levels used to integrate over a size table (stratified, u = (k + ½)/M).
 const SIZE_LEVELS: usize = 4096;
 
@@ -73,7 +76,7 @@ pub struct PackingParams {
 
 impl Default for PackingParams {
     fn default() -> Self {
-        PackingParams { lateral_mm: 3.0, depth_mm: 10.0, fines_below_mm: 0.05, seed: 0, max_particles: 400_000, max_sweeps: 20_000, overlap_tolerance: 1e-3 }
+        PackingParams { lateral_mm: 3.0, depth_mm: 10.0, fines_below_mm: FINES_BELOW_MM, seed: 0, max_particles: 400_000, max_sweeps: 20_000, overlap_tolerance: 1e-3 }
     }
 }
 

@@ -108,6 +108,20 @@ impl Spheroid {
         Some(c / (-hb + disc.sqrt()))
     }
 
+    /// Whether the segment from `p0` to `p1` (relative to the centre) meets the particle:
+    /// f(t) = |x|²/a² + k(x·u)² − 1 along it is a convex quadratic, so the segment meets the
+    /// solid iff f ≤ 0 at an end or at the interior minimum.
+    #[inline]
+    pub fn intersects_segment(&self, p0: Vec3, p1: Vec3) -> bool {
+        let v = p1 - p0;
+        let (a, hb, c) = self.quad(p0, v);
+        if c <= 0.0 || a + 2.0 * hb + c <= 0.0 {
+            return true;
+        }
+        // Minimum of a t² + 2 hb t + c at t* = −hb/a, inside the segment when 0 < t* < 1.
+        -hb > 0.0 && -hb < a && hb * hb > a * c
+    }
+
     /// Chord from the surface point `x0` along the inward direction `d` to the far surface.
     /// x0 is on the surface, so one root of the quadratic is 0 and the other is −B/A exactly;
     /// using it avoids the cancellation of the general formula.
@@ -212,6 +226,24 @@ mod tests {
                 let (mf, mr) = (mean(&fast), mean(&reference));
                 let se = ((var(&fast, mf) + var(&reference, mr)) / n as f64).sqrt();
                 assert!((mf - mr).abs() < 4.0 * se, "γ {gamma_deg}°, statistic {k}: {mf} vs {mr} (se {se})");
+            }
+        }
+    }
+
+    #[test]
+    fn segment_test_agrees_with_dense_point_sampling() {
+        let mut rng = Rng::for_ray(8, 0, 0);
+        for _ in 0..2000 {
+            let s = Spheroid::new(0.3, 1.6, Spheroid::random_axis(&mut rng));
+            let p = |rng: &mut Rng| Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * 0.8;
+            let (p0, p1) = (p(&mut rng), p(&mut rng));
+            let sampled = (0..=4000).any(|i| s.contains(p0 + (p1 - p0) * (i as f64 / 4000.0)));
+            let exact = s.intersects_segment(p0, p1);
+            // Dense sampling can only miss a grazing intersection.
+            assert!(exact || !sampled, "{p0:?} {p1:?}");
+            if exact && !sampled {
+                let grazing = (0..=4000).any(|i| { let x = p0 + (p1 - p0) * (i as f64 / 4000.0); x.norm2() / (s.a * s.a) + s.k * x.dot(s.u).powi(2) < 1.0 + 1e-3 });
+                assert!(grazing, "{p0:?} {p1:?}");
             }
         }
     }

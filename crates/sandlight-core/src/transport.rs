@@ -3,7 +3,7 @@
 
 use crate::fresnel;
 use crate::math::{refract, sin_cos_turns, Vec3};
-use crate::medium::{IsotropicScatterers, LambertianSurface, Particulate};
+use crate::medium::{IsotropicScatterers, LambertianSurface, Memory, Particulate};
 use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
 use crate::spheroid::Spheroid;
@@ -65,76 +65,149 @@ pub fn cosine_hemisphere(rng: &mut Rng) -> Vec3 {
 
 impl Medium for Particulate {
     fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
-        let pore = &self.pore;
-        let ell = self.mean_free_path_mm;
-        let mut d = dir_in;
-        let mut z = 0.0f64;
-        let mut events = 0u64;
-        let done = |fate, events| RayOutcome { fate, events };
-        // The pore at the surface where the ray enters. A water-filled surface pore presents a
-        // flat water surface (our assumption, docs/transport.md): Fresnel air → water.
-        let mut water = pore.draw_water(rng);
-        if water {
-            if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
-                return done(Fate::Escaped(d.reflect(UP)), 0);
-            }
-            d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
+        match self.memory {
+            Memory::None => trace_particulate::<false>(self, dir_in, rng, limits),
+            Memory::Channel | Memory::Cut => trace_particulate::<true>(self, dir_in, rng, limits),
         }
-        loop {
-            let s = ell * rng.exponential();
-            if d.z > 0.0 && z + s * d.z >= 0.0 {
-                if !water {
-                    return done(Fate::Escaped(d), events);
-                }
-                // Through water to the water surface, then water → air.
-                let to_surface = -z / d.z;
-                if !survives(rng.uniform(), pore.water_alpha_per_mm * to_surface) {
-                    return done(Fate::Absorbed, events);
-                }
-                if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
+    }
+}
+
+/// The on-the-fly transport. With `MEMORY` false this is the classic model; with it true the
+/// ray also keeps its position in x and y and the last pore segment it travelled (`channel`,
+/// endpoints in the sample frame) while it stays in that pore, and a particle drawn on the fly
+/// whose body would lie across that segment is discarded: the ray passed there, so no grain
+/// can be there (docs/geometry.md, "Near-surface path memory"). Discarding candidates drawn at
+/// the full rate 1/ℓ is thinning: the free path then has the conditional hazard
+/// (1/ℓ)·P(a grain met at that point would not cross the segment), exact for a Boolean model
+/// of the grains given the last segment. With `Memory::Cut` the surface is the cut plane of
+/// `SurfaceLayer`: rays start and escape at its top, and candidates are also thinned by the
+/// centre rule and the widening pore space of the top layer.
+#[inline(always)]
+fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
+    let pore = &m.pore;
+    let ell = m.mean_free_path_mm;
+    let surface = if MEMORY { m.surface.as_ref() } else { None };
+    // Height of the boundary plane: 0, or the top of the cut-plane layer.
+    let top = surface.map_or(0.0, |s| s.top_mm);
+    let mut d = dir_in;
+    let mut z = top;
+    // MEMORY only: lateral position, start of the current flight and the remembered segment.
+    let (mut x, mut y) = (0.0f64, 0.0f64);
+    let mut flight_start = Vec3::new(0.0, 0.0, top);
+    let mut channel: Option<(Vec3, Vec3)> = None;
+    let mut events = 0u64;
+    let done = |fate, events| RayOutcome { fate, events };
+    // The pore at the surface where the ray enters. A water-filled surface pore presents a
+    // flat water surface (our assumption, docs/transport.md): Fresnel air → water.
+    let mut water = pore.draw_water(rng);
+    if water {
+        if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
+            return done(Fate::Escaped(d.reflect(UP)), 0);
+        }
+        d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
+    }
+    loop {
+        let s = ell * rng.exponential();
+        if d.z > 0.0 && z + s * d.z >= top {
+            if !water {
+                return done(Fate::Escaped(d), events);
+            }
+            // Through water to the water surface, then water → air.
+            let to_surface = (top - z) / d.z;
+            if !survives(rng.uniform(), pore.water_alpha_per_mm * to_surface) {
+                return done(Fate::Absorbed, events);
+            }
+            if MEMORY {
+                // Reflected at the water surface: a new flight from there, no memory.
+                x += to_surface * d.x;
+                y += to_surface * d.y;
+                flight_start = Vec3::new(x, y, top);
+                channel = None;
+            }
+            if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
+                d.z = -d.z;
+                z = top;
+                continue;
+            }
+            return match refract(d, -UP, pore.water_n) {
+                Some(out) => done(Fate::Escaped(out), events),
+                None => {
                     d.z = -d.z;
                     z = 0.0;
                     continue;
                 }
-                return match refract(d, -UP, pore.water_n) {
-                    Some(out) => done(Fate::Escaped(out), events),
-                    None => {
-                        d.z = -d.z;
-                        z = 0.0;
-                        continue;
-                    }
-                };
-            }
-            if d.z < 0.0 && z + s * d.z <= -self.depth_mm {
-                return done(Fate::Transmitted, events);
-            }
-            if water && pore.water_alpha_per_mm > 0.0 && !survives(rng.uniform(), pore.water_alpha_per_mm * s) {
-                return done(Fate::Absorbed, events);
-            }
-            z += s * d.z;
+            };
+        }
+        if d.z < 0.0 && z + s * d.z <= -m.depth_mm {
+            return done(Fate::Transmitted, events);
+        }
+        if water && pore.water_alpha_per_mm > 0.0 && !survives(rng.uniform(), pore.water_alpha_per_mm * s) {
+            return done(Fate::Absorbed, events);
+        }
+        z += s * d.z;
+        if MEMORY {
+            x += s * d.x;
+            y += s * d.y;
+        } else {
             events += 1;
             if events > limits.max_events {
                 return done(Fate::Capped, events);
             }
-            let i = self.pick_index(rng.uniform());
-            let ptype = &self.types[i];
-            let (a_over_d, stacks) = self.type_tables(i);
-            let diameter = ptype.sizes.sample(rng);
-            let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
-            let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
-                return done(Fate::Capped, events);
-            };
-            match interact_with_stacks(&ptype.optics, stacks, pore, &shape, hit, d, water, rng, limits.max_internal) {
-                Interaction::Reflected { dir } => d = dir,
-                Interaction::Transmitted { dir, exit_point, water: w } => {
-                    // The particle's extent along z: the ray leaves from the far side.
-                    z = (z + (exit_point.z - hit.point.z)).min(0.0);
-                    d = dir;
-                    water = w;
+        }
+        let i = m.pick_index(rng.uniform());
+        let ptype = &m.types[i];
+        let (a_over_d, stacks) = m.type_tables(i);
+        let diameter = ptype.sizes.sample(rng);
+        let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
+        let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
+            return done(Fate::Capped, events);
+        };
+        let here = Vec3::new(x, y, z);
+        if MEMORY {
+            let centre = here - hit.point;
+            if let Some(sf) = surface {
+                // The cut plane: packed grains only with centres below it, in a top layer of
+                // widening pore space; fines only in the pores below it.
+                let kept = if sf.packed[i] { centre.z < 0.0 && (z < -sf.top_mm || rng.uniform() < sf.keep(z)) } else { z < 0.0 };
+                if !kept {
+                    continue;
                 }
-                Interaction::Absorbed => return done(Fate::Absorbed, events),
-                Interaction::Capped => return done(Fate::Capped, events),
             }
+            if let Some((a, b)) = channel {
+                if shape.intersects_segment(a - centre, b - centre) {
+                    continue;
+                }
+            }
+            events += 1;
+            if events > limits.max_events {
+                return done(Fate::Capped, events);
+            }
+        }
+        match interact_with_stacks(&ptype.optics, stacks, pore, &shape, hit, d, water, rng, limits.max_internal) {
+            Interaction::Reflected { dir } => {
+                if MEMORY {
+                    // Back into the pore it came from: remember the segment just travelled.
+                    channel = Some((flight_start, here));
+                    flight_start = here;
+                }
+                d = dir;
+            }
+            Interaction::Transmitted { dir, exit_point, water: w } => {
+                // The particle's extent along z: the ray leaves from the far side.
+                z = (z + (exit_point.z - hit.point.z)).min(top);
+                if MEMORY {
+                    x += exit_point.x - hit.point.x;
+                    y += exit_point.y - hit.point.y;
+                    // Out on the lit side (the half facing where the ray came from) it is back
+                    // in the pore it came from; out on the far side, in a new one.
+                    channel = if exit_point.dot(d) < 0.0 { Some((flight_start, here)) } else { None };
+                    flight_start = Vec3::new(x, y, z);
+                }
+                d = dir;
+                water = w;
+            }
+            Interaction::Absorbed => return done(Fate::Absorbed, events),
+            Interaction::Capped => return done(Fate::Capped, events),
         }
     }
 }
