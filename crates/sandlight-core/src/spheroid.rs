@@ -114,12 +114,17 @@ impl Spheroid {
     #[inline]
     pub fn intersects_segment(&self, p0: Vec3, p1: Vec3) -> bool {
         let v = p1 - p0;
-        let (a, hb, c) = self.quad(p0, v);
-        if c <= 0.0 || a + 2.0 * hb + c <= 0.0 {
+        let len = v.norm2().sqrt();
+        if len == 0.0 {
+            return self.contains(p0);
+        }
+        // `quad` takes a unit direction: f(t) = A t² + 2 hb t + c for t ∈ [0, len].
+        let (a, hb, c) = self.quad(p0, v * (1.0 / len));
+        if c <= 0.0 || (a * len + 2.0 * hb) * len + c <= 0.0 {
             return true;
         }
-        // Minimum of a t² + 2 hb t + c at t* = −hb/a, inside the segment when 0 < t* < 1.
-        -hb > 0.0 && -hb < a && hb * hb > a * c
+        // Minimum at t* = −hb/A, inside the segment when 0 < t* < len.
+        -hb > 0.0 && -hb < a * len && hb * hb > a * c
     }
 
     /// Chord from the surface point `x0` along the inward direction `d` to the far surface.

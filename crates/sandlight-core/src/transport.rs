@@ -6,7 +6,7 @@ use crate::math::{refract, sin_cos_turns, Vec3};
 use crate::medium::{IsotropicScatterers, LambertianSurface, Memory, Particulate};
 use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
-use crate::spheroid::Spheroid;
+use crate::spheroid::{Hit, Spheroid};
 
 /// How a ray ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -72,16 +72,29 @@ impl Medium for Particulate {
     }
 }
 
-/// The on-the-fly transport. With `MEMORY` false this is the classic model; with it true the
-/// ray also keeps its position in x and y and the last pore segment it travelled (`channel`,
-/// endpoints in the sample frame) while it stays in that pore, and a particle drawn on the fly
-/// whose body would lie across that segment is discarded: the ray passed there, so no grain
-/// can be there (docs/geometry.md, "Near-surface path memory"). Discarding candidates drawn at
-/// the full rate 1/ℓ is thinning: the free path then has the conditional hazard
-/// (1/ℓ)·P(a grain met at that point would not cross the segment), exact for a Boolean model
-/// of the grains given the last segment. With `Memory::Cut` the surface is the cut plane of
-/// `SurfaceLayer`: rays start and escape at its top, and candidates are also thinned by the
-/// centre rule and the widening pore space of the top layer.
+/// A grain the memory keeps: its shape, centre (sample frame) and type.
+#[derive(Clone, Copy)]
+struct Grain {
+    shape: Spheroid,
+    centre: Vec3,
+    type_index: usize,
+}
+
+/// The on-the-fly transport. With `MEMORY` false this is the classic model. With it true the
+/// ray also keeps its position in x and y and remembers the pore it is in (docs/geometry.md,
+/// "Near-surface path memory"): while it is still in the pore it reached its last grain
+/// through (after a reflection, or leaving that grain on its lit side), it knows
+/// - the segment it travelled through that pore (`channel`): a grain drawn on the fly whose
+///   body would lie across it is discarded, since the ray passed there. Discarding candidates
+///   drawn at the full rate 1/ℓ is thinning: the free path then has the conditional hazard
+///   (1/ℓ)·P(a grain met there would not cross the segment), exact for a Boolean model of the
+///   grains given the segment. For the first flight the segment is the entry channel from the
+///   surface, which a ray turned back along it can leave by (shadow hiding);
+/// - the grain at the segment's far end (`behind`, the grain the ray left to enter the pore):
+///   a ray heading back meets it again where its surface is, not at a random distance.
+/// With `Memory::Cut` the surface is the cut plane of `SurfaceLayer`: rays start and escape at
+/// its top, and candidates are also thinned by the centre rule and the widening pore space of
+/// the top layer.
 #[inline(always)]
 fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
     let pore = &m.pore;
@@ -91,10 +104,15 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
     let top = surface.map_or(0.0, |s| s.top_mm);
     let mut d = dir_in;
     let mut z = top;
-    // MEMORY only: lateral position, start of the current flight and the remembered segment.
+    // MEMORY only: lateral position, start of the current flight, distance flown since, the
+    // remembered segment and grains (`prev`: the grain the flight started from).
     let (mut x, mut y) = (0.0f64, 0.0f64);
     let mut flight_start = Vec3::new(0.0, 0.0, top);
+    let mut flown = 0.0f64;
     let mut channel: Option<(Vec3, Vec3)> = None;
+    let mut behind: Option<Grain> = None;
+    let mut prev: Option<Grain> = None;
+    let mut to_behind = f64::INFINITY;
     let mut events = 0u64;
     let done = |fate, events| RayOutcome { fate, events };
     // The pore at the surface where the ray enters. A water-filled surface pore presents a
@@ -107,7 +125,12 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
         d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
     }
     loop {
-        let s = ell * rng.exponential();
+        let mut s = ell * rng.exponential();
+        // MEMORY: the remembered grain comes first if it is nearer than the candidate.
+        let rehit = MEMORY && to_behind - flown <= s;
+        if rehit {
+            s = to_behind - flown;
+        }
         if d.z > 0.0 && z + s * d.z >= top {
             if !water {
                 return done(Fate::Escaped(d), events);
@@ -122,7 +145,7 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
                 x += to_surface * d.x;
                 y += to_surface * d.y;
                 flight_start = Vec3::new(x, y, top);
-                channel = None;
+                (channel, behind, prev, flown, to_behind) = (None, None, None, 0.0, f64::INFINITY);
             }
             if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
                 d.z = -d.z;
@@ -133,7 +156,7 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
                 Some(out) => done(Fate::Escaped(out), events),
                 None => {
                     d.z = -d.z;
-                    z = 0.0;
+                    z = top;
                     continue;
                 }
             };
@@ -148,46 +171,60 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
         if MEMORY {
             x += s * d.x;
             y += s * d.y;
+            flown += s;
         } else {
             events += 1;
             if events > limits.max_events {
                 return done(Fate::Capped, events);
             }
         }
-        let i = m.pick_index(rng.uniform());
-        let ptype = &m.types[i];
-        let (a_over_d, stacks) = m.type_tables(i);
-        let diameter = ptype.sizes.sample(rng);
-        let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
-        let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
-            return done(Fate::Capped, events);
-        };
         let here = Vec3::new(x, y, z);
-        if MEMORY {
+        let (grain, hit) = if rehit {
+            let g = behind.expect("a finite distance to the remembered grain");
+            let rel = here - g.centre;
+            (g, Hit { point: rel, normal: g.shape.normal_at(rel) })
+        } else {
+            let i = m.pick_index(rng.uniform());
+            let ptype = &m.types[i];
+            let (a_over_d, _) = m.type_tables(i);
+            let diameter = ptype.sizes.sample(rng);
+            let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
+            let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
+                return done(Fate::Capped, events);
+            };
             let centre = here - hit.point;
-            if let Some(sf) = surface {
-                // The cut plane: packed grains only with centres below it, in a top layer of
-                // widening pore space; fines only in the pores below it.
-                let kept = if sf.packed[i] { centre.z < 0.0 && (z < -sf.top_mm || rng.uniform() < sf.keep(z)) } else { z < 0.0 };
-                if !kept {
-                    continue;
+            if MEMORY {
+                if let Some(sf) = surface {
+                    // The cut plane: packed grains only with centres below it, in a top layer
+                    // of widening pore space; fines only in the pores below it.
+                    let kept = if sf.packed[i] { centre.z < 0.0 && (z < -sf.top_mm || rng.uniform() < sf.keep(z)) } else { z < 0.0 };
+                    if !kept {
+                        continue;
+                    }
+                }
+                if let Some((a, b)) = channel {
+                    if shape.intersects_segment(a - centre, b - centre) {
+                        continue;
+                    }
                 }
             }
-            if let Some((a, b)) = channel {
-                if shape.intersects_segment(a - centre, b - centre) {
-                    continue;
-                }
-            }
+            (Grain { shape, centre, type_index: i }, hit)
+        };
+        if MEMORY {
             events += 1;
             if events > limits.max_events {
                 return done(Fate::Capped, events);
             }
         }
-        match interact_with_stacks(&ptype.optics, stacks, pore, &shape, hit, d, water, rng, limits.max_internal) {
+        let i = grain.type_index;
+        let (_, stacks) = m.type_tables(i);
+        match interact_with_stacks(&m.types[i].optics, stacks, pore, &grain.shape, hit, d, water, rng, limits.max_internal) {
             Interaction::Reflected { dir } => {
                 if MEMORY {
-                    // Back into the pore it came from: remember the segment just travelled.
+                    // Back into the pore it came from: remember the segment just travelled and
+                    // the grain at its far end.
                     channel = Some((flight_start, here));
+                    behind = prev;
                     flight_start = here;
                 }
                 d = dir;
@@ -200,7 +237,12 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
                     y += exit_point.y - hit.point.y;
                     // Out on the lit side (the half facing where the ray came from) it is back
                     // in the pore it came from; out on the far side, in a new one.
-                    channel = if exit_point.dot(d) < 0.0 { Some((flight_start, here)) } else { None };
+                    if exit_point.dot(d) < 0.0 {
+                        channel = Some((flight_start, here));
+                        behind = prev;
+                    } else {
+                        (channel, behind) = (None, None);
+                    }
                     flight_start = Vec3::new(x, y, z);
                 }
                 d = dir;
@@ -208,6 +250,11 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
             }
             Interaction::Absorbed => return done(Fate::Absorbed, events),
             Interaction::Capped => return done(Fate::Capped, events),
+        }
+        if MEMORY {
+            prev = Some(grain);
+            flown = 0.0;
+            to_behind = behind.and_then(|g| g.shape.entry_distance(flight_start - g.centre, d)).unwrap_or(f64::INFINITY);
         }
     }
 }
