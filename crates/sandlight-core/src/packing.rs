@@ -188,11 +188,6 @@ impl Packing {
             return Err(SandlightError::parameter("porosity", pops.porosity, "packed solids must fill 5 %–66 % of the volume for the packing generator"));
         }
         let aspect: Vec<f64> = medium.types.iter().map(|t| t.aspect_ratio).collect();
-        let c_of = |d: f64, eps: f64| 0.5 * d * eps.powf(2.0 / 3.0);
-        let max_c = medium.types.iter().zip(&pops.packed).filter(|(_, &p)| p).map(|(t, _)| c_of(t.sizes.max(), t.aspect_ratio)).fold(0.0, f64::max);
-        if !(params.lateral_mm >= 6.0 * max_c && params.depth_mm >= 6.0 * max_c) {
-            return Err(SandlightError::parameter("lateral_mm/depth_mm", format!("{}/{}", params.lateral_mm, params.depth_mm), &format!("both must be at least three of the largest grains across ({:.4} mm)", 6.0 * max_c)));
-        }
         // Number fractions of the packed types: Nᵢ ∝ vᵢ/⟨V⟩ₙ,ᵢ.
         let mut rng = Rng::for_ray(params.seed, 0x9ac1_u64, 0);
         let mean_volume = |i: usize| {
@@ -225,6 +220,11 @@ impl Packing {
             solid += std::f64::consts::PI / 6.0 * d * d * d;
             particles.push(PackedParticle { centre: Vec3::default(), axis: Spheroid::random_axis(&mut rng), diameter_mm: d, type_index: i });
         }
+        // The box must hold at least three of the largest grains drawn across.
+        let max_c = particles.iter().map(|p| 0.5 * p.diameter_mm * aspect[p.type_index].powf(2.0 / 3.0)).fold(0.0, f64::max);
+        if !(params.lateral_mm >= 6.0 * max_c && params.depth_mm >= 6.0 * max_c) {
+            return Err(SandlightError::parameter("lateral_mm/depth_mm", format!("{}/{}", params.lateral_mm, params.depth_mm), &format!("both must be at least three of the largest grains drawn across ({:.4} mm)", 6.0 * max_c)));
+        }
         let depth = solid / (eta * params.lateral_mm * params.lateral_mm);
         let period = Vec3::new(params.lateral_mm, params.lateral_mm, depth);
         for p in particles.iter_mut() {
@@ -254,15 +254,16 @@ impl Packing {
             let a = p.diameter_mm * equatorial_ratio(eps);
             (a, eps * a)
         }).collect();
-        let max_c = semi.iter().map(|s| s.1).fold(0.0, f64::max);
-        let cells = CellList::dims(self.period, 2.0 * max_c);
+        let mean_d = self.particles.iter().map(|p| p.diameter_mm).sum::<f64>() / n as f64;
+        let reach: Vec<f64> = semi.iter().map(|s| s.1).collect();
         let mut disp = vec![Vec3::default(); n];
-        let mut list = CellList::new(cells, n);
+        let mut list = CellList::new(self.period, mean_d, n);
+        let mut centres: Vec<Vec3> = self.particles.iter().map(|p| p.centre).collect();
         for sweep in 0..max_sweeps {
-            list.fill(self.period, self.particles.iter().map(|p| p.centre));
+            list.fill(centres.iter().copied());
             disp.iter_mut().for_each(|d| *d = Vec3::default());
             let mut worst = 0.0f64;
-            list.for_each_pair(|i, j| {
+            list.for_each_pair(&centres, &reach, |i, j| {
                 let (pi, pj) = (&self.particles[i], &self.particles[j]);
                 let r = self.min_image(pi.centre, pj.centre);
                 let dist2 = r.norm2();
@@ -283,7 +284,7 @@ impl Packing {
                 // a particle has several contacts; a 5 % excess makes overlaps vanish rather
                 // than decay geometrically.
                 let (vi, vj) = (pi.diameter_mm.powi(3), pj.diameter_mm.powi(3));
-                let step = 0.5 * 1.05 * ov / (vi + vj);
+                let step = 0.8 * ov / (vi + vj);
                 disp[i] = disp[i] - nrm * (step * vj);
                 disp[j] = disp[j] + nrm * (step * vi);
             });
@@ -293,9 +294,11 @@ impl Packing {
                 return;
             }
             let per = self.period;
-            for (p, d) in self.particles.iter_mut().zip(&disp) {
-                let c = p.centre + *d;
-                p.centre = Vec3::new(c.x.rem_euclid(per.x), c.y.rem_euclid(per.y), c.z.rem_euclid(per.z));
+            let wrap = |v: f64, l: f64| { let w = v.rem_euclid(l); if w >= l { 0.0 } else { w } };
+            for ((p, d), c) in self.particles.iter_mut().zip(&disp).zip(centres.iter_mut()) {
+                let x = p.centre + *d;
+                p.centre = Vec3::new(wrap(x.x, per.x), wrap(x.y, per.y), wrap(x.z, per.z));
+                *c = p.centre;
             }
         }
     }
@@ -304,15 +307,16 @@ impl Packing {
     /// grains alone) and inside two or more (overlap), by exact point-in-spheroid tests.
     pub fn point_statistics(&self, n_points: usize, seed: u64) -> (f64, f64) {
         let max_c = self.max_extent_mm();
-        let mut list = CellList::new(CellList::dims(self.period, 2.0 * max_c), self.particles.len());
-        list.fill(self.period, self.particles.iter().map(|p| p.centre));
+        let mean_d = self.particles.iter().map(|p| p.diameter_mm).sum::<f64>() / self.particles.len() as f64;
+        let mut list = CellList::new(self.period, mean_d, self.particles.len());
+        list.fill(self.particles.iter().map(|p| p.centre));
         let shapes: Vec<Spheroid> = (0..self.particles.len()).map(|k| self.shape(k)).collect();
         let mut rng = Rng::for_ray(seed, 0x9ac2, 0);
         let (mut empty, mut multiple) = (0usize, 0usize);
         for _ in 0..n_points {
             let x = Vec3::new(rng.uniform() * self.period.x, rng.uniform() * self.period.y, rng.uniform() * self.period.z);
             let mut inside = 0;
-            list.for_each_near(self.period, x, |k| {
+            list.for_each_near(x, max_c, |k| {
                 let r = self.min_image(self.particles[k].centre, x);
                 if shapes[k].contains(r) {
                     inside += 1;
@@ -325,28 +329,29 @@ impl Packing {
     }
 }
 
-/// A periodic cell list with cells at least `min_cell` wide and at least 3 per axis (so the
-/// 27 neighbours of a cell are distinct).
+/// A periodic cell list; pairs and neighbourhoods are searched over as many cells as a
+/// particle's reach needs, so cells can be about one typical grain wide even when a few grains
+/// are much larger.
 struct CellList {
     n: [usize; 3],
+    h: [f64; 3],
     start: Vec<usize>,
     items: Vec<usize>,
     cell_of: Vec<usize>,
 }
 
 impl CellList {
-    fn dims(period: Vec3, min_cell: f64) -> [usize; 3] {
-        [period.x, period.y, period.z].map(|l| ((l / min_cell).floor() as usize).max(3))
-    }
-
-    fn new(n: [usize; 3], particles: usize) -> CellList {
-        CellList { n, start: vec![0; n[0] * n[1] * n[2] + 1], items: vec![0; particles], cell_of: vec![0; particles] }
+    fn new(period: Vec3, cell: f64, particles: usize) -> CellList {
+        let l = [period.x, period.y, period.z];
+        let n = l.map(|l| ((l / cell).floor() as usize).max(1));
+        let h = std::array::from_fn(|a| l[a] / n[a] as f64);
+        CellList { n, h, start: vec![0; n[0] * n[1] * n[2] + 1], items: vec![0; particles], cell_of: vec![0; particles] }
     }
 
     #[inline]
-    fn coords(&self, period: Vec3, x: Vec3) -> [usize; 3] {
-        let c = |v: f64, l: f64, n: usize| (((v / l) * n as f64) as usize).min(n - 1);
-        [c(x.x, period.x, self.n[0]), c(x.y, period.y, self.n[1]), c(x.z, period.z, self.n[2])]
+    fn coords(&self, x: Vec3) -> [usize; 3] {
+        let xa = [x.x, x.y, x.z];
+        std::array::from_fn(|a| ((xa[a] / self.h[a]) as usize).min(self.n[a] - 1))
     }
 
     #[inline]
@@ -354,11 +359,11 @@ impl CellList {
         (c[2] * self.n[1] + c[1]) * self.n[0] + c[0]
     }
 
-    /// Counting sort of the particles into cells.
-    fn fill(&mut self, period: Vec3, centres: impl Iterator<Item = Vec3>) {
+    /// Counting sort of the particles (centres inside the box) into cells.
+    fn fill(&mut self, centres: impl Iterator<Item = Vec3>) {
         self.start.iter_mut().for_each(|s| *s = 0);
         for (k, x) in centres.enumerate() {
-            let c = self.index(self.coords(period, x));
+            let c = self.index(self.coords(x));
             self.cell_of[k] = c;
             self.start[c + 1] += 1;
         }
@@ -372,49 +377,38 @@ impl CellList {
         }
     }
 
-    #[inline]
-    fn neighbour(&self, c: [usize; 3], d: [i64; 3]) -> usize {
-        let w = |v: usize, dv: i64, n: usize| (v as i64 + dv).rem_euclid(n as i64) as usize;
-        self.index([w(c[0], d[0], self.n[0]), w(c[1], d[1], self.n[1]), w(c[2], d[2], self.n[2])])
-    }
-
-    /// Calls `f(i, j)` once for every pair i < j in the same or neighbouring cells.
-    fn for_each_pair(&self, mut f: impl FnMut(usize, usize)) {
-        for cz in 0..self.n[2] {
-            for cy in 0..self.n[1] {
-                for cx in 0..self.n[0] {
+    /// Calls `f(k)` for every particle in the cells within `reach` of the cell of `x`
+    /// (each cell once, also when the reach wraps around the box).
+    fn for_each_near(&self, x: Vec3, reach: f64, mut f: impl FnMut(usize)) {
+        let xa = [x.x, x.y, x.z];
+        // Unwrapped index ranges of the cells meeting [x − reach, x + reach] per axis.
+        let range = |a: usize| -> std::ops::RangeInclusive<i64> {
+            let lo = ((xa[a] - reach) / self.h[a]).floor() as i64;
+            let hi = ((xa[a] + reach) / self.h[a]).floor() as i64;
+            if hi - lo + 1 >= self.n[a] as i64 { 0..=self.n[a] as i64 - 1 } else { lo..=hi }
+        };
+        for cz in range(2) {
+            for cy in range(1) {
+                for cx in range(0) {
                     let c = [cx, cy, cz];
-                    let here = &self.items[self.start[self.index(c)]..self.start[self.index(c) + 1]];
-                    for dz in -1..=1 {
-                        for dy in -1..=1 {
-                            for dx in -1..=1 {
-                                let o = self.neighbour(c, [dx, dy, dz]);
-                                let there = &self.items[self.start[o]..self.start[o + 1]];
-                                for &i in here {
-                                    for &j in there {
-                                        if j > i {
-                                            f(i, j);
-                                        }
-                                    }
-                                }
-                            }
-                        }
-                    }
+                    let w: [usize; 3] = std::array::from_fn(|a| c[a].rem_euclid(self.n[a] as i64) as usize);
+                    let o = self.index(w);
+                    self.items[self.start[o]..self.start[o + 1]].iter().for_each(|&k| f(k));
                 }
             }
         }
     }
 
-    /// Calls `f(k)` for every particle in the cell of `x` and its neighbours.
-    fn for_each_near(&self, period: Vec3, x: Vec3, mut f: impl FnMut(usize)) {
-        let c = self.coords(period, x);
-        for dz in -1..=1 {
-            for dy in -1..=1 {
-                for dx in -1..=1 {
-                    let o = self.neighbour(c, [dx, dy, dz]);
-                    self.items[self.start[o]..self.start[o + 1]].iter().for_each(|&k| f(k));
+    /// Calls `f(i, j)` once for every pair whose centres may lie within `reach[i] + reach[j]`:
+    /// from the particle of larger reach (ties by index), searching 2·its reach.
+    fn for_each_pair(&self, centres: &[Vec3], reach: &[f64], mut f: impl FnMut(usize, usize)) {
+        for (i, &x) in centres.iter().enumerate() {
+            let ri = reach[i];
+            self.for_each_near(x, 2.0 * ri, |j| {
+                if reach[j] < ri || (reach[j] == ri && j < i) {
+                    f(i, j);
                 }
-            }
+            });
         }
     }
 }

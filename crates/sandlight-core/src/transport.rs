@@ -185,6 +185,10 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
             (g, Hit { point: rel, normal: g.shape.normal_at(rel) })
         } else {
             let i = m.pick_index(rng.uniform());
+            if MEMORY && surface.is_some_and(|sf| !sf.packed[i] && z >= 0.0) {
+                // Fines fill the pores below the cut plane only (checked before drawing one).
+                continue;
+            }
             let ptype = &m.types[i];
             let (a_over_d, _) = m.type_tables(i);
             let diameter = ptype.sizes.sample(rng);
@@ -196,8 +200,8 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
             if MEMORY {
                 if let Some(sf) = surface {
                     // The cut plane: packed grains only with centres below it, in a top layer
-                    // of widening pore space; fines only in the pores below it.
-                    let kept = if sf.packed[i] { centre.z < 0.0 && (z < -sf.top_mm || rng.uniform() < sf.keep(z)) } else { z < 0.0 };
+                    // of widening pore space.
+                    let kept = !sf.packed[i] || (centre.z < 0.0 && (z < -sf.top_mm || rng.uniform() < sf.keep(z)));
                     if !kept {
                         continue;
                     }
