@@ -62,6 +62,10 @@ pub struct SurfaceLayer {
     pub packed: Vec<bool>,
     /// φ_c,bulk/φ_c(z) at z = −top + 2 top·j/(N − 1).
     keep: Vec<f64>,
+    /// Total encounter probability of the packed types, and their cumulative probabilities
+    /// renormalised among themselves (fines: no increment).
+    pub packed_probability: f64,
+    packed_cumulative: Vec<f64>,
 }
 
 impl SurfaceLayer {
@@ -94,7 +98,23 @@ impl SurfaceLayer {
                 (1.0 - eta) / (1.0 - eta * f)
             })
             .collect();
-        SurfaceLayer { top_mm: top, packed: pops.packed, keep }
+        let total: f64 = m.types.iter().map(|t| t.probability).sum();
+        let packed_probability = m.types.iter().zip(&pops.packed).filter(|(_, &p)| p).map(|(t, _)| t.probability).sum::<f64>() / total;
+        let mut acc = 0.0;
+        let packed_cumulative = m.types.iter().zip(&pops.packed).map(|(t, &p)| {
+            if p {
+                acc += t.probability / total / packed_probability;
+            }
+            acc
+        }).collect();
+        SurfaceLayer { top_mm: top, packed: pops.packed, keep, packed_probability, packed_cumulative }
+    }
+
+    /// A packed type with probability ∝ its encounter probability, for a uniform `u`.
+    #[inline]
+    pub fn pick_packed(&self, u: f64) -> usize {
+        let last = self.packed.iter().rposition(|&p| p).unwrap_or(0);
+        self.packed_cumulative.iter().zip(&self.packed).position(|(&c, &p)| p && u < c).unwrap_or(last)
     }
 
     /// φ_c,bulk/φ_c(z): 1 below the layer, linear interpolation in the table.

@@ -125,11 +125,23 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
         d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
     }
     loop {
-        let mut s = ell * rng.exponential();
+        // MEMORY with the cut layer: above the plane only packed grains exist, so flights there
+        // are drawn at their rate alone and stop at the plane (the rate changes there; a new
+        // flight starts from it, exact since free paths are memoryless).
+        let layer = if MEMORY { surface.filter(|_| z > 0.0) } else { None };
+        let mut s = match layer {
+            Some(sf) => ell / sf.packed_probability * rng.exponential(),
+            None => ell * rng.exponential(),
+        };
+        let mut to_plane = layer.is_some() && d.z < 0.0 && z + s * d.z < 0.0;
+        if to_plane {
+            s = -z / d.z;
+        }
         // MEMORY: the remembered grain comes first if it is nearer than the candidate.
         let rehit = MEMORY && to_behind - flown <= s;
         if rehit {
             s = to_behind - flown;
+            to_plane = false;
         }
         if d.z > 0.0 && z + s * d.z >= top {
             if !water {
@@ -172,6 +184,10 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
             x += s * d.x;
             y += s * d.y;
             flown += s;
+            if to_plane {
+                z = 0.0;
+                continue;
+            }
         } else {
             events += 1;
             if events > limits.max_events {
@@ -184,7 +200,10 @@ fn trace_particulate<const MEMORY: bool>(m: &Particulate, dir_in: Vec3, rng: &mu
             let rel = here - g.centre;
             (g, Hit { point: rel, normal: g.shape.normal_at(rel) })
         } else {
-            let i = m.pick_index(rng.uniform());
+            let i = match layer {
+                Some(sf) => sf.pick_packed(rng.uniform()),
+                None => m.pick_index(rng.uniform()),
+            };
             if MEMORY && surface.is_some_and(|sf| !sf.packed[i] && z >= 0.0) {
                 // Fines fill the pores below the cut plane only (checked before drawing one).
                 continue;
