@@ -22,6 +22,10 @@ from sandlight.physics.composition import compose
 from sandlight.physics.medium import native_medium
 
 DEFAULT_MAX_EVENTS = 10_000_000
+GEOMETRIES = ("on-the-fly", "explicit")
+MEMORIES = ("none", "channel", "cut")
+#: Path memory of the on-the-fly engine when none is asked for (docs/geometry.md).
+DEFAULT_MEMORY = "none"
 MAX_INTERNAL_REFLECTIONS = 10_000
 _COUNT_NAMES = ("launched", "escaped", "absorbed", "transmitted", "capped", "events")
 
@@ -58,6 +62,33 @@ def _check_threads(threads):
     if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not (1 <= int(threads) <= 1024):
         raise ParameterError("threads", threads, "None (all cores) or an integer in [1, 1024]")
     return int(threads)
+
+
+def _check_choice(name, value, allowed):
+    if not isinstance(value, str) or value not in allowed:
+        raise ParameterError(name, value, "one of " + ", ".join(repr(a) for a in allowed))
+    return value
+
+
+def medium_factory(comp, *, geometry: str = "on-the-fly", memory: str | None = None, packing=None, seed: int = 0):
+    """A function of the wavelength (nm) giving the native medium to trace, and the packing.
+
+    For ``geometry="explicit"`` the packing (wavelength independent) is generated once, from
+    ``seed``, unless one is given (``sandlight.physics.packing.generate_packing``).
+    """
+    from sandlight.physics.packing import generate_packing, reference_grain_mm
+
+    geometry = _check_choice("geometry", geometry, GEOMETRIES)
+    memory = _check_choice("memory", DEFAULT_MEMORY if memory is None else memory, MEMORIES)
+    if geometry == "on-the-fly":
+        return (lambda lam: native_medium(comp, lam, memory=memory)), None
+    if memory != "none":
+        raise ParameterError("memory", memory, "'none' with geometry='explicit' (memory models the on-the-fly engine)")
+    if packing is None:
+        packing = generate_packing(native_medium(comp, 550.0), reference_mm=reference_grain_mm(comp), seed=seed)
+    elif not isinstance(packing, _native.Packing):
+        raise ParameterError("packing", packing, "None or a sandlight._native.Packing (generate_packing)")
+    return (lambda lam: native_medium(comp, lam).explicit(packing, comp.depth_mm)), packing
 
 
 def _check_wavelengths(wavelengths_nm) -> np.ndarray:
@@ -108,6 +139,8 @@ class ReflectanceResult:
     max_events: int
     sample: dict = field(default_factory=dict)
     elapsed_s: float = 0.0
+    geometry: str = "on-the-fly"
+    memory: str = "none"
 
     @property
     def mean_events_per_ray(self) -> np.ndarray:
@@ -141,6 +174,7 @@ class ReflectanceResult:
                 "sandlight_version": sandlight.__version__,
                 "rays": self.rays, "incidence_deg": self.incidence_deg, "seed": str(self.seed),
                 "max_events": self.max_events, "sample": json.dumps(self.sample), "elapsed_s": self.elapsed_s,
+                "geometry": self.geometry, "memory": self.memory,
             },
         )
         return ds
@@ -169,7 +203,8 @@ class ReflectanceResult:
 
 
 def reflectance(sample, wavelengths_nm, *, rays, incidence_deg: float = 0.0, seed: int = 0, threads: int | None = None,
-                max_events: int = DEFAULT_MAX_EVENTS, progress: bool = True) -> ReflectanceResult:
+                max_events: int = DEFAULT_MAX_EVENTS, progress: bool = True, geometry: str = "on-the-fly",
+                memory: str | None = None, packing=None) -> ReflectanceResult:
     """Monte Carlo directional-hemispherical reflectance of a sand sample.
 
     Parameters
@@ -190,6 +225,16 @@ def reflectance(sample, wavelengths_nm, *, rays, incidence_deg: float = 0.0, see
         Cap on particle events per ray; rays reaching it are counted in ``capped``.
     progress : bool
         Show a progress bar for runs longer than a second.
+    geometry : {'on-the-fly', 'explicit'}
+        'on-the-fly' (the fast model: each next particle drawn at random) or 'explicit' (the
+        slow reference: rays traced through a stored random dense packing of the sample's own
+        grains with the same per-particle physics; docs/geometry.md). With 'explicit',
+        ``counts["transmitted"]`` counts rays that went below a finite sample.
+    memory : {'none', 'channel'}, optional
+        Near-surface path memory of the on-the-fly engine (default ``DEFAULT_MEMORY``);
+        must be 'none' for explicit geometry.
+    packing : sandlight._native.Packing, optional
+        A packing to trace (explicit geometry); generated from ``seed`` when None.
 
     Returns
     -------
@@ -215,9 +260,10 @@ def reflectance(sample, wavelengths_nm, *, rays, incidence_deg: float = 0.0, see
     max_events = _check_rays(max_events)
     comp = compose(sample)
     start = time.perf_counter()
+    make_medium, _ = medium_factory(comp, geometry=geometry, memory=memory, packing=packing, seed=seed)
     rows = []
     for i, lam in enumerate(wl):
-        rows.append(_trace(native_medium(comp, float(lam)), rays=rays, incidence_deg=incidence_deg, seed=seed,
+        rows.append(_trace(make_medium(float(lam)), rays=rays, incidence_deg=incidence_deg, seed=seed,
                            threads=threads, max_events=max_events, progress=progress,
                            label=f"λ = {lam:g} nm ({i + 1}/{wl.size})"))
     counts = {k: np.array([r[k] for r in rows], dtype=np.int64) for k in _COUNT_NAMES}
@@ -225,7 +271,8 @@ def reflectance(sample, wavelengths_nm, *, rays, incidence_deg: float = 0.0, see
     return ReflectanceResult(
         wavelengths=wl, values=rho, stderr=np.sqrt(rho * (1 - rho) / counts["launched"]), counts=counts,
         rays=rays, incidence_deg=incidence_deg, seed=seed, max_events=max_events,
-        sample=sample.to_dict(), elapsed_s=time.perf_counter() - start)
+        sample=sample.to_dict(), elapsed_s=time.perf_counter() - start, geometry=geometry,
+        memory=DEFAULT_MEMORY if memory is None else memory)
 
 
 def isotropic_halfspace(albedo: float, *, rays, incidence_deg: float = 0.0, seed: int = 0, threads: int | None = None,

@@ -2,16 +2,19 @@
 //!
 //! Layering (dependencies point down): `math`, `rng` → `fresnel`, `layers` → `spheroid`,
 //! `sizes` → `particle` (one grain's interaction) → `medium`, `transport` (free paths, boundary)
-//! → `driver` (parallel runs and tallies). No PyO3 here: bindings live in `sandlight-py`.
+//! → `driver` (parallel runs and tallies). `packing` and `explicit`: the explicit-geometry
+//! reference (a stored random packing traced with the same per-particle interaction). No PyO3 here: bindings live in `sandlight-py`.
 
 pub mod appearance;
 pub mod driver;
 pub mod error;
+pub mod explicit;
 pub mod fresnel;
 pub mod gonio;
 pub mod layers;
 pub mod math;
 pub mod medium;
+pub mod packing;
 pub mod particle;
 pub mod render;
 pub mod rng;

@@ -33,6 +33,19 @@ impl QuantileTable {
         *self.q.last().unwrap()
     }
 
+    /// The size at level `u` in [0, 1): the same linear interpolation `sample` uses.
+    #[inline]
+    pub fn quantile(&self, u: f64) -> f64 {
+        let m = self.q.len();
+        if m == 1 {
+            return self.q[0];
+        }
+        let x = u * (m - 1) as f64;
+        let j = (x as usize).min(m - 2);
+        let f = x - j as f64;
+        self.q[j] + f * (self.q[j + 1] - self.q[j])
+    }
+
     #[inline]
     pub fn sample(&self, rng: &mut Rng) -> f64 {
         let m = self.q.len();

@@ -85,6 +85,48 @@ impl Spheroid {
         Some(Hit { point, normal: self.normal_at(point) })
     }
 
+    /// Whether the point `x` (relative to the centre) lies strictly inside.
+    #[inline]
+    pub fn contains(&self, x: Vec3) -> bool {
+        x.norm2() * self.inv_a2 + self.k * x.dot(self.u).powi(2) < 1.0
+    }
+
+    /// Distance t > 0 along the unit direction `d` from the point `p` outside the particle to
+    /// where the ray enters it, if it does. A ray starting inside or on the surface gets None
+    /// (a ray leaving a convex particle cannot meet it again). The root is taken in the form
+    /// C/(−B/2 + √disc), free of cancellation for distant particles.
+    #[inline]
+    pub fn entry_distance(&self, p: Vec3, d: Vec3) -> Option<f64> {
+        let (a, hb, c) = self.quad(p, d);
+        if c <= 0.0 || hb >= 0.0 {
+            return None;
+        }
+        let disc = hb * hb - a * c;
+        if disc <= 0.0 {
+            return None;
+        }
+        Some(c / (-hb + disc.sqrt()))
+    }
+
+    /// Whether the segment from `p0` to `p1` (relative to the centre) meets the particle:
+    /// f(t) = |x|²/a² + k(x·u)² − 1 along it is a convex quadratic, so the segment meets the
+    /// solid iff f ≤ 0 at an end or at the interior minimum.
+    #[inline]
+    pub fn intersects_segment(&self, p0: Vec3, p1: Vec3) -> bool {
+        let v = p1 - p0;
+        let len = v.norm2().sqrt();
+        if len == 0.0 {
+            return self.contains(p0);
+        }
+        // `quad` takes a unit direction: f(t) = A t² + 2 hb t + c for t ∈ [0, len].
+        let (a, hb, c) = self.quad(p0, v * (1.0 / len));
+        if c <= 0.0 || (a * len + 2.0 * hb) * len + c <= 0.0 {
+            return true;
+        }
+        // Minimum at t* = −hb/A, inside the segment when 0 < t* < len.
+        -hb > 0.0 && -hb < a * len && hb * hb > a * c
+    }
+
     /// Chord from the surface point `x0` along the inward direction `d` to the far surface.
     /// x0 is on the surface, so one root of the quadratic is 0 and the other is −B/A exactly;
     /// using it avoids the cancellation of the general formula.
@@ -189,6 +231,24 @@ mod tests {
                 let (mf, mr) = (mean(&fast), mean(&reference));
                 let se = ((var(&fast, mf) + var(&reference, mr)) / n as f64).sqrt();
                 assert!((mf - mr).abs() < 4.0 * se, "γ {gamma_deg}°, statistic {k}: {mf} vs {mr} (se {se})");
+            }
+        }
+    }
+
+    #[test]
+    fn segment_test_agrees_with_dense_point_sampling() {
+        let mut rng = Rng::for_ray(8, 0, 0);
+        for _ in 0..2000 {
+            let s = Spheroid::new(0.3, 1.6, Spheroid::random_axis(&mut rng));
+            let p = |rng: &mut Rng| Vec3::new(rng.uniform() - 0.5, rng.uniform() - 0.5, rng.uniform() - 0.5) * 0.8;
+            let (p0, p1) = (p(&mut rng), p(&mut rng));
+            let sampled = (0..=4000).any(|i| s.contains(p0 + (p1 - p0) * (i as f64 / 4000.0)));
+            let exact = s.intersects_segment(p0, p1);
+            // Dense sampling can only miss a grazing intersection.
+            assert!(exact || !sampled, "{p0:?} {p1:?}");
+            if exact && !sampled {
+                let grazing = (0..=4000).any(|i| { let x = p0 + (p1 - p0) * (i as f64 / 4000.0); x.norm2() / (s.a * s.a) + s.k * x.dot(s.u).powi(2) < 1.0 + 1e-3 });
+                assert!(grazing, "{p0:?} {p1:?}");
             }
         }
     }

@@ -3,10 +3,10 @@
 
 use crate::fresnel;
 use crate::math::{refract, sin_cos_turns, Vec3};
-use crate::medium::{IsotropicScatterers, LambertianSurface, Particulate};
+use crate::medium::{IsotropicScatterers, LambertianSurface, Memory, Particulate};
 use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
-use crate::spheroid::Spheroid;
+use crate::spheroid::{Hit, Spheroid};
 
 /// How a ray ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -65,77 +65,276 @@ pub fn cosine_hemisphere(rng: &mut Rng) -> Vec3 {
 
 impl Medium for Particulate {
     fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
-        let pore = &self.pore;
-        let ell = self.mean_free_path_mm;
-        let mut d = dir_in;
-        let mut z = 0.0f64;
-        let mut events = 0u64;
-        let done = |fate, events| RayOutcome { fate, events };
-        // The pore at the surface where the ray enters. A water-filled surface pore presents a
-        // flat water surface (our assumption, docs/transport.md): Fresnel air → water.
-        let mut water = pore.draw_water(rng);
-        if water {
-            if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
-                return done(Fate::Escaped(d.reflect(UP)), 0);
-            }
-            d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
+        match self.memory {
+            Memory::None => trace_classic(self, dir_in, rng, limits),
+            Memory::Channel | Memory::Cut => trace_with_memory(self, dir_in, rng, limits),
         }
-        loop {
-            let s = ell * rng.exponential();
-            if d.z > 0.0 && z + s * d.z >= 0.0 {
-                if !water {
-                    return done(Fate::Escaped(d), events);
-                }
-                // Through water to the water surface, then water → air.
-                let to_surface = -z / d.z;
-                if !survives(rng.uniform(), pore.water_alpha_per_mm * to_surface) {
-                    return done(Fate::Absorbed, events);
-                }
-                if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
+    }
+}
+
+/// The classic on-the-fly transport (`Memory::None`): every free path and every particle
+/// independent of the past. Kept apart from the memory variant so that its code, random
+/// numbers and speed are exactly those of the engine before path memory existed.
+fn trace_classic(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
+    let pore = &m.pore;
+    let ell = m.mean_free_path_mm;
+    let mut d = dir_in;
+    let mut z = 0.0f64;
+    let mut events = 0u64;
+    let done = |fate, events| RayOutcome { fate, events };
+    // The pore at the surface where the ray enters. A water-filled surface pore presents a
+    // flat water surface (our assumption, docs/transport.md): Fresnel air → water.
+    let mut water = pore.draw_water(rng);
+    if water {
+        if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
+            return done(Fate::Escaped(d.reflect(UP)), 0);
+        }
+        d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
+    }
+    loop {
+        let s = ell * rng.exponential();
+        if d.z > 0.0 && z + s * d.z >= 0.0 {
+            if !water {
+                return done(Fate::Escaped(d), events);
+            }
+            // Through water to the water surface, then water → air.
+            let to_surface = -z / d.z;
+            if !survives(rng.uniform(), pore.water_alpha_per_mm * to_surface) {
+                return done(Fate::Absorbed, events);
+            }
+            if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
+                d.z = -d.z;
+                z = 0.0;
+                continue;
+            }
+            return match refract(d, -UP, pore.water_n) {
+                Some(out) => done(Fate::Escaped(out), events),
+                None => {
                     d.z = -d.z;
                     z = 0.0;
                     continue;
                 }
-                return match refract(d, -UP, pore.water_n) {
-                    Some(out) => done(Fate::Escaped(out), events),
-                    None => {
-                        d.z = -d.z;
-                        z = 0.0;
-                        continue;
-                    }
-                };
+            };
+        }
+        if d.z < 0.0 && z + s * d.z <= -m.depth_mm {
+            return done(Fate::Transmitted, events);
+        }
+        if water && pore.water_alpha_per_mm > 0.0 && !survives(rng.uniform(), pore.water_alpha_per_mm * s) {
+            return done(Fate::Absorbed, events);
+        }
+        z += s * d.z;
+        events += 1;
+        if events > limits.max_events {
+            return done(Fate::Capped, events);
+        }
+        let i = m.pick_index(rng.uniform());
+        let ptype = &m.types[i];
+        let (a_over_d, stacks) = m.type_tables(i);
+        let diameter = ptype.sizes.sample(rng);
+        let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
+        let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
+            return done(Fate::Capped, events);
+        };
+        match interact_with_stacks(&ptype.optics, stacks, pore, &shape, hit, d, water, rng, limits.max_internal) {
+            Interaction::Reflected { dir } => d = dir,
+            Interaction::Transmitted { dir, exit_point, water: w } => {
+                // The particle's extent along z: the ray leaves from the far side.
+                z = (z + (exit_point.z - hit.point.z)).min(0.0);
+                d = dir;
+                water = w;
             }
-            if d.z < 0.0 && z + s * d.z <= -self.depth_mm {
-                return done(Fate::Transmitted, events);
+            Interaction::Absorbed => return done(Fate::Absorbed, events),
+            Interaction::Capped => return done(Fate::Capped, events),
+        }
+    }
+}
+
+/// A grain the memory keeps: its shape, centre (sample frame) and type.
+#[derive(Clone, Copy)]
+struct Grain {
+    shape: Spheroid,
+    centre: Vec3,
+    type_index: usize,
+}
+
+/// The on-the-fly transport with path memory. The ray also keeps its position in x and y and remembers the pore it is in (docs/geometry.md,
+/// "Near-surface path memory"): while it is still in the pore it reached its last grain
+/// through (after a reflection, or leaving that grain on its lit side), it knows
+/// - the segment it travelled through that pore (`channel`): a grain drawn on the fly whose
+///   body would lie across it is discarded, since the ray passed there. Discarding candidates
+///   drawn at the full rate 1/ℓ is thinning: the free path then has the conditional hazard
+///   (1/ℓ)·P(a grain met there would not cross the segment), exact for a Boolean model of the
+///   grains given the segment. For the first flight the segment is the entry channel from the
+///   surface, which a ray turned back along it can leave by (shadow hiding);
+/// - the grain at the segment's far end (`behind`, the grain the ray left to enter the pore):
+///   a ray heading back meets it again where its surface is, not at a random distance.
+/// With `Memory::Cut` the surface is the cut plane of `SurfaceLayer`: rays start and escape at
+/// its top, and candidates are also thinned by the centre rule and the widening pore space of
+/// the top layer.
+fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
+    let pore = &m.pore;
+    let ell = m.mean_free_path_mm;
+    let surface = m.surface.as_ref();
+    // Height of the boundary plane: 0, or the top of the cut-plane layer.
+    let top = surface.map_or(0.0, |s| s.top_mm);
+    let mut d = dir_in;
+    let mut z = top;
+    // Lateral position, start of the current flight, distance flown since, the remembered
+    // segment and grains (`prev`: the grain the flight started from).
+    let (mut x, mut y) = (0.0f64, 0.0f64);
+    let mut flight_start = Vec3::new(0.0, 0.0, top);
+    let mut flown = 0.0f64;
+    let mut channel: Option<(Vec3, Vec3)> = None;
+    let mut behind: Option<Grain> = None;
+    let mut prev: Option<Grain> = None;
+    let mut to_behind = f64::INFINITY;
+    let mut events = 0u64;
+    let done = |fate, events| RayOutcome { fate, events };
+    // The pore at the surface where the ray enters. A water-filled surface pore presents a
+    // flat water surface (our assumption, docs/transport.md): Fresnel air → water.
+    let mut water = pore.draw_water(rng);
+    if water {
+        if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
+            return done(Fate::Escaped(d.reflect(UP)), 0);
+        }
+        d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
+    }
+    loop {
+        // With the cut layer: above the plane only packed grains exist, so flights there
+        // are drawn at their rate alone and stop at the plane (the rate changes there; a new
+        // flight starts from it, exact since free paths are memoryless).
+        let layer = surface.filter(|_| z > 0.0);
+        let mut s = match layer {
+            Some(sf) => ell / sf.packed_probability * rng.exponential(),
+            None => ell * rng.exponential(),
+        };
+        let mut to_plane = layer.is_some() && d.z < 0.0 && z + s * d.z < 0.0;
+        if to_plane {
+            s = -z / d.z;
+        }
+        // The remembered grain comes first if it is nearer than the candidate.
+        let rehit = to_behind - flown <= s;
+        if rehit {
+            s = to_behind - flown;
+            to_plane = false;
+        }
+        if d.z > 0.0 && z + s * d.z >= top {
+            if !water {
+                return done(Fate::Escaped(d), events);
             }
-            if water && pore.water_alpha_per_mm > 0.0 && !survives(rng.uniform(), pore.water_alpha_per_mm * s) {
+            // Through water to the water surface, then water → air.
+            let to_surface = (top - z) / d.z;
+            if !survives(rng.uniform(), pore.water_alpha_per_mm * to_surface) {
                 return done(Fate::Absorbed, events);
             }
-            z += s * d.z;
-            events += 1;
-            if events > limits.max_events {
-                return done(Fate::Capped, events);
+            // Reflected at the water surface: a new flight from there, no memory.
+            x += to_surface * d.x;
+            y += to_surface * d.y;
+            flight_start = Vec3::new(x, y, top);
+            (channel, behind, prev, flown, to_behind) = (None, None, None, 0.0, f64::INFINITY);
+            if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
+                d.z = -d.z;
+                z = top;
+                continue;
             }
-            let i = self.pick_index(rng.uniform());
-            let ptype = &self.types[i];
-            let (a_over_d, stacks) = self.type_tables(i);
+            return match refract(d, -UP, pore.water_n) {
+                Some(out) => done(Fate::Escaped(out), events),
+                None => {
+                    d.z = -d.z;
+                    z = top;
+                    continue;
+                }
+            };
+        }
+        if d.z < 0.0 && z + s * d.z <= -m.depth_mm {
+            return done(Fate::Transmitted, events);
+        }
+        if water && pore.water_alpha_per_mm > 0.0 && !survives(rng.uniform(), pore.water_alpha_per_mm * s) {
+            return done(Fate::Absorbed, events);
+        }
+        z += s * d.z;
+        x += s * d.x;
+        y += s * d.y;
+        flown += s;
+        if to_plane {
+            z = 0.0;
+            continue;
+        }
+        let here = Vec3::new(x, y, z);
+        let (grain, hit) = if rehit {
+            let g = behind.expect("a finite distance to the remembered grain");
+            let rel = here - g.centre;
+            (g, Hit { point: rel, normal: g.shape.normal_at(rel) })
+        } else {
+            let i = match layer {
+                Some(sf) => sf.pick_packed(rng.uniform()),
+                None => m.pick_index(rng.uniform()),
+            };
+            if surface.is_some_and(|sf| !sf.packed[i] && z >= 0.0) {
+                // Fines fill the pores below the cut plane only (checked before drawing one).
+                continue;
+            }
+            let ptype = &m.types[i];
+            let (a_over_d, _) = m.type_tables(i);
             let diameter = ptype.sizes.sample(rng);
             let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
             let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
                 return done(Fate::Capped, events);
             };
-            match interact_with_stacks(&ptype.optics, stacks, pore, &shape, hit, d, water, rng, limits.max_internal) {
-                Interaction::Reflected { dir } => d = dir,
-                Interaction::Transmitted { dir, exit_point, water: w } => {
-                    // The particle's extent along z: the ray leaves from the far side.
-                    z = (z + (exit_point.z - hit.point.z)).min(0.0);
-                    d = dir;
-                    water = w;
+            let centre = here - hit.point;
+            if let Some(sf) = surface {
+                // The cut plane: packed grains only with centres below it, in a top layer of
+                // widening pore space.
+                let kept = !sf.packed[i] || (centre.z < 0.0 && (z < -sf.top_mm || rng.uniform() < sf.keep(z)));
+                if !kept {
+                    continue;
                 }
-                Interaction::Absorbed => return done(Fate::Absorbed, events),
-                Interaction::Capped => return done(Fate::Capped, events),
             }
+            if let Some((a, b)) = channel {
+                if shape.intersects_segment(a - centre, b - centre) {
+                    continue;
+                }
+            }
+            (Grain { shape, centre, type_index: i }, hit)
+        };
+        events += 1;
+        if events > limits.max_events {
+            return done(Fate::Capped, events);
         }
+        let i = grain.type_index;
+        let (_, stacks) = m.type_tables(i);
+        match interact_with_stacks(&m.types[i].optics, stacks, pore, &grain.shape, hit, d, water, rng, limits.max_internal) {
+            Interaction::Reflected { dir } => {
+                // Back into the pore it came from: remember the segment just travelled and the
+                // grain at its far end.
+                channel = Some((flight_start, here));
+                behind = prev;
+                flight_start = here;
+                d = dir;
+            }
+            Interaction::Transmitted { dir, exit_point, water: w } => {
+                // The particle's extent along z: the ray leaves from the far side.
+                z = (z + (exit_point.z - hit.point.z)).min(top);
+                x += exit_point.x - hit.point.x;
+                y += exit_point.y - hit.point.y;
+                // Out on the lit side (the half facing where the ray came from) it is back in
+                // the pore it came from; out on the far side, in a new one.
+                if exit_point.dot(d) < 0.0 {
+                    channel = Some((flight_start, here));
+                    behind = prev;
+                } else {
+                    (channel, behind) = (None, None);
+                }
+                flight_start = Vec3::new(x, y, z);
+                d = dir;
+                water = w;
+            }
+            Interaction::Absorbed => return done(Fate::Absorbed, events),
+            Interaction::Capped => return done(Fate::Capped, events),
+        }
+        prev = Some(grain);
+        flown = 0.0;
+        to_behind = behind.and_then(|g| g.shape.entry_distance(flight_start - g.centre, d)).unwrap_or(f64::INFINITY);
     }
 }
 

@@ -14,6 +14,7 @@ mod render;
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<medium::PyMedium>()?;
+    m.add_class::<medium::PyPacking>()?;
     gonio::register(m)?;
     render::register(m)?;
     appearance::register(m)?;

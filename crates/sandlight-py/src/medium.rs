@@ -9,7 +9,11 @@ use sandlight_core::gonio::measure::{measure_brdf, measure_fixed_incidence};
 use sandlight_core::gonio::{BrdfTally, CollectorHemisphere, FixedIncidenceTally};
 use sandlight_core::math::Vec3;
 use sandlight_core::error::SandlightError;
-use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, Particulate, ParticleType};
+use std::sync::Arc;
+
+use sandlight_core::explicit::{Explicit, Scene};
+use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, Memory, Particulate, ParticleType};
+use sandlight_core::packing::{Packing, PackingParams};
 use sandlight_core::particle::{Coating, ParticleOptics, PoreOptics};
 use sandlight_core::sizes::QuantileTable;
 use sandlight_core::transport::Limits;
@@ -19,6 +23,7 @@ use crate::pool::run_with_threads;
 
 pub enum Kind {
     Particulate(Particulate),
+    Explicit(Explicit),
     Isotropic(IsotropicScatterers),
     Lambertian(LambertianSurface),
 }
@@ -39,7 +44,7 @@ impl PyMedium {
     #[staticmethod]
     #[pyo3(signature = (probabilities, size_quantiles_mm, aspect_ratios, core_n, core_k, core_alpha_per_mm,
                         coating_n, coating_alpha_per_mm, coating_thickness_mm, mean_free_path_mm,
-                        water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability, depth_mm))]
+                        water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability, depth_mm, memory = "none"))]
     #[allow(clippy::too_many_arguments)]
     fn particulate(
         py: Python<'_>,
@@ -58,6 +63,7 @@ impl PyMedium {
         film_thickness_mm: f64,
         water_filled_probability: f64,
         depth_mm: f64,
+        memory: &str,
     ) -> PyResult<Self> {
         let build = || -> Result<Particulate, SandlightError> {
             let n = probabilities.len();
@@ -80,9 +86,29 @@ impl PyMedium {
                 });
             }
             let pore = PoreOptics { water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability };
-            Particulate::new(types, mean_free_path_mm, pore, depth_mm)
+            let memory = match memory {
+                "none" => Memory::None,
+                "channel" => Memory::Channel,
+                "cut" => Memory::Cut,
+                other => return Err(SandlightError::parameter("memory", other, "'none', 'channel' or 'cut'")),
+            };
+            Ok(Particulate::new(types, mean_free_path_mm, pore, depth_mm)?.with_memory(memory))
         };
         build().map(|p| PyMedium { kind: Kind::Particulate(p) }).map_err(|e| to_py(py, e))
+    }
+
+    /// This sand medium traced through the explicit packing `packing` instead of on the fly
+    /// (the packing must come from a medium with the same particle types). Rays deeper than
+    /// `bottom_mm` below the cut plane count as transmitted.
+    #[pyo3(signature = (packing, bottom_mm = f64::INFINITY))]
+    fn explicit(&self, py: Python<'_>, packing: &PyPacking, bottom_mm: f64) -> PyResult<Self> {
+        let Kind::Particulate(m) = &self.kind else {
+            return Err(to_py(py, SandlightError::parameter("medium", "a reference medium", "explicit geometry needs a sand (particulate) medium")));
+        };
+        if m.memory != Memory::None {
+            return Err(to_py(py, SandlightError::parameter("memory", format!("{:?}", m.memory), "'none' for explicit geometry (memory is a model of the on-the-fly engine)")));
+        }
+        Explicit::new(m.clone(), packing.scene.clone(), bottom_mm).map(|e| PyMedium { kind: Kind::Explicit(e) }).map_err(|e| to_py(py, e))
     }
 
     /// Isotropic point scatterers of albedo ω, unit mean free path (Chandrasekhar's half-space).
@@ -111,6 +137,7 @@ impl PyMedium {
         let run = || -> Result<_, String> {
             run_with_threads(threads, || match &self.kind {
                 Kind::Particulate(m) => directional_hemispherical(m, dir, seed, stream, first_ray, n_rays, &limits),
+                Kind::Explicit(m) => directional_hemispherical(m, dir, seed, stream, first_ray, n_rays, &limits),
                 Kind::Isotropic(m) => directional_hemispherical(m, dir, seed, stream, first_ray, n_rays, &limits),
                 Kind::Lambertian(m) => directional_hemispherical(m, dir, seed, stream, first_ray, n_rays, &limits),
             })
@@ -131,6 +158,7 @@ impl PyMedium {
         let run = || -> Result<BrdfTally, String> {
             run_with_threads(threads, || match &self.kind {
                 Kind::Particulate(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
+                Kind::Explicit(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
                 Kind::Isotropic(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
                 Kind::Lambertian(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
             })
@@ -157,11 +185,96 @@ impl PyMedium {
         let run = || -> Result<FixedIncidenceTally, String> {
             run_with_threads(threads, || match &self.kind {
                 Kind::Particulate(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
+                Kind::Explicit(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
                 Kind::Isotropic(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
                 Kind::Lambertian(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
             })
         };
         let t = py.detach(run).map_err(PyRuntimeError::new_err)?;
         Ok((t.counts.into_pyarray(py), t.absorbed, t.launched, t.lost))
+    }
+}
+
+/// `sandlight._native.Packing`: a periodic random dense packing of a sand medium's grains with
+/// its ray-tracing grid (wavelength independent; see `sandlight_core::packing`).
+#[pyclass(frozen, name = "Packing", module = "sandlight._native")]
+pub struct PyPacking {
+    pub scene: Arc<Scene>,
+}
+
+#[pymethods]
+impl PyPacking {
+    /// Packs the grains of the sand `medium` (any wavelength) in a box `lateral_mm` wide and
+    /// about `depth_mm` high, periodic in x, y and z. The GIL is released.
+    #[staticmethod]
+    #[pyo3(signature = (medium, lateral_mm, depth_mm, seed = 0, fines_below_mm = 0.05, max_particles = 400_000, overlap_tolerance = 1e-3, max_sweeps = 20_000))]
+    #[allow(clippy::too_many_arguments)]
+    fn generate(py: Python<'_>, medium: &PyMedium, lateral_mm: f64, depth_mm: f64, seed: u64, fines_below_mm: f64, max_particles: usize, overlap_tolerance: f64, max_sweeps: usize) -> PyResult<Self> {
+        let Kind::Particulate(m) = &medium.kind else {
+            return Err(to_py(py, SandlightError::parameter("medium", "a reference medium", "a sand (particulate) medium")));
+        };
+        let params = PackingParams { lateral_mm, depth_mm, fines_below_mm, seed, max_particles, max_sweeps, overlap_tolerance };
+        let m = m.clone();
+        let made = py.detach(move || Packing::generate(&m, &params).map(|p| Arc::new(Scene::new(p))));
+        made.map(|scene| PyPacking { scene }).map_err(|e| to_py(py, e))
+    }
+
+    #[getter]
+    fn n_particles(&self) -> usize {
+        self.scene.packing.particles.len()
+    }
+    /// Σ grain volume / box volume (packed types only).
+    #[getter]
+    fn packing_fraction(&self) -> f64 {
+        self.scene.packing.packing_fraction
+    }
+    /// The sample porosity implied by the medium's mean free path.
+    #[getter]
+    fn sample_porosity(&self) -> f64 {
+        self.scene.packing.populations.porosity
+    }
+    /// Whether each particle type is packed (False: fines, on the fly in the pores).
+    #[getter]
+    fn packed_types(&self) -> Vec<bool> {
+        self.scene.packing.populations.packed.clone()
+    }
+    /// Box periods (L, L, H) in mm.
+    #[getter]
+    fn period_mm(&self) -> (f64, f64, f64) {
+        let p = self.scene.packing.period;
+        (p.x, p.y, p.z)
+    }
+    /// Largest overlap along a centre line, as a fraction of the smaller diameter.
+    #[getter]
+    fn max_overlap(&self) -> f64 {
+        self.scene.packing.max_overlap
+    }
+    #[getter]
+    fn sweeps(&self) -> usize {
+        self.scene.packing.sweeps
+    }
+    /// Bytes of particles, shapes and grid.
+    #[getter]
+    fn memory_bytes(&self) -> usize {
+        self.scene.memory_bytes()
+    }
+    /// (fraction of points in no grain, fraction in two or more) from `n_points` random points.
+    fn point_statistics(&self, py: Python<'_>, n_points: usize, seed: u64) -> (f64, f64) {
+        py.detach(|| self.scene.packing.point_statistics(n_points, seed))
+    }
+    /// Pore chord lengths (mm) along random lines (see `Scene::pore_chords`).
+    fn pore_chords<'py>(&self, py: Python<'py>, n_lines: usize, per_line: usize, seed: u64) -> Bound<'py, PyArray1<f64>> {
+        py.detach(|| self.scene.pore_chords(n_lines, per_line, seed)).into_pyarray(py)
+    }
+    /// Particle centres (N, 3) in mm and volume-equivalent diameters (N,) in mm.
+    fn particles<'py>(&self, py: Python<'py>) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>) {
+        let ps = &self.scene.packing.particles;
+        let mut c = Array2::<f64>::zeros((ps.len(), 3));
+        for (i, p) in ps.iter().enumerate() {
+            c[[i, 0]] = p.centre.x;
+            c[[i, 1]] = p.centre.y;
+            c[[i, 2]] = p.centre.z;
+        }
+        (c.into_pyarray(py), ps.iter().map(|p| p.diameter_mm).collect::<Vec<_>>().into_pyarray(py))
     }
 }

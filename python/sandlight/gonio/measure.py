@@ -55,19 +55,30 @@ class LambertianSurface:
         return {"reference": "lambertian surface", "albedo": float(self.albedo)}
 
 
-def _resolve(sample, wavelength_nm):
-    """(native medium, metadata dict) for a SandSample, preset name or reference medium."""
+def _resolve(sample, wavelength_nm, *, geometry="on-the-fly", memory=None, packing=None, seed=0):
+    """(native medium, metadata dict) for a SandSample, preset name or reference medium.
+
+    ``geometry``, ``memory`` and ``packing`` as in :func:`sandlight.reflectance` (sand only);
+    the metadata records geometry and memory when they are not the defaults.
+    """
+    from sandlight.engine import DEFAULT_MEMORY, medium_factory
     from sandlight.physics.composition import compose
-    from sandlight.physics.medium import native_medium
     from sandlight.sample import SandSample
 
     if isinstance(sample, (IsotropicScatterers, LambertianSurface)):
+        if geometry != "on-the-fly" or memory not in (None, "none") or packing is not None:
+            raise ParameterError("geometry", geometry, "'on-the-fly' (with no memory or packing) for a reference medium")
         return sample.medium(wavelength_nm), sample.to_dict()
     if isinstance(sample, str):
         sample = SandSample.preset(sample)
     if not isinstance(sample, SandSample):
         raise ParameterError("sample", sample, "a SandSample, a preset name, IsotropicScatterers or LambertianSurface")
-    return native_medium(compose(sample), wavelength_nm), sample.to_dict()
+    make, _ = medium_factory(compose(sample), geometry=geometry, memory=memory, packing=packing, seed=seed)
+    meta = sample.to_dict()
+    mem = DEFAULT_MEMORY if memory is None else memory
+    if geometry != "on-the-fly" or mem != "none":
+        meta = {**meta, "geometry": geometry, "memory": mem}
+    return make(wavelength_nm), meta
 
 
 def _checkpoint_key(meta: dict) -> str:
@@ -97,7 +108,8 @@ def _save_checkpoint(path: Path, key: str, done: int, arrays: dict) -> None:
 
 def brdf(sample, wavelength_nm: float = 550.0, *, rays, stacks: int = 31, slices: int = 30, seed: int = 0,
          threads: int | None = None, method: str = "average", max_events: int = DEFAULT_MAX_EVENTS,
-         checkpoint=None, progress: bool = True) -> MeasuredBRDF:
+         checkpoint=None, progress: bool = True, geometry: str = "on-the-fly", memory: str | None = None,
+         packing=None) -> MeasuredBRDF:
     """Measures the BRDF of a sample with uniform incidence (paper §3.2.1).
 
     Parameters
@@ -117,6 +129,9 @@ def brdf(sample, wavelength_nm: float = 550.0, *, rays, stacks: int = 31, slices
     checkpoint : path, optional
         File where the counts are saved about every minute; an existing checkpoint of the same
         run is resumed. Removed when the run completes.
+    geometry, memory, packing
+        As in :func:`sandlight.reflectance`: 'explicit' traces a stored packing of the sample's
+        grains (the slow reference, docs/geometry.md). A packing generated here uses ``seed``.
 
     Returns
     -------
@@ -128,7 +143,7 @@ def brdf(sample, wavelength_nm: float = 550.0, *, rays, stacks: int = 31, slices
     seed = _check_seed(seed)
     threads = _check_threads(threads)
     hemi = CollectorHemisphere(stacks, slices)  # validates stacks and slices
-    medium, meta = _resolve(sample, wl)
+    medium, meta = _resolve(sample, wl, geometry=geometry, memory=memory, packing=packing, seed=seed)
     r = hemi.n_patches
     arrays = {"counts": np.zeros((r, r), np.uint64), "absorbed": np.zeros(r, np.uint64),
               "launched": np.zeros(r, np.uint64), "lost": np.zeros(r, np.uint64)}
@@ -174,15 +189,19 @@ class FixedIncidenceBRDF:
 
 def fixed_incidence(sample, wavelength_nm: float = 550.0, *, incidence_deg: float, azimuth_deg: float = 0.0, rays,
                     stacks: int = 31, slices: int = 30, seed: int = 0, threads: int | None = None,
-                    max_events: int = DEFAULT_MAX_EVENTS, progress: bool = True) -> FixedIncidenceBRDF:
-    """The classic goniophotometer: f_j = n_j / (ω_p(j) N) for light from (θᵢ, φᵢ)."""
+                    max_events: int = DEFAULT_MAX_EVENTS, progress: bool = True, geometry: str = "on-the-fly",
+                    memory: str | None = None, packing=None) -> FixedIncidenceBRDF:
+    """The classic goniophotometer: f_j = n_j / (ω_p(j) N) for light from (θᵢ, φᵢ).
+
+    ``geometry``, ``memory`` and ``packing`` as in :func:`sandlight.reflectance`.
+    """
     wl = float(_check_wavelengths([wavelength_nm])[0])
     rays, seed, threads = _check_rays(rays), _check_seed(seed), _check_threads(threads)
     theta = _check_incidence(incidence_deg)
     if not np.isfinite(azimuth_deg):
         raise ParameterError("azimuth_deg", azimuth_deg, "a finite angle in degrees")
     hemi = CollectorHemisphere(stacks, slices)
-    medium, _ = _resolve(sample, wl)
+    medium, _ = _resolve(sample, wl, geometry=geometry, memory=memory, packing=packing, seed=seed)
     counts = np.zeros(hemi.n_patches, np.uint64)
     totals = np.zeros(3, np.uint64)
 
