@@ -30,69 +30,100 @@ ROOT = Path(__file__).resolve().parents[1]
 PACKAGE_DIR = ROOT / "python" / "sandlight" / "data" / "models"
 
 
+#: The water regimes of the narrow models. The engine's reflectance jumps between saturation 0
+#: and any saturation > 0 (water films switch the grain interfaces: −0.03 at 400 nm for the
+#: reference sand with 2 % iron oxide, the same at S = 10⁻⁶ and S = 0.05), and r(S) has a kink at
+#: film_saturation (0.15 for every shipped sand), where the engine switches from films to filled
+#: pores: no polynomial follows either, so each regime has its own model. The film model is
+#: generated over S ∈ [0, 0.15] and fitted from S = 10⁻³.
+WATER = {"dry": None, "film": (0.0, 0.15), "wet": (0.15, 1.0)}
+WATER_TEXT = {"dry": "dry (saturation 0)", "film": "saturation 0.001-0.15 (water films)",
+              "wet": "saturation 0.15-1 (filled pores)"}
+
+
 @dataclass(frozen=True)
 class BankEntry:
-    """How one shipped model is trained."""
+    """How one shipped model is trained.
+
+    A narrow model (``water`` set) varies iron oxide, hematite ratio and (film, wet) saturation
+    around a base sand, the reference sand (``base`` None) or a preset, and fixes every other
+    parameter at the base's values; the broad model (``water`` None) covers the default domain.
+    """
 
     name: str
-    description: str
     samples: int
     holdout: int
     rays: int
     holdout_rays: int
     model_params: dict = field(default_factory=dict)
+    water: str | None = None
+    base: str | None = None
+    iron_range: tuple[float, float] = (0.001, 0.05)
+
+    @property
+    def description(self) -> str:
+        if self.water is None:
+            return ("every SandSample parameter over its range (coverage; error about ten times "
+                    "the target)")
+        lo, hi = self.iron_range
+        base = ("reference sand (SandSample defaults)" if self.base is None
+                else f"preset {self.base}")
+        return (f"{base}, {WATER_TEXT[self.water]}, iron oxide {100 * lo:.2g}-{100 * hi:.2g} %, "
+                f"any hematite ratio")
 
     def fit_domain(self):
-        """The sub-domain the model is fitted on and covers (None: the generation domain).
-
-        The engine's reflectance jumps between saturation 0 (no water) and any saturation > 0
-        (water films switch the grain interfaces: −0.03 at 400 nm for the reference sand with
-        2 % iron oxide, the same at S = 10⁻⁶ and S = 0.05). The film model therefore starts at
-        S = 10⁻³ and dry sand has its own model.
-        """
-        if self.name == "reference-film":
+        """The sub-domain the model is fitted on and covers (None: the generation domain)."""
+        if self.water == "film":
             return self.domain().restrict(saturation=(0.001, 0.15))
         return None
 
     def domain(self):
         from sandlight.predictor import Dimension, Domain
+        from sandlight.predictor.domain import FORMS, REFERENCE_SAND
+        from sandlight.sample import SandSample
 
-        # The reference-sand models vary the paper's Figure 6/7 parameters. Iron oxide from
-        # 0.1 wt% (the paper's figures: 0.1–5 %) on a log scale; the saturation range is split
-        # at the reference sand's film_saturation (0.15), where the engine switches from water
-        # films to filled pores: r(S) has a kink there that no polynomial follows.
-        iron = Dimension("iron_oxide", 0.001, 0.05, "log")
-        hematite = Dimension("hematite_ratio", 0.0, 1.0)
-        if self.name == "reference-dry":
-            return Domain.reference([iron, hematite])  # saturation fixed at 0 (no water)
-        if self.name == "reference-film":
-            return Domain.reference([iron, hematite, Dimension("saturation", 0.0, 0.15)])
-        if self.name == "reference-wet":
-            return Domain.reference([iron, hematite, Dimension("saturation", 0.15, 1.0)])
-        return Domain.default()
+        if self.water is None:
+            return Domain.default()
+        # The paper's Figure 6/7 parameters vary, iron oxide on a log scale.
+        dims = [Dimension("iron_oxide", *self.iron_range, "log"),
+                Dimension("hematite_ratio", 0.0, 1.0)]
+        if WATER[self.water] is not None:
+            dims.append(Dimension("saturation", *WATER[self.water]))
+        if self.base is None:
+            return Domain.reference(dims)  # every form of the reference sand
+        preset = SandSample.preset(self.base)
+        fixed = {k: getattr(preset, k) for k in REFERENCE_SAND}
+        fixed["saturation"] = 0.0  # varied or, for the dry model, no water (wet-beach has 0.8)
+        return Domain.reference(dims, forms=(preset.iron_oxide_form,), reference=fixed)
 
+
+def _narrow(name, water, base=None, iron_range=(0.001, 0.05), forms=3):
+    # 200 (dry: 2 parameters) or 300 (3 parameters) training samples per iron-oxide form, a
+    # sixth as many hold-out samples: what met the target for the reference sand.
+    per_form, holdout = (200, 40) if water == "dry" else (300, 50)
+    return BankEntry(name, per_form * forms, holdout * forms, rays=10_000, holdout_rays=40_000,
+                     model_params={"degree": 4, "n_components": 6}, water=water, base=base,
+                     iron_range=iron_range)
+
+
+def _preset_range(name, factor=3.0):
+    # Iron oxide within a factor 3 of the preset's, inside SandSample's range.
+    from sandlight.sample import SandSample
+
+    c = SandSample.preset(name).iron_oxide
+    return (round(c / factor, 6), round(min(c * factor, 0.10), 6))
+
+
+#: The presets with narrow models of their own (the shipped scenes use yellow-dune and
+#: wet-beach; red-dune is the README's example).
+PRESETS = ("red-dune", "yellow-dune", "wet-beach")
 
 #: The shipped bank (docs/spectral-predictor.md gives the measurements behind these choices).
 BANK = (
-    BankEntry("reference-dry",
-              "reference sand (SandSample defaults), dry (saturation 0), iron oxide 0.1-5 %, "
-              "any hematite ratio",
-              samples=600, holdout=120, rays=10_000, holdout_rays=40_000,
-              model_params={"degree": 4, "n_components": 6}),
-    BankEntry("reference-film",
-              "reference sand (SandSample defaults) with iron oxide 0.1-5 %, any hematite ratio, "
-              "saturation 0.001-0.15 (water films)",
-              samples=900, holdout=150, rays=10_000, holdout_rays=40_000,
-              model_params={"degree": 4, "n_components": 6}),
-    BankEntry("reference-wet",
-              "reference sand (SandSample defaults) with iron oxide 0.1-5 %, any hematite ratio, "
-              "saturation 0.15-1 (filled pores)",
-              samples=900, holdout=150, rays=10_000, holdout_rays=40_000,
-              model_params={"degree": 4, "n_components": 6}),
-    BankEntry("broad",
-              "every SandSample parameter over its range (coverage; error about ten times the "
-              "target)",
-              samples=3000, holdout=300, rays=500, holdout_rays=1_000,
+    *(_narrow(f"reference-{w}", w) for w in WATER),
+    *(_narrow(f"{p}-{w}", w, base=p, iron_range=_preset_range(p), forms=1)
+      for p in PRESETS for w in WATER),
+    BankEntry("broad", samples=3000, holdout=300, rays=500, holdout_rays=1_000,
               model_params={"degree": 3, "n_components": 6}),
 )
 

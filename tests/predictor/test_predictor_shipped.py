@@ -20,7 +20,9 @@ def bank():
 def test_every_shipped_model_is_scored_and_compact(bank):
     for model in bank.models:
         scores = model.holdout_scores_
-        assert scores and scores["n_samples"] >= 100, model.name_
+        # 100+ hold-out samples for the reference and broad models, 40-50 (of one form) for the
+        # preset models: 640+ values per RMS either way.
+        assert scores and scores["n_samples"] >= 40, model.name_
         # issue 5: at most 6 principal components holding >= 99.9 % of the variance
         assert model.n_components_ <= 6
         assert model.explained_variance_ratio_[:model.n_components_].sum() >= 0.999
@@ -36,12 +38,17 @@ def test_dry_sand_is_not_predicted_as_filmed_sand(bank):
                              return_models=True)[1]) == ["reference-dry", "reference-film"]
 
 
-def test_reference_models_meet_the_target(bank):
+def test_narrow_models_meet_the_target(bank):
     # issue 5: hold-out RMS <= 0.005 over 400-700 nm (against Monte Carlo, reference noise
-    # included) for the accurate models; the broad model is there for coverage only.
-    for name in ("reference-dry", "reference-film", "reference-wet"):
-        assert bank.model(name).holdout_scores_["rms_error_overall"] <= 0.005, name
-    assert bank.models[-1].name_ == "broad" and bank.fallback.name_ == "broad"
+    # included) for the accurate models (reference sand and presets, dry/film/wet); the broad
+    # model is there for coverage only.
+    names = [model.name_ for model in bank.models]
+    for base in ("reference", "red-dune", "yellow-dune", "wet-beach"):
+        for water in ("dry", "film", "wet"):
+            name = f"{base}-{water}"
+            assert name in names
+            assert bank.model(name).holdout_scores_["rms_error_overall"] <= 0.005, name
+    assert names[-1] == "broad" and bank.fallback.name_ == "broad"
 
 
 @pytest.mark.parametrize("params, expected", [
@@ -49,7 +56,10 @@ def test_reference_models_meet_the_target(bank):
     ({"iron_oxide": 0.01, "hematite_ratio": 0.2, "saturation": 0.08,
       "iron_oxide_form": "particles"}, "reference-film"),
     ({"iron_oxide": 0.004, "hematite_ratio": 0.3, "saturation": 0.6}, "reference-wet"),
-    ({"preset": "red-dune"}, "broad"),
+    ({"preset": "red-dune"}, "red-dune-dry"),
+    ({"preset": "wet-beach"}, "wet-beach-wet"),
+    ({"preset": "yellow-dune", "saturation": 0.1, "hematite_ratio": 0.6}, "yellow-dune-film"),
+    ({"preset": "ottawa-quartz"}, "broad"),
 ])
 def test_prediction_agrees_with_fresh_monte_carlo(bank, params, expected):
     sandlight = pytest.importorskip("sandlight")

@@ -107,7 +107,8 @@ class ModelBank:
         error = (f"hold-out RMS error {holdout_rms(m):.4f} over "
                  f"{m.wavelengths_[0]:g}–{m.wavelengths_[-1]:g} nm "
                  f"({scores.get('n_samples', '?')} samples)" if scores else "no hold-out score")
-        text = f"{m.name_}: {len(m.parameter_names_)} parameters, {len(m.forms_)} forms; {error}"
+        forms = f"{len(m.forms_)} forms" if len(m.forms_) > 1 else f"form {m.forms_[0]}"
+        text = f"{m.name_}: {len(m.parameter_names_)} parameters, {forms}; {error}"
         return f"{text}; {m.description_}" if m.description_ else text
 
     # -- prediction ------------------------------------------------------------------------------

@@ -523,10 +523,15 @@ class Domain:
         n = len(next(iter(columns.values()))) if columns else len(forms)
         inside = (np.ones(n, dtype=bool) if forms is None
                   else np.isin(np.asarray(forms).astype(str), self.forms))
-        for name, value in self.fixed.items():
-            column = np.asarray(columns[name], dtype=float)
-            inside &= (column == value) | np.isclose(column, value, rtol=1e-9, atol=0)
-        if self.dimensions:
+        if self.fixed:
+            # All fixed parameters in one comparison (a bank tests a sample against many
+            # domains): equal, or within 1e-9 relative (values written to text and read back).
+            target = np.array(list(self.fixed.values()), dtype=float)
+            column = np.column_stack([np.asarray(columns[k], dtype=float) for k in self.fixed])
+            with np.errstate(invalid="ignore"):  # inf − inf where depth_mm is fixed at inf
+                close = (column == target) | (np.abs(column - target) <= 1e-9 * np.abs(target))
+            inside &= close.all(axis=1)
+        if self.dimensions and inside.any():
             values = np.column_stack([np.asarray(columns[n], dtype=float) for n in self.names])
             for j, dim in enumerate(self.dimensions):
                 inside &= _inside(dim, values[:, j])
