@@ -601,8 +601,8 @@ def report(src: Path, tables: dict[str, Table]) -> str:
         grid = np.array([lam])
         nq = orientation_average(w_qo, n_qo, w_qe, n_qe, grid, log=False)[0]
         kq = orientation_average(w_qo, k_qo, w_qe, k_qe, grid, log=True)[0]
-        nl = (2 * np.interp(lam, w_lo, n_lo) + np.interp(lam, w_le, n_le)) / 3
-        kl = (2 * interp_loglinear(lam, w_lo, k_lo) + interp_loglinear(lam, w_le, k_le)) / 3
+        nl = orientation_average(w_lo, n_lo, w_le, n_le, grid, log=False)[0]
+        kl = orientation_average(w_lo, k_lo, w_le, k_le, grid, log=True)[0]
         out.append(f"| {lam:.0f} | {nq:.3f} | {np.interp(lam, w_t, n_t):.3f} | {nl:.3f} "
                    f"| {kq:.3g} | {interp_loglinear(lam, w_t, k_t):.3g} | {kl:.3g} "
                    f"| {interp_loglinear(lam, hem.wavelength_nm, hem.k):.3g} |")

@@ -35,8 +35,9 @@ PACKAGE_DIR = ROOT / "python" / "sandlight" / "data" / "models"
 #: reference sand with 2 % iron oxide, the same at S = 10⁻⁶ and S = 0.05), and r(S) has a kink at
 #: film_saturation (0.15 for every shipped sand), where the engine switches from films to filled
 #: pores: no polynomial follows either, so each regime has its own model. The film model is
-#: generated over S ∈ [0, 0.15] and fitted from S = 10⁻³.
+#: generated over S ∈ [0, 0.15] and fitted from S = FILM_FROM.
 WATER = {"dry": None, "film": (0.0, 0.15), "wet": (0.15, 1.0)}
+FILM_FROM = 0.001
 WATER_TEXT = {"dry": "dry (saturation 0)", "film": "saturation 0.001-0.15 (water films)",
               "wet": "saturation 0.15-1 (filled pores)"}
 
@@ -74,12 +75,12 @@ class BankEntry:
     def fit_domain(self):
         """The sub-domain the model is fitted on and covers (None: the generation domain)."""
         if self.water == "film":
-            return self.domain().restrict(saturation=(0.001, 0.15))
+            return self.domain().restrict(saturation=(FILM_FROM, WATER["film"][1]))
         return None
 
     def domain(self):
         from sandlight.predictor import Dimension, Domain
-        from sandlight.predictor.domain import FORMS, REFERENCE_SAND
+        from sandlight.predictor.domain import REFERENCE_SAND
         from sandlight.sample import SandSample
 
         if self.water is None:

@@ -164,6 +164,28 @@ class TestCheck:
             assert DEFAULT.scaled(mid)[0, DEFAULT.names.index(n)] == pytest.approx(0.0, abs=1e-12)
 
 
+class TestContains:
+    NARROW = Domain.reference([Dimension("iron_oxide", 0.001, 0.05, "log")])
+
+    def columns(self, **overrides):
+        row = {**self.NARROW.fixed, "iron_oxide": 0.01, **overrides}
+        return {k: np.array([v]) for k, v in row.items()}
+
+    def test_reference_sand_is_inside(self):
+        assert self.NARROW.fixed["depth_mm"] == math.inf
+        assert self.NARROW.contains(self.columns()).all()
+
+    def test_finite_depth_is_not_the_semi_infinite_reference(self):
+        # |5 − inf| ≤ 1e-9·inf holds: a relative tolerance alone would claim depth_mm = 5 covered.
+        assert not self.NARROW.contains(self.columns(depth_mm=5.0)).any()
+
+    def test_fixed_value_tolerates_text_round_off_only(self):
+        g = self.NARROW.fixed["grain_size"]
+        assert self.NARROW.contains(self.columns(grain_size=g * (1 + 1e-12))).all()
+        assert not self.NARROW.contains(self.columns(grain_size=g * (1 + 1e-6))).any()
+        assert not self.NARROW.contains(self.columns(grain_size=math.nan)).any()
+
+
 class TestCoversSampleParameters:
     def fake_parameters(self, **overrides):
         rows = [SimpleNamespace(name=d.name, low=d.low, high=d.high, kind="float")

@@ -125,8 +125,7 @@ def predict(
     except SandlightError as exc:
         _fail(str(exc))
     reflectance, model = values[0], bank.model(str(used[0]))
-    outside = not model.domain_.contains(
-        {k: [v] for k, v in sample.to_dict().items()}, [sample.iron_oxide_form])[0]
+    outside = bank.select([sample])[0] < 0  # no model covers it: the fallback extrapolated
     typer.echo(f"model {bank.describe(model.name_)}"
                + (" [extrapolated: the sample is outside its domain]" if outside else ""))
     wavelengths = model.wavelengths_

@@ -74,6 +74,7 @@ from typing import Mapping
 import numpy as np
 
 from sandlight.errors import ParameterError, SandlightError
+from sandlight.sample import PARAMETERS
 
 #: Forms of the iron oxide, the values of SandSample.iron_oxide_form.
 FORMS = ("coating", "mixed", "particles")
@@ -86,12 +87,10 @@ FORM_PARAMETER = "iron_oxide_form"
 SCALES = ("linear", "log", "sqrt")
 #: Offset c₀ of the log scale of absorber concentrations, mass fraction (module docstring).
 CONCENTRATION_OFFSET = 1e-4
-#: The reference sand of the narrow domains: SandSample's defaults (docs/sample.md), semi-infinite.
-REFERENCE_SAND = {"iron_oxide": 0.01, "hematite_ratio": 0.5, "magnetite": 0.0,
-                  "coating_iron_share": 0.2, "iron_oxide_particle_size_um": 1.0,
-                  "saturation": 0.0, "film_saturation": 0.15, "porosity": 0.40,
-                  "grain_size": 0.25, "grain_size_spread": 1.4, "aspect_ratio": 1.4,
-                  "silt": 0.04, "clay": 0.01, "depth_mm": math.inf}
+#: The reference sand of the narrow domains: SandSample's defaults (docs/sample.md), semi-infinite;
+#: every float parameter but the derived ones.
+REFERENCE_SAND = {p.name: p.default for p in PARAMETERS
+                  if p.kind == "float" and p.name not in DERIVED}
 
 
 @dataclass(frozen=True)
@@ -524,13 +523,10 @@ class Domain:
         inside = (np.ones(n, dtype=bool) if forms is None
                   else np.isin(np.asarray(forms).astype(str), self.forms))
         if self.fixed:
-            # All fixed parameters in one comparison (a bank tests a sample against many
-            # domains): equal, or within 1e-9 relative (values written to text and read back).
+            # All fixed parameters in one comparison: a bank tests a sample against many domains.
             target = np.array(list(self.fixed.values()), dtype=float)
             column = np.column_stack([np.asarray(columns[k], dtype=float) for k in self.fixed])
-            with np.errstate(invalid="ignore"):  # inf − inf where depth_mm is fixed at inf
-                close = (column == target) | (np.abs(column - target) <= 1e-9 * np.abs(target))
-            inside &= close.all(axis=1)
+            inside &= at_fixed_value(column, target).all(axis=1)
         if self.dimensions and inside.any():
             values = np.column_stack([np.asarray(columns[n], dtype=float) for n in self.names])
             for j, dim in enumerate(self.dimensions):
@@ -554,6 +550,15 @@ class Domain:
         t0 = np.array([float(d.forward(d.low)) for d in self.dimensions])
         t1 = np.array([float(d.forward(d.high)) for d in self.dimensions])
         return (t0 + t1) / 2, (t1 - t0) / 2
+
+
+def at_fixed_value(values, fixed) -> np.ndarray:
+    """Values equal to the value a domain fixes (broadcasting): equal, or within 1e-9 relative
+    for the round-off of values written to text and read back; inf matches inf, NaN nothing."""
+    fixed = np.asarray(fixed, dtype=float)
+    with np.errstate(invalid="ignore"):  # inf − inf where depth_mm is fixed at inf
+        near = np.isfinite(fixed) & (np.abs(values - fixed) <= 1e-9 * np.abs(fixed))
+    return (values == fixed) | near
 
 
 def _inside(dim: Dimension, column: np.ndarray) -> np.ndarray:

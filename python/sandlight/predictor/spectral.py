@@ -43,7 +43,7 @@ from typing import Mapping, Sequence
 import numpy as np
 
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
-from sandlight.predictor.domain import FORM_PARAMETER, Domain
+from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
 from sandlight.io import read_model_npz, write_model_npz
 
 MODEL_FORMAT = "sandlight-spectral-model"
@@ -329,7 +329,7 @@ class SpectralModel:
                 for name, fixed in domain.fixed.items():
                     if name in columns:
                         col = np.asarray(columns[name], dtype=float)
-                        bad = ~np.isclose(col, fixed, rtol=1e-9, atol=0) & ~(col == fixed)
+                        bad = ~at_fixed_value(col, fixed)
                         if bad.any():
                             raise ParameterError(
                                 name, float(col[np.argmax(bad)]),

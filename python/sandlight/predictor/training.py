@@ -221,7 +221,7 @@ def file_sha256(path) -> str:
     return h.hexdigest()
 
 
-def _inside(ds, domain: Domain):
+def _samples_inside(ds, domain: Domain):
     """The samples of a training-set dataset that lie inside ``domain``."""
     columns = {n: ds[n].values for n in (*domain.names, *domain.fixed)}
     keep = np.flatnonzero(domain.contains(columns, ds[FORM_PARAMETER].values.astype(str)))
@@ -258,19 +258,18 @@ def fit_training_set(path, holdout=None, *, name: str = "spectral", description:
         ds = ds.load()
     reference = {"path": str(path), "sha256": file_sha256(path)}
     if fit_domain is not None:
-        ds = _inside(ds, fit_domain)
+        ds = _samples_inside(ds, fit_domain)
         reference["n_used"] = int(ds.sizes["sample"])
     model = SpectralModel(**model_params).fit(ds, domain=fit_domain, training_set=reference,
                                               name=name, description=description)
     report = None
     if holdout is not None:
         holdout = _dataset_file(holdout)
+        scored = holdout
         if fit_domain is not None:
             with xr.open_dataset(holdout) as ho:
-                holdout_ds = _inside(ho.load(), fit_domain)
-            report = evaluate(model, holdout_ds, attach=True)
-        else:
-            report = evaluate(model, holdout, attach=True)
+                scored = _samples_inside(ho.load(), fit_domain)
+        report = evaluate(model, scored, attach=True)
         model.holdout_scores_["path"] = str(holdout)
         model.holdout_scores_["sha256"] = file_sha256(holdout)
     return model, report
