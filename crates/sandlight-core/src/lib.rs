@@ -2,7 +2,7 @@
 //!
 //! Layering (dependencies point down): `math`, `rng` → `fresnel`, `layers` → `spheroid`,
 //! `sizes` → `particle` (one grain's interaction) → `medium`, `transport` (free paths, boundary)
-//! → `driver` (parallel runs and tallies). `packing` and `explicit`: the explicit-geometry
+//! → `driver` (parallel runs and tallies). `surface_layer`: the cut-plane top layer of path memory. `packing` and `explicit`: the explicit-geometry
 //! reference (a stored random packing traced with the same per-particle interaction). No PyO3 here: bindings live in `sandlight-py`.
 
 pub mod appearance;
@@ -20,6 +20,7 @@ pub mod render;
 pub mod rng;
 pub mod sizes;
 pub mod spheroid;
+pub mod surface_layer;
 pub mod transport;
 
 pub use error::SandlightError;

@@ -5,6 +5,7 @@
 use crate::error::{check_range, SandlightError};
 use crate::particle::{Coating, ParticleOptics, PoreOptics, Stacks};
 use crate::sizes::QuantileTable;
+use crate::surface_layer::SurfaceLayer;
 
 /// One kind of particle in a sand sample.
 #[derive(Clone, Debug)]
@@ -42,92 +43,6 @@ pub enum Memory {
     /// of grain centres (z = 0), so grains whose centre would lie above it are discarded and the
     /// pore space not taken by packed grains widens towards the top (`SurfaceLayer`).
     Cut,
-}
-
-/// The top layer of a sample cut through a plane of grain centres (docs/geometry.md).
-///
-/// With centres uniform below z = 0, a packed grain of radius r met at height z exists only if
-/// its centre is below the plane; its solids fill the fraction F(z) = w²(3 − 2w),
-/// w = (r − z)/(2r) ∈ [0, 1], of their bulk share at height z (the volume of a sphere above
-/// z − c, averaged over centres c < 0). The space not taken by packed grains is then
-/// φ_c(z) = 1 − η_c F̄(z) (η_c their bulk packing fraction, F̄ averaged by volume over the packed
-/// sizes), and the rate of meeting grains per unit length of that space scales as
-/// φ_c,bulk/φ_c(z) ≤ 1 besides the centre rule: a candidate drawn at the bulk rate is kept with
-/// that probability (thinning). Fines (types not packed) fill the pores below the plane only.
-#[derive(Clone, Debug)]
-pub struct SurfaceLayer {
-    /// Height where rays start and escape: the top of the largest packed grain (mm).
-    pub top_mm: f64,
-    /// Whether each type is packed (the others are fines).
-    pub packed: Vec<bool>,
-    /// φ_c,bulk/φ_c(z) at z = −top + 2 top·j/(N − 1).
-    keep: Vec<f64>,
-    /// Total encounter probability of the packed types, and their cumulative probabilities
-    /// renormalised among themselves (fines: no increment).
-    pub packed_probability: f64,
-    packed_cumulative: Vec<f64>,
-}
-
-impl SurfaceLayer {
-    const N: usize = 513;
-
-    pub fn of(m: &Particulate) -> SurfaceLayer {
-        let pops = crate::packing::Populations::of(m, crate::packing::FINES_BELOW_MM);
-        let eta = pops.packed_fraction();
-        // Volume-weighted radii of the packed types (within a type p_vol ∝ p_enc D), at
-        // stratified levels of the encounter size table.
-        let levels = 256;
-        let mut radii = Vec::new();
-        let mut top = 0.0f64;
-        for (i, t) in m.types.iter().enumerate().filter(|(i, _)| pops.packed[*i]) {
-            let ds: Vec<f64> = (0..levels).map(|k| t.sizes.quantile((k as f64 + 0.5) / levels as f64)).collect();
-            let sum_d: f64 = ds.iter().sum();
-            for d in ds {
-                radii.push((0.5 * d, pops.volume_fraction[i] * d / sum_d));
-            }
-            top = top.max(0.5 * t.sizes.quantile(0.999) * t.aspect_ratio.powf(2.0 / 3.0));
-        }
-        let wsum: f64 = radii.iter().map(|r| r.1).sum();
-        let keep = (0..Self::N)
-            .map(|j| {
-                let z = -top + 2.0 * top * j as f64 / (Self::N - 1) as f64;
-                let f: f64 = radii.iter().map(|&(r, w)| {
-                    let u = ((r - z) / (2.0 * r)).clamp(0.0, 1.0);
-                    w * u * u * (3.0 - 2.0 * u)
-                }).sum::<f64>() / wsum;
-                (1.0 - eta) / (1.0 - eta * f)
-            })
-            .collect();
-        let total: f64 = m.types.iter().map(|t| t.probability).sum();
-        let packed_probability = m.types.iter().zip(&pops.packed).filter(|(_, &p)| p).map(|(t, _)| t.probability).sum::<f64>() / total;
-        let mut acc = 0.0;
-        let packed_cumulative = m.types.iter().zip(&pops.packed).map(|(t, &p)| {
-            if p {
-                acc += t.probability / total / packed_probability;
-            }
-            acc
-        }).collect();
-        SurfaceLayer { top_mm: top, packed: pops.packed, keep, packed_probability, packed_cumulative }
-    }
-
-    /// A packed type with probability ∝ its encounter probability, for a uniform `u`.
-    #[inline]
-    pub fn pick_packed(&self, u: f64) -> usize {
-        let last = self.packed.iter().rposition(|&p| p).unwrap_or(0);
-        self.packed_cumulative.iter().zip(&self.packed).position(|(&c, &p)| p && u < c).unwrap_or(last)
-    }
-
-    /// φ_c,bulk/φ_c(z): 1 below the layer, linear interpolation in the table.
-    #[inline]
-    pub fn keep(&self, z: f64) -> f64 {
-        let x = (z + self.top_mm) / (2.0 * self.top_mm) * (Self::N - 1) as f64;
-        if x <= 0.0 {
-            return 1.0;
-        }
-        let j = (x as usize).min(Self::N - 2);
-        let f = (x - j as f64).min(1.0);
-        self.keep[j] + f * (self.keep[j + 1] - self.keep[j])
-    }
 }
 
 /// Sand: a half-space (or slab) of randomly packed particles, generated on the fly.

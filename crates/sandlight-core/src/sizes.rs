@@ -46,6 +46,21 @@ impl QuantileTable {
         self.q[j] + f * (self.q[j + 1] - self.q[j])
     }
 
+    /// The level u in [0, 1] at which `quantile(u)` reaches `d` (its inverse; 0 below the
+    /// table, 1 above it).
+    pub fn level(&self, d: f64) -> f64 {
+        let m = self.q.len();
+        let j = self.q.partition_point(|&v| v <= d);
+        if j == 0 {
+            return 0.0;
+        }
+        if j == m {
+            return 1.0;
+        }
+        let f = (d - self.q[j - 1]) / (self.q[j] - self.q[j - 1]);
+        ((j - 1) as f64 + f) / (m - 1) as f64
+    }
+
     #[inline]
     pub fn sample(&self, rng: &mut Rng) -> f64 {
         let m = self.q.len();
@@ -56,5 +71,25 @@ impl QuantileTable {
         let j = (x as usize).min(m - 2);
         let f = x - j as f64;
         self.q[j] + f * (self.q[j + 1] - self.q[j])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn level_inverts_quantile() {
+        let t = QuantileTable::new(vec![0.1, 0.2, 0.2, 0.5, 0.9]).unwrap();
+        for k in 0..1000 {
+            let u = k as f64 / 1000.0;
+            let d = t.quantile(u);
+            assert!((t.quantile(t.level(d)) - d).abs() < 1e-12, "u = {u}");
+        }
+        assert_eq!(t.level(0.05), 0.0);
+        assert_eq!(t.level(0.95), 1.0);
+        assert!((t.level(0.35) - 2.5 / 4.0).abs() < 1e-12);
+        let c = QuantileTable::constant(0.25);
+        assert_eq!((c.level(0.2), c.level(0.3)), (0.0, 1.0));
     }
 }

@@ -85,6 +85,12 @@ impl Spheroid {
         Some(Hit { point, normal: self.normal_at(point) })
     }
 
+    /// Half the grain's extent along z (its support function in z): √(a² + (c² − a²)u_z²).
+    #[inline]
+    pub fn half_height(&self) -> f64 {
+        (self.a * self.a + (self.c * self.c - self.a * self.a) * self.u.z * self.u.z).sqrt()
+    }
+
     /// Whether the point `x` (relative to the centre) lies strictly inside.
     #[inline]
     pub fn contains(&self, x: Vec3) -> bool {
@@ -198,6 +204,12 @@ mod tests {
             let (l, x1) = s.chord_from_surface(h.point, d);
             assert!(l > 0.0 && l <= 2.0 * s.c + 1e-12);
             assert!((f(x1) - 1.0).abs() < 1e-9);
+            // Every surface point lies within the half height, and the extreme one reaches it.
+            assert!(h.point.z.abs() <= s.half_height() * (1.0 + 1e-12));
+            assert!(x1.z.abs() <= s.half_height() * (1.0 + 1e-12));
+            let z = Vec3::new(0.0, 0.0, 1.0);
+            let top = (s.u * (s.c * s.c * s.u.z) + (z - s.u * s.u.z) * (s.a * s.a)) * (1.0 / s.half_height());
+            assert!((f(top) - 1.0).abs() < 1e-9 && (top.z - s.half_height()).abs() < 1e-12);
         }
     }
 

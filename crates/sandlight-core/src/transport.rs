@@ -200,23 +200,18 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
         d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
     }
     loop {
-        // With the cut layer: above the plane only packed grains exist, so flights there
-        // are drawn at their rate alone and stop at the plane (the rate changes there; a new
-        // flight starts from it, exact since free paths are memoryless).
+        // With the cut layer, above the plane only packed grains that can reach below it
+        // exist: flights there are drawn against the layer's majorant, and go on at the bulk
+        // rate once below the plane.
         let layer = surface.filter(|_| z > 0.0);
         let mut s = match layer {
-            Some(sf) => ell / sf.packed_probability * rng.exponential(),
+            Some(sf) => sf.flight(z, d.z, rng.exponential(), ell),
             None => ell * rng.exponential(),
         };
-        let mut to_plane = layer.is_some() && d.z < 0.0 && z + s * d.z < 0.0;
-        if to_plane {
-            s = -z / d.z;
-        }
         // The remembered grain comes first if it is nearer than the candidate.
         let rehit = to_behind - flown <= s;
         if rehit {
             s = to_behind - flown;
-            to_plane = false;
         }
         if d.z > 0.0 && z + s * d.z >= top {
             if !water {
@@ -256,39 +251,48 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
         x += s * d.x;
         y += s * d.y;
         flown += s;
-        if to_plane {
-            z = 0.0;
-            continue;
-        }
         let here = Vec3::new(x, y, z);
         let (grain, hit) = if rehit {
             let g = behind.expect("a finite distance to the remembered grain");
             let rel = here - g.centre;
             (g, Hit { point: rel, normal: g.shape.normal_at(rel) })
         } else {
-            let i = match layer {
-                Some(sf) => sf.pick_packed(rng.uniform()),
-                None => m.pick_index(rng.uniform()),
+            // The cut plane: fines only below it; packed grains only with centres below it, in
+            // a top layer of widening pore space. The tests that need no hit point come first
+            // (drawing a hit is the dear part).
+            // A candidate of a flight drawn against the layer's majorant, still above the plane,
+            // or one drawn at the bulk rate (thinned where the layer has fewer grains).
+            let (i, diameter) = match layer.filter(|_| z > 0.0) {
+                Some(sf) => match sf.candidate_above_plane(&m.types, z, rng) {
+                    Some(c) => c,
+                    None => continue,
+                },
+                None => {
+                    let i = m.pick_index(rng.uniform());
+                    let discarded = surface.is_some_and(|sf| {
+                        if sf.packed[i] { z >= -sf.top_mm && rng.uniform() >= sf.keep(z) } else { z >= 0.0 }
+                    });
+                    if discarded {
+                        continue;
+                    }
+                    (i, m.types[i].sizes.sample(rng))
+                }
             };
-            if surface.is_some_and(|sf| !sf.packed[i] && z >= 0.0) {
-                // Fines fill the pores below the cut plane only (checked before drawing one).
-                continue;
-            }
+            let cut_packed = surface.is_some_and(|sf| sf.packed[i]);
             let ptype = &m.types[i];
             let (a_over_d, _) = m.type_tables(i);
-            let diameter = ptype.sizes.sample(rng);
             let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
+            // Centre height = z − (hit height) ≥ z − (half height of the grain): above the
+            // plane whatever the hit point if that bound is.
+            if cut_packed && z >= shape.half_height() {
+                continue;
+            }
             let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
                 return done(Fate::Capped, events);
             };
             let centre = here - hit.point;
-            if let Some(sf) = surface {
-                // The cut plane: packed grains only with centres below it, in a top layer of
-                // widening pore space.
-                let kept = !sf.packed[i] || (centre.z < 0.0 && (z < -sf.top_mm || rng.uniform() < sf.keep(z)));
-                if !kept {
-                    continue;
-                }
+            if cut_packed && centre.z >= 0.0 {
+                continue;
             }
             if let Some((a, b)) = channel {
                 if shape.intersects_segment(a - centre, b - centre) {
