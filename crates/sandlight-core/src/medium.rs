@@ -41,7 +41,9 @@ pub enum Memory {
     Channel,
     /// `Channel` plus the surface of the explicit reference: the sample is cut through a plane
     /// of grain centres (z = 0), so grains whose centre would lie above it are discarded and the
-    /// pore space not taken by packed grains widens towards the top (`SurfaceLayer`).
+    /// pore space not taken by packed grains widens towards the top (`SurfaceLayer`); and the
+    /// ray remembers the packed grains that bound the pore it is in (its walls) until it goes
+    /// through one of them.
     Cut,
 }
 

@@ -29,6 +29,8 @@ pub struct SurfaceLayer {
     keep: Vec<f64>,
     /// The slices of height above the plane, bottom first.
     slices: Vec<Slice>,
+    /// Λ at the slice floors and the top: Σ of rate × slice height below (per mm of height).
+    hazard: Vec<f64>,
 }
 
 /// The majorant of the rate of packed grains that can reach below the plane, at the floor z_j
@@ -77,8 +79,15 @@ impl SurfaceLayer {
                 (1.0 - eta) / (1.0 - eta * f)
             })
             .collect();
-        let mut layer = SurfaceLayer { top_mm: top, packed: pops.packed, keep, slices: Vec::new() };
+        let mut layer = SurfaceLayer { top_mm: top, packed: pops.packed, keep, slices: Vec::new(), hazard: Vec::new() };
         layer.slices = (0..Self::BINS).map(|j| layer.slice(m, j as f64 * top / Self::BINS as f64)).collect();
+        let h = top / Self::BINS as f64;
+        layer.hazard = std::iter::once(0.0)
+            .chain(layer.slices.iter().scan(0.0, |acc, s| {
+                *acc += s.rate_per_mm * h;
+                Some(*acc)
+            }))
+            .collect();
         layer
     }
 
@@ -119,39 +128,28 @@ impl SurfaceLayer {
     /// exponential variate `e`: the path length to the next candidate. Going down past the
     /// plane the flight goes on at the bulk rate 1/ℓ (`ell_mm`); going up past the top, the
     /// length is infinite.
-    pub fn flight(&self, z: f64, dz: f64, mut e: f64, ell_mm: f64) -> f64 {
-        let h = self.top_mm / Self::BINS as f64;
-        let mut j = self.slice_index(z);
-        let (mut s, mut at) = (0.0, z);
-        loop {
-            let rate = self.slices[j].rate_per_mm;
-            let to_edge = if dz < 0.0 {
-                (at - j as f64 * h) / -dz
-            } else if dz > 0.0 {
-                ((j + 1) as f64 * h - at) / dz
-            } else {
-                f64::INFINITY
-            };
-            // Exact for a piecewise-constant rate: the hazard used up in each slice is subtracted.
-            if e < rate * to_edge {
-                return s + e / rate;
-            }
-            e -= rate * to_edge;
-            s += to_edge;
-            if dz < 0.0 {
-                if j == 0 {
-                    return s + e * ell_mm;
-                }
-                at = j as f64 * h;
-                j -= 1;
-            } else {
-                if j == Self::BINS - 1 {
-                    return f64::INFINITY;
-                }
-                j += 1;
-                at = j as f64 * h;
-            }
+    ///
+    /// Exact for the piecewise-constant rate: with Λ(z) = ∫₀ᶻ rate dz′ (tabulated at the slice
+    /// floors), a flight of vertical extent from z to z′ uses up the hazard |Λ(z′) − Λ(z)|/|dz|.
+    pub fn flight(&self, z: f64, dz: f64, e: f64, ell_mm: f64) -> f64 {
+        let j = self.slice_index(z);
+        if dz == 0.0 {
+            return e / self.slices[j].rate_per_mm;
         }
+        let h = self.top_mm / Self::BINS as f64;
+        let here = self.hazard[j] + self.slices[j].rate_per_mm * (z - j as f64 * h);
+        let target = here + e * dz;
+        if target <= 0.0 {
+            // Through the plane, then at the bulk rate with the hazard left over.
+            return z / -dz + (e + here / dz) * ell_mm;
+        }
+        if target >= self.hazard[Self::BINS] {
+            return f64::INFINITY;
+        }
+        // The slice where Λ reaches the target: Λ(floor) ≤ target < Λ(ceiling), so its rate is > 0.
+        let k = self.hazard.partition_point(|&v| v <= target) - 1;
+        let z_end = k as f64 * h + (target - self.hazard[k]) / self.slices[k].rate_per_mm;
+        (z_end - z) / dz
     }
 
     /// A candidate grain met at height `z` > 0 on a flight from `flight`: its type and
@@ -230,7 +228,17 @@ mod tests {
             let se = (p * (1.0 - p) / n as f64).sqrt();
             assert!((count as f64 / n as f64 - p).abs() < 4.0 * se, "{count} vs {p}");
         }
-        // Going up from the plane, every flight either meets a candidate or leaves at the top.
-        assert!(layer.flight(1e-9, 0.5, 1e9, ell).is_infinite());
+        // Going up from just above the plane, the flight leaves at the top with probability
+        // exp(−Σ rate_j h/dz), and otherwise ends inside the layer.
+        let up = 0.5;
+        let mut left = 0usize;
+        for _ in 0..n {
+            let s = layer.flight(1e-12, up, rng.exponential(), ell);
+            left += s.is_infinite() as usize;
+            assert!(s.is_infinite() || (s >= 0.0 && 1e-12 + s * up <= layer.top_mm * (1.0 + 1e-12)));
+        }
+        let p = (-hazard * -dz / up).exp();
+        let se = (p * (1.0 - p) / n as f64).sqrt();
+        assert!((left as f64 / n as f64 - p).abs() < 4.0 * se, "{left} vs {p}");
     }
 }

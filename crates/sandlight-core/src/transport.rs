@@ -157,6 +157,35 @@ struct Grain {
     type_index: usize,
 }
 
+/// The packed grains that bound the pore a ray is in (`Memory::Cut`): the grain it left to
+/// enter the pore and those it was turned back by since, the latest `N`. Fine particles live
+/// inside pores and do not change it.
+#[derive(Clone, Copy, Default)]
+struct PoreWalls {
+    grains: [Option<Grain>; PoreWalls::N],
+    next: usize,
+}
+
+impl PoreWalls {
+    const N: usize = 4;
+
+    fn add(&mut self, g: Grain) {
+        if self.grains().any(|w| w.centre == g.centre) {
+            return;
+        }
+        self.grains[self.next] = Some(g);
+        self.next = (self.next + 1) % Self::N;
+    }
+
+    fn grains(&self) -> impl Iterator<Item = &Grain> {
+        self.grains.iter().flatten()
+    }
+
+    fn contain(&self, p: Vec3) -> bool {
+        self.grains().any(|g| g.shape.contains(p - g.centre))
+    }
+}
+
 /// The on-the-fly transport with path memory. The ray also keeps its position in x and y and remembers the pore it is in (docs/geometry.md,
 /// "Near-surface path memory"): while it is still in the pore it reached its last grain
 /// through (after a reflection, or leaving that grain on its lit side), it knows
@@ -170,7 +199,11 @@ struct Grain {
 ///   a ray heading back meets it again where its surface is, not at a random distance.
 /// With `Memory::Cut` the surface is the cut plane of `SurfaceLayer`: rays start and escape at
 /// its top, and candidates are also thinned by the centre rule and the widening pore space of
-/// the top layer.
+/// the top layer. The ray also keeps the packed grains that bound its pore (`PoreWalls`) until
+/// it goes through one into another pore: light scattered many times by fines inside a pore
+/// meets the same walls again, where memoryless sampling would give each wall encounter a
+/// fresh grain at a fresh distance (the failure of chord-length sampling for binary mixtures
+/// whose chunks are optically thick; docs/geometry.md).
 fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
     let pore = &m.pore;
     let ell = m.mean_free_path_mm;
@@ -185,9 +218,12 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
     let mut flight_start = Vec3::new(0.0, 0.0, top);
     let mut flown = 0.0f64;
     let mut channel: Option<(Vec3, Vec3)> = None;
-    let mut behind: Option<Grain> = None;
+    let mut behind: Option<Grain>;
     let mut prev: Option<Grain> = None;
-    let mut to_behind = f64::INFINITY;
+    let mut walls = PoreWalls::default();
+    // The nearest remembered grain ahead (`behind` or a wall) and the distance to it.
+    let mut ahead: Option<Grain> = None;
+    let mut to_ahead = f64::INFINITY;
     let mut events = 0u64;
     let done = |fate, events| RayOutcome { fate, events };
     // The pore at the surface where the ray enters. A water-filled surface pore presents a
@@ -209,9 +245,9 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             None => ell * rng.exponential(),
         };
         // The remembered grain comes first if it is nearer than the candidate.
-        let rehit = to_behind - flown <= s;
+        let rehit = to_ahead - flown <= s;
         if rehit {
-            s = to_behind - flown;
+            s = to_ahead - flown;
         }
         if d.z > 0.0 && z + s * d.z >= top {
             if !water {
@@ -226,7 +262,8 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             x += to_surface * d.x;
             y += to_surface * d.y;
             flight_start = Vec3::new(x, y, top);
-            (channel, behind, prev, flown, to_behind) = (None, None, None, 0.0, f64::INFINITY);
+            (channel, prev, ahead, flown, to_ahead) = (None, None, None, 0.0, f64::INFINITY);
+            walls = PoreWalls::default();
             if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
                 d.z = -d.z;
                 z = top;
@@ -253,7 +290,7 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
         flown += s;
         let here = Vec3::new(x, y, z);
         let (grain, hit) = if rehit {
-            let g = behind.expect("a finite distance to the remembered grain");
+            let g = ahead.expect("a finite distance to the remembered grain");
             let rel = here - g.centre;
             (g, Hit { point: rel, normal: g.shape.normal_at(rel) })
         } else {
@@ -317,10 +354,14 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
                 d = dir;
             }
             Interaction::Transmitted { dir, exit_point, water: w } => {
-                // The particle's extent along z: the ray leaves from the far side.
-                z = (z + (exit_point.z - hit.point.z)).min(top);
-                x += exit_point.x - hit.point.x;
-                y += exit_point.y - hit.point.y;
+                // The particle's extent: the ray leaves from the far side (a fine particle in a
+                // pore whose walls are remembered: unless that is inside a wall, then it leaves
+                // where it hit, as in the explicit reference).
+                let moved = Vec3::new(x + exit_point.x - hit.point.x, y + exit_point.y - hit.point.y, (z + (exit_point.z - hit.point.z)).min(top));
+                let packed = surface.is_some_and(|sf| sf.packed[i]);
+                if packed || !walls.contain(moved) {
+                    (x, y, z) = (moved.x, moved.y, moved.z);
+                }
                 // Out on the lit side (the half facing where the ray came from) it is back in
                 // the pore it came from; out on the far side, in a new one.
                 if exit_point.dot(d) < 0.0 {
@@ -328,6 +369,9 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
                     behind = prev;
                 } else {
                     (channel, behind) = (None, None);
+                    if packed {
+                        walls = PoreWalls::default();
+                    }
                 }
                 flight_start = Vec3::new(x, y, z);
                 d = dir;
@@ -336,9 +380,19 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             Interaction::Absorbed => return done(Fate::Absorbed, events),
             Interaction::Capped => return done(Fate::Capped, events),
         }
+        if surface.is_some_and(|sf| sf.packed[i]) {
+            walls.add(grain);
+        }
         prev = Some(grain);
         flown = 0.0;
-        to_behind = behind.and_then(|g| g.shape.entry_distance(flight_start - g.centre, d)).unwrap_or(f64::INFINITY);
+        (to_ahead, ahead) = (f64::INFINITY, None);
+        for g in behind.iter().chain(walls.grains()) {
+            if let Some(t) = g.shape.entry_distance(flight_start - g.centre, d) {
+                if t < to_ahead {
+                    (to_ahead, ahead) = (t, Some(*g));
+                }
+            }
+        }
     }
 }
 
