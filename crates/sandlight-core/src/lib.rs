@@ -6,6 +6,7 @@
 //! reference (a stored random packing traced with the same per-particle interaction). No PyO3 here: bindings live in `sandlight-py`.
 
 pub mod appearance;
+pub mod deposition;
 pub mod driver;
 pub mod error;
 pub mod explicit;
