@@ -369,7 +369,7 @@ fn groove(x: Vec3, i: Contact, j: Contact) -> Path {
 pub fn deposit(packing: &Packing, thickness_mm: f64, seed: u64) -> Result<Vec<PackedParticle>, SandlightError> {
     let per = packing.period;
     if !(thickness_mm > 0.0 && thickness_mm <= per.z) {
-        return Err(SandlightError::parameter("settled thickness (mm)", thickness_mm, &format!("must be > 0 and at most the box height {:.4} mm", per.z)));
+        return Err(SandlightError::parameter("settled_thickness_mm", thickness_mm, &format!("must be > 0 and at most the box height {:.4} mm", per.z)));
     }
     let max_d = packing.particles.iter().map(|p| p.diameter_mm).fold(0.0, f64::max);
     let mut heap = Heap::new(per.x, per.y, max_d);
