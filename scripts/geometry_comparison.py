@@ -15,11 +15,15 @@ on-the-fly engine with ``memory`` = none, channel and cut, and writes Markdown t
 standard errors between the markers ``<!-- geometry-comparison:begin/end -->`` of
 ``docs/geometry.md`` (atomically). With ``--brdf`` it also measures principal-plane BRDFs at
 0°, 30° and 60° incidence for the dark monodisperse spheres (α = 50 cm⁻¹) and writes
-``docs/img/geometry-brdf.png`` and a table.
+``docs/img/geometry-brdf.png`` and a table. With ``--settled`` it compares the two surfaces of
+the explicit reference for the monodisperse spheres — the cut and the gravity-settled layer
+(default 2 reference-grain layers) — with the on-the-fly engine (memory none and cut), and
+describes the settled packings (spheres and spheroids ε = 1.4), between the markers
+``<!-- geometry-settled:begin/end -->``.
 
 Usage::
 
-    python scripts/geometry_comparison.py [--scale 1.0] [--brdf] [--threads 2]
+    python scripts/geometry_comparison.py [--scale 1.0] [--brdf] [--settled] [--no-tables] [--threads 2]
 
 ``--scale`` multiplies every ray count (0.1 for a quick look).
 """
@@ -48,6 +52,7 @@ ROOT = Path(__file__).resolve().parents[1]
 DOC = ROOT / "docs" / "geometry.md"
 BEGIN, END = "<!-- geometry-comparison:begin -->", "<!-- geometry-comparison:end -->"
 BRDF_BEGIN, BRDF_END = "<!-- geometry-brdf:begin -->", "<!-- geometry-brdf:end -->"
+SETTLED_BEGIN, SETTLED_END = "<!-- geometry-settled:begin -->", "<!-- geometry-settled:end -->"
 MEMORIES = ("none", "channel", "cut")
 ALPHAS_PER_CM = (0.5, 5.0, 50.0)
 #: Rays per α (or per preset wavelength) at --scale 1: about 0.3 % relative error or better.
@@ -215,12 +220,99 @@ def run_brdf(scale, threads, packing):
     return body
 
 
+def settled_report(pk, cut, d_mm, seed=9):
+    """The surface layer of a packing against the cut packing it was deposited on (itself for
+    the cut): surface heights; coverage (fraction of vertical lines that meet a deposited grain
+    first, where the two surfaces differ); 0.25–1 grain above the cut plane the packing
+    fraction and the fraction of points in two or more grains; and the overlap volume over the
+    deposit's height range, relative to the deposited solid (NaN without a deposit)."""
+    h = pk.period_mm[2]
+    heights = pk.surface_heights(20_000, seed)
+    covered = np.mean(heights != cut.surface_heights(20_000, seed))
+    porosity, overlap = pk.porosity_profile(h + np.linspace(0.25, 1.0, 7) * d_mm, 50_000, seed)
+    dep, d_dep = pk.deposited()
+    dz = 0.02 * d_mm
+    solid = np.sum(np.pi / 6 * d_dep ** 3)
+    overlap_volume = np.nan
+    if solid:
+        _, overlap_all = pk.porosity_profile(np.arange((dep[:, 2] - d_dep).min(), pk.top_mm, dz), 5_000, seed)
+        overlap_volume = overlap_all.sum() * dz * pk.period_mm[0] * pk.period_mm[1] / solid
+    return {"n": pk.n_deposited, "top": pk.top_mm - h, "mean": heights.mean() - h, "sd": heights.std(),
+            "min": heights.min() - h, "max": heights.max() - h, "covered": covered, "eta": 1.0 - porosity.mean(),
+            "overlap": overlap.mean(), "overlap_volume": overlap_volume}
+
+
+def run_settled(scale, threads):
+    """Explicit cut vs explicit settled vs on-the-fly (memory none, cut) for monodisperse
+    spheres, and the settled layers of spheres (1, 2, 3 layers) and spheroids (2 layers)."""
+    d, phi = 0.25, 0.40
+    rays = {a: int(RAYS[a] * scale) for a in ALPHAS_PER_CM}
+    rows, layers = [], {}
+    for name, eps, counts in (("monodisperse spheres", 1.0, (1.0, 2.0, 3.0)), ("spheroids ε = 1.4", 1.4, (2.0,))):
+        def make(alpha=0.0, mem="none", eps=eps):
+            return grain_medium([d], aspect_ratio=eps, alpha_per_mm=alpha, porosity=phi, memory=mem)
+        t0 = time.perf_counter()
+        cut = generate_packing(make(), reference_mm=d, seed=1)
+        t_cut = time.perf_counter() - t0
+        if eps == 1.0:
+            layers[(name, 0.0)] = settled_report(cut, cut, d) | {"t_cut": t_cut, "t_settled": np.nan}
+        for n_layers in counts:
+            t0 = time.perf_counter()
+            settled = generate_packing(make(), reference_mm=d, seed=1, surface="settled", settled_layers=n_layers)
+            t_settled = time.perf_counter() - t0
+            layers[(name, n_layers)] = settled_report(settled, cut, d) | {"t_cut": t_cut, "t_settled": t_settled}
+            if eps != 1.0 or n_layers != 2.0:
+                continue
+            for a in ALPHAS_PER_CM:
+                alpha = a / 10.0
+                out = {"label": f"α = {a:g} cm⁻¹"}
+                out["explicit cut"] = dhr(make(alpha).explicit(cut), rays[a], threads)[:2]
+                out["explicit settled"] = dhr(make(alpha).explicit(settled), rays[a], threads)[:2]
+                for mem in ("none", "cut"):
+                    out[mem] = dhr(make(alpha, mem), rays[a], threads)[:2]
+                print(f"settled {out['label']:>16s}  " + "  ".join(f"{k} {v[0]:.4f}" for k, v in out.items() if k != "label"), flush=True)
+                rows.append(out)
+    body = (f"Generated by `scripts/geometry_comparison.py --no-tables --settled --scale {scale:g}` on {describe()}, "
+            f"{time.strftime('%Y-%m-%d')}. Monodisperse spheres d = 0.25 mm, φ = 0.40, n = 1.544, one packing "
+            "(seed 1, 4 × 4 × 8 mm) with its cut surface and with 2 reference-grain layers settled on it; normal "
+            "incidence, directional-hemispherical reflectance ± one standard error; rays per α: "
+            + ", ".join(f"{rays[a]:,} at {a:g} cm⁻¹" for a in ALPHAS_PER_CM)
+            + ". Δ: relative to the explicit settled surface; ✗: outside issue 9's target (3 % or 0.002).\n\n"
+            "| α | explicit cut | Δ | explicit settled | on-the-fly `none` | Δ | on-the-fly `cut` | Δ |\n"
+            "|---|---|---|---|---|---|---|---|\n")
+    for r in rows:
+        ref = r["explicit settled"][0]
+        cells = [r["label"]]
+        for key in ("explicit cut", "explicit settled", "none", "cut"):
+            v = r[key][0]
+            cells.append(fmt(*r[key]))
+            if key != "explicit settled":
+                cells.append(f"{100 * (v / ref - 1):+.1f} %" + ("" if within_target(v, ref) else " ✗"))
+        body += "| " + " | ".join(cells) + " |\n"
+    body += ("\nSettled layers (seed 1, same box; heights relative to the cut plane z = H in mm, from 20 000 vertical "
+             "lines; covered: fraction of those lines that meet a deposited grain first; η and points in ≥ 2 grains: "
+             "7 planes 0.25–1 grain above the cut plane, 50 000 points each; overlap volume: points in ≥ 2 grains "
+             "over the deposit's height range, relative to the deposited solid; time: generating the cut packing, "
+             "and the settled one with its deposit; 0 layers: the cut itself):\n\n"
+             "| grains | layers | deposited | surface height mean ± sd | range | rays start at | covered | "
+             "η of the layer | points in ≥ 2 grains | overlap volume | time cut / settled |\n"
+             "|---|---|---|---|---|---|---|---|---|---|---|\n")
+    for (name, n_layers), r in layers.items():
+        volume = "–" if np.isnan(r["overlap_volume"]) else f"{r['overlap_volume']:.2e}"
+        times = f"{r['t_cut']:.1f} s" + ("" if np.isnan(r["t_settled"]) else f" / {r['t_settled']:.1f} s")
+        body += (f"| {name} | {n_layers:g} | {r['n']} | {r['mean']:+.3f} ± {r['sd']:.3f} | {r['min']:+.3f} … "
+                 f"{r['max']:+.3f} | {r['top']:+.3f} | {r['covered']:.4f} | {r['eta']:.4f} | {r['overlap']:.4f} | "
+                 f"{volume} | {times} |\n")
+    return body
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--scale", type=float, default=1.0, help="multiplies every ray count")
     ap.add_argument("--threads", type=int, default=None)
     ap.add_argument("--brdf", action="store_true", help="also measure principal-plane BRDFs")
-    ap.add_argument("--no-tables", action="store_true", help="only the BRDFs")
+    ap.add_argument("--settled", action="store_true", help="also compare the cut and the settled surface")
+    ap.add_argument("--no-tables", action="store_true", help="skip the main tables (only --brdf, --settled)")
     args = ap.parse_args(argv)
     started = time.perf_counter()
     d = 0.25
@@ -271,6 +363,11 @@ def main(argv=None):
         text = DOC.read_text(encoding="utf-8") if DOC.exists() else text
         text = replace_block(text, BRDF_BEGIN, BRDF_END, run_brdf(args.scale, args.threads, mono_packing))
         write_atomic(DOC, text)
+    if args.settled:
+        body = run_settled(args.scale, args.threads)
+        text = DOC.read_text(encoding="utf-8") if DOC.exists() else text
+        write_atomic(DOC, replace_block(text, SETTLED_BEGIN, SETTLED_END, body))
+        print(body)
     print(f"done in {time.perf_counter() - started:.0f} s", file=sys.stderr)
 
 
