@@ -429,7 +429,7 @@ mod tests {
     }
 
     #[test]
-    fn sphere_beside_a_triangle_rolls_off_it() {
+    fn sphere_dropped_on_a_raised_grain_rolls_off_it() {
         // Dropped over the edge of a single sphere on a wide floor of spheres, the grain must
         // not stop on the sphere: it rolls off and rests lower, on the floor.
         let mut heap = Heap::new(12.0, 12.0, 2.0);
