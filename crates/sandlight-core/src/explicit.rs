@@ -12,6 +12,10 @@
 //! uniformly random (x, y) on the plane z = H + c_max above the highest grain and escape when
 //! they cross it upwards.
 //!
+//! Settled surface (`deposition`): grains deposited on the cut are part of the sample where
+//! they lie, periodic in x and y only: they exist in the top period block and not in its
+//! images below, and rays start and escape above the highest of them.
+//!
 //! Acceleration: a uniform grid over one period with cells about one mean grain across; each
 //! grain is listed in every cell its bounding cube touches, with the period block it was
 //! listed from, and rays walk the unbounded periodic grid cell by cell (Amanatides & Woo 1987).
@@ -21,7 +25,8 @@
 //! encounter probability), the same rate per unit pore length as in the on-the-fly medium;
 //! a fine particle is drawn, hit and traced exactly as there, and a ray through it is moved by
 //! its extent (unless that would put it inside a packed grain, then it leaves where it hit).
-//! Fines fill the pores below the cut plane only.
+//! Fines fill the pores below the cut plane only, also under a settled layer (whose pores have
+//! none).
 //!
 //! Pore water follows the on-the-fly rules (each pore entered is water-filled with the pore's
 //! probability, a water-filled surface pore presents a flat water surface).
@@ -32,7 +37,7 @@ use crate::error::SandlightError;
 use crate::fresnel;
 use crate::math::{refract, Vec3};
 use crate::medium::Particulate;
-use crate::packing::Packing;
+use crate::packing::{PackedParticle, Packing};
 use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
@@ -56,6 +61,10 @@ struct Entry {
 #[derive(Debug)]
 pub struct Scene {
     pub packing: Packing,
+    /// Grains settled on the cut surface (empty for the cut): periodic in x and y, not in z.
+    pub deposit: Vec<PackedParticle>,
+    /// Shapes of the packed grains, then of the deposited ones (index `packing.particles.len()`
+    /// and up).
     shapes: Vec<Spheroid>,
     n: [usize; 3],
     h: Vec3,
@@ -66,14 +75,21 @@ pub struct Scene {
 }
 
 impl Scene {
+    /// The cut surface (module docs).
     pub fn new(packing: Packing) -> Scene {
+        Scene::with_deposit(packing, Vec::new())
+    }
+
+    /// The cut surface with the grains `deposit` settled on it (`deposition::deposit`).
+    pub fn with_deposit(packing: Packing, deposit: Vec<PackedParticle>) -> Scene {
         let per = packing.period;
-        let shapes: Vec<Spheroid> = (0..packing.particles.len()).map(|k| packing.shape(k)).collect();
+        let mut shapes: Vec<Spheroid> = (0..packing.particles.len()).map(|k| packing.shape(k)).collect();
+        shapes.extend(deposit.iter().map(|g| Spheroid::new(g.diameter_mm, packing.aspect_ratios[g.type_index], g.axis)));
         let mean_d = packing.particles.iter().map(|p| p.diameter_mm).sum::<f64>() / packing.particles.len() as f64;
         let n = [per.x, per.y, per.z].map(|l| ((l / mean_d).floor() as usize).max(1));
         let h = Vec3::new(per.x / n[0] as f64, per.y / n[1] as f64, per.z / n[2] as f64);
         let mut lists: Vec<Vec<Entry>> = vec![Vec::new(); n[0] * n[1] * n[2]];
-        for (k, (p, s)) in packing.particles.iter().zip(&shapes).enumerate() {
+        for (k, (p, s)) in packing.particles.iter().chain(&deposit).zip(&shapes).enumerate() {
             let c = [p.centre.x, p.centre.y, p.centre.z];
             let hh = [h.x, h.y, h.z];
             let range = |ax: usize| ((c[ax] - s.c) / hh[ax]).floor() as i64..=((c[ax] + s.c) / hh[ax]).floor() as i64;
@@ -95,15 +111,46 @@ impl Scene {
             entries.extend(l);
             start.push(entries.len() as u32);
         }
-        let top_mm = per.z + packing.max_extent_mm();
-        Scene { packing, shapes, n, h, start, entries, top_mm }
+        let deposit_top = deposit.iter().zip(&shapes[packing.particles.len()..]).map(|(g, s)| g.centre.z + s.c).fold(f64::NEG_INFINITY, f64::max);
+        let top_mm = (per.z + packing.max_extent_mm()).max(deposit_top);
+        Scene { packing, deposit, shapes, n, h, start, entries, top_mm }
     }
 
-    /// The nearest packed grain the ray from `o` along unit `d` enters within distance
-    /// `max_t`: (distance, particle, centre of the image hit). Only grains with centres in
-    /// [`bottom_z`, `top_z`) count. Err(()) if the ray crossed too many cells.
-    fn nearest(&self, o: Vec3, d: Vec3, max_t: f64, bottom_z: f64, top_z: f64) -> Result<Option<(f64, usize, Vec3)>, ()> {
+    /// Grain `k`: packed for k below the number of packed grains, deposited above.
+    #[inline]
+    fn grain(&self, k: usize) -> &PackedParticle {
+        let n_packed = self.packing.particles.len();
+        if k < n_packed { &self.packing.particles[k] } else { &self.deposit[k - n_packed] }
+    }
+
+    /// The images of the grains listed in grid cell `cell` (unbounded indices) seen from that
+    /// cell: (grain, centre of the image, whether it was deposited). A deposited grain has no
+    /// images in other period blocks in z.
+    #[inline]
+    fn images(&self, cell: [i64; 3]) -> impl Iterator<Item = (usize, Vec3, bool)> + '_ {
         let per = self.packing.period;
+        let pa = [per.x, per.y, per.z];
+        let n_packed = self.packing.particles.len();
+        let w: [usize; 3] = std::array::from_fn(|a| cell[a].rem_euclid(self.n[a] as i64) as usize);
+        let b: [i64; 3] = std::array::from_fn(|a| cell[a].div_euclid(self.n[a] as i64));
+        let ci = (w[2] * self.n[1] + w[1]) * self.n[0] + w[0];
+        self.entries[self.start[ci] as usize..self.start[ci + 1] as usize].iter().filter_map(move |e| {
+            let k = e.particle as usize;
+            let deposited = k >= n_packed;
+            if deposited && b[2] != e.block[2] as i64 {
+                return None;
+            }
+            let p0 = self.grain(k).centre;
+            let shift: [f64; 3] = std::array::from_fn(|a| (b[a] - e.block[a] as i64) as f64 * pa[a]);
+            Some((k, Vec3::new(p0.x + shift[0], p0.y + shift[1], p0.z + shift[2]), deposited))
+        })
+    }
+
+    /// The nearest grain the ray from `o` along unit `d` enters within distance `max_t`:
+    /// (distance, particle, centre of the image hit). Packed grains count with centres in
+    /// [`bottom_z`, `top_z`), deposited ones (if `with_deposit`) above `bottom_z`. Err(()) if
+    /// the ray crossed too many cells.
+    fn nearest(&self, o: Vec3, d: Vec3, max_t: f64, bottom_z: f64, top_z: f64, with_deposit: bool) -> Result<Option<(f64, usize, Vec3)>, ()> {
         let oa = [o.x, o.y, o.z];
         let da = [d.x, d.y, d.z];
         let ha = [self.h.x, self.h.y, self.h.z];
@@ -118,24 +165,16 @@ impl Scene {
             }
         });
         let t_delta: [f64; 3] = std::array::from_fn(|a| if da[a] == 0.0 { f64::INFINITY } else { ha[a] / da[a].abs() });
-        let pa = [per.x, per.y, per.z];
         let mut t_enter = 0.0;
         for _ in 0..MAX_CELLS_PER_FLIGHT {
             if t_enter > max_t {
                 return Ok(None);
             }
             let t_exit = t_max[0].min(t_max[1]).min(t_max[2]);
-            let w: [usize; 3] = std::array::from_fn(|a| cell[a].rem_euclid(self.n[a] as i64) as usize);
-            let b: [i64; 3] = std::array::from_fn(|a| cell[a].div_euclid(self.n[a] as i64));
-            let ci = (w[2] * self.n[1] + w[1]) * self.n[0] + w[0];
             let mut best: Option<(f64, usize, Vec3)> = None;
-            for e in &self.entries[self.start[ci] as usize..self.start[ci + 1] as usize] {
-                let k = e.particle as usize;
-                let p0 = self.packing.particles[k].centre;
-                let shift: [f64; 3] = std::array::from_fn(|a| (b[a] - e.block[a] as i64) as f64 * pa[a]);
-                let c = Vec3::new(p0.x + shift[0], p0.y + shift[1], p0.z + shift[2]);
-                // The cut: only grains with centres below the top (and above the bottom).
-                if c.z >= top_z || c.z < bottom_z {
+            for (k, c, deposited) in self.images(cell) {
+                // The cut: only packed grains with centres below the top; a deposit on it.
+                if (if deposited { !with_deposit } else { c.z >= top_z }) || c.z < bottom_z {
                     continue;
                 }
                 if let Some(t) = self.shapes[k].entry_distance(o - c, d) {
@@ -157,22 +196,56 @@ impl Scene {
         Err(())
     }
 
-    /// Whether `x` lies inside a packed grain (any image, cut and bottom ignored).
-    fn inside_packed(&self, x: Vec3) -> bool {
-        let per = self.packing.period;
+    /// The grid cell (unbounded indices) holding `x`.
+    #[inline]
+    fn cell_of(&self, x: Vec3) -> [i64; 3] {
         let xa = [x.x, x.y, x.z];
         let ha = [self.h.x, self.h.y, self.h.z];
-        let pa = [per.x, per.y, per.z];
-        let cell: [i64; 3] = std::array::from_fn(|a| (xa[a] / ha[a]).floor() as i64);
-        let w: [usize; 3] = std::array::from_fn(|a| cell[a].rem_euclid(self.n[a] as i64) as usize);
-        let b: [i64; 3] = std::array::from_fn(|a| cell[a].div_euclid(self.n[a] as i64));
-        let ci = (w[2] * self.n[1] + w[1]) * self.n[0] + w[0];
-        self.entries[self.start[ci] as usize..self.start[ci + 1] as usize].iter().any(|e| {
-            let k = e.particle as usize;
-            let p0 = self.packing.particles[k].centre;
-            let c = Vec3::new(p0.x + (b[0] - e.block[0] as i64) as f64 * pa[0], p0.y + (b[1] - e.block[1] as i64) as f64 * pa[1], p0.z + (b[2] - e.block[2] as i64) as f64 * pa[2]);
-            self.shapes[k].contains(x - c)
-        })
+        std::array::from_fn(|a| (xa[a] / ha[a]).floor() as i64)
+    }
+
+    /// Whether `x` lies inside a packed grain (any image, cut and bottom ignored) or a
+    /// deposited one.
+    fn inside_packed(&self, x: Vec3) -> bool {
+        self.images(self.cell_of(x)).any(|(k, c, _)| self.shapes[k].contains(x - c))
+    }
+
+    /// How many grains of the sample (packed ones below the cut plane, deposited ones) hold `x`.
+    fn grains_holding(&self, x: Vec3) -> usize {
+        let cut = self.packing.period.z;
+        self.images(self.cell_of(x)).filter(|&(k, c, deposited)| (deposited || c.z < cut) && self.shapes[k].contains(x - c)).count()
+    }
+
+    /// Solid profile by point sampling: for each height (mm), the fractions of `n_points`
+    /// uniformly random points of that plane inside no grain of the sample (its porosity there)
+    /// and inside two or more (true overlap of spheroids).
+    pub fn porosity_profile(&self, heights: &[f64], n_points: usize, seed: u64) -> Vec<(f64, f64)> {
+        let per = self.packing.period;
+        heights.iter().enumerate().map(|(j, &z)| {
+            let mut rng = Rng::for_ray(seed, 0x9ac5, j as u64);
+            let (mut empty, mut multiple) = (0usize, 0usize);
+            for _ in 0..n_points {
+                let held = self.grains_holding(Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, z));
+                empty += (held == 0) as usize;
+                multiple += (held >= 2) as usize;
+            }
+            (empty as f64 / n_points as f64, multiple as f64 / n_points as f64)
+        }).collect()
+    }
+
+    /// Heights (mm) of the sample's surface along `n_points` vertical lines at uniformly random
+    /// (x, y): where a line from above first enters a grain. NaN where it enters none within
+    /// the cell limit (a vertical channel through the periodic packing).
+    pub fn surface_heights(&self, n_points: usize, seed: u64) -> Vec<f64> {
+        let per = self.packing.period;
+        let mut rng = Rng::for_ray(seed, 0x9ac6, 0);
+        (0..n_points).map(|_| {
+            let o = Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, self.top_mm);
+            match self.nearest(o, -UP, f64::INFINITY, f64::NEG_INFINITY, per.z, true) {
+                Ok(Some((t, _, _))) => self.top_mm - t,
+                _ => f64::NAN,
+            }
+        }).collect()
     }
 
     /// Pore chords of the packed grains (mm): along `n_lines` random lines (uniform start,
@@ -189,7 +262,7 @@ impl Scene {
             let mut first = true;
             let mut got = 0;
             while got < per_line {
-                let Ok(Some((t, k, c))) = self.nearest(o, d, f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY) else { break };
+                let Ok(Some((t, k, c))) = self.nearest(o, d, f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, false) else { break };
                 if !first {
                     out.push(t);
                     got += 1;
@@ -205,7 +278,7 @@ impl Scene {
 
     /// Bytes held by the scene (particles, shapes, grid).
     pub fn memory_bytes(&self) -> usize {
-        self.packing.particles.len() * (std::mem::size_of::<crate::packing::PackedParticle>() + std::mem::size_of::<Spheroid>())
+        self.shapes.len() * (std::mem::size_of::<PackedParticle>() + std::mem::size_of::<Spheroid>())
             + self.start.len() * 4
             + self.entries.len() * std::mem::size_of::<Entry>()
     }
@@ -256,7 +329,7 @@ impl Explicit {
     /// engine's function with the medium's tables for the grain's type.
     #[inline]
     pub fn interact_packed(&self, k: usize, hit: Hit, d: Vec3, water: bool, rng: &mut Rng, max_internal: u32) -> Interaction {
-        let i = self.scene.packing.particles[k].type_index;
+        let i = self.scene.grain(k).type_index;
         let (_, stacks) = self.medium.type_tables(i);
         interact_with_stacks(&self.medium.types[i].optics, stacks, &self.medium.pore, &self.scene.shapes[k], hit, d, water, rng, max_internal)
     }
@@ -277,7 +350,7 @@ impl Explicit {
             let t_top = if d.z > 0.0 { (scene.top_mm - o.z) / d.z } else { f64::INFINITY };
             let t_bottom = if d.z < 0.0 && self.bottom_mm.is_finite() { (bottom_z - scene.packing.max_extent_mm() - o.z) / d.z } else { f64::INFINITY };
             let reach = s_fines.min(t_top).min(t_bottom);
-            let hit = match scene.nearest(o, d, reach, if self.bottom_mm.is_finite() { bottom_z } else { f64::NEG_INFINITY }, per.z) {
+            let hit = match scene.nearest(o, d, reach, if self.bottom_mm.is_finite() { bottom_z } else { f64::NEG_INFINITY }, per.z, true) {
                 Ok(h) => h,
                 Err(()) => return done(Fate::Capped, events),
             };
@@ -418,7 +491,7 @@ mod tests {
             let h = shape.sample_hit(d, &mut rng, 100).unwrap();
             let centre = Vec3::new(2.5, 2.5, 2.5);
             let o = centre + h.point - d * 0.4;
-            let (t, k, c) = ex.scene.nearest(o, d, 1.0, f64::NEG_INFINITY, f64::INFINITY).unwrap().expect("the ray aims at the grain");
+            let (t, k, c) = ex.scene.nearest(o, d, 1.0, f64::NEG_INFINITY, f64::INFINITY, false).unwrap().expect("the ray aims at the grain");
             let rel = o + d * t - c;
             assert!((rel - h.point).norm2() < 1e-20, "hit {rel:?} vs {:?}", h.point);
             let (mut r1, mut r2) = (rng.clone(), rng.clone());
@@ -434,6 +507,34 @@ mod tests {
             rng = r1;
         }
         assert!(outcomes.iter().all(|&n| n > 100), "{outcomes:?}");
+    }
+
+    #[test]
+    fn deposited_grains_lie_in_the_top_block_only() {
+        let params = PackingParams { lateral_mm: 1.5, depth_mm: 1.5, seed: 2, ..Default::default() };
+        let pk = Packing::generate(&grains(0.0), &params).unwrap();
+        let deposit = crate::deposition::deposit(&pk, 0.5, 2).unwrap();
+        let lowest = deposit.iter().map(|g| g.centre.z - 0.5 * g.diameter_mm).fold(f64::INFINITY, f64::min);
+        let highest = deposit.iter().map(|g| g.centre.z + 0.5 * g.diameter_mm).fold(f64::NEG_INFINITY, f64::max);
+        let cut = Scene::new(pk.clone());
+        let settled = Scene::with_deposit(pk, deposit.clone());
+        let h = cut.packing.period.z;
+        assert!(settled.top_mm >= highest && cut.top_mm == h + cut.packing.max_extent_mm());
+        // Below the deposit (and where its images one period down would be) the two samples
+        // are the same grains.
+        let below: Vec<f64> = (0..12).map(|i| lowest - 0.05 - 0.2 * i as f64).collect();
+        assert_eq!(cut.porosity_profile(&below, 2000, 3), settled.porosity_profile(&below, 2000, 3));
+        // Every deposited grain is where it was put, and only there.
+        for g in &deposit {
+            assert!(settled.grains_holding(g.centre) == 1 && cut.grains_holding(g.centre) == 0);
+            assert_eq!(settled.grains_holding(g.centre - UP * h), cut.grains_holding(g.centre - UP * h));
+        }
+        // The settled sample's surface is higher, and no vertical line misses it.
+        let hs = settled.surface_heights(2000, 4);
+        assert!(hs.iter().all(|z| z.is_finite()));
+        let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len() as f64;
+        let (mc, ms) = (mean(&cut.surface_heights(2000, 4)), mean(&hs));
+        assert!(ms > mc + 0.3, "settled {ms} vs cut {mc}");
     }
 
     #[test]

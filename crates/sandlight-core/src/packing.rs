@@ -110,13 +110,16 @@ pub struct Populations {
     pub packed: Vec<bool>,
     /// Number-weighted size table per type: sizes at stratified levels with cumulative weights.
     number_sizes: Vec<(Vec<f64>, Vec<f64>)>,
+    /// Indices of the packed types and their relative numbers Nᵢ ∝ vᵢ/⟨V⟩ₙ,ᵢ.
+    packed_types: Vec<usize>,
+    number_weights: Vec<f64>,
 }
 
 impl Populations {
     pub fn of(medium: &Particulate, fines_below_mm: f64) -> Populations {
         let total_p: f64 = medium.types.iter().map(|t| t.probability).sum();
         let mut volume = Vec::new();
-        let mut number_sizes = Vec::new();
+        let mut number_sizes: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
         let mut packed = Vec::new();
         for t in &medium.types {
             let p = t.probability / total_p;
@@ -133,7 +136,16 @@ impl Populations {
         let sum_v: f64 = volume.iter().sum();
         // S/V = 6 / Σ Pᵢ E_enc[D]/f; φ/(1 − φ) = ℓ (S/V)/4.
         let x = medium.mean_free_path_mm * (6.0 / sum_v) / 4.0;
-        Populations { porosity: x / (1.0 + x), volume_fraction: volume.iter().map(|v| v / sum_v).collect(), packed, number_sizes }
+        let volume_fraction: Vec<f64> = volume.iter().map(|v| v / sum_v).collect();
+        // Number fractions of the packed types: Nᵢ ∝ vᵢ/⟨V⟩ₙ,ᵢ.
+        let mean_volume = |i: usize| {
+            let (sizes, cum) = &number_sizes[i];
+            let mut prev = 0.0;
+            sizes.iter().zip(cum).map(|(d, c)| { let w = c - prev; prev = *c; w * d * d * d }).sum::<f64>() * std::f64::consts::PI / 6.0
+        };
+        let packed_types: Vec<usize> = (0..packed.len()).filter(|&i| packed[i]).collect();
+        let number_weights = packed_types.iter().map(|&i| volume_fraction[i] / mean_volume(i)).collect();
+        Populations { porosity: x / (1.0 + x), volume_fraction, packed, number_sizes, packed_types, number_weights }
     }
 
     /// Fraction of the total volume filled by the packed types: (1 − φ) Σ_packed vᵢ.
@@ -145,6 +157,23 @@ impl Populations {
     fn sample_number_size(&self, i: usize, u: f64) -> f64 {
         let (sizes, cum) = &self.number_sizes[i];
         sizes[cum.partition_point(|&c| c <= u).min(sizes.len() - 1)]
+    }
+
+    /// A packed grain drawn by number: its type (Nᵢ), size (number distribution of the type)
+    /// and a uniformly random orientation; the centre is left at the origin. Needs at least
+    /// one packed type.
+    pub fn draw_grain(&self, rng: &mut Rng) -> PackedParticle {
+        let wsum: f64 = self.number_weights.iter().sum();
+        let u = rng.uniform() * wsum;
+        let mut k = 0;
+        let mut acc = self.number_weights[0];
+        while u >= acc && k + 1 < self.packed_types.len() {
+            k += 1;
+            acc += self.number_weights[k];
+        }
+        let i = self.packed_types[k];
+        let d = self.sample_number_size(i, rng.uniform());
+        PackedParticle { centre: Vec3::default(), axis: Spheroid::random_axis(rng), diameter_mm: d, type_index: i }
     }
 }
 
@@ -188,16 +217,7 @@ impl Packing {
             return Err(SandlightError::parameter("porosity", pops.porosity, "packed solids must fill 5 %–66 % of the volume for the packing generator"));
         }
         let aspect: Vec<f64> = medium.types.iter().map(|t| t.aspect_ratio).collect();
-        // Number fractions of the packed types: Nᵢ ∝ vᵢ/⟨V⟩ₙ,ᵢ.
         let mut rng = Rng::for_ray(params.seed, 0x9ac1_u64, 0);
-        let mean_volume = |i: usize| {
-            let (sizes, cum) = &pops.number_sizes[i];
-            let mut prev = 0.0;
-            sizes.iter().zip(cum).map(|(d, c)| { let w = c - prev; prev = *c; w * d * d * d }).sum::<f64>() * std::f64::consts::PI / 6.0
-        };
-        let idx: Vec<usize> = (0..aspect.len()).filter(|&i| pops.packed[i]).collect();
-        let weights: Vec<f64> = idx.iter().map(|&i| pops.volume_fraction[i] / mean_volume(i)).collect();
-        let wsum: f64 = weights.iter().sum();
         let box_volume = params.lateral_mm * params.lateral_mm * params.depth_mm;
         let target = eta * box_volume;
         let mut particles = Vec::new();
@@ -208,17 +228,10 @@ impl Packing {
             if particles.len() >= params.max_particles {
                 return Err(SandlightError::parameter("max_particles", params.max_particles, &format!("the box needs more packed particles; use a smaller box (lateral_mm {}, depth_mm {})", params.lateral_mm, params.depth_mm)));
             }
-            let u = rng.uniform() * wsum;
-            let mut k = 0;
-            let mut acc = weights[0];
-            while u >= acc && k + 1 < idx.len() {
-                k += 1;
-                acc += weights[k];
-            }
-            let i = idx[k];
-            let d = pops.sample_number_size(i, rng.uniform());
+            let grain = pops.draw_grain(&mut rng);
+            let d = grain.diameter_mm;
             solid += std::f64::consts::PI / 6.0 * d * d * d;
-            particles.push(PackedParticle { centre: Vec3::default(), axis: Spheroid::random_axis(&mut rng), diameter_mm: d, type_index: i });
+            particles.push(grain);
         }
         // The box must hold at least three of the largest grains drawn across.
         let max_c = particles.iter().map(|p| 0.5 * p.diameter_mm * aspect[p.type_index].powf(2.0 / 3.0)).fold(0.0, f64::max);

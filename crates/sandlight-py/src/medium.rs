@@ -11,9 +11,10 @@ use sandlight_core::math::Vec3;
 use sandlight_core::error::SandlightError;
 use std::sync::Arc;
 
+use sandlight_core::deposition::deposit;
 use sandlight_core::explicit::{Explicit, Scene};
 use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, Memory, Particulate, ParticleType};
-use sandlight_core::packing::{Packing, PackingParams};
+use sandlight_core::packing::{PackedParticle, Packing, PackingParams};
 use sandlight_core::particle::{Coating, ParticleOptics, PoreOptics};
 use sandlight_core::sizes::QuantileTable;
 use sandlight_core::transport::Limits;
@@ -195,8 +196,9 @@ impl PyMedium {
     }
 }
 
-/// `sandlight._native.Packing`: a periodic random dense packing of a sand medium's grains with
-/// its ray-tracing grid (wavelength independent; see `sandlight_core::packing`).
+/// `sandlight._native.Packing`: a periodic random dense packing of a sand medium's grains,
+/// cut through a plane of centres and optionally with a gravity-settled layer on the cut, with
+/// its ray-tracing grid (wavelength independent; see `sandlight_core::packing`, `deposition`).
 #[pyclass(frozen, name = "Packing", module = "sandlight._native")]
 pub struct PyPacking {
     pub scene: Arc<Scene>,
@@ -205,18 +207,64 @@ pub struct PyPacking {
 #[pymethods]
 impl PyPacking {
     /// Packs the grains of the sand `medium` (any wavelength) in a box `lateral_mm` wide and
-    /// about `depth_mm` high, periodic in x, y and z. The GIL is released.
+    /// about `depth_mm` high, periodic in x, y and z. `surface` 'cut' keeps the grains with
+    /// centres below the top of the box; 'settled' also deposits grains on that cut under
+    /// gravity, as much solid as `settled_thickness_mm` of the bulk packing. The GIL is released.
     #[staticmethod]
-    #[pyo3(signature = (medium, lateral_mm, depth_mm, seed = 0, fines_below_mm = 0.05, max_particles = 400_000, overlap_tolerance = 1e-3, max_sweeps = 20_000))]
+    #[pyo3(signature = (medium, lateral_mm, depth_mm, seed = 0, fines_below_mm = 0.05, max_particles = 400_000, overlap_tolerance = 1e-3, max_sweeps = 20_000, surface = "cut", settled_thickness_mm = None))]
     #[allow(clippy::too_many_arguments)]
-    fn generate(py: Python<'_>, medium: &PyMedium, lateral_mm: f64, depth_mm: f64, seed: u64, fines_below_mm: f64, max_particles: usize, overlap_tolerance: f64, max_sweeps: usize) -> PyResult<Self> {
+    fn generate(py: Python<'_>, medium: &PyMedium, lateral_mm: f64, depth_mm: f64, seed: u64, fines_below_mm: f64, max_particles: usize, overlap_tolerance: f64, max_sweeps: usize, surface: &str, settled_thickness_mm: Option<f64>) -> PyResult<Self> {
         let Kind::Particulate(m) = &medium.kind else {
             return Err(to_py(py, SandlightError::parameter("medium", "a reference medium", "a sand (particulate) medium")));
         };
+        let settled = match (surface, settled_thickness_mm) {
+            ("cut", None) => None,
+            ("settled", Some(t)) => Some(t),
+            ("cut", Some(t)) => return Err(to_py(py, SandlightError::parameter("settled_thickness_mm", t, "None for surface 'cut'"))),
+            ("settled", None) => return Err(to_py(py, SandlightError::parameter("settled_thickness_mm", "None", "a thickness > 0 (mm) for surface 'settled'"))),
+            (other, _) => return Err(to_py(py, SandlightError::parameter("surface", other, "'cut' or 'settled'"))),
+        };
         let params = PackingParams { lateral_mm, depth_mm, fines_below_mm, seed, max_particles, max_sweeps, overlap_tolerance };
         let m = m.clone();
-        let made = py.detach(move || Packing::generate(&m, &params).map(|p| Arc::new(Scene::new(p))));
+        let made = py.detach(move || -> Result<Arc<Scene>, SandlightError> {
+            let packing = Packing::generate(&m, &params)?;
+            let grains = match settled {
+                Some(t) => deposit(&packing, t, seed)?,
+                None => Vec::new(),
+            };
+            Ok(Arc::new(Scene::with_deposit(packing, grains)))
+        });
         made.map(|scene| PyPacking { scene }).map_err(|e| to_py(py, e))
+    }
+
+    /// 'cut' or 'settled'.
+    #[getter]
+    fn surface(&self) -> &'static str {
+        if self.scene.deposit.is_empty() { "cut" } else { "settled" }
+    }
+    /// Grains settled on the cut (0 for the cut surface).
+    #[getter]
+    fn n_deposited(&self) -> usize {
+        self.scene.deposit.len()
+    }
+    /// Height (mm) of the plane where rays start and escape, above every grain.
+    #[getter]
+    fn top_mm(&self) -> f64 {
+        self.scene.top_mm
+    }
+    /// Heights (mm) where `n_points` vertical lines at random (x, y) first enter a grain.
+    fn surface_heights<'py>(&self, py: Python<'py>, n_points: usize, seed: u64) -> Bound<'py, PyArray1<f64>> {
+        py.detach(|| self.scene.surface_heights(n_points, seed)).into_pyarray(py)
+    }
+    /// (porosity, overlap) at each of `heights` (mm): fractions of `n_points` random points of
+    /// that plane in no grain of the sample and in two or more.
+    fn porosity_profile<'py>(&self, py: Python<'py>, heights: Vec<f64>, n_points: usize, seed: u64) -> (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
+        let (empty, multiple): (Vec<f64>, Vec<f64>) = py.detach(|| self.scene.porosity_profile(&heights, n_points, seed)).into_iter().unzip();
+        (empty.into_pyarray(py), multiple.into_pyarray(py))
+    }
+    /// Centres (N, 3) in mm and volume-equivalent diameters (N,) in mm of the settled grains.
+    fn deposited<'py>(&self, py: Python<'py>) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>) {
+        centres_and_diameters(py, &self.scene.deposit)
     }
 
     #[getter]
@@ -266,15 +314,18 @@ impl PyPacking {
     fn pore_chords<'py>(&self, py: Python<'py>, n_lines: usize, per_line: usize, seed: u64) -> Bound<'py, PyArray1<f64>> {
         py.detach(|| self.scene.pore_chords(n_lines, per_line, seed)).into_pyarray(py)
     }
-    /// Particle centres (N, 3) in mm and volume-equivalent diameters (N,) in mm.
+    /// Centres (N, 3) in mm and volume-equivalent diameters (N,) in mm of the periodic packing.
     fn particles<'py>(&self, py: Python<'py>) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>) {
-        let ps = &self.scene.packing.particles;
-        let mut c = Array2::<f64>::zeros((ps.len(), 3));
-        for (i, p) in ps.iter().enumerate() {
-            c[[i, 0]] = p.centre.x;
-            c[[i, 1]] = p.centre.y;
-            c[[i, 2]] = p.centre.z;
-        }
-        (c.into_pyarray(py), ps.iter().map(|p| p.diameter_mm).collect::<Vec<_>>().into_pyarray(py))
+        centres_and_diameters(py, &self.scene.packing.particles)
     }
+}
+
+fn centres_and_diameters<'py>(py: Python<'py>, ps: &[PackedParticle]) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>) {
+    let mut c = Array2::<f64>::zeros((ps.len(), 3));
+    for (i, p) in ps.iter().enumerate() {
+        c[[i, 0]] = p.centre.x;
+        c[[i, 1]] = p.centre.y;
+        c[[i, 2]] = p.centre.z;
+    }
+    (c.into_pyarray(py), ps.iter().map(|p| p.diameter_mm).collect::<Vec<_>>().into_pyarray(py))
 }

@@ -6,6 +6,10 @@ grains of the sample's packed populations (those whose area-weighted median size
 volume, in a box periodic in x, y and z, relaxed by collective rearrangement until no two
 grains overlap by more than ``overlap_tolerance`` of the smaller diameter along their centre
 line. It is wavelength independent: generate it once and trace every wavelength through it.
+
+Its surface is a cut through a plane of grain centres (``surface="cut"``), or that cut with
+grains deposited on it under gravity (``surface="settled"``, Visscher & Bolsterli 1972:
+``sandlight_core::deposition``, docs/geometry.md).
 """
 
 from __future__ import annotations
@@ -23,6 +27,10 @@ FINES_BELOW_MM = 0.05
 #: Default box: this many reference grains across (x, y) and deep (the z period).
 LATERAL_GRAINS = 16
 DEPTH_GRAINS = 32
+#: Surfaces of a packing.
+SURFACES = ("cut", "settled")
+#: Default settled layer: the solid of this many reference grains of bulk packing.
+SETTLED_LAYERS = 2.0
 
 
 def _positive(name, value, allowed="a finite number > 0"):
@@ -45,7 +53,8 @@ def reference_grain_mm(comp, fines_below_mm: float = FINES_BELOW_MM) -> float:
 
 
 def generate_packing(medium, *, reference_mm: float, lateral_mm=None, depth_mm=None, seed: int = 0,
-                     fines_below_mm: float = FINES_BELOW_MM, overlap_tolerance: float = 1e-3) -> "_native.Packing":
+                     fines_below_mm: float = FINES_BELOW_MM, overlap_tolerance: float = 1e-3, surface: str = "cut",
+                     settled_layers: float = SETTLED_LAYERS) -> "_native.Packing":
     """Packs the grains of a native sand ``medium`` (any wavelength).
 
     Parameters
@@ -64,18 +73,36 @@ def generate_packing(medium, *, reference_mm: float, lateral_mm=None, depth_mm=N
         Populations with a smaller area-weighted median size stay on the fly.
     overlap_tolerance : float
         Largest accepted overlap along a centre line, as a fraction of the smaller diameter.
+    surface : {'cut', 'settled'}
+        'cut': the grains whose centres lie below the top of the box (z = H), repeated
+        downwards. 'settled': the same cut with grains of the same populations deposited on it
+        one at a time under gravity (they fall, roll and rest on three contacts), periodic in x
+        and y only.
+    settled_layers : float
+        Settled only: deposited solid volume, in layers of bulk packing one reference grain
+        thick (volume = packing fraction × L² × settled_layers × reference_mm).
 
     Returns
     -------
     sandlight._native.Packing
         With ``n_particles``, ``packing_fraction``, ``sample_porosity``, ``period_mm``,
-        ``max_overlap``, ``point_statistics(n, seed)``, ``pore_chords(lines, per_line, seed)``.
+        ``max_overlap``, ``point_statistics(n, seed)``, ``pore_chords(lines, per_line, seed)``
+        (of the periodic packing), and of the surface: ``surface``, ``n_deposited``,
+        ``deposited()`` (centres, diameters), ``top_mm`` (where rays start and escape),
+        ``surface_heights(n, seed)`` and ``porosity_profile(heights, n, seed)`` (fractions of
+        random points of each plane in no grain and in two or more).
     """
     ref = _positive("reference_mm", reference_mm)
     lateral = LATERAL_GRAINS * ref if lateral_mm is None else _positive("lateral_mm", lateral_mm)
     depth = DEPTH_GRAINS * ref if depth_mm is None else _positive("depth_mm", depth_mm)
+    if surface not in SURFACES:
+        raise ParameterError("surface", surface, "'cut' or 'settled'")
+    layers = _positive("settled_layers", settled_layers)
+    if surface == "settled" and layers * ref > depth:
+        raise ParameterError("settled_layers", settled_layers, f"at most the box depth in reference grains ({depth / ref:.4g})")
     return _native.Packing.generate(medium, lateral, depth, int(seed), _positive("fines_below_mm", fines_below_mm),
-                                    overlap_tolerance=_positive("overlap_tolerance", overlap_tolerance))
+                                    overlap_tolerance=_positive("overlap_tolerance", overlap_tolerance), surface=surface,
+                                    settled_thickness_mm=layers * ref if surface == "settled" else None)
 
 
 def grain_medium(size_quantiles_mm, *, aspect_ratio: float = 1.0, n: float = 1.544, alpha_per_mm: float = 0.0,
@@ -111,4 +138,4 @@ def grain_medium(size_quantiles_mm, *, aspect_ratio: float = 1.0, n: float = 1.5
         ell, 1.333, 0.0, 0.0, 0.0, math.inf, memory=memory)
 
 
-__all__ = ["FINES_BELOW_MM", "generate_packing", "grain_medium", "reference_grain_mm"]
+__all__ = ["FINES_BELOW_MM", "SETTLED_LAYERS", "SURFACES", "generate_packing", "grain_medium", "reference_grain_mm"]
