@@ -240,24 +240,32 @@ def orientation_average(w_o, v_o, w_e, v_e, grid, log: bool):
     return (2.0 * interp_loglinear(grid, w_o[o], v_o[o]) + interp_loglinear(grid, w_e[e], v_e[e])) / 3.0
 
 
-def build_hematite(src: Path) -> Table:
+def hematite_sources(src: Path, grid=None):
+    """The two hematite sources before joining, orientation-averaged: (grid, n Querry,
+    k Querry, k Longtin), on Querry's source wavelengths in 350-2500 nm unless ``grid`` (nm) is
+    given. Longtin's table starts at 633 nm; below it its first value is repeated."""
     csv = src / "csv"
     w_o, n_o, k_o = read_source_csv(csv / "hematite_Fe2O3_Querry1985_o.csv")
     w_e, n_e, k_e = read_source_csv(csv / "hematite_Fe2O3_Querry1985_e.csv")
     w_lo, _, k_lo = read_source_csv(csv / "hematite_O_Longtin_1988.csv")
     w_le, _, k_le = read_source_csv(csv / "hematite_E_Longtin_1988.csv")
-    grid = w_o[bracket(w_o)]
+    grid = w_o[bracket(w_o)] if grid is None else np.asarray(grid, dtype=float)
     # The Querry e-ray table has no 1930 nm row (it lists 1950 nm twice); interpolating it onto
     # the o-ray wavelengths fills that one point and is the identity everywhere else.
     n = orientation_average(w_o, n_o, w_e, n_e, grid, log=False)
     k_querry = orientation_average(w_o, k_o, w_e, k_e, grid, log=True)
     k_longtin = orientation_average(w_lo, k_lo, w_le, k_le, np.clip(grid, w_lo[0], None), log=True)
+    return grid, n, k_querry, k_longtin
+
+
+def build_hematite(src: Path) -> Table:
+    grid, n, k_querry, k_longtin = hematite_sources(src)
     # Querry's k beyond the edge (0.02-0.04 in the near-infrared) comes from the reflectance of
     # pressed pellets, where scattering losses read as absorption; the hematite grain-size
     # series (GDS69) and the transparency of hematite powders beyond 1000 nm say it is 20-3000
     # times too high (docs/optical-constants.md). Longtin's k is used there instead.
-    k_a = orientation_average(w_o, k_o, w_e, k_e, np.array([HEMATITE_QUERRY_UNTIL_NM]), log=True)[0]
-    k_b = orientation_average(w_lo, k_lo, w_le, k_le, np.array([HEMATITE_LONGTIN_FROM_NM]), log=True)[0]
+    _, _, (k_a,), _ = hematite_sources(src, [HEMATITE_QUERRY_UNTIL_NM])
+    _, _, _, (k_b,) = hematite_sources(src, [HEMATITE_LONGTIN_FROM_NM])
     t = (grid - HEMATITE_QUERRY_UNTIL_NM) / (HEMATITE_LONGTIN_FROM_NM - HEMATITE_QUERRY_UNTIL_NM)
     k_edge = k_a * (k_b / k_a) ** np.clip(t, 0.0, 1.0)
     k = np.where(grid <= HEMATITE_QUERRY_UNTIL_NM, k_querry,
