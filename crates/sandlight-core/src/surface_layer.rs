@@ -31,6 +31,8 @@ pub struct SurfaceLayer {
     slices: Vec<Slice>,
     /// Λ at the slice floors and the top: Σ of rate × slice height below (per mm of height).
     hazard: Vec<f64>,
+    /// For Λ = Λ_top·m/LOOKUP, the slice it falls in: where the search for a Λ starts.
+    lookup: Vec<usize>,
 }
 
 /// The majorant of the rate of packed grains that can reach below the plane, at the floor z_j
@@ -51,6 +53,7 @@ struct Slice {
 impl SurfaceLayer {
     const N: usize = 513;
     const BINS: usize = 64;
+    const LOOKUP: usize = 256;
 
     pub fn of(m: &Particulate) -> SurfaceLayer {
         let pops = crate::packing::Populations::of(m, crate::packing::FINES_BELOW_MM);
@@ -79,7 +82,7 @@ impl SurfaceLayer {
                 (1.0 - eta) / (1.0 - eta * f)
             })
             .collect();
-        let mut layer = SurfaceLayer { top_mm: top, packed: pops.packed, keep, slices: Vec::new(), hazard: Vec::new() };
+        let mut layer = SurfaceLayer { top_mm: top, packed: pops.packed, keep, slices: Vec::new(), hazard: Vec::new(), lookup: Vec::new() };
         layer.slices = (0..Self::BINS).map(|j| layer.slice(m, j as f64 * top / Self::BINS as f64)).collect();
         let h = top / Self::BINS as f64;
         layer.hazard = std::iter::once(0.0)
@@ -87,6 +90,10 @@ impl SurfaceLayer {
                 *acc += s.rate_per_mm * h;
                 Some(*acc)
             }))
+            .collect();
+        let total = layer.hazard[Self::BINS];
+        layer.lookup = (0..Self::LOOKUP)
+            .map(|m| layer.hazard.partition_point(|&v| v <= total * m as f64 / Self::LOOKUP as f64).max(1) - 1)
             .collect();
         layer
     }
@@ -147,7 +154,11 @@ impl SurfaceLayer {
             return f64::INFINITY;
         }
         // The slice where Λ reaches the target: Λ(floor) ≤ target < Λ(ceiling), so its rate is > 0.
-        let k = self.hazard.partition_point(|&v| v <= target) - 1;
+        let total = self.hazard[Self::BINS];
+        let mut k = self.lookup[((target / total * Self::LOOKUP as f64) as usize).min(Self::LOOKUP - 1)];
+        while self.hazard[k + 1] <= target {
+            k += 1;
+        }
         let z_end = k as f64 * h + (target - self.hazard[k]) / self.slices[k].rate_per_mm;
         (z_end - z) / dz
     }
