@@ -230,9 +230,10 @@ def reflectance(sample, wavelengths_nm, *, rays, incidence_deg: float = 0.0, see
         slow reference: rays traced through a stored random dense packing of the sample's own
         grains with the same per-particle physics; docs/geometry.md). With 'explicit',
         ``counts["transmitted"]`` counts rays that went below a finite sample.
-    memory : {'none', 'channel'}, optional
+    memory : {'none', 'channel', 'cut'}, optional
         Near-surface path memory of the on-the-fly engine (default ``DEFAULT_MEMORY``);
-        must be 'none' for explicit geometry.
+        must be 'none' for explicit geometry. 'cut' is the closest to the explicit reference
+        for dark and fines-rich sand (docs/geometry.md).
     packing : sandlight._native.Packing, optional
         A packing to trace (explicit geometry); generated from ``seed`` when None.
 

@@ -27,8 +27,8 @@ def _mix(materials: dict, wavelength_nm: float) -> complex:
 def native_medium(comp: Composition, wavelength_nm: float, memory: str = "none") -> "_native.Medium":
     """The native medium of composition ``comp`` at ``wavelength_nm`` (nm, vacuum).
 
-    ``memory`` is the on-the-fly engine's near-surface path memory, 'none' (the classic model)
-    or 'channel' (docs/geometry.md).
+    ``memory`` is the on-the-fly engine's near-surface path memory, 'none' (the classic model),
+    'channel' or 'cut' (docs/geometry.md).
     """
     probs = comp.encounter_probabilities()
     quantiles, aspect, core_n, core_k, core_a, coat_n, coat_a, coat_t = ([] for _ in range(8))

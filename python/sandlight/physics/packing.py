@@ -123,7 +123,7 @@ def grain_medium(size_quantiles_mm, *, aspect_ratio: float = 1.0, n: float = 1.5
     porosity : float
         φ in (0, 1). The mean free path is ℓ = 4φ/[(1 − φ) S/V] with
         S/V = 6 f(ε)/E_enc[D] (splits-model.md §2.1; E_enc[D] the mean of the quantile table).
-    memory : {'none', 'channel'}
+    memory : {'none', 'channel', 'cut'}
         Near-surface path memory of the on-the-fly engine (docs/geometry.md).
     """
     q = np.atleast_1d(np.asarray(size_quantiles_mm, dtype=float))
