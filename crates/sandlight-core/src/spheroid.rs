@@ -88,7 +88,27 @@ impl Spheroid {
     /// Half the grain's extent along z (its support function in z): √(a² + (c² − a²)u_z²).
     #[inline]
     pub fn half_height(&self) -> f64 {
-        (self.a * self.a + (self.c * self.c - self.a * self.a) * self.u.z * self.u.z).sqrt()
+        self.half_height2().sqrt()
+    }
+
+    #[inline]
+    fn half_height2(&self) -> f64 {
+        self.a * self.a + (self.c * self.c - self.a * self.a) * self.u.z * self.u.z
+    }
+
+    /// The highest point (largest z, relative to the centre) where a ray along the unit
+    /// direction `d` can enter: the top of the particle, or for a rising ray (d_z > 0) the top
+    /// of its lit side, whose rim is the shadow terminator (n·d = 0). With x·Mx = 1 the
+    /// surface, max z over x·Md = 0 is √(h² − d_z²ρ_d²): h the half height, ρ_d the radius
+    /// along d (d·Md = 1/ρ_d²).
+    #[inline]
+    pub fn highest_entry(&self, d: Vec3) -> f64 {
+        if d.z <= 0.0 {
+            return self.half_height();
+        }
+        // 1/ρ_d² = |d|²/a² + k (d·u)².
+        let inv_rho2 = d.norm2() * self.inv_a2 + self.k * d.dot(self.u).powi(2);
+        (self.half_height2() - d.z * d.z / inv_rho2).max(0.0).sqrt()
     }
 
     /// Whether the point `x` (relative to the centre) lies strictly inside.
@@ -204,12 +224,29 @@ mod tests {
             let (l, x1) = s.chord_from_surface(h.point, d);
             assert!(l > 0.0 && l <= 2.0 * s.c + 1e-12);
             assert!((f(x1) - 1.0).abs() < 1e-9);
-            // Every surface point lies within the half height, and the extreme one reaches it.
+            // Every surface point lies within the half height, and the extreme one reaches it;
+            // an entry point lies no higher than the top of the lit side.
             assert!(h.point.z.abs() <= s.half_height() * (1.0 + 1e-12));
+            assert!(h.point.z <= s.highest_entry(d) + 1e-12 * s.c);
             assert!(x1.z.abs() <= s.half_height() * (1.0 + 1e-12));
             let z = Vec3::new(0.0, 0.0, 1.0);
             let top = (s.u * (s.c * s.c * s.u.z) + (z - s.u * s.u.z) * (s.a * s.a)) * (1.0 / s.half_height());
             assert!((f(top) - 1.0).abs() < 1e-9 && (top.z - s.half_height()).abs() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn highest_entry_is_reached_by_rising_rays() {
+        let mut rng = Rng::for_ray(9, 0, 0);
+        for _ in 0..20 {
+            let s = Spheroid::new(0.25, 1.6, Spheroid::random_axis(&mut rng));
+            let mut d = Spheroid::random_axis(&mut rng);
+            d.z = d.z.abs().max(0.2);
+            let d = d.normalized();
+            let bound = s.highest_entry(d);
+            let top = (0..20_000).map(|_| s.sample_hit(d, &mut rng, 1000).unwrap().point.z).fold(f64::MIN, f64::max);
+            // Safe (no entry above it) and tight (sampled entries come close: the rim is thin).
+            assert!(top <= bound + 1e-12 && top >= bound - 0.05 * s.c, "{top} vs {bound}");
         }
     }
 

@@ -319,9 +319,9 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             let ptype = &m.types[i];
             let (a_over_d, _) = m.type_tables(i);
             let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
-            // Centre height = z − (hit height) ≥ z − (half height of the grain): above the
-            // plane whatever the hit point if that bound is.
-            if cut_packed && z >= shape.half_height() {
+            // Centre height = z − (hit height) ≥ z − (highest point a ray along d can enter):
+            // above the plane whatever the hit point if that bound is.
+            if cut_packed && z >= shape.highest_entry(d) {
                 continue;
             }
             let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
