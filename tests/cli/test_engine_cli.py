@@ -28,6 +28,17 @@ def test_reflectance_writes_netcdf_csv_and_plot(tmp_path):
     assert png.stat().st_size > 1000
 
 
+def test_reflectance_with_path_memory_and_explicit_geometry(tmp_path):
+    nc = tmp_path / "r.nc"
+    res = runner.invoke(app, ["reflectance", "--preset", "red-dune", "-w", "550", "-n", "3000", "--memory", "cut",
+                              "-o", str(nc)])
+    assert res.exit_code == 0, res.output
+    assert xr.open_dataset(nc, engine="h5netcdf").attrs["memory"] == "cut"
+    for args, needle in [(["--memory", "full"], "memory"), (["--geometry", "packed"], "geometry")]:
+        res = runner.invoke(app, ["reflectance", "--preset", "red-dune", "-w", "550", "-n", "10", *args])
+        assert res.exit_code == 2 and needle in res.output, res.output
+
+
 def test_reflectance_from_a_sample_file(tmp_path):
     f = tmp_path / "s.toml"
     f.write_text('preset = "yellow-dune"\nsaturation = 0.5\n')
@@ -58,6 +69,11 @@ def test_brdf_command(tmp_path):
 
     assert read_netcdf(out).hemisphere.n_patches == 37 and png.exists()
     assert not (tmp_path / "b.nc.checkpoint.npz").exists()
+    cut = tmp_path / "cut.nc"
+    res = runner.invoke(app, ["brdf", "--preset", "red-dune", "-n", "5000", "--stacks", "7", "--slices", "6",
+                              "--memory", "cut", "-o", str(cut)])
+    assert res.exit_code == 0, res.output
+    assert read_netcdf(cut).sample["memory"] == "cut"
 
 
 def test_ctrl_c_stops_a_long_run_cleanly(tmp_path):

@@ -9,7 +9,7 @@ import typer
 from rich.console import Console
 
 from sandlight.cli._app import app
-from sandlight.cli._common import load_sample, parse_count, parse_range, user_errors
+from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count, parse_range, user_errors
 
 console = Console()
 
@@ -33,6 +33,8 @@ def reflectance(
     threads: Optional[int] = typer.Option(None, "--threads", help="Worker threads (default: all cores)."),
     output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write .nc (NetCDF) or .csv."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="Write a PNG plot of the spectrum."),
+    memory: Optional[str] = typer.Option(None, "--memory", help=MEMORY_HELP),
+    geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
 ) -> None:
     """Monte Carlo directional-hemispherical reflectance of a sand sample."""
     from sandlight.engine import reflectance as run
@@ -41,7 +43,8 @@ def reflectance(
         sample = load_sample(sample_file, preset)
         wl, n = parse_range(wavelengths, "--wavelengths"), parse_count(rays, "--rays")
         console.print(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
-        result = run(sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads)
+        result = run(sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory,
+                     geometry=geometry)
         _report(result, output, plot, title=str(sample_file or preset or "red-dune"))
 
 

@@ -9,7 +9,7 @@ import typer
 from rich.console import Console
 
 from sandlight.cli._app import app
-from sandlight.cli._common import load_sample, parse_count, user_errors
+from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count, user_errors
 
 console = Console()
 
@@ -27,6 +27,8 @@ def brdf(
     method: str = typer.Option("average", "--method", help="average (the paper) or pooled."),
     output: Path = typer.Option(Path("brdf.nc"), "-o", "--output", help="NetCDF output."),
     plot: Optional[Path] = typer.Option(None, "--plot", help="PNG: polar map at 30° and principal-plane curves."),
+    memory: Optional[str] = typer.Option(None, "--memory", help=MEMORY_HELP),
+    geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
 ) -> None:
     """Measure the BRDF of a sand sample with the virtual goniophotometer (paper §3.2.1).
 
@@ -38,7 +40,8 @@ def brdf(
     with user_errors():
         sample = load_sample(sample_file, preset)
         result = measure(sample, wavelength, rays=parse_count(rays, "--rays"), stacks=stacks, slices=slices, seed=seed,
-                         threads=threads, method=method, checkpoint=output.with_name(output.name + ".checkpoint.npz"))
+                         threads=threads, method=method, checkpoint=output.with_name(output.name + ".checkpoint.npz"),
+                         memory=memory, geometry=geometry)
         to_netcdf(result, output)
         console.print(f"normal-incidence reflectance {result.normal_reflectance:.4f}; wrote {output}")
         if plot is not None:
