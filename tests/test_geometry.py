@@ -121,6 +121,32 @@ def test_explicit_reflectance_through_the_public_api():
     assert explicit.values[0] > fast.values[0] + 3 * math.hypot(explicit.stderr[0], fast.stderr[0])
 
 
+def test_default_box_grows_to_hold_the_largest_grains():
+    # Grains of 0.3-1.0 mm with a 0.12 mm reference: the 16 x 32 reference-grain box (1.92 mm
+    # across) cannot hold three 1 mm grains; the default grows, a box that is given does not.
+    medium = grain_medium(np.linspace(0.3, 1.0, 8))
+    pk = generate_packing(medium, reference_mm=0.12, seed=3)
+    assert pk.period_mm[0] == pytest.approx(16 * 0.12 * 1.5 ** 2) and pk.period_mm[0] >= 3 * 1.0
+    with pytest.raises(ParameterError, match="lateral_mm/depth_mm"):
+        generate_packing(medium, reference_mm=0.12, lateral_mm=1.92, depth_mm=3.84, seed=3)
+
+
+def test_surface_layer_models_warn_on_wet_sand():
+    import dataclasses
+    import warnings
+
+    import sandlight
+    from sandlight.sample import SandSample
+
+    wet = dataclasses.replace(SandSample.preset("red-dune"), saturation=0.5)
+    with pytest.warns(UserWarning, match="Wet sand"):
+        sandlight.reflectance(wet, [550.0], rays=100, memory="cut", progress=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sandlight.reflectance("red-dune", [550.0], rays=100, memory="cut", progress=False)
+        sandlight.reflectance(wet, [550.0], rays=100, progress=False)
+
+
 def test_bad_geometry_and_memory_are_rejected():
     import sandlight
 

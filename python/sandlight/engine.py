@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -70,6 +71,13 @@ def _check_choice(name, value, allowed):
     return value
 
 
+#: Why the surface-layer models are not for wet sand yet (docs/geometry.md, "Wet sand").
+WET_TOP_LAYER = ("memory='cut' and geometry='explicit' put the flat water surface of a water-filled surface pore at "
+                 "the top of the surface layer, above the highest grain, so with water-filled pores (saturation > 0) "
+                 "they lose more light in the water bands than the classic model; use memory='none' for wet sand "
+                 "(docs/geometry.md, 'Wet sand')")
+
+
 def medium_factory(comp, *, geometry: str = "on-the-fly", memory: str | None = None, packing=None, seed: int = 0):
     """A function of the wavelength (nm) giving the native medium to trace, and the packing.
 
@@ -80,6 +88,8 @@ def medium_factory(comp, *, geometry: str = "on-the-fly", memory: str | None = N
 
     geometry = _check_choice("geometry", geometry, GEOMETRIES)
     memory = _check_choice("memory", DEFAULT_MEMORY if memory is None else memory, MEMORIES)
+    if comp.water_filled_probability > 0 and (memory == "cut" or geometry == "explicit"):
+        warnings.warn(WET_TOP_LAYER, UserWarning, stacklevel=3)
     if geometry == "on-the-fly":
         return (lambda lam: native_medium(comp, lam, memory=memory)), None
     if memory != "none":

@@ -27,6 +27,8 @@ FINES_BELOW_MM = 0.05
 #: Default box: this many reference grains across (x, y) and deep (the z period).
 LATERAL_GRAINS = 16
 DEPTH_GRAINS = 32
+#: How many times a default box may grow by 1.5 to hold the largest grains drawn.
+BOX_GROWTHS = 4
 #: Surfaces of a packing.
 SURFACES = ("cut", "settled")
 #: Default settled layer: the solid of this many reference grains of bulk packing.
@@ -66,7 +68,9 @@ def generate_packing(medium, *, reference_mm: float, lateral_mm=None, depth_mm=N
         A typical packed grain size (mm); sets the default box.
     lateral_mm, depth_mm : float, optional
         Box side in x, y and its height (the period in z), mm. Defaults: 16 and 32 reference
-        grains.
+        grains; when neither is given and the grains drawn include one too large for that box
+        (the generator needs three of the largest across), both grow by factors of 1.5 until
+        they hold it (wide size distributions, e.g. ``wet-beach``).
     seed : int
         Seed of the positions, sizes and orientations.
     fines_below_mm : float
@@ -100,9 +104,19 @@ def generate_packing(medium, *, reference_mm: float, lateral_mm=None, depth_mm=N
     layers = _positive("settled_layers", settled_layers)
     if surface == "settled" and layers * ref > depth:
         raise ParameterError("settled_layers", settled_layers, f"at most the box depth in reference grains ({depth / ref:.4g})")
-    return _native.Packing.generate(medium, lateral, depth, int(seed), _positive("fines_below_mm", fines_below_mm),
-                                    overlap_tolerance=_positive("overlap_tolerance", overlap_tolerance), surface=surface,
-                                    settled_thickness_mm=layers * ref if surface == "settled" else None)
+    fines = _positive("fines_below_mm", fines_below_mm)
+    tolerance = _positive("overlap_tolerance", overlap_tolerance)
+    grow = lateral_mm is None and depth_mm is None
+    for attempt in range(BOX_GROWTHS + 1):
+        try:
+            return _native.Packing.generate(medium, lateral, depth, int(seed), fines, overlap_tolerance=tolerance,
+                                            surface=surface,
+                                            settled_thickness_mm=layers * ref if surface == "settled" else None)
+        except ParameterError as e:
+            # The box check comes before the packing is relaxed, so a retry costs little.
+            if not (grow and e.name == "lateral_mm/depth_mm" and attempt < BOX_GROWTHS):
+                raise
+            lateral, depth = 1.5 * lateral, 1.5 * depth
 
 
 def grain_medium(size_quantiles_mm, *, aspect_ratio: float = 1.0, n: float = 1.544, alpha_per_mm: float = 0.0,
