@@ -46,7 +46,7 @@ from sandlight import _native
 from sandlight.machine import describe
 from sandlight.physics.composition import compose
 from sandlight.physics.medium import native_medium
-from sandlight.physics.packing import generate_packing, grain_medium, reference_grain_mm
+from sandlight.physics.packing import generate_packing, grain_medium, grains_with_fines, reference_grain_mm
 from sandlight.physics.sizes import SizeDistribution
 from sandlight.sample import SandSample
 
@@ -223,15 +223,6 @@ def run_brdf(scale, threads, packing):
     return body
 
 
-def grains_with_fines(n_sand, alpha_sand_per_mm, alpha_fines_per_mm, memory="none", d=0.25, phi=0.40):
-    """Monodisperse grains with 2 µm fines that make 90 % of the encounters (dry, n_fines 1.55):
-    light is scattered many times inside each pore before it meets a grain."""
-    ell = 2.0 / 3.0 * d * phi / (1 - phi) * 0.1
-    return _native.Medium.particulate([0.1, 0.9], [[d], [0.002]], [1.0, 1.0], [n_sand, 1.55], [0.0, 0.0],
-                                      [alpha_sand_per_mm, alpha_fines_per_mm], [1.0, 1.0], [0.0, 0.0], [0.0, 0.0],
-                                      ell, 1.333, 0.0, 0.0, 0.0, math.inf, memory=memory)
-
-
 def run_diagnostics(scale, threads):
     """Diagnostics of what the memories capture (docs/geometry.md): escape by scattering order
     for monodisperse spheres at α = 5 cm⁻¹, grains with fines, where the next grain is met
@@ -253,18 +244,19 @@ def run_diagnostics(scale, threads):
         lines.append(f"| {label} | " + " | ".join(f"{v:.4f}" for v in cum) + " |")
         print(f"orders {label}: " + " ".join(f"{v:.4f}" for v in cum), flush=True)
     rays = int(100_000 * scale)
-    pk = generate_packing(grains_with_fines(1.544, 0.0, 0.0), reference_mm=d, seed=1)
+    pk = generate_packing(grains_with_fines(), reference_mm=d, seed=1)
     lines += ["", f"Grains (d = 0.25 mm, φ = 0.40) with 2 µm fines making 90 % of the encounters "
                   f"({rays:,} rays per run, one packing of seed 1); α in mm⁻¹ (1 mm⁻¹ = 10 cm⁻¹). "
                   "Δ relative to explicit.\n",
               "| grains | α grains | α fines | explicit | none | Δ | channel | Δ | cut | Δ |",
               "|---|---|---|---|---|---|---|---|---|---|"]
     for n_sand, a_sand, a_fines in ((1.0001, 0.0, 5.0), (1.544, 0.0, 5.0), (1.544, 0.5, 5.0), (1.544, 0.5, 0.0)):
-        ref = dhr(grains_with_fines(n_sand, a_sand, a_fines).explicit(pk), rays, threads)
+        fines = dict(n=n_sand, alpha_per_mm=a_sand, fines_alpha_per_mm=a_fines)
+        ref = dhr(grains_with_fines(**fines).explicit(pk), rays, threads)
         cells = [("index-matched (n = 1.0001)" if n_sand < 1.01 else f"n = {n_sand:g}"), f"{a_sand:g}", f"{a_fines:g}",
                  fmt(*ref[:2])]
         for mem in MEMORIES:
-            v = dhr(grains_with_fines(n_sand, a_sand, a_fines, memory=mem), rays, threads)
+            v = dhr(grains_with_fines(**fines, memory=mem), rays, threads)
             mark = "" if within_target(v[0], ref[0]) else " ✗"
             cells += [fmt(*v[:2]), f"{100 * (v[0] / ref[0] - 1):+.1f} %{mark}"]
         lines.append("| " + " | ".join(cells) + " |")

@@ -10,7 +10,7 @@ import pytest
 
 from sandlight import _native
 from sandlight.errors import ParameterError
-from sandlight.physics.packing import generate_packing, grain_medium
+from sandlight.physics.packing import generate_packing, grain_medium, grains_with_fines
 
 pytestmark = pytest.mark.skipif(not hasattr(_native, "Packing"), reason="native extension without explicit geometry")
 
@@ -81,10 +81,8 @@ def test_path_memory_meets_the_target_on_dark_grains(spheres):
 def _grains_with_fines(memory="none"):
     """Grains (d = 0.25 mm, α = 5 cm⁻¹) with fines (2 µm, α = 50 cm⁻¹) that make 90 % of the
     encounters: light is scattered many times inside each pore."""
-    ell = 2.0 / 3.0 * D_MM * POROSITY / (1 - POROSITY) * 0.1
-    return _native.Medium.particulate([0.1, 0.9], [[D_MM], [0.002]], [1.0, 1.0], [1.544, 1.55], [0.0, 0.0], [0.5, 5.0],
-                                      [1.0, 1.0], [0.0, 0.0], [0.0, 0.0], ell, 1.333, 0.0, 0.0, 0.0, math.inf,
-                                      memory=memory)
+    return grains_with_fines(alpha_per_mm=0.5, fines_alpha_per_mm=5.0, diameter_mm=D_MM, porosity=POROSITY,
+                             memory=memory)
 
 
 def test_path_memory_meets_the_target_with_fines():

@@ -47,6 +47,15 @@ pub enum Memory {
     Cut,
 }
 
+/// The first i with u < cumulative[i] (the last index if none), for non-decreasing cumulative
+/// probabilities: counted without branches, it is the number of them ≤ u (an entry equal to
+/// its predecessor, a type of zero probability, is never picked).
+#[inline]
+pub fn pick_cumulative(cumulative: &[f64], u: f64) -> usize {
+    let n = cumulative.len();
+    cumulative[..n - 1].iter().map(|&c| (u >= c) as usize).sum()
+}
+
 /// Sand: a half-space (or slab) of randomly packed particles, generated on the fly.
 ///
 /// Per-type tables (cumulative probabilities, a/d, layer stacks) are derived from `types` and
@@ -116,10 +125,7 @@ impl Particulate {
     /// Index of the type of the next particle, for a uniform `u` in [0, 1).
     #[inline]
     pub fn pick_index(&self, u: f64) -> usize {
-        // The first i with u < cumulative[i] (the last type if none), counted without branches:
-        // the cumulative probabilities are non-decreasing, so it is the number of them ≤ u.
-        let n = self.cumulative.len();
-        self.cumulative[..n - 1].iter().map(|&c| (u >= c) as usize).sum()
+        pick_cumulative(&self.cumulative, u)
     }
 
     /// The type of the next particle and its a/d, for a uniform `u` in [0, 1).

@@ -16,7 +16,7 @@
 //! `BINS` slices of height (the rate falls with z, so its value at a slice's floor bounds the
 //! slice), and candidates are thinned to the rate at their own height.
 
-use crate::medium::{ParticleType, Particulate};
+use crate::medium::{pick_cumulative, ParticleType, Particulate};
 use crate::rng::Rng;
 
 #[derive(Clone, Debug)]
@@ -171,9 +171,7 @@ impl SurfaceLayer {
         if rng.uniform() >= self.keep(z) / slice.keep {
             return None;
         }
-        let u = rng.uniform();
-        let n = slice.cumulative.len();
-        let i = slice.cumulative[..n - 1].iter().map(|&c| (u >= c) as usize).sum();
+        let i = pick_cumulative(&slice.cumulative, rng.uniform());
         // Grains that cannot reach the slice floor are left out of the majorant: draw the
         // size from the rest of the table.
         let lo = slice.level[i];

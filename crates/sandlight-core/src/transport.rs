@@ -295,10 +295,10 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             (g, Hit { point: rel, normal: g.shape.normal_at(rel) })
         } else {
             // The cut plane: fines only below it; packed grains only with centres below it, in
-            // a top layer of widening pore space. The tests that need no hit point come first
-            // (drawing a hit is the dear part).
-            // A candidate of a flight drawn against the layer's majorant, still above the plane,
-            // or one drawn at the bulk rate (thinned where the layer has fewer grains).
+            // a top layer of widening pore space. A candidate comes from a flight drawn against
+            // the layer's majorant (still above the plane) or at the bulk rate (thinned where
+            // the layer has fewer grains); the tests that need no hit point come first (drawing
+            // a hit is the dear part).
             let (i, diameter) = match layer.filter(|_| z > 0.0) {
                 Some(sf) => match sf.candidate_above_plane(&m.types, z, rng) {
                     Some(c) => c,
@@ -343,6 +343,8 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             return done(Fate::Capped, events);
         }
         let i = grain.type_index;
+        // A packed grain of the cut-plane model (not a fine particle): it bounds the pore.
+        let packed = surface.is_some_and(|sf| sf.packed[i]);
         let (_, stacks) = m.type_tables(i);
         match interact_with_stacks(&m.types[i].optics, stacks, pore, &grain.shape, hit, d, water, rng, limits.max_internal) {
             Interaction::Reflected { dir } => {
@@ -358,7 +360,6 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
                 // pore whose walls are remembered: unless that is inside a wall, then it leaves
                 // where it hit, as in the explicit reference).
                 let moved = Vec3::new(x + exit_point.x - hit.point.x, y + exit_point.y - hit.point.y, (z + (exit_point.z - hit.point.z)).min(top));
-                let packed = surface.is_some_and(|sf| sf.packed[i]);
                 if packed || !walls.contain(moved) {
                     (x, y, z) = (moved.x, moved.y, moved.z);
                 }
@@ -380,7 +381,7 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             Interaction::Absorbed => return done(Fate::Absorbed, events),
             Interaction::Capped => return done(Fate::Capped, events),
         }
-        if surface.is_some_and(|sf| sf.packed[i]) {
+        if packed {
             walls.add(grain);
         }
         prev = Some(grain);
