@@ -24,7 +24,7 @@ from sandlight.physics.medium import native_medium
 
 DEFAULT_MAX_EVENTS = 10_000_000
 GEOMETRIES = ("on-the-fly", "explicit")
-MEMORIES = ("none", "channel", "cut")
+MEMORIES = ("none", "channel", "cut", "packed")
 #: Path memory of the on-the-fly engine when none is asked for (docs/geometry.md).
 DEFAULT_MEMORY = "none"
 MAX_INTERNAL_REFLECTIONS = 10_000
@@ -88,7 +88,7 @@ def medium_factory(comp, *, geometry: str = "on-the-fly", memory: str | None = N
 
     geometry = _check_choice("geometry", geometry, GEOMETRIES)
     memory = _check_choice("memory", DEFAULT_MEMORY if memory is None else memory, MEMORIES)
-    if comp.water_filled_probability > 0 and (memory == "cut" or geometry == "explicit"):
+    if comp.water_filled_probability > 0 and (memory in ("cut", "packed") or geometry == "explicit"):
         warnings.warn(WET_TOP_LAYER, UserWarning, stacklevel=3)
     if geometry == "on-the-fly":
         return (lambda lam: native_medium(comp, lam, memory=memory)), None
@@ -240,10 +240,10 @@ def reflectance(sample, wavelengths_nm, *, rays, incidence_deg: float = 0.0, see
         slow reference: rays traced through a stored random dense packing of the sample's own
         grains with the same per-particle physics; docs/geometry.md). With 'explicit',
         ``counts["transmitted"]`` counts rays that went below a finite sample.
-    memory : {'none', 'channel', 'cut'}, optional
-        Near-surface path memory of the on-the-fly engine (default ``DEFAULT_MEMORY``);
-        must be 'none' for explicit geometry. 'cut' is the closest to the explicit reference
-        for dark and fines-rich sand (docs/geometry.md).
+    memory : {'none', 'channel', 'cut', 'packed'}, optional
+        Path memory of the on-the-fly engine (default ``DEFAULT_MEMORY``); must be 'none' for
+        explicit geometry. 'packed' (the cut surface, the pore's walls and the packing's pair
+        correlation) is the closest to the explicit reference (docs/geometry.md).
     packing : sandlight._native.Packing, optional
         A packing to trace (explicit geometry); generated from ``seed`` when None.
 

@@ -17,6 +17,7 @@ pub mod layers;
 pub mod math;
 pub mod medium;
 pub mod packing;
+pub mod pair_correlation;
 pub mod particle;
 pub mod render;
 pub mod rng;

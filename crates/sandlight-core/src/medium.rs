@@ -5,6 +5,7 @@
 use crate::error::{check_range, SandlightError};
 use crate::particle::{Coating, ParticleOptics, PoreOptics, Stacks};
 use crate::sizes::QuantileTable;
+use crate::pair_correlation::PairCorrelation;
 use crate::surface_layer::SurfaceLayer;
 
 /// One kind of particle in a sand sample.
@@ -45,6 +46,10 @@ pub enum Memory {
     /// ray remembers the packed grains that bound the pore it is in (its walls) until it goes
     /// through one of them.
     Cut,
+    /// `Cut` plus the packing's pair correlation: a packed sphere met after leaving a packed
+    /// sphere is hit where the pair correlation g of packed grains puts it relative to the one
+    /// left (no overlap, contacts), instead of uniformly over its shadow (`PairCorrelation`).
+    Packed,
 }
 
 /// The first i with u < cumulative[i] (the last index if none), for non-decreasing cumulative
@@ -73,8 +78,10 @@ pub struct Particulate {
     pub depth_mm: f64,
     /// Near-surface path memory (`Memory::None` unless set by `with_memory`).
     pub memory: Memory,
-    /// The cut-plane top layer, for `Memory::Cut`.
+    /// The cut-plane top layer, for `Memory::Cut` and `Memory::Packed`.
     pub surface: Option<SurfaceLayer>,
+    /// The pair correlation of the packed grains, for `Memory::Packed`.
+    pub neighbours: Option<PairCorrelation>,
 }
 
 impl Particulate {
@@ -112,13 +119,16 @@ impl Particulate {
         let cumulative = types.iter().map(|t| { acc += t.probability / total; acc }).collect();
         let a_over_d = types.iter().map(ParticleType::a_over_d).collect();
         let stacks = types.iter().map(|t| Stacks::tabulated(&t.optics, &pore)).collect();
-        Ok(Particulate { types, cumulative, a_over_d, stacks, mean_free_path_mm, pore, depth_mm, memory: Memory::None, surface: None })
+        Ok(Particulate { types, cumulative, a_over_d, stacks, mean_free_path_mm, pore, depth_mm, memory: Memory::None, surface: None, neighbours: None })
     }
 
     /// The same medium traced with path memory `memory`.
     pub fn with_memory(mut self, memory: Memory) -> Particulate {
         self.memory = memory;
-        self.surface = (memory == Memory::Cut).then(|| SurfaceLayer::of(&self));
+        self.surface = matches!(memory, Memory::Cut | Memory::Packed).then(|| SurfaceLayer::of(&self));
+        // Only spheres have a pair correlation here (docs/geometry.md): none packed, none needed.
+        let packed_spheres = self.surface.as_ref().is_some_and(|s| self.types.iter().zip(&s.packed).any(|(t, &p)| p && t.aspect_ratio == 1.0));
+        self.neighbours = self.surface.as_ref().filter(|_| memory == Memory::Packed && packed_spheres).map(|s| PairCorrelation::at_packing_fraction(s.packed_fraction));
         self
     }
 

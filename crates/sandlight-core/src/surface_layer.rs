@@ -25,6 +25,8 @@ pub struct SurfaceLayer {
     pub top_mm: f64,
     /// Whether each type is packed (the others are fines).
     pub packed: Vec<bool>,
+    /// η_c, the bulk volume fraction of the packed grains.
+    pub packed_fraction: f64,
     /// φ_c,bulk/φ_c(z) at z = −top + 2 top·j/(N − 1).
     keep: Vec<f64>,
     /// The slices of height above the plane, bottom first.
@@ -82,7 +84,7 @@ impl SurfaceLayer {
                 (1.0 - eta) / (1.0 - eta * f)
             })
             .collect();
-        let mut layer = SurfaceLayer { top_mm: top, packed: pops.packed, keep, slices: Vec::new(), hazard: Vec::new(), lookup: Vec::new() };
+        let mut layer = SurfaceLayer { top_mm: top, packed: pops.packed, packed_fraction: eta, keep, slices: Vec::new(), hazard: Vec::new(), lookup: Vec::new() };
         layer.slices = (0..Self::BINS).map(|j| layer.slice(m, j as f64 * top / Self::BINS as f64)).collect();
         let h = top / Self::BINS as f64;
         layer.hazard = std::iter::once(0.0)

@@ -67,7 +67,7 @@ impl Medium for Particulate {
     fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
         match self.memory {
             Memory::None => trace_classic(self, dir_in, rng, limits),
-            Memory::Channel | Memory::Cut => trace_with_memory(self, dir_in, rng, limits),
+            Memory::Channel | Memory::Cut | Memory::Packed => trace_with_memory(self, dir_in, rng, limits),
         }
     }
 }
@@ -203,7 +203,9 @@ impl PoreWalls {
 /// it goes through one into another pore: light scattered many times by fines inside a pore
 /// meets the same walls again, where memoryless sampling would give each wall encounter a
 /// fresh grain at a fresh distance (the failure of chord-length sampling for binary mixtures
-/// whose chunks are optically thick; docs/geometry.md).
+/// whose chunks are optically thick; docs/geometry.md). With `Memory::Packed` a packed sphere met
+/// after leaving a packed sphere is hit where the packing's pair correlation puts it relative to
+/// the one left (`PairCorrelation`).
 fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
     let pore = &m.pore;
     let ell = m.mean_free_path_mm;
@@ -324,8 +326,20 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             if cut_packed && z >= shape.highest_entry(d) {
                 continue;
             }
-            let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
-                return done(Fate::Capped, events);
+            // `Packed`: a packed sphere met after leaving one lies where the packing's pair
+            // correlation puts it (the flight length keeps its law).
+            let neighbour = m.neighbours.as_ref().zip(prev).filter(|(_, a)| {
+                cut_packed && ptype.aspect_ratio == 1.0 && m.types[a.type_index].aspect_ratio == 1.0 && surface.is_some_and(|sf| sf.packed[a.type_index])
+            });
+            let hit = match neighbour {
+                Some((g, a)) => {
+                    let n = g.sample_normal(here - a.centre, d, shape.a, shape.a + a.shape.a, rng);
+                    Hit { point: n * shape.a, normal: n }
+                }
+                None => match shape.sample_hit(d, rng, 10_000) {
+                    Some(hit) => hit,
+                    None => return done(Fate::Capped, events),
+                },
             };
             let centre = here - hit.point;
             if cut_packed && centre.z >= 0.0 {

@@ -91,7 +91,8 @@ impl PyMedium {
                 "none" => Memory::None,
                 "channel" => Memory::Channel,
                 "cut" => Memory::Cut,
-                other => return Err(SandlightError::parameter("memory", other, "'none', 'channel' or 'cut'")),
+                "packed" => Memory::Packed,
+                other => return Err(SandlightError::parameter("memory", other, "'none', 'channel', 'cut' or 'packed'")),
             };
             Ok(Particulate::new(types, mean_free_path_mm, pore, depth_mm)?.with_memory(memory))
         };

@@ -14,8 +14,8 @@ from sandlight.errors import SandlightError
 err_console = Console(stderr=True)
 
 #: Help of the --memory and --geometry options of the commands that trace rays.
-MEMORY_HELP = ("Near-surface path memory of the fast engine: none (the classic model, default), channel, or cut "
-               "(closest to the explicit reference for dark or fines-rich sand; docs/geometry.md).")
+MEMORY_HELP = ("Path memory of the fast engine: none (the classic model, default), channel, cut, or packed "
+               "(closest to the explicit reference; docs/geometry.md).")
 GEOMETRY_HELP = "on-the-fly (fast, default) or explicit (the slow reference: a stored packing; docs/geometry.md)."
 
 

@@ -28,7 +28,7 @@ def native_medium(comp: Composition, wavelength_nm: float, memory: str = "none")
     """The native medium of composition ``comp`` at ``wavelength_nm`` (nm, vacuum).
 
     ``memory`` is the on-the-fly engine's near-surface path memory, 'none' (the classic model),
-    'channel' or 'cut' (docs/geometry.md).
+    'channel', 'cut' or 'packed' (docs/geometry.md).
     """
     probs = comp.encounter_probabilities()
     quantiles, aspect, core_n, core_k, core_a, coat_n, coat_a, coat_t = ([] for _ in range(8))

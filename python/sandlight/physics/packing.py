@@ -120,7 +120,7 @@ def generate_packing(medium, *, reference_mm: float, lateral_mm=None, depth_mm=N
 
 
 def grain_medium(size_quantiles_mm, *, aspect_ratio: float = 1.0, n: float = 1.544, alpha_per_mm: float = 0.0,
-                 porosity: float = 0.40, memory: str = "none") -> "_native.Medium":
+                 porosity: float = 0.40, memory: str = "none", depth_mm: float = math.inf) -> "_native.Medium":
     """A dry medium of one grain population with given optics (the test media of issue 9).
 
     Parameters
@@ -137,9 +137,14 @@ def grain_medium(size_quantiles_mm, *, aspect_ratio: float = 1.0, n: float = 1.5
     porosity : float
         φ in (0, 1). The mean free path is ℓ = 4φ/[(1 − φ) S/V] with
         S/V = 6 f(ε)/E_enc[D] (splits-model.md §2.1; E_enc[D] the mean of the quantile table).
-    memory : {'none', 'channel', 'cut'}
+    memory : {'none', 'channel', 'cut', 'packed'}
         Near-surface path memory of the on-the-fly engine (docs/geometry.md).
+    depth_mm : float
+        Thickness of the sample, mm (> 0; default infinite): rays that get deeper are counted as
+        transmitted. With ``memory='cut'`` or ``'packed'`` it is measured from the cut plane, as for an explicit
+        sample cut off with ``medium.explicit(packing, depth_mm)``.
     """
+    depth = math.inf if depth_mm == math.inf else _positive("depth_mm", depth_mm, "a finite number > 0, or math.inf")
     q = np.atleast_1d(np.asarray(size_quantiles_mm, dtype=float))
     phi = float(porosity)
     if not (0.0 < phi < 1.0):
@@ -149,7 +154,7 @@ def grain_medium(size_quantiles_mm, *, aspect_ratio: float = 1.0, n: float = 1.5
     ell = 4.0 * phi / ((1.0 - phi) * s_over_v)
     return _native.Medium.particulate(
         [1.0], [q.tolist()], [float(aspect_ratio)], [float(n)], [0.0], [float(alpha_per_mm)], [1.0], [0.0], [0.0],
-        ell, 1.333, 0.0, 0.0, 0.0, math.inf, memory=memory)
+        ell, 1.333, 0.0, 0.0, 0.0, depth, memory=memory)
 
 
 def grains_with_fines(*, n: float = 1.544, alpha_per_mm: float = 0.0, fines_alpha_per_mm: float = 0.0,
@@ -167,7 +172,7 @@ def grains_with_fines(*, n: float = 1.544, alpha_per_mm: float = 0.0, fines_alph
     diameter_mm, porosity : float
         The grains' diameter and the sample's porosity φ: the grains alone would have the mean
         free path (2/3)·d·φ/(1 − φ), and the fines make it ten times shorter.
-    memory : {'none', 'channel', 'cut'}
+    memory : {'none', 'channel', 'cut', 'packed'}
         Near-surface path memory of the on-the-fly engine.
     """
     ell = 2.0 / 3.0 * diameter_mm * porosity / (1 - porosity) * 0.1
