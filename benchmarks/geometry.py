@@ -4,7 +4,8 @@ a test.
 For each sample (default: issue 9's monodisperse spheres at α = 5 cm⁻¹, and the ``red-dune``
 preset at 550 nm) it traces the same rays (same seed, normal incidence) with
 
-* the on-the-fly engine, ``memory="none"`` (the classic model) and ``memory="cut"``,
+* the on-the-fly engine, ``memory="none"`` (the classic model), ``memory="cut"`` and
+  ``memory="packed"``,
 * the explicit reference (packing generated with the default box and seed 1),
 
 each in a fresh Python process, and prints rays per second (best of ``--repeats`` runs), the
@@ -87,16 +88,18 @@ def main(argv=None):
     for sample in args.samples:
         label = "monodisperse spheres d = 0.25 mm, φ = 0.40, α = 5 cm⁻¹" if sample == "spheres" else f"{sample}, 550 nm"
         print(f"\n{label}")
-        rows = {mode: run(sample, mode, args.rays, args.repeats, args.threads) for mode in ("none", "cut", "explicit")}
+        rows = {mode: run(sample, mode, args.rays, args.repeats, args.threads)
+                for mode in ("none", "cut", "packed", "explicit")}
         for mode, r in rows.items():
-            name = {"none": "on-the-fly (memory none)", "cut": "on-the-fly (memory cut)", "explicit": "explicit"}[mode]
+            name = "explicit" if mode == "explicit" else f"on-the-fly (memory {mode})"
             extra = (f", packing {r['packing_s']:.1f} s, {r['grains']} grains, scene {r['scene_bytes'] / 2**20:.1f} MiB"
                      if mode == "explicit" else "")
             print(f"  {name:26s} {r['rays_per_s']:12,.0f} rays/s  ρ = {r['reflectance']:.4f}  "
                   f"{r['events_per_ray']:.1f} events/ray  peak RSS +{r['peak_rss_gain_mb']:.1f} MB{extra}")
-        n, e, c = rows["none"], rows["explicit"], rows["cut"]
+        n, e, c, p = rows["none"], rows["explicit"], rows["cut"], rows["packed"]
         print(f"  speed on-the-fly / explicit: {n['rays_per_s'] / e['rays_per_s']:.2f}; "
-              f"memory cut / none: {c['rays_per_s'] / n['rays_per_s']:.2f} of the speed; "
+              f"memory cut / none: {c['rays_per_s'] / n['rays_per_s']:.2f}, packed / none: "
+              f"{p['rays_per_s'] / n['rays_per_s']:.2f} of the speed; "
               f"peak RSS gain explicit / on-the-fly: {e['peak_rss_gain_mb'] / max(n['peak_rss_gain_mb'], 0.1):.1f}")
     print(f"\nload average after: {load_average()}")
 
