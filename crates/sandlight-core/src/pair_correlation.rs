@@ -4,7 +4,8 @@
 //!
 //! In a Boolean model the grain met after a flight is hit at a point uniform over its shadow,
 //! independently of the grain the flight started from. In a packing the two are correlated:
-//! they cannot overlap, and a fifth of the pairs of neighbours touch (the contact peak of g).
+//! they cannot overlap, and about 5 of a grain's neighbours touch it at η = 0.60 (the contact
+//! peak of g).
 //! The flight length keeps its exponential law (it holds in the packing); only where the grain
 //! met is hit changes: the uniform law is weighted by g(|c_B − c_A|/σ), c_A and c_B the two
 //! centres and σ their contact distance.
@@ -22,8 +23,10 @@ const TABLE: &str = include_str!("../data/pair_correlation.txt");
 /// contact, 1 beyond the grid).
 #[derive(Clone, Debug)]
 pub struct PairCorrelation {
-    /// Weight of the contact peak, ∫ g dx over it: z/(24η), since 4πρσ³ = 24η for spheres of
-    /// diameter σ at number density ρ = 6η/(πσ³).
+    /// The packing fraction η (clamped to the table).
+    eta: f64,
+    /// Weight of the contact peak, ∫ g x² dx over it (with `CONTACT_BAND`): contacts per grain
+    /// over 24η, since 4πρσ³ = 24η for spheres of diameter σ at number density ρ = 6η/(πσ³).
     contact: f64,
     x0: f64,
     dx: f64,
@@ -94,12 +97,12 @@ impl PairCorrelation {
             let level = (0..smooth.len()).map(|k| prev[k].max(*prev.get(k + half).unwrap_or(&prev[k]))).collect();
             range_max.push(level);
         }
-        PairCorrelation { contact, x0, dx, smooth, range_max }
+        PairCorrelation { eta: e, contact, x0, dx, smooth, range_max }
     }
 
-    /// Contacts per grain, z.
-    pub fn contacts_per_grain(&self, eta: f64) -> f64 {
-        self.contact * 24.0 * eta
+    /// Contacts per grain, those within `CONTACT_BAND` included.
+    pub fn contacts_per_grain(&self) -> f64 {
+        self.contact * 24.0 * self.eta
     }
 
     /// The smooth part of g at x = r/σ (the contact peak excluded).
@@ -259,7 +262,7 @@ mod tests {
         };
         let (e0, z0, g0) = (rows[0].eta, rows[0].z, &rows[0].g);
         let at = PairCorrelation::at_packing_fraction(e0);
-        assert!((at.contact - peak(z0, e0, g0)).abs() < 1e-12 && at.contacts_per_grain(e0) > z0);
+        assert!((at.contact - peak(z0, e0, g0)).abs() < 1e-12 && at.contacts_per_grain() > z0);
         assert_eq!(at.smooth(1.0 + 0.5 * CONTACT_BAND), 0.0, "the band is in the peak");
         assert!(at.smooth(1.0 + 1.5 * CONTACT_BAND) > 1.0);
         // Clamped below the table, interpolated inside it.
