@@ -91,6 +91,14 @@ def packing_report(pk, d_mm=None, porosity=None, medium=None, threads=None, rays
     return row
 
 
+def sphere_model(label, packing, depth_mm=math.inf, **optics):
+    """Issue 9's monodisperse spheres (d = 0.25 mm, φ = 0.40) traced through ``packing``
+    (label 'explicit') or on the fly with memory ``label``; ``optics``: grain_medium's."""
+    if label == "explicit":
+        return grain_medium([0.25], **optics).explicit(packing, depth_mm)
+    return grain_medium([0.25], memory=label, depth_mm=depth_mm, **optics)
+
+
 def run_case(name, make_medium, packing, rays, threads, label):
     """One line of a table: explicit and on-the-fly values."""
     out = {"case": name, "label": label}
@@ -183,10 +191,8 @@ def run_brdf(scale, threads, packing):
 
     rays = int(4_000_000 * scale)
     alpha = 5.0  # 50 cm⁻¹
-    models = {"explicit": grain_medium([0.25], alpha_per_mm=alpha).explicit(packing),
-              "on-the-fly, memory none": grain_medium([0.25], alpha_per_mm=alpha),
-              "on-the-fly, memory cut": grain_medium([0.25], alpha_per_mm=alpha, memory="cut"),
-              "on-the-fly, memory packed": grain_medium([0.25], alpha_per_mm=alpha, memory="packed")}
+    models = {(label if label == "explicit" else f"on-the-fly, memory {label}"):
+              sphere_model(label, packing, alpha_per_mm=alpha) for label in ("explicit", "none", "cut", "packed")}
     fig, axes = plt.subplots(1, 3, figsize=(13, 4), sharey=True)
     rows = []
     for ax, theta in zip(axes, (0.0, 30.0, 60.0)):
@@ -236,8 +242,7 @@ def run_diagnostics(scale, threads):
              "fraction of rays that escape after at most k events (runs capped at k events).\n",
              "| model | k = 1 | 2 | 3 | 4 | 6 | 10 | all |", "|---|---|---|---|---|---|---|---|"]
     for label in ("explicit", "none", "cut", "packed"):
-        m = grain_medium([d], alpha_per_mm=0.5).explicit(pk) if label == "explicit" else \
-            grain_medium([d], alpha_per_mm=0.5, memory=label)
+        m = sphere_model(label, pk, alpha_per_mm=0.5)
         cum = []
         for k in orders:
             c = m.dhr(0.0, 1, 0, 0, rays, k, MAX_INTERNAL, threads)
@@ -278,7 +283,6 @@ def run_diagnostics(scale, threads):
 def slab_rows(pk, scale, threads, depths_mm=(1.0, 3.0)):
     """Transmission of non-absorbing slabs of monodisperse spheres: how far light diffuses in the
     packing and on the fly, free of absorption and of the surface's single scattering."""
-    d = 0.25
     rays = int(400_000 * scale)
     lines = ["", f"Non-absorbing slabs of monodisperse spheres (α = 0), normal incidence, {rays:,} rays per run: "
                  "transmittance T (rays deeper than the slab) and events per ray. Thickness from the cut "
@@ -288,8 +292,7 @@ def slab_rows(pk, scale, threads, depths_mm=(1.0, 3.0)):
     for depth in depths_mm:
         values, events = {}, {}
         for label in ("explicit", "none", "cut", "packed"):
-            m = grain_medium([d]).explicit(pk, depth) if label == "explicit" else \
-                grain_medium([d], memory=label, depth_mm=depth)
+            m = sphere_model(label, pk, depth_mm=depth)
             c = m.dhr(0.0, 1, 0, 0, rays, MAX_EVENTS, MAX_INTERNAL, threads)
             t = c[3] / c[0]
             values[label], events[label] = (t, math.sqrt(t * (1 - t) / c[0])), c[5] / c[0]

@@ -127,7 +127,7 @@ impl Particulate {
         self.memory = memory;
         self.surface = matches!(memory, Memory::Cut | Memory::Packed).then(|| SurfaceLayer::of(&self));
         // Only spheres have a pair correlation here (docs/geometry.md): none packed, none needed.
-        let packed_spheres = self.surface.as_ref().is_some_and(|s| self.types.iter().zip(&s.packed).any(|(t, &p)| p && t.aspect_ratio == 1.0));
+        let packed_spheres = (0..self.types.len()).any(|i| self.is_packed_sphere(i));
         self.neighbours = self.surface.as_ref().filter(|_| memory == Memory::Packed && packed_spheres).map(|s| PairCorrelation::at_packing_fraction(s.packed_fraction));
         self
     }
@@ -143,6 +143,13 @@ impl Particulate {
     pub fn pick_type(&self, u: f64) -> (&ParticleType, f64) {
         let i = self.pick_index(u);
         (&self.types[i], self.a_over_d[i])
+    }
+
+    /// Whether type `i` is a packed grain of the cut-plane model (not a fine particle) and a
+    /// sphere: the grains the pair correlation of `Memory::Packed` describes.
+    #[inline]
+    pub fn is_packed_sphere(&self, i: usize) -> bool {
+        self.surface.as_ref().is_some_and(|s| s.packed[i]) && self.types[i].aspect_ratio == 1.0
     }
 
     /// a/d and layer stacks of type `i` (as returned by `pick_index`).

@@ -34,7 +34,7 @@
 
 use crate::error::SandlightError;
 use crate::math::Vec3;
-use crate::medium::Particulate;
+use crate::medium::{pick_cumulative, Particulate};
 use crate::rng::Rng;
 use crate::spheroid::{equatorial_ratio, Spheroid};
 
@@ -110,9 +110,10 @@ pub struct Populations {
     pub packed: Vec<bool>,
     /// Number-weighted size table per type: sizes at stratified levels with cumulative weights.
     number_sizes: Vec<(Vec<f64>, Vec<f64>)>,
-    /// Indices of the packed types and their relative numbers Nᵢ ∝ vᵢ/⟨V⟩ₙ,ᵢ.
+    /// Indices of the packed types and the cumulative distribution of their numbers,
+    /// Nᵢ ∝ vᵢ/⟨V⟩ₙ,ᵢ.
     packed_types: Vec<usize>,
-    number_weights: Vec<f64>,
+    number_cumulative: Vec<f64>,
 }
 
 impl Populations {
@@ -144,8 +145,11 @@ impl Populations {
             sizes.iter().zip(cum).map(|(d, c)| { let w = c - prev; prev = *c; w * d * d * d }).sum::<f64>() * std::f64::consts::PI / 6.0
         };
         let packed_types: Vec<usize> = (0..packed.len()).filter(|&i| packed[i]).collect();
-        let number_weights = packed_types.iter().map(|&i| volume_fraction[i] / mean_volume(i)).collect();
-        Populations { porosity: x / (1.0 + x), volume_fraction, packed, number_sizes, packed_types, number_weights }
+        let weights: Vec<f64> = packed_types.iter().map(|&i| volume_fraction[i] / mean_volume(i)).collect();
+        let wsum: f64 = weights.iter().sum();
+        let mut acc = 0.0;
+        let number_cumulative = weights.iter().map(|w| { acc += w / wsum; acc }).collect();
+        Populations { porosity: x / (1.0 + x), volume_fraction, packed, number_sizes, packed_types, number_cumulative }
     }
 
     /// Fraction of the total volume filled by the packed types: (1 − φ) Σ_packed vᵢ.
@@ -163,15 +167,7 @@ impl Populations {
     /// and a uniformly random orientation; the centre is left at the origin. Needs at least
     /// one packed type.
     pub fn draw_grain(&self, rng: &mut Rng) -> PackedParticle {
-        let wsum: f64 = self.number_weights.iter().sum();
-        let u = rng.uniform() * wsum;
-        let mut k = 0;
-        let mut acc = self.number_weights[0];
-        while u >= acc && k + 1 < self.packed_types.len() {
-            k += 1;
-            acc += self.number_weights[k];
-        }
-        let i = self.packed_types[k];
+        let i = self.packed_types[pick_cumulative(&self.number_cumulative, rng.uniform())];
         let d = self.sample_number_size(i, rng.uniform());
         PackedParticle { centre: Vec3::default(), axis: Spheroid::random_axis(rng), diameter_mm: d, type_index: i }
     }

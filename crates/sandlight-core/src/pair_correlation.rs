@@ -50,7 +50,13 @@ struct Row {
     g: Vec<f64>,
 }
 
-/// The parsed table: grid (x0, dx) and its rows.
+/// The table, parsed once: grid (x0, dx) and its rows.
+fn table() -> &'static (f64, f64, Vec<Row>) {
+    static PARSED: std::sync::OnceLock<(f64, f64, Vec<Row>)> = std::sync::OnceLock::new();
+    PARSED.get_or_init(parse)
+}
+
+/// The table's text parsed: grid (x0, dx) and its rows.
 fn parse() -> (f64, f64, Vec<Row>) {
     let mut grid = None;
     let mut rows = Vec::new();
@@ -74,7 +80,8 @@ impl PairCorrelation {
     /// g at packing fraction `eta`: linear interpolation between the tabulated fractions,
     /// clamped to the table's range (0.40–0.62).
     pub fn at_packing_fraction(eta: f64) -> PairCorrelation {
-        let (x0, dx, rows) = parse();
+        let (x0, dx, rows) = table();
+        let (x0, dx) = (*x0, *dx);
         let e = eta.clamp(rows[0].eta, rows[rows.len() - 1].eta);
         // Rows with η ≤ e: at least the first (e is clamped), all of them at the top end.
         let k = rows.partition_point(|r| r.eta <= e);
@@ -154,8 +161,9 @@ impl PairCorrelation {
         let svd = (1.0 - cvd * cvd).sqrt();
         // |v − r_b n|² = V² + r_b² − 2 r_b V (n·v̂): contact on the circle n·v̂ = t_c.
         let t_c = (big_v * big_v + r_b * r_b - sigma * sigma) / (2.0 * r_b * big_v);
+        let circle = ContactCircle::new(t_c, cvd, svd);
         let w_c = if t_c.abs() < 1.0 {
-            self.contact * shadow_weight(t_c, cvd, svd) * sigma * sigma / (std::f64::consts::PI * r_b * big_v)
+            self.contact * circle.shadow_weight() * sigma * sigma / (std::f64::consts::PI * r_b * big_v)
         } else {
             0.0
         };
@@ -169,7 +177,7 @@ impl PairCorrelation {
         let (a2, b2) = ((big_v * big_v + r_b * r_b) / (sigma * sigma), 2.0 * r_b * big_v / (sigma * sigma));
         for _ in 0..10_000 {
             if rng.uniform() * (w_c + m) < w_c {
-                return contact_normal(t_c, v_hat, d, cvd, svd, rng);
+                return circle.sample(v_hat, d, cvd, svd, rng);
             }
             let n = shadow_normal_in(d, basis, rng);
             let x = (a2 - b2 * n.dot(v_hat)).max(0.0).sqrt();
@@ -196,43 +204,58 @@ fn shadow_normal_in(d: Vec3, (e1, e2): (Vec3, Vec3), rng: &mut Rng) -> Vec3 {
     e1 * (rho * c) + e2 * (rho * s) - d * (1.0 - rho2).max(0.0).sqrt()
 }
 
-/// I(t) = ∫₀^{2π} (−n·d)₊ dφ over the circle n = t v̂ + √(1 − t²)(cos φ e₁ + sin φ e₂), e₁ the
-/// unit vector of d's part across v̂: with c = −t (v̂·d), b = √(1 − t²)|d × v̂|, the integral of
-/// (c − b cos φ)₊, 2c(π − φ₀) + 2b sin φ₀ with cos φ₀ = c/b (2πc if c ≥ b, 0 if c ≤ −b).
-fn shadow_weight(t: f64, cvd: f64, svd: f64) -> f64 {
-    let c = -t * cvd;
-    let b = (1.0 - t * t).max(0.0).sqrt() * svd;
-    if c >= b {
-        return 2.0 * std::f64::consts::PI * c;
-    }
-    if c <= -b {
-        return 0.0;
-    }
-    let phi0 = (c / b).acos();
-    2.0 * c * (std::f64::consts::PI - phi0) + 2.0 * b * phi0.sin()
+/// The circle of normals n = t v̂ + √(1 − t²)(cos φ e₁ + sin φ e₂), e₁ the unit vector of d's
+/// part across v̂, on which the grain met touches the grain left. Along it
+/// −n·d = c − b cos φ with c = −t (v̂·d), b = √(1 − t²)|d × v̂|, positive for φ in (φ₀, 2π − φ₀),
+/// cos φ₀ = c/b (φ₀ = 0 if c ≥ b: the whole circle faces the ray).
+struct ContactCircle {
+    t: f64,
+    c: f64,
+    b: f64,
+    phi0: f64,
 }
 
-/// A normal on the contact circle n·v̂ = t with density ∝ (−n·d)₊ (rejection over the arc where
-/// it is positive; the bound c + b is the weight at φ = π).
-fn contact_normal(t: f64, v_hat: Vec3, d: Vec3, cvd: f64, svd: f64, rng: &mut Rng) -> Vec3 {
-    let (e1, e2) = if svd > 1e-12 {
-        let e1 = (d - v_hat * cvd) * (1.0 / svd);
-        (e1, v_hat.cross(e1))
-    } else {
-        v_hat.orthonormal_basis()
-    };
-    let c = -t * cvd;
-    let b = (1.0 - t * t).max(0.0).sqrt() * svd;
-    let sin_t = (1.0 - t * t).max(0.0).sqrt();
-    // φ over (φ₀, 2π − φ₀), where c − b cos φ > 0 (in turns: φ/2π).
-    let turn0 = if b > 1e-300 && c < b { (c / b).max(-1.0).acos() / (2.0 * std::f64::consts::PI) } else { 0.0 };
-    for _ in 0..10_000 {
-        let (s, co) = sin_cos_turns(turn0 + rng.uniform() * (1.0 - 2.0 * turn0));
-        if rng.uniform() * (c + b) <= c - b * co {
-            return v_hat * t + (e1 * co + e2 * s) * sin_t;
-        }
+impl ContactCircle {
+    fn new(t: f64, cvd: f64, svd: f64) -> ContactCircle {
+        let c = -t * cvd;
+        let b = (1.0 - t * t).max(0.0).sqrt() * svd;
+        let phi0 = if c < b && c > -b { (c / b).acos() } else { 0.0 };
+        ContactCircle { t, c, b, phi0 }
     }
-    v_hat * t + e1 * (-sin_t)
+
+    /// I(t) = ∫₀^{2π} (−n·d)₊ dφ: 2c(π − φ₀) + 2b sin φ₀ (2πc if c ≥ b, 0 if c ≤ −b).
+    fn shadow_weight(&self) -> f64 {
+        let (c, b) = (self.c, self.b);
+        if c >= b {
+            return 2.0 * std::f64::consts::PI * c;
+        }
+        if c <= -b {
+            return 0.0;
+        }
+        2.0 * c * (std::f64::consts::PI - self.phi0) + 2.0 * b * self.phi0.sin()
+    }
+
+    /// A normal on the circle with density ∝ (−n·d)₊ (rejection over the arc where it is
+    /// positive; the bound c + b is the weight at φ = π).
+    fn sample(&self, v_hat: Vec3, d: Vec3, cvd: f64, svd: f64, rng: &mut Rng) -> Vec3 {
+        let (e1, e2) = if svd > 1e-12 {
+            let e1 = (d - v_hat * cvd) * (1.0 / svd);
+            (e1, v_hat.cross(e1))
+        } else {
+            v_hat.orthonormal_basis()
+        };
+        let (t, c, b) = (self.t, self.c, self.b);
+        let sin_t = (1.0 - t * t).max(0.0).sqrt();
+        // φ over (φ₀, 2π − φ₀), in turns φ/2π.
+        let turn0 = self.phi0 / (2.0 * std::f64::consts::PI);
+        for _ in 0..10_000 {
+            let (s, co) = sin_cos_turns(turn0 + rng.uniform() * (1.0 - 2.0 * turn0));
+            if rng.uniform() * (c + b) <= c - b * co {
+                return v_hat * t + (e1 * co + e2 * s) * sin_t;
+            }
+        }
+        v_hat * t + e1 * (-sin_t)
+    }
 }
 
 #[cfg(test)]
@@ -300,7 +323,7 @@ mod tests {
         for cvd in [-1.0, -0.6, 0.0, 0.3, 0.95] {
             let svd: f64 = (1.0f64 - cvd * cvd).sqrt();
             let n = 20_000;
-            let sum: f64 = (0..n).map(|k| shadow_weight(-1.0 + 2.0 * (k as f64 + 0.5) / n as f64, cvd, svd)).sum::<f64>() * 2.0 / n as f64;
+            let sum: f64 = (0..n).map(|k| ContactCircle::new(-1.0 + 2.0 * (k as f64 + 0.5) / n as f64, cvd, svd).shadow_weight()).sum::<f64>() * 2.0 / n as f64;
             assert!((sum - std::f64::consts::PI).abs() < 1e-3, "cvd {cvd}: {sum}");
         }
     }
@@ -326,7 +349,7 @@ mod tests {
         let v_hat = v * (1.0 / big_v);
         let cvd = v_hat.dot(d);
         let t_c = (big_v * big_v + r_b * r_b - sigma * sigma) / (2.0 * r_b * big_v);
-        let w_c = g.contact * shadow_weight(t_c, cvd, (1.0 - cvd * cvd).sqrt()) * sigma * sigma / (std::f64::consts::PI * r_b * big_v);
+        let w_c = g.contact * ContactCircle::new(t_c, cvd, (1.0 - cvd * cvd).sqrt()).shadow_weight() * sigma * sigma / (std::f64::consts::PI * r_b * big_v);
         let expected_contact = w_c / (w_c + w_s);
         let (mut contacts, mut sum_x_s, mut others) = (0usize, 0.0, 0usize);
         for _ in 0..n_draws {

@@ -328,9 +328,7 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             }
             // `Packed`: a packed sphere met after leaving one lies where the packing's pair
             // correlation puts it (the flight length keeps its law).
-            let neighbour = m.neighbours.as_ref().zip(prev).filter(|(_, a)| {
-                cut_packed && ptype.aspect_ratio == 1.0 && m.types[a.type_index].aspect_ratio == 1.0 && surface.is_some_and(|sf| sf.packed[a.type_index])
-            });
+            let neighbour = m.neighbours.as_ref().zip(prev).filter(|(_, a)| m.is_packed_sphere(i) && m.is_packed_sphere(a.type_index));
             let hit = match neighbour {
                 Some((g, a)) => {
                     let n = g.sample_normal(here - a.centre, d, shape.a, shape.a + a.shape.a, rng);
@@ -401,7 +399,9 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
         prev = Some(grain);
         flown = 0.0;
         (to_ahead, ahead) = (f64::INFINITY, None);
-        for g in behind.iter().chain(walls.grains()) {
+        // A packed grain behind is also a wall: measured once.
+        let behind_not_a_wall = behind.filter(|b| !walls.grains().any(|w| w.centre == b.centre));
+        for g in behind_not_a_wall.iter().chain(walls.grains()) {
             if let Some(t) = g.shape.entry_distance(flight_start - g.centre, d) {
                 if t < to_ahead {
                     (to_ahead, ahead) = (t, Some(*g));
