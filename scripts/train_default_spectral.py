@@ -130,6 +130,8 @@ BANK = (
 
 
 def parse_args(argv=None):
+    from sandlight.engine import MEMORIES
+
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--only", action="append", choices=[e.name for e in BANK],
                    help="train only this model (repeatable; default: the whole bank)")
@@ -143,6 +145,9 @@ def parse_args(argv=None):
     ex.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT")
     p.add_argument("--no-install", action="store_true",
                    help=f"do not copy the models to {PACKAGE_DIR.relative_to(ROOT)}")
+    p.add_argument("--memory", default="none", choices=MEMORIES,
+                   help="path memory of the engine (docs/geometry.md; default none, the classic "
+                        "model of the shipped bank; use another --work-dir)")
     return p.parse_args(argv)
 
 
@@ -172,7 +177,7 @@ def train_one(entry: BankEntry, args, executor):
                          args.seed, n_holdout=entry.holdout, holdout_rays=entry.holdout_rays,
                          executor=executor, domain=domain, model_params=entry.model_params,
                          name=entry.name, description=entry.description,
-                         fit_domain=entry.fit_domain())
+                         fit_domain=entry.fit_domain(), memory=args.memory)
     total_s = time.perf_counter() - start
     model, report = run.model, run.report
 
@@ -202,7 +207,7 @@ def train_one(entry: BankEntry, args, executor):
     # (it includes the reference's noise): the speed-up printed is a lower bound.
     wl = wavelength_grid(args.wavelengths)
     samples = (entry.fit_domain() or domain).draw(3, seed=args.seed + 1, design="random")
-    mc_s = time_per_call(lambda: [engine_simulate(s, wl, rays=entry.rays, seed=1)
+    mc_s = time_per_call(lambda: [engine_simulate(s, wl, rays=entry.rays, seed=1, memory=args.memory)
                                   for s in samples], 1) / len(samples)
     error = report.rms_error_overall
     noise = sigma_train

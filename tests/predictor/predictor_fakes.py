@@ -3,7 +3,8 @@
 The "true" reflectance is a smooth, known function of the sample parameters: iron oxide
 darkens the blue end (more for the coating form), water darkens everything, coarse grains are
 darker, fines brighten a little. The "Monte Carlo" result adds seeded Gaussian noise with the
-binomial standard error √(r(1 − r)/rays), as the real engine's estimate would have.
+binomial standard error √(r(1 − r)/rays), as the real engine's estimate would have. Standing in
+for the engine itself (``engine_simulate``) it also takes the path memory, which scales it.
 """
 
 import os
@@ -26,8 +27,12 @@ def true_reflectance(params, wavelengths_nm):
     return np.clip(base * (1 - 0.55 * iron * edge) + 0.03 * wl, 0.01, 0.99)
 
 
-def fake_reflectance(params, wavelengths_nm, *, rays, seed):
-    truth = true_reflectance(params, wavelengths_nm)
+#: How much darker the fake engine is with path memory (as memory darkens bright fines-rich sand).
+MEMORY_FACTOR = 0.9
+
+
+def fake_reflectance(params, wavelengths_nm, *, rays, seed, memory="none"):
+    truth = true_reflectance(params, wavelengths_nm) * (1.0 if memory == "none" else MEMORY_FACTOR)
     stderr = np.sqrt(truth * (1 - truth) / rays)
     values = truth + stderr * np.random.default_rng(seed).standard_normal(truth.shape)
     return SimpleNamespace(values=values, stderr=stderr,

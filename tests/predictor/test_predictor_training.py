@@ -226,6 +226,73 @@ class TestPipeline:
             run.model.predict(SMALL.restrict(grain_size=(low, middle * 0.9)).draw(1, seed=1))
 
 
+class TestPathMemory:
+    """Training with path memory (docs/geometry.md): the engine's setting, recorded and kept."""
+
+    @pytest.fixture
+    def fake_engine(self, monkeypatch):
+        import sandlight.predictor.training as training
+
+        monkeypatch.setattr(training, "engine_simulate", predictor_fakes.fake_reflectance)
+
+    def test_the_engine_runs_with_the_memory_asked_for(self, tmp_path):
+        from sandlight import reflectance
+        from sandlight.sample import SandSample
+
+        # Two dry samples of the real engine, 450 nm, few rays: the stored values are those of
+        # sandlight.reflectance with memory="cut" at each sample's seed, bit for bit.
+        dry = SMALL.restrict(saturation=0.0)
+        status = generate_training_set(tmp_path / "cut", 2, "450", 2000, 5, InProcessExecutor(),
+                                       domain=dry, progress=False, memory="cut")
+        with xr.open_dataset(status.dataset_path) as ds:
+            ds = ds.load()
+        assert json.loads(ds.attrs["engine"])["memory"] == "cut"
+        for i in range(2):
+            params = {k: ds[k].values[i].item() for k in ds.data_vars
+                      if ds[k].dims == ("sample",) and k != "seed"}
+            run = functools.partial(reflectance, SandSample(**params), [450.0], rays=2000,
+                                    seed=int(ds["seed"][i]), incidence_deg=0.0, threads=1)
+            np.testing.assert_array_equal(ds["reflectance"][i], run(memory="cut").values)
+            assert ds["reflectance"][i].item() != run(memory="none").values[0]
+
+    def test_recorded_in_the_model_and_refused_on_resume(self, tmp_path, fake_engine):
+        kw = dict(n_samples=N, rays=RAYS, wavelengths_nm=WL, seed=3, n_holdout=20,
+                  executor=InProcessExecutor(), domain=SMALL, progress=False)
+        train_spectral(tmp_path, max_tasks=5, memory="packed", **kw)
+        with pytest.raises(JobSettingsError, match="engine"):
+            train_spectral(tmp_path, **kw)
+        run = train_spectral(tmp_path, memory="packed", **kw)
+        assert run.model.memory_ == "packed"
+        loaded = SpectralModel.load(run.model_path)
+        assert loaded.memory_ == "packed" and loaded.training_set_["engine"]["rays"] == RAYS
+        # the fake engine is 10 % darker with memory, and so is the model trained on it
+        sample = SMALL.draw(1, seed=2)[0]
+        truth = predictor_fakes.true_reflectance(sample, loaded.wavelengths_)
+        assert np.abs(loaded.predict(sample)[0] / truth - predictor_fakes.MEMORY_FACTOR).max() < 0.02
+        from sandlight.predictor import ModelBank
+
+        assert "engine memory 'packed'" in ModelBank([loaded]).describe(0)
+
+    def test_classic_by_default_and_in_older_files(self, tmp_path, fake_engine):
+        status = generate_training_set(tmp_path / "t", 3, "450", 100, 1, InProcessExecutor(),
+                                       domain=SMALL, progress=False)
+        with xr.open_dataset(status.dataset_path) as ds:
+            assert "memory" not in json.loads(ds.attrs["engine"])
+        # the shipped models were trained before path memory existed: the classic model
+        from sandlight.predictor import default_model
+
+        bank = default_model()
+        assert {m.memory_ for m in bank.models} == {"none"}
+        assert "engine memory" not in bank.describe(0)
+
+    def test_bad_memory(self, tmp_path):
+        with pytest.raises(ParameterError, match="memory.*'none', 'channel', 'cut', 'packed'"):
+            training_job(tmp_path, 3, "450", 100, 1, domain=SMALL, memory="full")
+        with pytest.raises(ParameterError, match="memory.*simulate"):
+            training_job(tmp_path, 3, "450", 100, 1, domain=SMALL, memory="cut",
+                         simulate=predictor_fakes.fake_reflectance)
+
+
 class TestCommandLine:
     @pytest.fixture
     def fake_engine(self, monkeypatch):
@@ -255,6 +322,16 @@ class TestCommandLine:
         assert again.exit_code == 0
         changed = self.invoke(*[a if a != 1000 else 2000 for a in args])
         assert changed.exit_code == 1 and "rays" in changed.output
+        other = self.invoke(*args, "--memory", "packed")
+        assert other.exit_code == 1 and "engine" in other.output
+        result = self.invoke(*[tmp_path / "packed" if a == tmp_path else a for a in args],
+                             "--memory", "packed")
+        assert result.exit_code == 0, result.output
+        assert "engine memory 'packed'" in result.output
+        assert SpectralModel.load(tmp_path / "packed" / "spectral-model.npz").memory_ == "packed"
+        bad = self.invoke(*[tmp_path / "bad" if a == tmp_path else a for a in args],
+                          "--memory", "full")
+        assert bad.exit_code == 1 and "memory" in bad.output
 
     def test_bad_options(self, tmp_path):
         result = self.invoke("train-spectral", "--out", tmp_path, "--workers", 2,

@@ -27,6 +27,17 @@ def test_train_spatial_command(tmp_path):
     assert bad.exit_code == 2 and "--holdout" in bad.output
 
 
+def test_train_spatial_command_with_path_memory(tmp_path):
+    result = runner.invoke(app, ["train-spatial", "--preset", "red-dune", "--out", str(tmp_path), "--axis",
+                                 "iron_oxide=0.01,0.03", "--rays", "2e4", "--stacks", "4", "--slices", "4",
+                                 "--workers", "1", "--no-progress", "--components", "1", "--memory", "packed"])
+    assert result.exit_code == 0, result.output
+    assert "engine memory 'packed'" in result.output
+    assert SpatialModel.load(tmp_path / "spatial-model.npz").memory_ == "packed"
+    bad = runner.invoke(app, ["train-spatial", "--out", str(tmp_path / "b"), "--rays", "10", "--memory", "full"])
+    assert bad.exit_code == 2 and "memory" in bad.output
+
+
 def test_appearance_command_writes_a_table(tmp_path):
     mesh = Mesh.beach(6)
     spatial = SpatialModel(n_components=2).fit(spatial_fakes.measured_nodes(mesh, 10**7), mesh)

@@ -122,6 +122,29 @@ def test_tiny_run_with_the_real_engine(tmp_path):
     assert model.predict([[0.25]]).shape == (1, brdfs[0].unique_values.size)
 
 
+def test_path_memory_is_the_engines_and_is_recorded(tmp_path):
+    # Dry sand, two iron-oxide contents: the job's counts are the engine's with memory="cut", bit
+    # for bit, and differ from the classic model's; the memory is recorded and kept on resume.
+    mesh = Mesh.grid("red-dune", iron_oxide=[0.01, 0.03])
+    kw = dict(stacks=4, slices=4, progress=False)
+    status = measure_nodes(tmp_path / "nodes", mesh, 450.0, 20_000, 3, InProcessExecutor(), memory="cut", **kw)
+    with xr.open_dataset(status.dataset_path) as ds:
+        assert ds.attrs["memory"] == "cut"
+        seed = int(ds["seed"].values[1])
+    measured = node_brdfs(status.dataset_path)[1].counts
+    node = dict(params=mesh.sample_dict(mesh.nodes[1]), wavelength_nm=450.0, rays=20_000, seed=seed, stacks=4,
+                slices=4, threads=1)
+    np.testing.assert_array_equal(measured, engine_measure(**node, memory="cut")["counts"])
+    assert not np.array_equal(measured, engine_measure(**node)["counts"])
+    with pytest.raises(JobSettingsError, match="memory"):
+        measure_nodes(tmp_path / "nodes", mesh, 450.0, 20_000, 3, InProcessExecutor(), **kw)
+    model = SpatialModel().fit(node_brdfs(status.dataset_path), mesh, training_set={"memory": "cut"})
+    assert SpatialModel.load(model.save(tmp_path / "m.npz")).memory_ == "cut"
+    assert SpatialModel().fit(node_brdfs(status.dataset_path), mesh).memory_ == "none"
+    with pytest.raises(ParameterError, match="memory.*measure"):
+        run(tmp_path / "fake", mesh, memory="cut")
+
+
 def test_leave_one_out_cross_validation():
     from sandlight.spatial import cross_validate
 

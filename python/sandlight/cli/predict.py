@@ -9,6 +9,7 @@ from typing import Optional
 import typer
 
 from sandlight.cli._app import app
+from sandlight.cli._common import MEMORY_HELP
 
 
 def _fail(message: str, code: int = 1):
@@ -46,6 +47,7 @@ def train_spectral_command(
     degree: int = typer.Option(3, "--degree", help="Degree of the monomials (paper: 3)."),
     forms: str = typer.Option("separate", "--forms", help="'separate' or 'onehot'."),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
+    memory: str = typer.Option("none", "--memory", help=MEMORY_HELP),
 ) -> None:
     """Generate a training set with the engine and fit the spectral predictor (resumable:
     run the same command again to continue after an interruption)."""
@@ -57,7 +59,7 @@ def train_spectral_command(
         executor = None if fit_only else make_executor(workers, dask_local, scheduler)
         run = train_spectral(
             out, samples, rays, wavelengths, seed, n_holdout=holdout, executor=executor,
-            fit_only=fit_only, progress=progress, holdout_rays=holdout_rays,
+            fit_only=fit_only, progress=progress, holdout_rays=holdout_rays, memory=memory,
             model_params={"n_components": n_components, "variance_threshold": variance,
                           "ridge": ridge, "forms": forms, "degree": degree})
     except Cancelled as exc:
@@ -66,7 +68,8 @@ def train_spectral_command(
         _fail(str(exc))
     model, report = run.model, run.report
     ratio = model.explained_variance_ratio_
-    typer.echo(f"training set: {run.training.dataset_path} ({run.training.n_total} samples)")
+    typer.echo(f"training set: {run.training.dataset_path} ({run.training.n_total} samples, "
+               f"engine memory {model.memory_!r})")
     typer.echo(f"principal components: k = {model.n_components_}, explained variance "
                f"{ratio[:model.n_components_].sum():.5%} "
                f"(per component: {', '.join(f'{r:.4%}' for r in ratio[:model.n_components_])})")

@@ -10,7 +10,7 @@ import typer
 from rich.console import Console
 
 from sandlight.cli._app import app
-from sandlight.cli._common import load_sample, parse_count, user_errors
+from sandlight.cli._common import MEMORY_HELP, load_sample, parse_count, user_errors
 
 console = Console()
 
@@ -87,6 +87,7 @@ def train_spatial_command(
                                 "none (the paper) or noise."),
     fit_only: bool = typer.Option(False, "--fit-only", help="Only refit from the complete datasets in --out."),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
+    memory: str = typer.Option("none", "--memory", help=MEMORY_HELP),
 ) -> None:
     """Measure the BRDF at every mesh node and fit the spatial predictor (paper §3.2).
 
@@ -117,7 +118,7 @@ def train_spatial_command(
         run = train_spatial(out, mesh, n, wavelength, seed, holdout=[[p[k] for k in mesh.parameters] for p in points],
                             holdout_rays=None if holdout_rays is None else parse_count(holdout_rays, "--holdout-rays"),
                             stacks=stacks, slices=slices, method=method, executor=executor, threads=threads,
-                            checkpoint=scheduler is None, fit_only=fit_only, progress=progress,
+                            checkpoint=scheduler is None, fit_only=fit_only, progress=progress, memory=memory,
                             model_params={"n_components": components, "variance_threshold": variance,
                                           "scaling": scaling})
     if not run.complete:
@@ -128,6 +129,7 @@ def train_spatial_command(
     signal = model.signal_variance_ratio_
     ell = model.n_components_
     console.print(f"mesh: {mesh}")
+    console.print(f"engine memory {model.memory_!r}")
     console.print(f"principal components: ℓ = {ell}; explained variance {ratio[:ell].sum():.5%}"
                   + ("" if signal is None else f", signal variance {signal[:ell].sum():.5%}"))
     noise = "" if model.node_noise_rms_ is None else f" (node noise RMS {model.node_noise_rms_:.4g} sr⁻¹)"

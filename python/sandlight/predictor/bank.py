@@ -109,6 +109,8 @@ class ModelBank:
                  f"({scores.get('n_samples', '?')} samples)" if scores else "no hold-out score")
         forms = f"{len(m.forms_)} forms" if len(m.forms_) > 1 else f"form {m.forms_[0]}"
         text = f"{m.name_}: {len(m.parameter_names_)} parameters, {forms}; {error}"
+        if m.memory_ != "none":
+            text += f"; engine memory {m.memory_!r}"
         return f"{text}; {m.description_}" if m.description_ else text
 
     # -- prediction ------------------------------------------------------------------------------

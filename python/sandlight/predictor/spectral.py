@@ -239,7 +239,11 @@ class SpectralModel:
     reconstruction_rms_ : float
         RMS error of the rank-k PCA reconstruction of the training set (the floor of the above).
     training_set_ : dict
-        Reference to the training data (path, checksum, size, seed, rays ...), as given.
+        Reference to the training data (path, checksum, size, seed, rays, engine settings ...),
+        as given.
+    memory_ : str
+        Path memory of the engine that produced the training set (from ``training_set_``):
+        'none', the classic model, unless the training set records another.
     holdout_scores_ : dict or None
         Hold-out scores attached by :func:`evaluate` (``attach=True``).
     name_ : str
@@ -393,6 +397,8 @@ class SpectralModel:
             info = {k: _plain(X.attrs[k]) for k in ("n_samples", "seed", "rays", "design",
                                                      "sandlight_version", "simulator")
                     if k in X.attrs}
+            if "engine" in X.attrs:
+                info["engine"] = json.loads(X.attrs["engine"])
         domain = Domain.default() if domain is None else domain
         if R is None:
             raise ParameterError("R", None, "the reflectance of each training sample, "
@@ -544,6 +550,10 @@ class SpectralModel:
         if order is not None:
             out[order] = result
         return out
+
+    @property
+    def memory_(self) -> str:
+        return (self.training_set_.get("engine") or {}).get("memory", "none")
 
     # -- persistence --------------------------------------------------------------------------
     def _metadata(self) -> dict:

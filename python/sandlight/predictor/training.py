@@ -15,8 +15,9 @@ seed             (sample,)              engine seed of the sample
 wavelength       (wavelength,)          nm
 ===============  =====================  ====================================================
 
-Global attributes: format, n_samples, seed, rays, design, domain (JSON), engine settings (JSON),
-simulator, sandlight_version and the job settings.
+Global attributes: format, n_samples, seed, rays, design, domain (JSON), engine settings (JSON:
+incidence, threads, rays, and ``memory`` when the engine ran with path memory, docs/geometry.md;
+absent, the classic model), simulator, sandlight_version and the job settings.
 
 :func:`train_spectral` runs the training and hold-out jobs, fits a :class:`SpectralModel`,
 evaluates it on the hold-out set and saves it; the ``sandlight train-spectral`` command and
@@ -80,7 +81,8 @@ def wavelength_grid(spec) -> np.ndarray:
     return grid
 
 
-def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed: int):
+def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed: int,
+                    memory: str = "none"):
     """Run sandlight's Monte Carlo engine on one sample at normal incidence.
 
     Parameters
@@ -91,6 +93,8 @@ def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed
     rays : int
         Rays per wavelength.
     seed : int
+    memory : {'none', 'channel', 'cut', 'packed'}
+        Path memory of the engine (``sandlight.reflectance``).
 
     Returns
     -------
@@ -100,14 +104,17 @@ def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed
     from sandlight.sample import SandSample
 
     return sandlight.reflectance(SandSample(**params), wavelengths_nm, rays=rays, seed=seed,
-                                 **ENGINE_SETTINGS)
+                                 memory=memory, **ENGINE_SETTINGS)
 
 
-def reflectance_task(payload: dict, seed: int, *, wavelengths_nm, rays: int, simulate=None):
+def reflectance_task(payload: dict, seed: int, *, wavelengths_nm, rays: int, simulate=None,
+                     memory: str = "none"):
     """Job task: reflectance and standard error of one sample (runs on a worker)."""
-    simulate = engine_simulate if simulate is None else simulate
     wavelengths = np.asarray(wavelengths_nm, dtype=float)
-    result = simulate(payload, wavelengths, rays=rays, seed=seed)
+    if simulate is None:
+        result = engine_simulate(payload, wavelengths, rays=rays, seed=seed, memory=memory)
+    else:
+        result = simulate(payload, wavelengths, rays=rays, seed=seed)
     values, stderr = (result.values, result.stderr) if hasattr(result, "values") else result
     values, stderr = np.asarray(values, dtype=float), np.asarray(stderr, dtype=float)
     if values.shape != wavelengths.shape or stderr.shape != wavelengths.shape:
@@ -131,8 +138,25 @@ def _check_domain_against_sample(domain: Domain) -> None:
     domain.check_covers(PARAMETERS)
 
 
+def check_engine_memory(memory, custom=None, custom_name: str = "simulate") -> str:
+    """``memory`` checked as the path memory of sandlight's engine; only 'none' goes with a
+    ``custom`` function (named ``custom_name``) standing in for the engine."""
+    if custom is not None:
+        if memory != "none":
+            raise ParameterError("memory", memory, f"'none' with a {custom_name} function (path "
+                                 f"memory is a setting of sandlight's engine: give it to your "
+                                 f"{custom_name})")
+        return memory
+    from sandlight.engine import MEMORIES
+
+    if not isinstance(memory, str) or memory not in MEMORIES:
+        raise ParameterError("memory", memory, "one of " + ", ".join(map(repr, MEMORIES)))
+    return memory
+
+
 def training_job(path, n_samples: int, wavelengths_nm, rays: int, seed: int, *,
-                 domain: Domain | None = None, design: str = "lhs", simulate=None) -> Job:
+                 domain: Domain | None = None, design: str = "lhs", simulate=None,
+                 memory: str = "none") -> Job:
     """The job behind :func:`generate_training_set` (same arguments), without running it."""
     from sandlight import __version__
 
@@ -140,15 +164,17 @@ def training_job(path, n_samples: int, wavelengths_nm, rays: int, seed: int, *,
     wavelengths = wavelength_grid(wavelengths_nm)
     if not (isinstance(rays, (int, np.integer)) and rays >= 1):
         raise ParameterError("rays", rays, "an integer >= 1")
+    memory = check_engine_memory(memory, simulate)
     if simulate is None:
         _check_domain_against_sample(domain)
     payloads = domain.draw(n_samples, seed, design)
-    engine = {**ENGINE_SETTINGS, "rays": int(rays)}
+    # The classic model is recorded by omission, as in every training set before path memory.
+    engine = {**ENGINE_SETTINGS, "rays": int(rays), **({"memory": memory} if memory != "none" else {})}
     settings = {"kind": TRAINING_SET_FORMAT, "wavelengths_nm": wavelengths, "rays": int(rays),
                 "design": design, "domain": domain.to_dict(), "engine": engine,
                 "simulator": _simulator_name(simulate), "sandlight_version": __version__}
     fn = functools.partial(reflectance_task, wavelengths_nm=tuple(wavelengths.tolist()),
-                           rays=int(rays), simulate=simulate)
+                           rays=int(rays), simulate=simulate, memory=memory)
     units = {d.name: {"units": d.unit} for d in domain.dimensions}
     units.update({"sand": {"units": "1"}, "depth_mm": {"units": "mm"},
                   FORM_PARAMETER: {"description": "form of the iron oxide"}})
@@ -171,7 +197,7 @@ def training_job(path, n_samples: int, wavelengths_nm, rays: int, seed: int, *,
 def generate_training_set(path, n_samples: int, wavelengths_nm, rays: int, seed: int,
                           executor=None, *, domain: Domain | None = None, design: str = "lhs",
                           simulate=None, progress: bool = True, max_tasks: int | None = None,
-                          max_retries: int = 2) -> JobStatus:
+                          max_retries: int = 2, memory: str = "none") -> JobStatus:
     """Draw samples, run the engine on each, store the training set (resumable).
 
     Parameters
@@ -201,6 +227,11 @@ def generate_training_set(path, n_samples: int, wavelengths_nm, rays: int, seed:
         Stop after this many samples (resumable).
     max_retries : int
         Retries of a failed sample.
+    memory : {'none', 'channel', 'cut', 'packed'}
+        Path memory of sandlight's engine (docs/geometry.md): 'none' is the classic model of the
+        shipped models; 'packed' the closest to a packing for dry sand, at about 0.7x the speed.
+        Recorded in the dataset's engine settings (and so in the model); resuming with another
+        value is refused. Only with the default ``simulate``.
 
     Returns
     -------
@@ -208,7 +239,7 @@ def generate_training_set(path, n_samples: int, wavelengths_nm, rays: int, seed:
         ``.dataset_path`` is the dataset once every sample is done.
     """
     job = training_job(path, n_samples, wavelengths_nm, rays, seed, domain=domain,
-                       design=design, simulate=simulate)
+                       design=design, simulate=simulate, memory=memory)
     return job.run(resolve_executor(executor), max_tasks=max_tasks, max_retries=max_retries,
                    progress=progress, description=f"{Path(path).name}", unit="sample")
 
@@ -308,7 +339,7 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
                    progress: bool = True, max_tasks: int | None = None,
                    model_params: dict | None = None, holdout_rays: int | None = None,
                    name: str = "spectral", description: str = "",
-                   fit_domain: Domain | None = None) -> TrainingRun:
+                   fit_domain: Domain | None = None, memory: str = "none") -> TrainingRun:
     """Generate the training and hold-out sets, fit, evaluate and save a spectral model.
 
     Layout of ``out_dir``: ``training/`` and ``holdout/`` (job stores, each with its
@@ -337,12 +368,12 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
     out = Path(out_dir)
     n_holdout = max(20, int(n_samples) // 10) if n_holdout is None else int(n_holdout)
     jobs = [training_job(out / "training", n_samples, wavelengths_nm, rays, seed, domain=domain,
-                         design="lhs", simulate=simulate)]
+                         design="lhs", simulate=simulate, memory=memory)]
     if n_holdout > 0:
         jobs.append(training_job(out / "holdout", n_holdout, wavelengths_nm,
                                  rays if holdout_rays is None else holdout_rays,
                                  derive_seed(seed, "holdout"), domain=domain, design="random",
-                                 simulate=simulate))
+                                 simulate=simulate, memory=memory))
     start = time.perf_counter()
     executor = resolve_executor(executor) if not fit_only else None
     statuses = [job.status() if fit_only else job.run(

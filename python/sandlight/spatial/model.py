@@ -189,6 +189,9 @@ class SpatialModel:
         from noise alone when ℓ captures all the signal.
     training_set_ : dict
         How the node BRDFs were measured (rays, seed, wavelength, method, times ...), as given.
+    memory_ : str
+        Path memory of the engine that measured the nodes (from ``training_set_``): 'none', the
+        classic model, unless the training set records another.
     holdout_scores_ : dict or None
         Held-out comparison attached by `sandlight.spatial.training.evaluate`.
     """
@@ -397,6 +400,10 @@ class SpatialModel:
         return SpatialBRDF(self.stacks_, self.slices_, unique, x[0], idx[0], w[0], sample_dict)
 
     # ---- persistence -------------------------------------------------------------------------
+    @property
+    def memory_(self) -> str:
+        return self.training_set_.get("memory", "none")
+
     def _metadata(self) -> dict:
         return {"format": MODEL_FORMAT, "format_version": MODEL_FORMAT_VERSION,
                 "sandlight_version": _sandlight_version(), "params": self.get_params(),

@@ -17,7 +17,8 @@ seed                       (node,)                     the node's engine seed
 =========================  ==========================  =============================================
 
 Global attributes: format ``sandlight-spatial-nodes``, wavelength_nm, rays, stacks, slices, mesh
-(JSON), measure (the function used) and the job settings.
+(JSON), measure (the function used), ``memory`` when the engine ran with path memory
+(docs/geometry.md; absent, the classic model) and the job settings.
 
 :func:`train_spatial` runs the node job and a held-out job, fits a `SpatialModel`, scores it
 (:func:`evaluate`) and saves both; ``sandlight train-spatial`` and
@@ -56,7 +57,7 @@ HOLDOUT_MAX_RELATIVE_STDERR = 0.02
 
 
 def engine_measure(params: dict, wavelength_nm: float, *, rays: int, seed: int, stacks: int, slices: int,
-                   threads: int, checkpoint=None) -> dict:
+                   threads: int, checkpoint=None, memory: str = "none") -> dict:
     """Goniophotometer counts of one sample with sandlight's engine (the default ``measure``).
 
     Returns ``{"counts", "absorbed", "launched", "lost"}`` as integer arrays.
@@ -65,7 +66,7 @@ def engine_measure(params: dict, wavelength_nm: float, *, rays: int, seed: int, 
     from sandlight.sample import SandSample
 
     b = brdf(SandSample.from_dict(params), wavelength_nm, rays=rays, stacks=stacks, slices=slices, seed=seed,
-             threads=threads, checkpoint=checkpoint, progress=False)
+             threads=threads, checkpoint=checkpoint, progress=False, memory=memory)
     return {"counts": b.counts, "absorbed": b.absorbed, "launched": b.launched, "lost": b.lost}
 
 
@@ -75,9 +76,9 @@ def _counts_dtype(rays: int):
 
 
 def node_task(payload: dict, seed: int, *, wavelength_nm: float, rays: int, stacks: int, slices: int, threads: int,
-              checkpoint_dir=None, measure=None) -> dict:
+              checkpoint_dir=None, measure=None, memory: str = "none") -> dict:
     """Job task: goniophotometer counts of one node (runs on a worker)."""
-    measure = engine_measure if measure is None else measure
+    measure = functools.partial(engine_measure, memory=memory) if measure is None else measure
     params = {k: v for k, v in payload.items() if k != "node_index"}
     checkpoint = None
     if checkpoint_dir is not None:  # created here: the job store must exist (and be empty) before the job runs
@@ -107,7 +108,7 @@ def _check_count(name: str, value) -> int:
 
 def node_job(path, mesh_or_samples, wavelength_nm: float, rays: int, seed: int, *, stacks: int = 31,
              slices: int = 30, threads: int = 1, checkpoint: bool = True, measure=None,
-             kind: str = "nodes") -> Job:
+             kind: str = "nodes", memory: str = "none") -> Job:
     """The job measuring the BRDF of every node of a mesh (or of a list of samples), not yet run.
 
     Parameters
@@ -134,12 +135,20 @@ def node_job(path, mesh_or_samples, wavelength_nm: float, rays: int, seed: int, 
         returning counts (default: the engine). Must be importable by workers.
     kind : str
         Label recorded in the settings ('nodes' or 'holdout').
+    memory : {'none', 'channel', 'cut', 'packed'}
+        Path memory of sandlight's engine (docs/geometry.md; 'none', the classic model, by
+        default). Recorded in the settings and attributes; resuming with another value is
+        refused. Only with the default ``measure``.
     """
     from sandlight import __version__
+    from sandlight.predictor.training import check_engine_memory
 
     CollectorHemisphere(stacks, slices)  # validates the geometry
     rays = _check_count("rays", rays)
     threads = _check_count("threads", threads)
+    memory = check_engine_memory(memory, measure, "measure")
+    # The classic model is recorded by omission, as in every node set before path memory.
+    with_memory = {"memory": memory} if memory != "none" else {}
     try:
         wl = float(wavelength_nm)
     except (TypeError, ValueError):
@@ -155,13 +164,14 @@ def node_job(path, mesh_or_samples, wavelength_nm: float, rays: int, seed: int, 
     payloads = [{"node_index": i, **s} for i, s in enumerate(samples)]
     path = Path(path)
     settings = {"kind": f"{NODE_SET_FORMAT}:{kind}", "wavelength_nm": wl, "rays": rays, "stacks": int(stacks),
-                "slices": int(slices), "measure": _measure_name(measure), "sandlight_version": __version__}
+                "slices": int(slices), "measure": _measure_name(measure), "sandlight_version": __version__,
+                **with_memory}
     fn = functools.partial(node_task, wavelength_nm=wl, rays=rays, stacks=int(stacks), slices=int(slices),
                            threads=threads, checkpoint_dir=str(path / "checkpoints") if checkpoint else None,
-                           measure=measure)
+                           measure=measure, memory=memory)
     attrs = {"format": NODE_SET_FORMAT, "format_version": NODE_SET_FORMAT_VERSION, "wavelength_nm": wl, "rays": rays,
              "stacks": int(stacks), "slices": int(slices), "seed": int(seed), "measure": settings["measure"],
-             "sandlight_version": __version__, "mesh": mesh_dict}
+             "sandlight_version": __version__, "mesh": mesh_dict, **with_memory}
     var_attrs = {"counts": {"units": "1", "long_name": "trials with incidence in patch i escaping into patch j"},
                  "absorbed": {"units": "1"}, "launched": {"units": "1"}, "lost": {"units": "1"},
                  "wavelength_nm": {"units": "nm"}}
@@ -382,7 +392,8 @@ def train_spatial(out_dir, mesh: Mesh, rays: int, wavelength_nm: float = 550.0, 
                   holdout: Sequence | None = None, holdout_rays: int | None = None, stacks: int = 31,
                   slices: int = 30, method: str = "average", executor=None, threads: int = 1,
                   checkpoint: bool = True, fit_only: bool = False, measure=None, progress: bool = True,
-                  max_tasks: int | None = None, model_params: Mapping | None = None) -> TrainingRun:
+                  max_tasks: int | None = None, model_params: Mapping | None = None,
+                  memory: str = "none") -> TrainingRun:
     """Measure the nodes and held-out points, fit, score and save a spatial model (resumable).
 
     Layout of ``out_dir``: ``nodes/`` and ``holdout/`` (job stores with their ``dataset.nc``),
@@ -412,7 +423,8 @@ def train_spatial(out_dir, mesh: Mesh, rays: int, wavelength_nm: float = 550.0, 
     if method not in REDUCTION_METHODS:
         raise ParameterError("method", method, f"one of {REDUCTION_METHODS}")
     out = Path(out_dir)
-    options = {"stacks": stacks, "slices": slices, "threads": threads, "checkpoint": checkpoint, "measure": measure}
+    options = {"stacks": stacks, "slices": slices, "threads": threads, "checkpoint": checkpoint, "measure": measure,
+               "memory": memory}
     jobs = [node_job(out / "nodes", mesh, wavelength_nm, rays, seed, kind="nodes", **options)]
     if holdout:
         points = []
@@ -445,7 +457,8 @@ def train_spatial(out_dir, mesh: Mesh, rays: int, wavelength_nm: float = 550.0, 
     nodes_path = statuses[0].dataset_path
     info = {"path": str(nodes_path), "sha256": file_sha256(nodes_path), "rays_per_node": int(rays),
             "seed": int(seed), "wavelength_nm": float(wavelength_nm), "stacks": int(stacks), "slices": int(slices),
-            "reduction_method": method, "measure": _measure_name(measure)}
+            "reduction_method": method, "measure": _measure_name(measure),
+            **({"memory": memory} if memory != "none" else {})}
     model = SpatialModel(**dict(model_params or {})).fit(node_brdfs(nodes_path, method), mesh, training_set=info)
     reports = []
     if holdout_status is not None:
