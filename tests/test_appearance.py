@@ -1,5 +1,7 @@
 """SandAppearance: the explicit spectral BRDF — energy, reciprocity, sampling, albedo, tables."""
 
+import copy
+import json
 import math
 import sys
 from pathlib import Path
@@ -348,6 +350,22 @@ def test_table_keeps_a_normal_incidence_peak_energy(spatial):
                             * d[:, 2] * w).sum() for xi in x])
     assert from_table == pytest.approx(row, rel=5e-3)
     assert exact > from_table  # the peak at exactly μ_i = 1 is brighter than its hat average
+
+
+def test_models_of_different_engine_memories_are_flagged(spatial, spectral, tmp_path):
+    # A callable's memory is unknown: no warning, recorded as such.
+    table = SandAppearance(SandSample(saturation=0.3), spatial_fakes.fake_spectrum, spatial).to_table(
+        tmp_path / "a.nc", n_mu=3, n_dphi=3)
+    with xr.open_dataset(table, engine="h5netcdf") as ds:
+        assert json.loads(ds.attrs["engine_memory"]) == {"spectral": "unknown", "spatial": "none"}
+    same = SandAppearance(SandSample(saturation=0.3), spectral, spatial)
+    assert same.spectral_memory == "none"
+    packed = copy.deepcopy(spectral)
+    packed.training_set_ = {**packed.training_set_, "engine": {"memory": "packed"}}
+    with pytest.warns(UserWarning, match="engine memory 'packed'.*'none'"):
+        mixed = SandAppearance(SandSample(saturation=0.3), packed, spatial)
+    with xr.open_dataset(mixed.to_table(tmp_path / "b.nc", n_mu=3, n_dphi=3), engine="h5netcdf") as ds:
+        assert json.loads(ds.attrs["engine_memory"]) == {"spectral": "packed", "spatial": "none"}
 
 
 def test_table_arguments(app):

@@ -96,6 +96,7 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -158,7 +159,9 @@ def _resolve_sample(sample):
     raise ParameterError("sample", type(sample).__name__, "a SandSample, a preset name or a dict of parameters")
 
 
-def _resolve_spectral(model, sample) -> tuple[np.ndarray, np.ndarray, str]:
+def _resolve_spectral(model, sample) -> tuple[np.ndarray, np.ndarray, str, str | None]:
+    """Wavelengths, reflectance, a description of the model and its engine memory (None: unknown,
+    e.g. for a callable)."""
     from sandlight.predictor.spectral import SpectralModel
 
     if model is None:
@@ -181,7 +184,7 @@ def _resolve_spectral(model, sample) -> tuple[np.ndarray, np.ndarray, str]:
             or np.any(np.diff(wl) <= 0):
         raise ParameterError("spectral_model", f"wavelengths of shape {wl.shape}, reflectance of shape {r.shape}",
                              "increasing finite wavelengths (nm) and one finite reflectance per wavelength")
-    return wl, r, source
+    return wl, r, source, getattr(model, "memory_", None)
 
 
 def _resolve_spatial(model):
@@ -230,6 +233,9 @@ class SandAppearance:
         Node values of the spatial grid set to 0.
     spatial : sandlight.spatial.SpatialBRDF
         The spatial model's prediction (before the three steps of the module docstring).
+    spectral_memory : str or None
+        Engine path memory the spectral model was trained with (None for a callable). A warning
+        is issued when it differs from the spatial model's ``memory_``.
 
     Examples
     --------
@@ -245,10 +251,14 @@ class SandAppearance:
             raise ParameterError("combination", combination, f"one of {COMBINATIONS}")
         self.sand_sample = _resolve_sample(sample)
         self.combination = combination
-        wl, r, self.spectral_source = _resolve_spectral(spectral_model, self.sand_sample)
+        wl, r, self.spectral_source, self.spectral_memory = _resolve_spectral(spectral_model, self.sand_sample)
         self.wavelengths_nm = wl
         self.normal_reflectance = np.clip(r, 0.0, 1.0)
         model = _resolve_spatial(spatial_model)
+        if self.spectral_memory is not None and self.spectral_memory != model.memory_:
+            warnings.warn(f"the spectral model was trained with engine memory {self.spectral_memory!r}, the spatial "
+                          f"model with {model.memory_!r}: the appearance combines two transport models "
+                          f"(docs/geometry.md)", UserWarning, stacklevel=2)
         self.spatial_model = model
         self.spatial = model.brdf(self.sand_sample, fixed=fixed)
         h = self.spatial.hemisphere
@@ -605,6 +615,8 @@ class SandAppearance:
             "sample": json.dumps(self.sand_sample.to_dict(), sort_keys=True),
             "combination": self.combination,
             "spectral_source": self.spectral_source,
+            "engine_memory": json.dumps({"spectral": self.spectral_memory or "unknown",
+                                         "spatial": self.spatial_model.memory_}),
             "spatial_mesh": json.dumps({"parameters": list(self.spatial_model.mesh_.parameters),
                                         "coordinates": self.spatial.coordinates.tolist()}),
             "spatial_wavelength_nm": -1.0 if self.spatial_model.wavelength_nm_ is None else self.spatial_model.wavelength_nm_,

@@ -107,6 +107,16 @@ class TestInputs:
         with pytest.raises(ParameterError, match="at least one"):
             ModelBank([])
 
+    def test_models_must_share_the_engine_memory(self, models):
+        broad, narrow = models
+        assert ModelBank(models).memory_ == "none"
+        train, R, _, _ = exact_cubic_problem(NARROW, 300, seed=2)
+        packed = SpectralModel(ridge=1e-9).fit(train, R, wavelengths_nm=WL, domain=NARROW, name="packed",
+                                               training_set={"engine": {"memory": "packed"}})
+        assert packed.memory_ == "packed"
+        with pytest.raises(ParameterError, match="engine memory.*'broad': 'none'.*'packed': 'packed'"):
+            ModelBank([broad, packed])
+
     def test_save_load_keeps_name_and_rank(self, models, tmp_path):
         paths = [m.save(tmp_path / f"spectral-{m.name_}.npz") for m in models]
         loaded = ModelBank.load(paths)

@@ -80,6 +80,12 @@ class ModelBank:
         names = [m.name_ for m in models]
         if len(set(names)) != len(names):
             raise ParameterError("model names", names, "distinct names (name_) in one bank")
+        # A bank answers each sample with one of its models: they must share the engine's physics.
+        memories = {m.name_: m.memory_ for m in models}
+        if len(set(memories.values())) > 1:
+            raise ParameterError("engine memory of the models", memories,
+                                 "one path memory for the whole bank (train them with the same memory)")
+        self.memory_ = models[0].memory_
         self.models = tuple(sorted(models, key=lambda m: (holdout_rms(m),
                                                           len(m.parameter_names_))))
         self.wavelengths_ = wl
