@@ -11,7 +11,7 @@ Cases (normal incidence, directional-hemispherical reflectance, dry):
   pores of the packed sand, docs/geometry.md).
 
 For every case it traces the explicit reference (one packing per sand, seed 1) and the
-on-the-fly engine with ``memory`` = none, channel and cut, and writes Markdown tables with
+on-the-fly engine with ``memory`` = none, channel, cut and packed, and writes Markdown tables with
 standard errors between the markers ``<!-- geometry-comparison:begin/end -->`` of
 ``docs/geometry.md`` (atomically). With ``--brdf`` it also measures principal-plane BRDFs at
 0°, 30° and 60° incidence for the dark monodisperse spheres (α = 50 cm⁻¹) and writes

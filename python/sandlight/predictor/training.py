@@ -147,11 +147,16 @@ def check_engine_memory(memory, custom=None, custom_name: str = "simulate") -> s
                                  f"memory is a setting of sandlight's engine: give it to your "
                                  f"{custom_name})")
         return memory
-    from sandlight.engine import MEMORIES
+    from sandlight.engine import MEMORIES, _check_choice
 
-    if not isinstance(memory, str) or memory not in MEMORIES:
-        raise ParameterError("memory", memory, "one of " + ", ".join(map(repr, MEMORIES)))
-    return memory
+    return _check_choice("memory", memory, MEMORIES)
+
+
+def engine_memory_record(memory: str) -> dict:
+    """The engine memory as recorded in datasets, job settings and models: by omission for the
+    classic model ('none'), as in everything written before path memory existed, so that those
+    stores still resume and read as the classic model."""
+    return {"memory": memory} if memory != "none" else {}
 
 
 def training_job(path, n_samples: int, wavelengths_nm, rays: int, seed: int, *,
@@ -168,8 +173,7 @@ def training_job(path, n_samples: int, wavelengths_nm, rays: int, seed: int, *,
     if simulate is None:
         _check_domain_against_sample(domain)
     payloads = domain.draw(n_samples, seed, design)
-    # The classic model is recorded by omission, as in every training set before path memory.
-    engine = {**ENGINE_SETTINGS, "rays": int(rays), **({"memory": memory} if memory != "none" else {})}
+    engine = {**ENGINE_SETTINGS, "rays": int(rays), **engine_memory_record(memory)}
     settings = {"kind": TRAINING_SET_FORMAT, "wavelengths_nm": wavelengths, "rays": int(rays),
                 "design": design, "domain": domain.to_dict(), "engine": engine,
                 "simulator": _simulator_name(simulate), "sandlight_version": __version__}

@@ -141,14 +141,13 @@ def node_job(path, mesh_or_samples, wavelength_nm: float, rays: int, seed: int, 
         refused. Only with the default ``measure``.
     """
     from sandlight import __version__
-    from sandlight.predictor.training import check_engine_memory
+    from sandlight.predictor.training import check_engine_memory, engine_memory_record
 
     CollectorHemisphere(stacks, slices)  # validates the geometry
     rays = _check_count("rays", rays)
     threads = _check_count("threads", threads)
     memory = check_engine_memory(memory, measure, "measure")
-    # The classic model is recorded by omission, as in every node set before path memory.
-    with_memory = {"memory": memory} if memory != "none" else {}
+    with_memory = engine_memory_record(memory)
     try:
         wl = float(wavelength_nm)
     except (TypeError, ValueError):
@@ -452,13 +451,12 @@ def train_spatial(out_dir, mesh: Mesh, rays: int, wavelength_nm: float = 550.0, 
         return TrainingRun(None, [], None, statuses[0], holdout_status, measurement_s, 0.0)
 
     start = time.perf_counter()
-    from sandlight.predictor.training import file_sha256
+    from sandlight.predictor.training import engine_memory_record, file_sha256
 
     nodes_path = statuses[0].dataset_path
     info = {"path": str(nodes_path), "sha256": file_sha256(nodes_path), "rays_per_node": int(rays),
             "seed": int(seed), "wavelength_nm": float(wavelength_nm), "stacks": int(stacks), "slices": int(slices),
-            "reduction_method": method, "measure": _measure_name(measure),
-            **({"memory": memory} if memory != "none" else {})}
+            "reduction_method": method, "measure": _measure_name(measure), **engine_memory_record(memory)}
     model = SpatialModel(**dict(model_params or {})).fit(node_brdfs(nodes_path, method), mesh, training_set=info)
     reports = []
     if holdout_status is not None:
