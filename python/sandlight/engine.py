@@ -72,10 +72,10 @@ def _check_choice(name, value, allowed):
 
 
 #: Why the surface-layer models are not for wet sand yet (docs/geometry.md, "Wet sand").
-WET_TOP_LAYER = ("memory='cut' and geometry='explicit' put the flat water surface of a water-filled surface pore at "
-                 "the top of the surface layer, above the highest grain, so with water-filled pores (saturation > 0) "
-                 "they lose more light in the water bands than the classic model; use memory='none' for wet sand "
-                 "(docs/geometry.md, 'Wet sand')")
+WET_TOP_LAYER = ("memory='cut' or 'packed' and geometry='explicit' put the flat water surface of a water-filled "
+                 "surface pore at the top of the surface layer, above the highest grain, so with water-filled pores "
+                 "(saturation above film_saturation) they lose more light in the water bands than the classic model; "
+                 "use memory='none' for wet sand (docs/geometry.md, 'Wet sand')")
 
 
 def medium_factory(comp, *, geometry: str = "on-the-fly", memory: str | None = None, packing=None, seed: int = 0):
