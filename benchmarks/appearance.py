@@ -64,8 +64,10 @@ def main() -> None:
     from sandlight.spatial import SpatialModel
     from sandlight.spatial.model import default_model_path
 
-    print(f"sandlight {sandlight.__version__} on {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
-          f"load average {os.getloadavg()[0]:.2f}")
+    print(
+        f"sandlight {sandlight.__version__} on {platform.processor() or platform.machine()}, {os.cpu_count()} cores, "
+        f"load average {os.getloadavg()[0]:.2f}"
+    )
     spatial_path = default_model_path()
     tmp = Path(tempfile.mkdtemp())
     if not spatial_path.is_file():
@@ -92,10 +94,12 @@ def main() -> None:
         app = SandAppearance(args.preset, spectral, model)
     print(f"SandAppearance construction (prediction, grid, sampling tables): {wall * 1e3:.1f} ms")
     stand_in = "None" if spectral is None else "lambda s: (np.arange(400.0, 701.0, 20.0), np.full(16, 0.3))"
-    code = ("import time, warnings; t = time.perf_counter(); warnings.simplefilter('ignore'); import numpy as np; "
-            "from sandlight.appearance import SandAppearance; "
-            f"SandAppearance({args.preset!r}, {stand_in}, {str(spatial_path)!r}); "
-            "print(time.perf_counter() - t)")
+    code = (
+        "import time, warnings; t = time.perf_counter(); warnings.simplefilter('ignore'); import numpy as np; "
+        "from sandlight.appearance import SandAppearance; "
+        f"SandAppearance({args.preset!r}, {stand_in}, {str(spatial_path)!r}); "
+        "print(time.perf_counter() - t)"
+    )
     cold = float(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout)
     print(f"cold start in a fresh interpreter (imports, models, construction): {cold:.2f} s")
 
@@ -105,13 +109,19 @@ def main() -> None:
     wi[:, 2], wo[:, 2] = np.abs(wi[:, 2]), np.abs(wo[:, 2])
     for wavelengths in ([550.0], app.wavelengths_nm):
         for threads in (None, 2):
-            wall, cpu = best_of(lambda: app.brdf(wi, wo, wavelengths, threads=threads))
-            print(f"brdf, {len(wavelengths):2d} wavelength(s), {threads or 1} thread(s): {n / cpu / 1e6:6.1f} M pairs/s "
-                  f"per core (CPU time), {n / wall / 1e6:6.1f} M pairs/s wall")
+
+            def run(wavelengths=wavelengths, threads=threads):
+                return app.brdf(wi, wo, wavelengths, threads=threads)
+
+            wall, cpu = best_of(run)
+            print(
+                f"brdf, {len(wavelengths):2d} wavelength(s), {threads or 1} thread(s): {n / cpu / 1e6:6.1f} M pairs/s "
+                f"per core (CPU time), {n / wall / 1e6:6.1f} M pairs/s wall"
+            )
     m = min(n, 200_000)
     u1, u2 = rng.random(m), rng.random(m)
     for method in ("brdf", "cosine"):
-        wall, cpu = best_of(lambda: app.sample(wi[:m], u1, u2, 550.0, method=method))
+        wall, cpu = best_of(lambda method=method: app.sample(wi[:m], u1, u2, 550.0, method=method))
         print(f"sample ({method}): {m / cpu / 1e6:.2f} M/s per core")
     wall, cpu = best_of(lambda: app.pdf(wi[:m], wo[:m]))
     print(f"pdf (brdf): {m / cpu / 1e6:.2f} M/s per core")

@@ -100,24 +100,36 @@ def main(argv=None) -> None:
     parser.add_argument("--samples", nargs="+", default=list(SAMPLES), help=f"any of {', '.join(SAMPLES)}")
     args = parser.parse_args(argv)
 
-    print(f"sandlight {sandlight.__version__}, Python {platform.python_version()}, {platform.system()} {platform.machine()}")
+    print(
+        f"sandlight {sandlight.__version__}, Python {platform.python_version()}, "
+        f"{platform.system()} {platform.machine()}"
+    )
     print(f"CPU: {cpu_model()}, {os.cpu_count()} logical cores")
     print(f"load average before: {load_average()}")
-    print(f"λ = {WAVELENGTH_NM:g} nm, normal incidence; best of {args.repeats} runs of ≈ {args.seconds:g} s (1 thread)\n")
-    header = (f"{'sample':<14} {'rays':>8} {'events/ray':>10} {'Mevents/s/core':>14} {'(per CPU-s)':>11} "
-              f"{'rays/s 1T':>10} {'rays/s 2T':>10} {'1→2T':>6} {'CPU 2T/1T':>9} {'1e8 rays (2T)':>14}")
+    print(
+        f"λ = {WAVELENGTH_NM:g} nm, normal incidence; best of {args.repeats} runs of ≈ {args.seconds:g} s (1 thread)\n"
+    )
+    header = (
+        f"{'sample':<14} {'rays':>8} {'events/ray':>10} {'Mevents/s/core':>14} {'(per CPU-s)':>11} "
+        f"{'rays/s 1T':>10} {'rays/s 2T':>10} {'1→2T':>6} {'CPU 2T/1T':>9} {'1e8 rays (2T)':>14}"
+    )
     print(header)
     print("-" * len(header))
     for name in args.samples:
         r = benchmark(name, args.seconds, args.repeats)
-        print(f"{r['name']:<14} {r['rays']:>8d} {r['events_per_ray']:>10.1f} {r['events_per_s_core'] / 1e6:>14.2f} "
-              f"{r['events_per_cpu_s'] / 1e6:>11.2f} {r['rays_per_s_1']:>10.0f} {r['rays_per_s_2']:>10.0f} "
-              f"{r['speedup']:>5.2f}× {r['cpu_ratio']:>9.2f} {r['projected_min']:>10.1f} min", flush=True)
+        print(
+            f"{r['name']:<14} {r['rays']:>8d} {r['events_per_ray']:>10.1f} {r['events_per_s_core'] / 1e6:>14.2f} "
+            f"{r['events_per_cpu_s'] / 1e6:>11.2f} {r['rays_per_s_1']:>10.0f} {r['rays_per_s_2']:>10.0f} "
+            f"{r['speedup']:>5.2f}× {r['cpu_ratio']:>9.2f} {r['projected_min']:>10.1f} min",
+            flush=True,
+        )
     print(f"\nload average after: {load_average()}")
     print("targets (default sample): ≥ 5 Mevents/s/core, ≥ 1.8× from 1 to 2 threads, 1e8 rays < 10 min")
-    print("Mevents/s/core and rays/s are wall-clock (1 thread); 'per CPU-s' divides by the process's CPU time, which\n"
-          "other load does not inflate; 'CPU 2T/1T' is the CPU time of the 2-thread run over the 1-thread run (1.00:\n"
-          "no parallel overhead). On a loaded machine the wall-clock speed-up understates the engine's scaling.")
+    print(
+        "Mevents/s/core and rays/s are wall-clock (1 thread); 'per CPU-s' divides by the process's CPU time, which\n"
+        "other load does not inflate; 'CPU 2T/1T' is the CPU time of the 2-thread run over the 1-thread run (1.00:\n"
+        "no parallel overhead). On a loaded machine the wall-clock speed-up understates the engine's scaling."
+    )
 
 
 if __name__ == "__main__":

@@ -41,7 +41,8 @@ import sandlight
 from sandlight.physics.packing import generate_packing, grain_medium, reference_grain_mm
 from sandlight.physics.composition import compose
 from sandlight.physics.medium import native_medium
-sample, mode, rays, repeats, threads, nm = sys.argv[1], sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), sys.argv[5], float(sys.argv[6])
+sample, mode, threads = sys.argv[1], sys.argv[2], sys.argv[5]
+rays, repeats, nm = int(sys.argv[3]), int(sys.argv[4]), float(sys.argv[6])
 threads = None if threads == "all" else int(threads)
 base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
 memory = "none" if mode == "explicit" else mode
@@ -80,8 +81,12 @@ MODES = ("none", "cut", "packed", "explicit")
 
 
 def run(sample, mode, rays, repeats, threads, nm):
-    res = subprocess.run([sys.executable, "-c", CHILD, sample, mode, str(rays), str(repeats), threads, str(nm)],
-                         capture_output=True, text=True, check=True)
+    res = subprocess.run(
+        [sys.executable, "-c", CHILD, sample, mode, str(rays), str(repeats), threads, str(nm)],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
@@ -94,17 +99,27 @@ def report(label, rows):
     print(f"\n{label}")
     for mode, r in rows.items():
         name = "explicit" if mode == "explicit" else f"on-the-fly (memory {mode})"
-        extra = (f", packing {r['packing_s']:.1f} s, {r['grains']} grains, scene {r['scene_bytes'] / 2**20:.1f} MiB"
-                 if mode == "explicit" else "")
-        print(f"  {name:26s} {r['rays_per_s']:12,.0f} rays/s  ρ = {r['reflectance']:.4f}  "
-              f"{r['events_per_ray']:5.1f} grains/ray  {ns_per_event(r):5.0f} ns/grain  "
-              f"peak RSS +{r['peak_rss_gain_mb']:.1f} MB{extra}")
+        extra = (
+            f", packing {r['packing_s']:.1f} s, {r['grains']} grains, scene {r['scene_bytes'] / 2**20:.1f} MiB"
+            if mode == "explicit"
+            else ""
+        )
+        print(
+            f"  {name:26s} {r['rays_per_s']:12,.0f} rays/s  ρ = {r['reflectance']:.4f}  "
+            f"{r['events_per_ray']:5.1f} grains/ray  {ns_per_event(r):5.0f} ns/grain  "
+            f"peak RSS +{r['peak_rss_gain_mb']:.1f} MB{extra}"
+        )
     n, e = rows["none"], rows["explicit"]
-    ratios = ", ".join(f"{m} {rows[m]['rays_per_s'] / n['rays_per_s']:.2f} per ray, "
-                       f"{ns_per_event(n) / ns_per_event(rows[m]):.2f} per grain" for m in ("cut", "packed"))
-    print(f"  speed on-the-fly / explicit: {n['rays_per_s'] / e['rays_per_s']:.2f}; "
-          f"speed with memory / none: {ratios}; "
-          f"peak RSS gain explicit / on-the-fly: {e['peak_rss_gain_mb'] / max(n['peak_rss_gain_mb'], 0.1):.1f}")
+    ratios = ", ".join(
+        f"{m} {rows[m]['rays_per_s'] / n['rays_per_s']:.2f} per ray, "
+        f"{ns_per_event(n) / ns_per_event(rows[m]):.2f} per grain"
+        for m in ("cut", "packed")
+    )
+    print(
+        f"  speed on-the-fly / explicit: {n['rays_per_s'] / e['rays_per_s']:.2f}; "
+        f"speed with memory / none: {ratios}; "
+        f"peak RSS gain explicit / on-the-fly: {e['peak_rss_gain_mb'] / max(n['peak_rss_gain_mb'], 0.1):.1f}"
+    )
 
 
 def main(argv=None):
@@ -113,8 +128,13 @@ def main(argv=None):
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--threads", default="2", help="worker threads, or 'all'")
     ap.add_argument("--samples", nargs="+", default=["spheres", "red-dune"])
-    ap.add_argument("--wavelengths", nargs="+", type=float, default=[450.0, 550.0, 650.0, 850.0],
-                    help="wavelengths (nm) for presets; the spheres have a fixed α")
+    ap.add_argument(
+        "--wavelengths",
+        nargs="+",
+        type=float,
+        default=[450.0, 550.0, 650.0, 850.0],
+        help="wavelengths (nm) for presets; the spheres have a fixed α",
+    )
     args = ap.parse_args(argv)
     print(f"machine: {describe()}; load average before: {load_average()}")
     print(f"rays per run: {args.rays}, best of {args.repeats}, threads: {args.threads}")
@@ -123,13 +143,17 @@ def main(argv=None):
         total = dict.fromkeys(MODES, 0.0)
         for nm in [550.0] if spheres else args.wavelengths:
             rows = {mode: run(sample, mode, args.rays, args.repeats, args.threads, nm) for mode in MODES}
-            report("monodisperse spheres d = 0.25 mm, φ = 0.40, α = 5 cm⁻¹" if spheres else f"{sample}, {nm:g} nm", rows)
+            report(
+                "monodisperse spheres d = 0.25 mm, φ = 0.40, α = 5 cm⁻¹" if spheres else f"{sample}, {nm:g} nm", rows
+            )
             for mode in MODES:
                 total[mode] += rows[mode]["seconds"]
         if not spheres and len(args.wavelengths) > 1:
-            print(f"  {sample} over {', '.join(f'{w:g}' for w in args.wavelengths)} nm (total time of the same rays): "
-                  + ", ".join(f"{m}/none {total['none'] / total[m]:.2f}" for m in ("cut", "packed"))
-                  + f"; on-the-fly / explicit {total['explicit'] / total['none']:.1f}")
+            print(
+                f"  {sample} over {', '.join(f'{w:g}' for w in args.wavelengths)} nm (total time of the same rays): "
+                + ", ".join(f"{m}/none {total['none'] / total[m]:.2f}" for m in ("cut", "packed"))
+                + f"; on-the-fly / explicit {total['explicit'] / total['none']:.1f}"
+            )
     print(f"\nload average after: {load_average()}")
 
 

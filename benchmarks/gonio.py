@@ -27,8 +27,10 @@ def main() -> None:
     args = ap.parse_args()
     sample = SandSample.preset(args.preset) if args.preset else SandSample()
     n = int(args.rays)
-    print(f"sandlight {sandlight.__version__} on {platform.processor() or platform.machine()}, "
-          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}")
+    print(
+        f"sandlight {sandlight.__version__} on {platform.processor() or platform.machine()}, "
+        f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}"
+    )
     print(f"sample: {args.preset or 'default SandSample()'}, 550 nm, 31 × 30 = 901 patches, {n:,} trials")
     rates = {}
     for threads in (1, 2):

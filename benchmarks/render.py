@@ -37,8 +37,10 @@ def main() -> None:
     ap.add_argument("--time-h", type=float, default=9.0, help="solar time of the benchmark frame")
     ap.add_argument("--figures", type=Path, default=None, help="folder for the PNG figures")
     args = ap.parse_args()
-    print(f"sandlight {sandlight.__version__} on {platform.processor() or platform.machine()}, "
-          f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}")
+    print(
+        f"sandlight {sandlight.__version__} on {platform.processor() or platform.machine()}, "
+        f"{os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}"
+    )
 
     scene = Scene.load("desert-day").with_overrides(width=640, height=360, spp=args.spp)
     t0 = time.perf_counter()
@@ -47,9 +49,11 @@ def main() -> None:
     table = scene.build_table()
     lighting = scene.build_lighting(args.time_h)
     setup = time.perf_counter() - t0
-    print(f"desert-day frame at {args.time_h:g} h (sun {lighting.sun_elevation_deg:.1f}° up), 640×360, "
-          f"{args.spp} spp, {scene.settings.max_bounces} bounce(s), estimator {scene.settings.estimator}/"
-          f"{scene.settings.sampling}; scene set-up (dunes, table, sky) {setup:.2f} s")
+    print(
+        f"desert-day frame at {args.time_h:g} h (sun {lighting.sun_elevation_deg:.1f}° up), 640×360, "
+        f"{args.spp} spp, {scene.settings.max_bounces} bounce(s), estimator {scene.settings.estimator}/"
+        f"{scene.settings.sampling}; scene set-up (dunes, table, sky) {setup:.2f} s"
+    )
     samples = 640 * 360 * args.spp
     image = None
     for threads in (1, 2):
@@ -59,9 +63,11 @@ def main() -> None:
         cpu = time.process_time() - cpu0
         # CPU seconds (all threads of this process) hardly depend on other jobs sharing the cores:
         # on idle cores the wall time would be about cpu / threads.
-        print(f"  {threads} thread(s): {image.elapsed_s:.2f} s wall, {cpu:.2f} s CPU, "
-              f"{samples / image.elapsed_s / 1e6:.2f} M samples/s, {cpu / samples * 1e9:.0f} ns CPU per sample; "
-              f"load average now {os.getloadavg()[0]:.2f}")
+        print(
+            f"  {threads} thread(s): {image.elapsed_s:.2f} s wall, {cpu:.2f} s CPU, "
+            f"{samples / image.elapsed_s / 1e6:.2f} M samples/s, {cpu / samples * 1e9:.0f} ns CPU per sample; "
+            f"load average now {os.getloadavg()[0]:.2f}"
+        )
     t0 = time.perf_counter()
     xyz = post.spectral_to_xyz(image.radiance, scene.wavelength_nm)
     rgb = post.to_srgb(xyz, post.white_level("auto", lighting, scene.wavelength_nm))
@@ -116,8 +122,10 @@ def beach_crop() -> None:
     table = scene.build_table()
     rows = slice(22, 62)
     below = -np.degrees(np.arcsin(camera.directions()[rows, :, 2]))
-    print(f"beach-drying, 320×180, crop rows {rows.start}–{rows.stop - 1} (view {below.min():.1f}°–{below.max():.1f}° "
-          f"below the horizon), BRDF {table.source!r}, {table.n_levels} levels")
+    print(
+        f"beach-drying, 320×180, crop rows {rows.start}–{rows.stop - 1} (view {below.min():.1f}°–{below.max():.1f}° "
+        f"below the horizon), BRDF {table.source!r}, {table.n_levels} levels"
+    )
     wl = scene.wavelength_nm
     for time_h in (13.0, 8.0):
         lighting = scene.build_lighting(time_h)
@@ -126,12 +134,16 @@ def beach_crop() -> None:
         for spp in spps:
             ys = []
             for seed in (21, 22):
-                img = render_image(camera, terrain, table, lighting, material, dataclasses.replace(scene.settings, spp=spp, seed=seed))
+                img = render_image(
+                    camera, terrain, table, lighting, material, dataclasses.replace(scene.settings, spp=spp, seed=seed)
+                )
                 ys.append(post.spectral_to_xyz(img.radiance, wl)[rows, :, 1])
             sigma = float(np.sqrt(np.mean((ys[0] - ys[1]) ** 2) / 2.0) / np.mean(ys[0]))
             sigmas.append(sigma)
-            print(f"  {time_h:4.1f} h (sun {lighting.sun_elevation_deg:4.1f}° up), {spp:3d} spp: σ/Y = {sigma:.4f}, "
-                  f"largest pixel / median = {ys[0].max() / np.median(ys[0]):.2f}")
+            print(
+                f"  {time_h:4.1f} h (sun {lighting.sun_elevation_deg:4.1f}° up), {spp:3d} spp: σ/Y = {sigma:.4f}, "
+                f"largest pixel / median = {ys[0].max() / np.median(ys[0]):.2f}"
+            )
         print(f"  log–log slope: {np.polyfit(np.log(spps), np.log(sigmas), 1)[0]:.3f}")
 
 

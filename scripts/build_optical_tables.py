@@ -45,11 +45,15 @@ SODIUM_D_NM = 589.3  # wavelength at which mineralogical indices are quoted (Na 
 HC_EV_NM = 1239.84198  # h c in eV nm: photon energy E = HC_EV_NM / lambda
 
 RII_COMMIT = "ff11b5897ef0754b15d939d921eb6c745693cbd1"
-RII_ORIGIN = (f"refractiveindex.info database, GitHub polyanskiy/refractiveindex.info-database, "
-              f"commit {RII_COMMIT} (2026-06-14), database/data/")
+RII_ORIGIN = (
+    f"refractiveindex.info database, GitHub polyanskiy/refractiveindex.info-database, "
+    f"commit {RII_COMMIT} (2026-06-14), database/data/"
+)
 RII_LICENCE = "CC0 1.0 (refractiveindex.info database: public domain dedication)"
-UNITS = ("wavelength_nm = wavelength in vacuum [nm]; n, k dimensionless, complex index m = n + i k; "
-         "absorption coefficient alpha = 4 pi k / lambda")
+UNITS = (
+    "wavelength_nm = wavelength in vacuum [nm]; n, k dimensionless, complex index m = n + i k; "
+    "absorption coefficient alpha = 4 pi k / lambda"
+)
 BUILT_BY = "scripts/build_optical_tables.py (sandlight); do not edit by hand"
 # Licence of values that sandlight itself computed (provisional parameterisations, averages).
 SANDLIGHT_LICENCE = "MIT (sandlight project) for the provisional parameterisation"
@@ -70,6 +74,7 @@ class Table:
 # Source readers and interpolation
 # --------------------------------------------------------------------------------------------
 
+
 def read_source_csv(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Read a shared ``csv/*.csv`` file (``wavelength_nm,n,k``; blank cell = not given -> NaN).
 
@@ -84,8 +89,7 @@ def read_source_csv(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
                 continue
             fields = line.split(",")
             rows.append(tuple(float(x) if x else math.nan for x in fields[:3]))
-    deduplicated = [r for i, r in enumerate(rows)
-                    if i == 0 or not _same_row(r, rows[i - 1])]
+    deduplicated = [r for i, r in enumerate(rows) if i == 0 or not _same_row(r, rows[i - 1])]
     data = np.array(deduplicated, dtype=float)
     if np.any(np.diff(data[:, 0]) <= 0):
         raise ValueError(f"{path}: wavelengths are not strictly increasing")
@@ -177,32 +181,52 @@ def build_quartz(src: Path) -> Table:
     header = [
         ("material", "quartz"),
         ("description", "alpha-quartz SiO2 (uniaxial positive), randomly oriented natural grains"),
-        ("status", "n: measured. k: measured (Crystran) in 1270-2500 nm; PROVISIONAL in 350-1270 nm "
-                   "(natural-grain impurity absorption, to be replaced by the issue-3 inversion)"),
-        ("source", "T. Radhakrishnan, Further studies on the temperature variation of the refractive "
-                   "index of crystals, Proc. Indian Acad. Sci. A 31, 22-34 (1951), "
-                   "doi:10.1007/BF03172255; and The dispersion, birefringence and optical activity "
-                   "of quartz, Proc. Indian Acad. Sci. A 25, 260-265 (1947), doi:10.1007/BF03171408 "
-                   "[n_o, n_e, 18 C]"),
-        ("source", "Crystran Ltd., The Crystran handbook of infra-red and ultra-violet optical "
-                   "materials, 5th ed. (2023) [k, ordinary ray, 1270-2500 nm]"),
-        ("source", "cross-check: G. Ghosh, Dispersion-equation coefficients for the refractive index "
-                   "and birefringence of calcite and quartz crystals, Opt. Commun. 163, 95-102 "
-                   "(1999), doi:10.1016/S0030-4018(99)00091-7"),
-        ("origin", RII_ORIGIN + "main/SiO2/nk/Radhakrishnan-o.yml, Radhakrishnan-e.yml, "
-                                "Ghosh-o.yml, Ghosh-e.yml; specs/crystran/optical/quartz-o.yml"),
+        (
+            "status",
+            "n: measured. k: measured (Crystran) in 1270-2500 nm; PROVISIONAL in 350-1270 nm "
+            "(natural-grain impurity absorption, to be replaced by the issue-3 inversion)",
+        ),
+        (
+            "source",
+            "T. Radhakrishnan, Further studies on the temperature variation of the refractive "
+            "index of crystals, Proc. Indian Acad. Sci. A 31, 22-34 (1951), "
+            "doi:10.1007/BF03172255; and The dispersion, birefringence and optical activity "
+            "of quartz, Proc. Indian Acad. Sci. A 25, 260-265 (1947), doi:10.1007/BF03171408 "
+            "[n_o, n_e, 18 C]",
+        ),
+        (
+            "source",
+            "Crystran Ltd., The Crystran handbook of infra-red and ultra-violet optical "
+            "materials, 5th ed. (2023) [k, ordinary ray, 1270-2500 nm]",
+        ),
+        (
+            "source",
+            "cross-check: G. Ghosh, Dispersion-equation coefficients for the refractive index "
+            "and birefringence of calcite and quartz crystals, Opt. Commun. 163, 95-102 "
+            "(1999), doi:10.1016/S0030-4018(99)00091-7",
+        ),
+        (
+            "origin",
+            RII_ORIGIN + "main/SiO2/nk/Radhakrishnan-o.yml, Radhakrishnan-e.yml, "
+            "Ghosh-o.yml, Ghosh-e.yml; specs/crystran/optical/quartz-o.yml",
+        ),
         ("licence", RII_LICENCE + "; " + SANDLIGHT_LICENCE + " of k in 350-1270 nm"),
         ("units", UNITS),
         ("sampling", "5 nm grid, 350-2500 nm"),
-        ("method", "n = (2 n_o + n_e)/3, orientation average for randomly oriented grains; "
-                   "Radhakrishnan formula evaluated on the 5 nm grid; birefringence n_e - n_o = "
-                   f"{np.min(n_e - n_o):.4f}-{np.max(n_e - n_o):.4f} over the range"),
+        (
+            "method",
+            "n = (2 n_o + n_e)/3, orientation average for randomly oriented grains; "
+            "Radhakrishnan formula evaluated on the 5 nm grid; birefringence n_e - n_o = "
+            f"{np.min(n_e - n_o):.4f}-{np.max(n_e - n_o):.4f} over the range",
+        ),
         ("method", f"Ghosh 1999 agrees with Radhakrishnan within {max_dn:.1e} in n over 350-2050 nm"),
-        ("method", "k >= 1270 nm: Crystran ordinary-ray k, log-linear interpolation onto the grid, "
-                   "used for both rays"),
-        ("method", f"k < 1270 nm PROVISIONAL: alpha = {QUARTZ_ALPHA_550_PER_CM} /cm * "
-                   f"(550 nm/lambda)^{exponent:.3f}, the exponent making alpha continuous with "
-                   f"Crystran at 1270 nm; k = alpha lambda/(4 pi)"),
+        ("method", "k >= 1270 nm: Crystran ordinary-ray k, log-linear interpolation onto the grid, used for both rays"),
+        (
+            "method",
+            f"k < 1270 nm PROVISIONAL: alpha = {QUARTZ_ALPHA_550_PER_CM} /cm * "
+            f"(550 nm/lambda)^{exponent:.3f}, the exponent making alpha continuous with "
+            f"Crystran at 1270 nm; k = alpha lambda/(4 pi)",
+        ),
         ("built_by", BUILT_BY),
     ]
     return Table("quartz", header, grid, n, k)
@@ -212,17 +236,23 @@ def build_quartz(src: Path) -> Table:
 # Hematite (Querry 1985, Longtin 1988) and magnetite (Querry 1985)
 # --------------------------------------------------------------------------------------------
 
-QUERRY_1985 = ("M. R. Querry, Optical constants, Contractor Report CRDC-CR-85034, US Army "
-               "Chemical Research and Development Center, Aberdeen Proving Ground (1985), "
-               "https://apps.dtic.mil/sti/citations/ADA158623")
+QUERRY_1985 = (
+    "M. R. Querry, Optical constants, Contractor Report CRDC-CR-85034, US Army "
+    "Chemical Research and Development Center, Aberdeen Proving Ground (1985), "
+    "https://apps.dtic.mil/sti/citations/ADA158623"
+)
 
 
-LONGTIN_1988 = ("D. R. Longtin, E. P. Shettle, J. R. Hummel, J. D. Pryce, A wind dependent desert "
-                "aerosol model: radiative properties, Air Force Geophysics Laboratory report "
-                "AFGL-TR-88-0112 (1988)")
-ARIA_ORIGIN = ("ARIA (Aerosol Refractive Index Archive, University of Oxford EODG) as bundled in the "
-               "PyPI package srfm, GitHub eodg-oxford/srfm, commit "
-               "f8841cd3e64675c45448590892b3d15980c51f2d, src/srfm/data/ARIA/")
+LONGTIN_1988 = (
+    "D. R. Longtin, E. P. Shettle, J. R. Hummel, J. D. Pryce, A wind dependent desert "
+    "aerosol model: radiative properties, Air Force Geophysics Laboratory report "
+    "AFGL-TR-88-0112 (1988)"
+)
+ARIA_ORIGIN = (
+    "ARIA (Aerosol Refractive Index Archive, University of Oxford EODG) as bundled in the "
+    "PyPI package srfm, GitHub eodg-oxford/srfm, commit "
+    "f8841cd3e64675c45448590892b3d15980c51f2d, src/srfm/data/ARIA/"
+)
 # Where the hematite table switches source: Querry's k up to the end of the charge-transfer
 # region, where Querry and Triaud agree within 20 %; Longtin's from its first point beyond the
 # absorption edge; between the two, k is log-linear (one straight line in log k).
@@ -268,27 +298,31 @@ def build_hematite(src: Path) -> Table:
     _, _, _, (k_b,) = hematite_sources(src, [HEMATITE_LONGTIN_FROM_NM])
     t = (grid - HEMATITE_QUERRY_UNTIL_NM) / (HEMATITE_LONGTIN_FROM_NM - HEMATITE_QUERRY_UNTIL_NM)
     k_edge = k_a * (k_b / k_a) ** np.clip(t, 0.0, 1.0)
-    k = np.where(grid <= HEMATITE_QUERRY_UNTIL_NM, k_querry,
-                 np.where(grid >= HEMATITE_LONGTIN_FROM_NM, k_longtin, k_edge))
+    k = np.where(
+        grid <= HEMATITE_QUERRY_UNTIL_NM, k_querry, np.where(grid >= HEMATITE_LONGTIN_FROM_NM, k_longtin, k_edge)
+    )
     header = [
         ("material", "hematite"),
         ("description", "alpha-Fe2O3 (uniaxial), randomly oriented grains"),
         ("status", "measured (two sources joined across the absorption edge)"),
-        ("source", QUERRY_1985 + " [hematite, ordinary and extraordinary rays: n at all "
-                   "wavelengths, k up to 550 nm]"),
+        ("source", QUERRY_1985 + " [hematite, ordinary and extraordinary rays: n at all wavelengths, k up to 550 nm]"),
         ("source", LONGTIN_1988 + " [hematite, ordinary and extraordinary rays: k from 633 nm]"),
         ("origin", RII_ORIGIN + "main/Fe2O3/nk/Querry-o.yml, Querry-e.yml"),
-        ("origin", ARIA_ORIGIN + "Minerals/Hematite/o-ray_(Longtin_et_al._1988), "
-                   "e-ray_(Longtin_et_al._1988)"),
-        ("licence", RII_LICENCE + " for Querry; MIT (srfm package, which bundles ARIA) for "
-                    "Longtin"),
+        ("origin", ARIA_ORIGIN + "Minerals/Hematite/o-ray_(Longtin_et_al._1988), e-ray_(Longtin_et_al._1988)"),
+        ("licence", RII_LICENCE + " for Querry; MIT (srfm package, which bundles ARIA) for Longtin"),
         ("units", UNITS),
         ("sampling", "Querry's source points, 10 nm, 350-2500 nm"),
-        ("method", "n = (2 n_o + n_e)/3 and k = (2 k_o + k_e)/3: orientation average for randomly "
-                   "oriented grains (exact for the mean absorption coefficient when absorption is "
-                   "weak); k interpolated linearly in log k"),
-        ("method", f"k: Querry up to {HEMATITE_QUERRY_UNTIL_NM:g} nm, Longtin from "
-                   f"{HEMATITE_LONGTIN_FROM_NM:g} nm, log-linear between the two end values"),
+        (
+            "method",
+            "n = (2 n_o + n_e)/3 and k = (2 k_o + k_e)/3: orientation average for randomly "
+            "oriented grains (exact for the mean absorption coefficient when absorption is "
+            "weak); k interpolated linearly in log k",
+        ),
+        (
+            "method",
+            f"k: Querry up to {HEMATITE_QUERRY_UNTIL_NM:g} nm, Longtin from "
+            f"{HEMATITE_LONGTIN_FROM_NM:g} nm, log-linear between the two end values",
+        ),
         ("built_by", BUILT_BY),
     ]
     return Table("hematite", header, grid, n, k)
@@ -316,6 +350,7 @@ def build_magnetite(src: Path) -> Table:
 # Water (Segelstein 1981)
 # --------------------------------------------------------------------------------------------
 
+
 def build_water(src: Path) -> Table:
     w, n, k = read_source_csv(src / "csv" / "water_H2O_Segelstein1981.csv")
     keep = bracket(w)
@@ -323,19 +358,27 @@ def build_water(src: Path) -> Table:
         ("material", "water"),
         ("description", "liquid water, 25 C"),
         ("status", "measured (compilation)"),
-        ("source", "D. J. Segelstein, The complex refractive index of water, MSc thesis, "
-                   "University of Missouri-Kansas City (1981), http://hdl.handle.net/10355/11599 "
-                   "(continuation of G. M. Hale and M. R. Querry, Appl. Opt. 12, 555-563 (1973), "
-                   "doi:10.1364/AO.12.000555)"),
+        (
+            "source",
+            "D. J. Segelstein, The complex refractive index of water, MSc thesis, "
+            "University of Missouri-Kansas City (1981), http://hdl.handle.net/10355/11599 "
+            "(continuation of G. M. Hale and M. R. Querry, Appl. Opt. 12, 555-563 (1973), "
+            "doi:10.1364/AO.12.000555)",
+        ),
         ("origin", RII_ORIGIN + "main/H2O/nk/Segelstein.yml"),
         ("licence", RII_LICENCE),
         ("units", UNITS),
-        ("sampling", "source points (3.5-25 nm apart), first point at or below 350 nm to first "
-                     "point at or above 2500 nm"),
-        ("method", "source values unchanged; n and k from one compilation; n differs from "
-                   "Daimon & Masumura 2007 (20 C) by +0.009 at 350 nm, +0.001 at 550 nm and "
-                   "-0.004 at 1000 nm; visible k (below ~500 nm) is higher than Pope & Fry 1997, "
-                   "irrelevant for mm-scale water paths in sand"),
+        (
+            "sampling",
+            "source points (3.5-25 nm apart), first point at or below 350 nm to first point at or above 2500 nm",
+        ),
+        (
+            "method",
+            "source values unchanged; n and k from one compilation; n differs from "
+            "Daimon & Masumura 2007 (20 C) by +0.009 at 350 nm, +0.001 at 550 nm and "
+            "-0.004 at 1000 nm; visible k (below ~500 nm) is higher than Pope & Fry 1997, "
+            "irrelevant for mm-scale water paths in sand",
+        ),
         ("built_by", BUILT_BY),
     ]
     return Table("water", header, w[keep], n[keep], k[keep])
@@ -353,10 +396,12 @@ GOETHITE_N_589 = sum(GOETHITE_N_PRINCIPAL) / 3.0
 # Specular reflectance R1-R2 [%] of polished goethite in air, 400-700 nm, same Handbook entry
 # (IMA/COM Quantitative Data File values). Used only for the *shape* of the dispersion.
 GOETHITE_R_WAVELENGTH_NM = np.arange(400.0, 700.0 + 1.0, 20.0)
-GOETHITE_R1_PERCENT = np.array([17.5, 16.7, 15.9, 15.2, 14.6, 14.1, 13.7, 13.3,
-                                13.0, 12.8, 12.5, 12.4, 12.2, 12.0, 12.0, 11.9])
-GOETHITE_R2_PERCENT = np.array([19.2, 18.3, 17.4, 16.7, 16.0, 15.5, 15.0, 14.6,
-                                14.3, 14.0, 13.7, 13.5, 13.4, 13.2, 13.1, 13.0])
+GOETHITE_R1_PERCENT = np.array(
+    [17.5, 16.7, 15.9, 15.2, 14.6, 14.1, 13.7, 13.3, 13.0, 12.8, 12.5, 12.4, 12.2, 12.0, 12.0, 11.9]
+)
+GOETHITE_R2_PERCENT = np.array(
+    [19.2, 18.3, 17.4, 16.7, 16.0, 15.5, 15.0, 14.6, 14.3, 14.0, 13.7, 13.5, 13.4, 13.2, 13.1, 13.0]
+)
 # The dispersion law is fitted where the provisional k is small enough (< 0.15) that the
 # reflectance-to-n conversion hardly depends on it; below this wavelength n is held constant.
 GOETHITE_N_FIT_FROM_NM = 540.0
@@ -397,7 +442,7 @@ def index_from_normal_reflectance(reflectance, k):
     of (1-R) n^2 - 2(1+R) n + (1-R)(1+k^2) = 0.
     """
     r = np.asarray(reflectance, dtype=float)
-    return ((1 + r) + np.sqrt((1 + r) ** 2 - (1 - r) ** 2 * (1 + k ** 2))) / (1 - r)
+    return ((1 + r) + np.sqrt((1 + r) ** 2 - (1 - r) ** 2 * (1 + k**2))) / (1 - r)
 
 
 def goethite_dispersion():
@@ -416,7 +461,7 @@ def goethite_dispersion():
     design = np.column_stack([np.ones(sel.sum()), 1.0 / lam[sel] ** 2])
     (a, b), *_ = np.linalg.lstsq(design, 1.0 / (n_scaled[sel] ** 2 - 1.0), rcond=None)
     strength, lambda0 = 1.0 / a, math.sqrt(-b / a)
-    fitted = np.sqrt(1.0 + strength * lam[sel] ** 2 / (lam[sel] ** 2 - lambda0 ** 2))
+    fitted = np.sqrt(1.0 + strength * lam[sel] ** 2 / (lam[sel] ** 2 - lambda0**2))
     return strength, lambda0, float(np.max(np.abs(fitted - n_scaled[sel])))
 
 
@@ -424,7 +469,7 @@ def goethite_n(wavelength_nm):
     """Provisional real index of goethite: the fitted Sellmeier law above 540 nm, constant below."""
     strength, lambda0, _ = goethite_dispersion()
     lam = np.maximum(np.asarray(wavelength_nm, dtype=float), GOETHITE_N_FIT_FROM_NM)
-    return np.sqrt(1.0 + strength * lam ** 2 / (lam ** 2 - lambda0 ** 2))
+    return np.sqrt(1.0 + strength * lam**2 / (lam**2 - lambda0**2))
 
 
 def build_goethite(src: Path) -> Table:
@@ -436,38 +481,59 @@ def build_goethite(src: Path) -> Table:
     header = [
         ("material", "goethite"),
         ("description", "alpha-FeOOH (orthorhombic, biaxial negative), randomly oriented grains"),
-        ("status", "PROVISIONAL (no measured n,k table exists); to be replaced by the issue-3 "
-                   "inversion of USGS goethite spectra (scripts/derive_constants.py)"),
-        ("source", "J. W. Anthony, R. A. Bideaux, K. W. Bladh, M. C. Nichols (eds.), Handbook of "
-                   "Mineralogy, vol. III, Mineral Data Publishing / Mineralogical Society of "
-                   "America, goethite entry, http://www.handbookofmineralogy.org/ [principal "
-                   "indices alpha 2.260-2.275, beta 2.393-2.409, gamma 2.398-2.515; reflectance "
-                   "R1-R2 400-700 nm]"),
-        ("source", "A. Bedidi and B. Cervelle, Light scattering by spherical particles with "
-                   "hematite and goethitelike optical properties: effect of water impregnation, "
-                   "J. Geophys. Res. 98(B7), 11941-11952 (1993), as quoted "
-                   "by R. A. Conny et al., J. Geophys. Res. Atmos. 122 (2017), "
-                   "doi:10.1002/2017JD026488, table 4 [k ~ 0.09 mid-visible]"),
-        ("source", "D. M. Sherman and T. D. Waite, Electronic spectra of Fe3+ oxides and oxide "
-                   "hydroxides in the near IR to near UV, Am. Mineral. 70, 1262-1269 (1985); "
-                   "A. C. Scheinost, A. Chavernas, V. Barron, J. Torrent, Clays Clay Miner. 46, "
-                   "528-536 (1998) [band assignments and positions]"),
+        (
+            "status",
+            "PROVISIONAL (no measured n,k table exists); to be replaced by the issue-3 "
+            "inversion of USGS goethite spectra (scripts/derive_constants.py)",
+        ),
+        (
+            "source",
+            "J. W. Anthony, R. A. Bideaux, K. W. Bladh, M. C. Nichols (eds.), Handbook of "
+            "Mineralogy, vol. III, Mineral Data Publishing / Mineralogical Society of "
+            "America, goethite entry, http://www.handbookofmineralogy.org/ [principal "
+            "indices alpha 2.260-2.275, beta 2.393-2.409, gamma 2.398-2.515; reflectance "
+            "R1-R2 400-700 nm]",
+        ),
+        (
+            "source",
+            "A. Bedidi and B. Cervelle, Light scattering by spherical particles with "
+            "hematite and goethitelike optical properties: effect of water impregnation, "
+            "J. Geophys. Res. 98(B7), 11941-11952 (1993), as quoted "
+            "by R. A. Conny et al., J. Geophys. Res. Atmos. 122 (2017), "
+            "doi:10.1002/2017JD026488, table 4 [k ~ 0.09 mid-visible]",
+        ),
+        (
+            "source",
+            "D. M. Sherman and T. D. Waite, Electronic spectra of Fe3+ oxides and oxide "
+            "hydroxides in the near IR to near UV, Am. Mineral. 70, 1262-1269 (1985); "
+            "A. C. Scheinost, A. Chavernas, V. Barron, J. Torrent, Clays Clay Miner. 46, "
+            "528-536 (1998) [band assignments and positions]",
+        ),
         ("origin", "parameterisation in scripts/build_optical_tables.py (no external data file)"),
         ("licence", SANDLIGHT_LICENCE + "; quoted single values are facts from the cited works"),
         ("units", UNITS),
         ("sampling", "5 nm grid, 350-2500 nm"),
-        ("method", f"n(589.3 nm) = {GOETHITE_N_589:.4f}, mean of the midpoints of the three "
-                   "principal-index ranges (orientation average of the index ellipsoid)"),
-        ("method", f"n dispersion: Sellmeier n^2 = 1 + {strength:.4f} lambda^2/(lambda^2 - "
-                   f"({lambda0:.1f} nm)^2) fitted (max residual {resid:.4f}) to the Handbook "
-                   "reflectance spectrum converted to n with the provisional k and scaled to "
-                   "n(589.3 nm); lambda0 lies in the charge-transfer UV; held at its 540 nm value "
-                   "below 540 nm (inside the absorption edge)"),
-        ("method", f"k(E) = {GOETHITE_EDGE_K:g}/(1 + exp(-(E - {GOETHITE_EDGE_EV:g} eV)/"
-                   f"{GOETHITE_EDGE_WIDTH_EV:g} eV)) + {bands} + {GOETHITE_OH_K_2500:g} "
-                   f"exp((lambda - 2500 nm)/{GOETHITE_OH_EFOLD_NM:g} nm) + {GOETHITE_K_FLOOR:g}, "
-                   "E = 1239.84 eV nm/lambda: charge-transfer edge, 4T2 (650 nm) and 4T1 "
-                   "(925 nm) crystal-field bands, O-H wing, floor"),
+        (
+            "method",
+            f"n(589.3 nm) = {GOETHITE_N_589:.4f}, mean of the midpoints of the three "
+            "principal-index ranges (orientation average of the index ellipsoid)",
+        ),
+        (
+            "method",
+            f"n dispersion: Sellmeier n^2 = 1 + {strength:.4f} lambda^2/(lambda^2 - "
+            f"({lambda0:.1f} nm)^2) fitted (max residual {resid:.4f}) to the Handbook "
+            "reflectance spectrum converted to n with the provisional k and scaled to "
+            "n(589.3 nm); lambda0 lies in the charge-transfer UV; held at its 540 nm value "
+            "below 540 nm (inside the absorption edge)",
+        ),
+        (
+            "method",
+            f"k(E) = {GOETHITE_EDGE_K:g}/(1 + exp(-(E - {GOETHITE_EDGE_EV:g} eV)/"
+            f"{GOETHITE_EDGE_WIDTH_EV:g} eV)) + {bands} + {GOETHITE_OH_K_2500:g} "
+            f"exp((lambda - 2500 nm)/{GOETHITE_OH_EFOLD_NM:g} nm) + {GOETHITE_K_FLOOR:g}, "
+            "E = 1239.84 eV nm/lambda: charge-transfer edge, 4T2 (650 nm) and 4T1 "
+            "(925 nm) crystal-field bands, O-H wing, floor",
+        ),
         ("built_by", BUILT_BY),
     ]
     return Table("goethite", header, grid, n, k)
@@ -491,8 +557,14 @@ KAOLINITE_N_589 = ((1.553 + 1.563) / 2 + (1.559 + 1.569) / 2 + (1.560 + 1.570) /
 #     2012) reading of the USGS kaolinite spectra (GDS11 < 63 um, KGa-1) suggests.
 KAOLINITE_K_FLOOR = 1.0e-5
 KAOLINITE_UV_K_400, KAOLINITE_UV_EFOLD_EV = 5.0e-5, 0.28
-KAOLINITE_OH_BANDS_NM = ((1.5e-4, 1395.0, 7.0), (1.5e-4, 1415.0, 10.0), (3.0e-5, 1380.0, 40.0),
-                         (3.0e-5, 1910.0, 30.0), (4.0e-4, 2165.0, 12.0), (9.0e-4, 2207.0, 12.0))
+KAOLINITE_OH_BANDS_NM = (
+    (1.5e-4, 1395.0, 7.0),
+    (1.5e-4, 1415.0, 10.0),
+    (3.0e-5, 1380.0, 40.0),
+    (3.0e-5, 1910.0, 30.0),
+    (4.0e-4, 2165.0, 12.0),
+    (9.0e-4, 2207.0, 12.0),
+)
 KAOLINITE_OH_K_2500, KAOLINITE_OH_EFOLD_NM = 1.0e-3, 150.0
 
 
@@ -500,8 +572,7 @@ def kaolinite_k(wavelength_nm):
     """Provisional imaginary index of kaolinite (see the parameter block above)."""
     wavelength_nm = np.asarray(wavelength_nm, dtype=float)
     energy = HC_EV_NM / wavelength_nm
-    k = KAOLINITE_K_FLOOR + KAOLINITE_UV_K_400 * np.exp(
-        (energy - HC_EV_NM / 400.0) / KAOLINITE_UV_EFOLD_EV)
+    k = KAOLINITE_K_FLOOR + KAOLINITE_UV_K_400 * np.exp((energy - HC_EV_NM / 400.0) / KAOLINITE_UV_EFOLD_EV)
     for peak, centre, sigma in KAOLINITE_OH_BANDS_NM:
         k = k + peak * gaussian(wavelength_nm, centre, sigma)
     return k + KAOLINITE_OH_K_2500 * np.exp((wavelength_nm - LAMBDA_MAX_NM) / KAOLINITE_OH_EFOLD_NM)
@@ -519,24 +590,39 @@ def build_kaolinite(quartz: Table) -> Table:
     header = [
         ("material", "kaolinite"),
         ("description", "kaolinite Al2Si2O5(OH)4 (triclinic, biaxial), randomly oriented platelets"),
-        ("status", "PROVISIONAL in 350-2500 nm (no visible/NIR n,k table available); to be "
-                   "replaced by the issue-3 inversion of USGS kaolinite spectra"),
-        ("source", "mindat.org, kaolinite: n_alpha 1.553-1.563, n_beta 1.559-1.569, n_gamma "
-                   "1.560-1.570, https://www.mindat.org/min-2156.html"),
-        ("source", "k order of magnitude 1e-5..1e-3 in the visible: literature range quoted in "
-                   "sandlight's shared data README (Egan & Hilgeman 1979; Sokolik & Toon 1999 are "
-                   "not available to the project); O-H band positions: R. N. Clark et al., "
-                   "J. Geophys. Res. 95(B8), 12653-12680 (1990), doi:10.1029/JB095iB08p12653"),
+        (
+            "status",
+            "PROVISIONAL in 350-2500 nm (no visible/NIR n,k table available); to be "
+            "replaced by the issue-3 inversion of USGS kaolinite spectra",
+        ),
+        (
+            "source",
+            "mindat.org, kaolinite: n_alpha 1.553-1.563, n_beta 1.559-1.569, n_gamma "
+            "1.560-1.570, https://www.mindat.org/min-2156.html",
+        ),
+        (
+            "source",
+            "k order of magnitude 1e-5..1e-3 in the visible: literature range quoted in "
+            "sandlight's shared data README (Egan & Hilgeman 1979; Sokolik & Toon 1999 are "
+            "not available to the project); O-H band positions: R. N. Clark et al., "
+            "J. Geophys. Res. 95(B8), 12653-12680 (1990), doi:10.1029/JB095iB08p12653",
+        ),
         ("origin", "parameterisation in scripts/build_optical_tables.py (no external data file)"),
         ("licence", SANDLIGHT_LICENCE),
         ("units", UNITS),
         ("sampling", "5 nm grid, 350-2500 nm"),
-        ("method", f"n = {KAOLINITE_N_589:.4f} (mean of the midpoints of the principal-index "
-                   "ranges) times the relative dispersion n(lambda)/n(589.3 nm) of the quartz "
-                   "table"),
-        ("method", f"k = {KAOLINITE_K_FLOOR:g} + {KAOLINITE_UV_K_400:g} exp((E - E(400 nm))/"
-                   f"{KAOLINITE_UV_EFOLD_EV:g} eV) + Gaussian O-H bands at {bands} + "
-                   f"{KAOLINITE_OH_K_2500:g} exp((lambda - 2500 nm)/{KAOLINITE_OH_EFOLD_NM:g} nm)"),
+        (
+            "method",
+            f"n = {KAOLINITE_N_589:.4f} (mean of the midpoints of the principal-index "
+            "ranges) times the relative dispersion n(lambda)/n(589.3 nm) of the quartz "
+            "table",
+        ),
+        (
+            "method",
+            f"k = {KAOLINITE_K_FLOOR:g} + {KAOLINITE_UV_K_400:g} exp((E - E(400 nm))/"
+            f"{KAOLINITE_UV_EFOLD_EV:g} eV) + Gaussian O-H bands at {bands} + "
+            f"{KAOLINITE_OH_K_2500:g} exp((lambda - 2500 nm)/{KAOLINITE_OH_EFOLD_NM:g} nm)",
+        ),
         ("built_by", BUILT_BY),
     ]
     return Table("kaolinite", header, grid, n, k)
@@ -546,15 +632,28 @@ def build_kaolinite(quartz: Table) -> Table:
 # Writing, checking, reporting, plotting
 # --------------------------------------------------------------------------------------------
 
+
 def build_all(src: Path) -> dict[str, Table]:
     """Every table, keyed by material name, in sandlight.optics.MATERIALS order."""
     quartz = build_quartz(src)
-    tables = [quartz, build_hematite(src), build_goethite(src), build_magnetite(src),
-              build_kaolinite(quartz), build_water(src)]
+    tables = [
+        quartz,
+        build_hematite(src),
+        build_goethite(src),
+        build_magnetite(src),
+        build_kaolinite(quartz),
+        build_water(src),
+    ]
     for t in tables:
-        ok = (np.all(np.isfinite(t.n)) and np.all(t.n > 1.0) and np.all(np.isfinite(t.k))
-              and np.all(t.k > 0.0) and t.wavelength_nm[0] <= LAMBDA_MIN_NM
-              and t.wavelength_nm[-1] >= LAMBDA_MAX_NM and np.all(np.diff(t.wavelength_nm) > 0))
+        ok = (
+            np.all(np.isfinite(t.n))
+            and np.all(t.n > 1.0)
+            and np.all(np.isfinite(t.k))
+            and np.all(t.k > 0.0)
+            and t.wavelength_nm[0] <= LAMBDA_MIN_NM
+            and t.wavelength_nm[-1] >= LAMBDA_MAX_NM
+            and np.all(np.diff(t.wavelength_nm) > 0)
+        )
         if not ok:
             raise ValueError(f"{t.material}: table fails the sanity checks")
     return {t.material: t for t in tables}
@@ -565,8 +664,7 @@ def render(table: Table) -> str:
     lines = ["# sandlight optical-constant table"]
     lines += [f"# {key}: {value}" for key, value in table.header]
     lines.append("wavelength_nm,n,k")
-    lines += [f"{w:.4f},{n:.6f},{k:.6e}"
-              for w, n, k in zip(table.wavelength_nm, table.n, table.k)]
+    lines += [f"{w:.4f},{n:.6f},{k:.6e}" for w, n, k in zip(table.wavelength_nm, table.n, table.k)]
     return "\n".join(lines) + "\n"
 
 
@@ -602,8 +700,10 @@ def report(src: Path, tables: dict[str, Table]) -> str:
     w_t, n_t, k_t = read_source_csv(csv / "hematite_Triaud_2005.csv")
     w_lo, n_lo, k_lo = read_source_csv(csv / "hematite_O_Longtin_1988.csv")
     w_le, n_le, k_le = read_source_csv(csv / "hematite_E_Longtin_1988.csv")
-    out.append("| λ (nm) | n Querry (2o+e)/3 | n Triaud | n Longtin (2o+e)/3 "
-               "| k Querry (2o+e)/3 | k Triaud | k Longtin (2o+e)/3 | k shipped |")
+    out.append(
+        "| λ (nm) | n Querry (2o+e)/3 | n Triaud | n Longtin (2o+e)/3 "
+        "| k Querry (2o+e)/3 | k Triaud | k Longtin (2o+e)/3 | k shipped |"
+    )
     out.append("|---|---|---|---|---|---|---|---|")
     for lam in at:
         grid = np.array([lam])
@@ -611,32 +711,38 @@ def report(src: Path, tables: dict[str, Table]) -> str:
         kq = orientation_average(w_qo, k_qo, w_qe, k_qe, grid, log=True)[0]
         nl = orientation_average(w_lo, n_lo, w_le, n_le, grid, log=False)[0]
         kl = orientation_average(w_lo, k_lo, w_le, k_le, grid, log=True)[0]
-        out.append(f"| {lam:.0f} | {nq:.3f} | {np.interp(lam, w_t, n_t):.3f} | {nl:.3f} "
-                   f"| {kq:.3g} | {interp_loglinear(lam, w_t, k_t):.3g} | {kl:.3g} "
-                   f"| {interp_loglinear(lam, hem.wavelength_nm, hem.k):.3g} |")
+        out.append(
+            f"| {lam:.0f} | {nq:.3f} | {np.interp(lam, w_t, n_t):.3f} | {nl:.3f} "
+            f"| {kq:.3g} | {interp_loglinear(lam, w_t, k_t):.3g} | {kl:.3g} "
+            f"| {interp_loglinear(lam, hem.wavelength_nm, hem.k):.3g} |"
+        )
     out.append("")
     wat = tables["water"]
     wopp = csv / "water_H2O_WOPPv3_Roettgers_absorption_k.csv"
     w_d, n_d, _ = read_source_csv(csv / "water_H2O_DaimonMasumura2007_20C.csv")
     if wopp.exists():  # cross-check only: WOPP has no licence and is never shipped
         w_w, _, k_w = read_source_csv(wopp)
-        out.append("| λ (nm) | k Segelstein (shipped) | k WOPP v3 (Pope & Fry) | ratio "
-                   "| n Segelstein | n Daimon & Masumura |")
+        out.append(
+            "| λ (nm) | k Segelstein (shipped) | k WOPP v3 (Pope & Fry) | ratio | n Segelstein | n Daimon & Masumura |"
+        )
         out.append("|---|---|---|---|---|---|")
         for lam in [400, 450, 500, 550, 600, 650, 700]:
             ks = interp_loglinear(lam, wat.wavelength_nm, wat.k)
             kw = np.interp(lam, w_w, k_w)
-            out.append(f"| {lam} | {ks:.3g} | {kw:.3g} | {ks / kw:.2f} "
-                       f"| {np.interp(lam, wat.wavelength_nm, wat.n):.4f} "
-                       f"| {np.interp(lam, w_d, n_d):.4f} |")
+            out.append(
+                f"| {lam} | {ks:.3g} | {kw:.3g} | {ks / kw:.2f} "
+                f"| {np.interp(lam, wat.wavelength_nm, wat.n):.4f} "
+                f"| {np.interp(lam, w_d, n_d):.4f} |"
+            )
         out.append("")
     out.append("| material | n 450 | n 550 | n 650 | k 450 | k 550 | k 650 |")
     out.append("|---|---|---|---|---|---|---|")
     for name, t in tables.items():
         n3 = [np.interp(x, t.wavelength_nm, t.n) for x in (450, 550, 650)]
         k3 = [interp_loglinear(x, t.wavelength_nm, t.k) for x in (450, 550, 650)]
-        out.append(f"| {name} | " + " | ".join(f"{v:.4f}" for v in n3) + " | "
-                   + " | ".join(f"{v:.3g}" for v in k3) + " |")
+        out.append(
+            f"| {name} | " + " | ".join(f"{v:.4f}" for v in n3) + " | " + " | ".join(f"{v:.3g}" for v in k3) + " |"
+        )
     return "\n".join(out) + "\n"
 
 
@@ -651,12 +757,11 @@ def plot(tables: dict[str, Table], path: Path) -> None:
         provisional = name in ("goethite", "kaolinite")
         style = dict(ls="--" if provisional else "-", lw=1.4)
         label = name + (" (provisional)" if provisional else "")
-        line, = ax_n.plot(t.wavelength_nm, t.n, label=label, **style)
+        (line,) = ax_n.plot(t.wavelength_nm, t.n, label=label, **style)
         ax_k.semilogy(t.wavelength_nm, t.k, color=line.get_color(), label=label, **style)
     q = tables["quartz"]
     prov = q.wavelength_nm < QUARTZ_JOIN_NM
-    ax_k.semilogy(q.wavelength_nm[prov], q.k[prov], color="k", ls=":", lw=2.5,
-                  label="quartz, provisional part")
+    ax_k.semilogy(q.wavelength_nm[prov], q.k[prov], color="k", ls=":", lw=2.5, label="quartz, provisional part")
     for ax in (ax_n, ax_k):
         ax.set_xlabel("vacuum wavelength λ (nm)")
         ax.set_xlim(LAMBDA_MIN_NM, LAMBDA_MAX_NM)
@@ -673,11 +778,11 @@ def plot(tables: dict[str, Table], path: Path) -> None:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--source", type=Path, default=None,
-                        help="the shared data/optical folder (default: found above the repo)")
+    parser.add_argument(
+        "--source", type=Path, default=None, help="the shared data/optical folder (default: found above the repo)"
+    )
     parser.add_argument("--out", type=Path, default=OUT_DIR, help="output folder for the tables")
-    parser.add_argument("--check", action="store_true",
-                        help="do not write; exit 1 if the files in --out differ")
+    parser.add_argument("--check", action="store_true", help="do not write; exit 1 if the files in --out differ")
     parser.add_argument("--report", action="store_true", help="print cross-check tables")
     parser.add_argument("--plot", action="store_true", help=f"write {PLOT_PATH.relative_to(REPO)}")
     args = parser.parse_args(argv)
@@ -688,9 +793,11 @@ def main(argv=None) -> int:
     tables = build_all(src)
 
     if args.check:
-        stale = [m for m, t in tables.items()
-                 if not (args.out / f"{m}.csv").exists()
-                 or (args.out / f"{m}.csv").read_text(encoding="utf-8") != render(t)]
+        stale = [
+            m
+            for m, t in tables.items()
+            if not (args.out / f"{m}.csv").exists() or (args.out / f"{m}.csv").read_text(encoding="utf-8") != render(t)
+        ]
         if stale:
             print("out of date: " + ", ".join(stale), file=sys.stderr)
             return 1

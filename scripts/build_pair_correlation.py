@@ -60,7 +60,7 @@ def pair_statistics(eta, seeds):
         sweeps.append(pk.sweeps)
     # Ideal-gas pairs in a shell: N·ρ·(shell volume)/2 summed over the packings (each has its ρ).
     rho = grains / volume
-    shell = 4.0 / 3.0 * np.pi * (edges[1:] ** 3 - edges[:-1] ** 3) * D_MM ** 3
+    shell = 4.0 / 3.0 * np.pi * (edges[1:] ** 3 - edges[:-1] ** 3) * D_MM**3
     g = counts / (0.5 * grains * rho * shell)
     return 2.0 * contacts / grains, g, grains, sweeps
 
@@ -75,16 +75,20 @@ def main(argv=None):
     for eta in args.etas:
         z, g, grains, sweeps = pair_statistics(eta, args.seeds)
         rows.append(f"{eta:.4f} {z:.4f} " + " ".join(f"{v:.4f}" for v in g))
-        print(f"η = {eta:.2f}: {grains} grains, sweeps {sweeps}, contacts per grain {z:.3f}, "
-              f"g(1.001–1.006) {g[0]:.2f}, g max beyond {g[1:].max():.2f}", flush=True)
+        print(
+            f"η = {eta:.2f}: {grains} grains, sweeps {sweeps}, contacts per grain {z:.3f}, "
+            f"g(1.001–1.006) {g[0]:.2f}, g max beyond {g[1:].max():.2f}",
+            flush=True,
+        )
     header = [
         "# Pair correlation of sandlight's random packings of monodisperse spheres.",
         f"# Source: scripts/build_pair_correlation.py (this repository), sandlight_core::packing, d = {D_MM} mm,",
-        f"#   default box, seeds {' '.join(map(str, args.seeds))}; generated on {describe()}, {time.strftime('%Y-%m-%d')}.",
+        f"#   default box, seeds {' '.join(map(str, args.seeds))}; "
+        f"generated on {describe()}, {time.strftime('%Y-%m-%d')}.",
         "# Licence: MIT (computed by this project's own code).",
         "# Units: x = centre distance / contact distance (dimensionless); z_contact = contacts per grain",
         f"#   (pairs with |x - 1| < {CONTACT:g}); g = pair correlation (dimensionless, 1 for an ideal gas),",
-        f"#   without the contacts, averaged over bins [x0 + dx k, x0 + dx (k + 1)).",
+        "#   without the contacts, averaged over bins [x0 + dx k, x0 + dx (k + 1)).",
         "# Lines: 'grid x0 dx bins', then one line per packing fraction: 'eta z_contact g_0 ... g_{bins-1}'.",
         f"grid {X0} {DX} {BINS}",
     ]

@@ -23,8 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sandlight.sky import PreethamSky, direction_from_angles, sun_direction, sun_position
-from sandlight.sky import solar_declination, solar_time
+from sandlight.sky import PreethamSky, direction_from_angles, solar_declination, solar_time, sun_direction, sun_position
 from sandlight.sky import sun_spectrum as ss
 from sandlight.sky.preetham import _daylight_basis, daylight_m1_m2
 
@@ -35,8 +34,7 @@ def cmfs(wavelength_nm):
     import colour
 
     table = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
-    return np.stack([np.interp(wavelength_nm, table.wavelengths, table.values[:, i])
-                     for i in range(3)], axis=-1)
+    return np.stack([np.interp(wavelength_nm, table.wavelengths, table.values[:, i]) for i in range(3)], axis=-1)
 
 
 def illuminance_lx(spectral_irradiance, wavelength_nm=VISIBLE_NM, step_nm=5.0):
@@ -45,14 +43,22 @@ def illuminance_lx(spectral_irradiance, wavelength_nm=VISIBLE_NM, step_nm=5.0):
 
 def spencer_declination(day):
     g = 2.0 * np.pi / 365.0 * (day - 1.0)
-    return (0.006918 - 0.399912 * np.cos(g) + 0.070257 * np.sin(g) - 0.006758 * np.cos(2 * g)
-            + 0.000907 * np.sin(2 * g) - 0.002697 * np.cos(3 * g) + 0.00148 * np.sin(3 * g))
+    return (
+        0.006918
+        - 0.399912 * np.cos(g)
+        + 0.070257 * np.sin(g)
+        - 0.006758 * np.cos(2 * g)
+        + 0.000907 * np.sin(2 * g)
+        - 0.002697 * np.cos(3 * g)
+        + 0.00148 * np.sin(3 * g)
+    )
 
 
 def spencer_equation_of_time_min(day):
     g = 2.0 * np.pi / 365.0 * (day - 1.0)
-    return 229.18 * (0.000075 + 0.001868 * np.cos(g) - 0.032077 * np.sin(g)
-                     - 0.014615 * np.cos(2 * g) - 0.040849 * np.sin(2 * g))
+    return 229.18 * (
+        0.000075 + 0.001868 * np.cos(g) - 0.032077 * np.sin(g) - 0.014615 * np.cos(2 * g) - 0.040849 * np.sin(2 * g)
+    )
 
 
 def separation_deg(a, b):
@@ -64,8 +70,10 @@ def check_sun_position():
     day = np.arange(1.0, 366.0)
     decl_err = np.degrees(solar_declination(day) - spencer_declination(day))
     eot_err = (solar_time(12.0, day, 0.0, 0.0) - 12.0) * 60.0 - spencer_equation_of_time_min(day)
-    print(f"declination vs Spencer: max |err| {np.abs(decl_err).max():.2f} deg "
-          f"(day {int(day[np.abs(decl_err).argmax()])}), mean {np.abs(decl_err).mean():.2f} deg")
+    print(
+        f"declination vs Spencer: max |err| {np.abs(decl_err).max():.2f} deg "
+        f"(day {int(day[np.abs(decl_err).argmax()])}), mean {np.abs(decl_err).mean():.2f} deg"
+    )
     print(f"equation of time vs Spencer: max |err| {np.abs(eot_err).max():.2f} min")
 
     # NOAA/Spencer direction over latitudes x days x solar times.
@@ -76,24 +84,37 @@ def check_sun_position():
     decl = spencer_declination(1.0 + g * 365.0 / (2 * np.pi))
     h = np.radians(15.0 * (t - 12.0))
     la = np.radians(lat)
-    ref = np.stack(np.broadcast_arrays(
-        -np.cos(decl) * np.sin(h), np.cos(la) * np.sin(decl) - np.sin(la) * np.cos(decl) * np.cos(h),
-        np.sin(la) * np.sin(decl) + np.cos(la) * np.cos(decl) * np.cos(h)), axis=-1)
+    ref = np.stack(
+        np.broadcast_arrays(
+            -np.cos(decl) * np.sin(h),
+            np.cos(la) * np.sin(decl) - np.sin(la) * np.cos(decl) * np.cos(h),
+            np.sin(la) * np.sin(decl) + np.cos(la) * np.cos(decl) * np.cos(h),
+        ),
+        axis=-1,
+    )
     sep = separation_deg(sun_direction(lat, d, t), ref)
-    print(f"direction vs NOAA/Spencer ({sep.size} cases, 7 latitudes, every day, every 15 min): "
-          f"max {sep.max():.2f} deg, mean {sep.mean():.2f} deg")
+    print(
+        f"direction vs NOAA/Spencer ({sep.size} cases, 7 latitudes, every day, every 15 min): "
+        f"max {sep.max():.2f} deg, mean {sep.mean():.2f} deg"
+    )
 
     # The azimuth denominator as reproduced from the printed appendix (sign of cos l sin δ).
     delta = solar_declination(d)
     hour = np.pi * t / 12.0
-    printed = np.mod(np.arctan2(-np.cos(delta) * np.sin(hour),
-                                np.cos(la) * np.sin(delta)
-                                - np.sin(la) * np.cos(delta) * np.cos(hour)) + np.pi, 2 * np.pi)
+    printed = np.mod(
+        np.arctan2(
+            -np.cos(delta) * np.sin(hour), np.cos(la) * np.sin(delta) - np.sin(la) * np.cos(delta) * np.cos(hour)
+        )
+        + np.pi,
+        2 * np.pi,
+    )
     zenith, azimuth = sun_position(lat, d, t)
     up = zenith < np.radians(85.0)
     wrong = np.degrees(np.abs(np.angle(np.exp(1j * (printed - azimuth)))))[np.broadcast_to(up, zenith.shape)]
-    print(f"azimuth with the printed denominator (cos l sin d - ...) differs from the authors' code "
-          f"by up to {wrong.max():.1f} deg (mean {wrong.mean():.1f} deg) for the sun above 5 deg")
+    print(
+        f"azimuth with the printed denominator (cos l sin d - ...) differs from the authors' code "
+        f"by up to {wrong.max():.1f} deg (mean {wrong.mean():.1f} deg) for the sun above 5 deg"
+    )
 
     try:
         import pandas as pd
@@ -101,22 +122,21 @@ def check_sun_position():
     except ImportError:
         print("pvlib not installed: SPA comparison skipped")
         return
-    places = [("Phoenix", 33.45, -112.07, -7), ("Dunhuang", 40.14, 94.66, 8),
-              ("Namib (Sossusvlei)", -24.73, 15.29, 2)]
+    places = [("Phoenix", 33.45, -112.07, -7), ("Dunhuang", 40.14, 94.66, 8), ("Namib (Sossusvlei)", -24.73, 15.29, 2)]
     for name, lat_deg, lon_deg, offset in places:
         local = pd.date_range("2023-01-01", "2023-12-31 23:00", freq="37min")
         utc = local - pd.Timedelta(hours=offset)
-        spa = pvlib.solarposition.get_solarposition(utc.tz_localize("UTC"), lat_deg, lon_deg,
-                                                    method="nrel_numpy")
+        spa = pvlib.solarposition.get_solarposition(utc.tz_localize("UTC"), lat_deg, lon_deg, method="nrel_numpy")
         clock = np.asarray(local.hour + local.minute / 60.0, dtype=float)
         doy = np.asarray(local.day_of_year, dtype=float)
         ours = sun_direction(lat_deg, doy, clock, longitude_deg=lon_deg, utc_offset_h=offset)
-        ref = direction_from_angles(np.radians(spa["zenith"].to_numpy()),
-                                    np.radians(spa["azimuth"].to_numpy()))
+        ref = direction_from_angles(np.radians(spa["zenith"].to_numpy()), np.radians(spa["azimuth"].to_numpy()))
         day_mask = ref[:, 2] > 0.0
         sep = separation_deg(ours, ref)[day_mask]
-        print(f"vs pvlib SPA (true zenith), {name} 2023, clock time every 37 min, sun up: "
-              f"max {sep.max():.2f} deg, mean {sep.mean():.2f} deg")
+        print(
+            f"vs pvlib SPA (true zenith), {name} 2023, clock time every 37 min, sun up: "
+            f"max {sep.max():.2f} deg, mean {sep.mean():.2f} deg"
+        )
 
 
 def check_sun_spectrum():
@@ -129,31 +149,38 @@ def check_sun_spectrum():
         ours = ss.sun_spectral_irradiance(z, wl, 3.0)
         theirs = ss.sun_spectral_irradiance(z, wl, 3.0, method="Bird-Riordan 1986")
         ev = illuminance_lx(ss.sun_spectral_irradiance(z, VISIBLE_NM, 3.0))
-        ev_ref = illuminance_lx(ss.sun_spectral_irradiance(z, VISIBLE_NM, 3.0,
-                                                           method="Bird-Riordan 1986"))
-        print(f"{zenith_deg:5.0f}   " + " ".join(f"{r:6.3f}" for r in ours / theirs)
-              + f"   {ev / ev_ref:8.3f}  {ev / 1000:10.1f}")
+        ev_ref = illuminance_lx(ss.sun_spectral_irradiance(z, VISIBLE_NM, 3.0, method="Bird-Riordan 1986"))
+        print(
+            f"{zenith_deg:5.0f}   "
+            + " ".join(f"{r:6.3f}" for r in ours / theirs)
+            + f"   {ev / ev_ref:8.3f}  {ev / 1000:10.1f}"
+        )
 
-    print("m as printed (inside the exponent of lambda) vs as coded (factor of the depth), "
-          "Rayleigh x aerosol transmittance at 450 / 650 nm:")
+    print(
+        "m as printed (inside the exponent of lambda) vs as coded (factor of the depth), "
+        "Rayleigh x aerosol transmittance at 450 / 650 nm:"
+    )
     for zenith_deg in (0.0, 45.0, 60.0, 75.0):
         z = np.radians(zenith_deg)
         m = ss.relative_optical_mass(z)
         lam = np.array([0.45, 0.65])
         beta = ss.angstrom_beta(3.0)
-        coded = np.exp(-m * 0.008735 * lam ** -4.08) * np.exp(-m * beta * lam ** -1.3)
+        coded = np.exp(-m * 0.008735 * lam**-4.08) * np.exp(-m * beta * lam**-1.3)
         printed = np.exp(-0.008735 * lam ** (-4.08 * m)) * np.exp(-beta * lam ** (-1.3 * m))
-        print(f"  zenith {zenith_deg:4.0f} (m = {m:5.2f}): coded {coded[0]:.3f} / {coded[1]:.3f}, "
-              f"printed {printed[0]:.3g} / {printed[1]:.3g}")
+        print(
+            f"  zenith {zenith_deg:4.0f} (m = {m:5.2f}): coded {coded[0]:.3f} / {coded[1]:.3f}, "
+            f"printed {printed[0]:.3g} / {printed[1]:.3g}"
+        )
 
     # Extraterrestrial solar spectral radiance of the authors' code (solAmplitudes, 380–750 nm in
     # 10 nm steps; values at six wavelengths), W m⁻² sr⁻¹ nm⁻¹, against SPECTRL2 / Ω.
-    authors = {400.0: 21127.5, 450.0: 29658.3, 500.0: 28712.1, 550.0: 25503.8, 600.0: 24631.5,
-               650.0: 22339.8}
+    authors = {400.0: 21127.5, 450.0: 29658.3, 500.0: 28712.1, 550.0: 25503.8, 600.0: 24631.5, 650.0: 22339.8}
     lam = np.array(list(authors))
     ours = ss.extraterrestrial_spectral_irradiance(lam) / ss.SUN_SOLID_ANGLE_SR
-    print("extraterrestrial radiance, ours (SPECTRL2/Omega) / authors' table: "
-          + ", ".join(f"{w:.0f} nm {o / a:.3f}" for w, o, a in zip(lam, ours, authors.values())))
+    print(
+        "extraterrestrial radiance, ours (SPECTRL2/Omega) / authors' table: "
+        + ", ".join(f"{w:.0f} nm {o / a:.3f}" for w, o, a in zip(lam, ours, authors.values()))
+    )
 
     # ASTM G173-03 (SMARTS2): extraterrestrial and direct+circumsolar spectra at air mass 1.5
     # (zenith 48.19°), rural aerosol with τ(500 nm) = 0.084, w = 1.42 cm, ozone 0.34 cm.
@@ -168,21 +195,23 @@ def check_sun_spectrum():
 
     lam = np.array([400.0, 450.0, 500.0, 550.0, 600.0, 650.0, 700.0])
     et = np.array([band_mean("extraterrestrial", c) for c in lam])
-    print("extraterrestrial, ours / ASTM G173 (10 nm means): "
-          + ", ".join(f"{w:.0f} {r:.3f}" for w, r in
-                      zip(lam, ss.extraterrestrial_spectral_irradiance(lam) / et)))
-    turbidity = (0.084 / 0.5 ** -1.3 + 0.04586025928522) / 0.04608365822050
+    print(
+        "extraterrestrial, ours / ASTM G173 (10 nm means): "
+        + ", ".join(f"{w:.0f} {r:.3f}" for w, r in zip(lam, ss.extraterrestrial_spectral_irradiance(lam) / et))
+    )
+    turbidity = (0.084 / 0.5**-1.3 + 0.04586025928522) / 0.04608365822050
     direct = np.array([band_mean("direct", c) for c in lam])
-    ours = ss.sun_spectral_irradiance(np.radians(48.19), lam, turbidity, ozone_cm=0.34,
-                                      water_vapour_cm=1.42)
+    ours = ss.sun_spectral_irradiance(np.radians(48.19), lam, turbidity, ozone_cm=0.34, water_vapour_cm=1.42)
     fine = np.arange(380.0, 781.0, 1.0)
-    ev_ours = illuminance_lx(ss.sun_spectral_irradiance(np.radians(48.19), fine, turbidity,
-                                                        ozone_cm=0.34, water_vapour_cm=1.42),
-                             fine, 1.0)
+    ev_ours = illuminance_lx(
+        ss.sun_spectral_irradiance(np.radians(48.19), fine, turbidity, ozone_cm=0.34, water_vapour_cm=1.42), fine, 1.0
+    )
     ev_g173 = illuminance_lx(np.interp(fine, grid, g173["direct"].to_numpy()), fine, 1.0)
-    print(f"direct beam at AM1.5 (T = {turbidity:.3f} gives tau500 = 0.084), ours / ASTM G173: "
-          + ", ".join(f"{w:.0f} {r:.3f}" for w, r in zip(lam, ours / direct))
-          + f"; illuminance {ev_ours / 1000:.1f} vs {ev_g173 / 1000:.1f} klx")
+    print(
+        f"direct beam at AM1.5 (T = {turbidity:.3f} gives tau500 = 0.084), ours / ASTM G173: "
+        + ", ".join(f"{w:.0f} {r:.3f}" for w, r in zip(lam, ours / direct))
+        + f"; illuminance {ev_ours / 1000:.1f} vs {ev_g173 / 1000:.1f} klx"
+    )
 
 
 def check_sky():
@@ -212,25 +241,28 @@ def check_sky():
                 else:
                     xy = sky.chromaticity(d)
                     m1, m2 = (np.round(m, 3) for m in daylight_m1_m2(xy[:, 0], xy[:, 1]))
-                    s = (np.interp(VISIBLE_NM, grid, basis[0]) + m1[:, None]
-                         * np.interp(VISIBLE_NM, grid, basis[1]) + m2[:, None]
-                         * np.interp(VISIBLE_NM, grid, basis[2]))
+                    s = (
+                        np.interp(VISIBLE_NM, grid, basis[0])
+                        + m1[:, None] * np.interp(VISIBLE_NM, grid, basis[1])
+                        + m2[:, None] * np.interp(VISIBLE_NM, grid, basis[2])
+                    )
                     xyz = s @ weights
                 xy_back = xyz[:, :2] / xyz.sum(axis=-1, keepdims=True)
                 worst_xy = max(worst_xy, np.abs(xy_back - sky.chromaticity(d)).max())
                 worst_y = max(worst_y, np.abs(xyz[:, 1] / (1000.0 * sky.luminance(d)) - 1).max())
         if rounded:
-            print(f"  same with M1/M2 rounded to 3 decimals (CIE tables, colour default): "
-                  f"max |dxy| {worst_xy:.1e}")
+            print(f"  same with M1/M2 rounded to 3 decimals (CIE tables, colour default): max |dxy| {worst_xy:.1e}")
         else:
-            print(f"spectrum -> XYZ (5 nm sums) back to the model, M1/M2 unrounded (ours): "
-                  f"max |dxy| {worst_xy:.1e}, max |dY/Y| {worst_y:.1e}")
+            print(
+                f"spectrum -> XYZ (5 nm sums) back to the model, M1/M2 unrounded (ours): "
+                f"max |dxy| {worst_xy:.1e}, max |dY/Y| {worst_y:.1e}"
+            )
 
     print("diffuse horizontal illuminance, Preetham sky (integrated) vs SPECTRL2 dhi, T = 3:")
     import pvlib
 
     n = 400
-    mu = (np.arange(n) + 0.5) / n               # cos θ midpoints
+    mu = (np.arange(n) + 0.5) / n  # cos θ midpoints
     phi = (np.arange(2 * n) + 0.5) / (2 * n) * 2 * np.pi
     theta = np.arccos(mu)
     dirs = direction_from_angles(theta[:, None], phi[None, :])
@@ -242,16 +274,25 @@ def check_sky():
         zdeg = np.array([90.0 - elevation])
         beta = ss.angstrom_beta(3.0)
         spectrl2 = pvlib.spectrum.spectrl2(
-            apparent_zenith=zdeg, aoi=zdeg, surface_tilt=0.0, ground_albedo=0.2,
+            apparent_zenith=zdeg,
+            aoi=zdeg,
+            surface_tilt=0.0,
+            ground_albedo=0.2,
             surface_pressure=101325.0,
             relative_airmass=pvlib.atmosphere.get_relative_airmass(zdeg, model="kasten1966"),
-            precipitable_water=2.0, ozone=0.35, aerosol_turbidity_500nm=beta * 0.5 ** -1.3,
-            alpha=1.3, dayofyear=np.array([172]))
+            precipitable_water=2.0,
+            ozone=0.35,
+            aerosol_turbidity_500nm=beta * 0.5**-1.3,
+            alpha=1.3,
+            dayofyear=np.array([172]),
+        )
         wl = spectrl2["wavelength"]
         dhi = np.interp(VISIBLE_NM, wl, np.asarray(spectrl2["dhi"])[:, 0])
         e_ref = illuminance_lx(dhi)
-        print(f"  sun elevation {elevation:2.0f}: Preetham {e_sky / 1000:6.1f} klx, "
-              f"SPECTRL2 {e_ref / 1000:6.1f} klx (ratio {e_sky / e_ref:.2f})")
+        print(
+            f"  sun elevation {elevation:2.0f}: Preetham {e_sky / 1000:6.1f} klx, "
+            f"SPECTRL2 {e_ref / 1000:6.1f} klx (ratio {e_sky / e_ref:.2f})"
+        )
 
     sky = PreethamSky(3.0, sun_direction(30.0, 172, 10.5))
     d = rng.normal(size=(512 * 512, 3))
@@ -259,18 +300,22 @@ def check_sky():
     start = time.perf_counter()
     sky.radiance(d, wavelengths)
     elapsed = time.perf_counter() - start
-    print(f"speed: radiance of {d.shape[0]} directions x 16 wavelengths in {elapsed:.2f} s "
-          f"({d.shape[0] * 16 / elapsed / 1e6:.0f} M values/s, one core)")
+    print(
+        f"speed: radiance of {d.shape[0]} directions x 16 wavelengths in {elapsed:.2f} s "
+        f"({d.shape[0] * 16 / elapsed / 1e6:.0f} M values/s, one core)"
+    )
 
 
 def write_figures(directory: Path):
     from sandlight.sky.plots import plot_sky_day, plot_sky_dome
 
     directory.mkdir(parents=True, exist_ok=True)
-    dome = plot_sky_dome(PreethamSky.from_location(3.0, 30.0, 172, 10.5),
-                         directory / "sky_dome_lat30_day172_t10.5.png", size=256)
-    day = plot_sky_day(30.0, 172, [6.0, 8.0, 10.0, 12.0, 14.0, 16.0, 18.0],
-                       directory / "sky_day_lat30_day172.png", size=128, columns=7)
+    dome = plot_sky_dome(
+        PreethamSky.from_location(3.0, 30.0, 172, 10.5), directory / "sky_dome_lat30_day172_t10.5.png", size=256
+    )
+    day = plot_sky_day(
+        30.0, 172, [6.0, 8.0, 10.0, 12.0, 14.0, 16.0, 18.0], directory / "sky_day_lat30_day172.png", size=128, columns=7
+    )
     print(f"\nwrote {dome} and {day}")
 
 

@@ -34,8 +34,8 @@ import sys
 import time
 
 import numpy as np
-
 from build_optical_tables import find_shared_optical, hematite_sources
+
 from sandlight import validation as v
 from sandlight.measured import read_usgs, usgs_library
 
@@ -82,10 +82,11 @@ def model_grid(wavelength_nm: float, rays: int, seed: int) -> np.ndarray:
     """Modelled reflectance, shape (fractions, k grid), at one wavelength."""
     out = np.empty((len(FRACTIONS), LOG10_K_GRID.size))
     for j, lk in enumerate(LOG10_K_GRID):
-        with hematite_k(10.0 ** lk):
+        with hematite_k(10.0**lk):
             for i, sizes in enumerate(FRACTIONS.values()):
-                out[i, j] = v.powder_reflectance("hematite", sizes, [wavelength_nm], rays=rays, porosity=POROSITY,
-                                                 seed=seed).values[0]
+                out[i, j] = v.powder_reflectance(
+                    "hematite", sizes, [wavelength_nm], rays=rays, porosity=POROSITY, seed=seed
+                ).values[0]
     return out
 
 
@@ -108,7 +109,7 @@ def invert_joint(models: np.ndarray, meas: np.ndarray) -> tuple[float, float]:
     rms = np.sqrt(np.mean((models - meas[:, None]) ** 2, axis=0))
     j = int(np.argmin(rms))
     if 0 < j < rms.size - 1:
-        y0, y1, y2 = rms[j - 1:j + 2]
+        y0, y1, y2 = rms[j - 1 : j + 2]
         denom = y0 - 2 * y1 + y2
         shift = 0.5 * (y0 - y2) / denom if denom > 0 else 0.0
         best = LOG10_K_GRID[j] + shift * (LOG10_K_GRID[1] - LOG10_K_GRID[0])
@@ -120,8 +121,9 @@ def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--rays", type=int, default=4000, help="rays per wavelength and trial k")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--wavelengths", default=",".join(map(str, DEFAULT_WAVELENGTHS_NM)),
-                        help="comma-separated wavelengths (nm)")
+    parser.add_argument(
+        "--wavelengths", default=",".join(map(str, DEFAULT_WAVELENGTHS_NM)), help="comma-separated wavelengths (nm)"
+    )
     parser.add_argument("--plot", default=None, help="write the figure (PNG) here")
     args = parser.parse_args(argv)
     wl = [float(x) for x in args.wavelengths.split(",")]
@@ -151,34 +153,49 @@ def main(argv=None) -> int:
     models_at_best = np.array(models_at_best)
 
     names = [s.split("_")[1] for s in FRACTIONS]
-    print(f"Hematite grain-size inversion: {args.rays:,} rays per run, seed {args.seed}, "
-          f"log10 k grid {LOG10_K_GRID[0]:g}..{LOG10_K_GRID[-1]:g} step {LOG10_K_GRID[1] - LOG10_K_GRID[0]:g}, "
-          f"{time.perf_counter() - start:.0f} s\n")
-    print("| λ (nm) | k Querry | k Longtin | k median (range) | k joint | joint RMS residual | "
-          + " | ".join(f"k {n}" for n in names) + " |")
+    print(
+        f"Hematite grain-size inversion: {args.rays:,} rays per run, seed {args.seed}, "
+        f"log10 k grid {LOG10_K_GRID[0]:g}..{LOG10_K_GRID[-1]:g} step {LOG10_K_GRID[1] - LOG10_K_GRID[0]:g}, "
+        f"{time.perf_counter() - start:.0f} s\n"
+    )
+    print(
+        "| λ (nm) | k Querry | k Longtin | k median (range) | k joint | joint RMS residual | "
+        + " | ".join(f"k {n}" for n in names)
+        + " |"
+    )
     print("|---|---|---|---|---|---|" + "---|" * len(names))
     for i, lam in enumerate(wl):
         cells = [f"{flags[i][f]}{10 ** per_sample[i, f]:.2g}" for f in range(len(FRACTIONS))]
         lo, hi = spread[i]
         longtin = f"{k_longtin[i]:.3g}" if lam >= 633.0 else "–"
-        print(f"| {lam:g} | {k_querry[i]:.3g} | {longtin} | {10 ** median[i]:.2g} ({10 ** lo:.2g}–{10 ** hi:.2g}) | "
-              f"{10 ** joint[i]:.3g} | {joint_rms[i]:.3f} | " + " | ".join(cells) + " |")
-    print("\n'<' : the fraction is brighter than the model with the smallest k on the grid (an upper bound);"
-          " '>' : darker than the model's opaque limit (no k reproduces it).\n")
+        print(
+            f"| {lam:g} | {k_querry[i]:.3g} | {longtin} | {10 ** median[i]:.2g} ({10**lo:.2g}–{10**hi:.2g}) | "
+            f"{10 ** joint[i]:.3g} | {joint_rms[i]:.3f} | " + " | ".join(cells) + " |"
+        )
+    print(
+        "\n'<' : the fraction is brighter than the model with the smallest k on the grid (an upper bound);"
+        " '>' : darker than the model's opaque limit (no k reproduces it).\n"
+    )
     print("Measured reflectance / model at the joint k:\n")
     print("| λ (nm) | " + " | ".join(names) + " |")
     print("|---|" + "---|" * len(names))
     for i, lam in enumerate(wl):
-        print(f"| {lam:g} | " + " | ".join(f"{meas[f, i]:.3f} / {models_at_best[i, f]:.3f}"
-                                          for f in range(len(FRACTIONS))) + " |")
+        print(
+            f"| {lam:g} | "
+            + " | ".join(f"{meas[f, i]:.3f} / {models_at_best[i, f]:.3f}" for f in range(len(FRACTIONS)))
+            + " |"
+        )
     beyond = np.asarray(wl) >= 633.0
     for ref_label, ref, where in (("k_Querry", k_querry, np.ones(len(wl), bool)), ("k_Longtin", k_longtin, beyond)):
         for label, derived in (("k_median", median), ("k_joint", joint)):
             log_ratio = np.where(where, derived - np.log10(ref), np.nan)
             ok = np.isfinite(log_ratio)
-            print(f"\nFigure of merit, RMS of log10({label} / {ref_label}) over {ok.sum()} wavelengths: "
-                  f"{math.sqrt(np.mean(log_ratio[ok] ** 2)):.2f} (per λ: "
-                  + ", ".join(f"{lam:g}: {r:+.2f}" for lam, r, o in zip(wl, log_ratio, ok) if o) + ")")
+            print(
+                f"\nFigure of merit, RMS of log10({label} / {ref_label}) over {ok.sum()} wavelengths: "
+                f"{math.sqrt(np.mean(log_ratio[ok] ** 2)):.2f} (per λ: "
+                + ", ".join(f"{lam:g}: {r:+.2f}" for lam, r, o in zip(wl, log_ratio, ok) if o)
+                + ")"
+            )
     identifiability(wl, k_querry, np.array(sensitivity), joint_rms, names)
     check_gds76(wl, median, args.rays, args.seed)
 
@@ -203,9 +220,11 @@ def identifiability(wl, k_querry, sensitivity, joint_rms, names) -> None:
     model's own error, estimated by the joint fit's RMS residual at the shortest wavelength, where
     every fraction is opaque and k does not matter."""
     sigma = float(joint_rms[0])
-    print(f"\nIdentifiability: |ΔR| of the model when Querry's k is changed by a factor "
-          f"{ACCEPT_FACTOR:g}, against the model error σ = {sigma:.3f} (joint RMS residual at "
-          f"{wl[0]:g} nm, where every fraction is opaque). Informative: |ΔR| > σ.\n")
+    print(
+        f"\nIdentifiability: |ΔR| of the model when Querry's k is changed by a factor "
+        f"{ACCEPT_FACTOR:g}, against the model error σ = {sigma:.3f} (joint RMS residual at "
+        f"{wl[0]:g} nm, where every fraction is opaque). Informative: |ΔR| > σ.\n"
+    )
     print("| λ (nm) | k Querry | " + " | ".join(f"|ΔR| {n}" for n in names) + " | informative |")
     print("|---|---|" + "---|" * len(names) + "---|")
     blind = []
@@ -213,12 +232,18 @@ def identifiability(wl, k_querry, sensitivity, joint_rms, names) -> None:
         good = sensitivity[i] > sigma
         if ACCEPT_NM[0] <= lam <= ACCEPT_NM[1] and not good.any():
             blind.append(lam)
-        print(f"| {lam:g} | {k_querry[i]:.3g} | " + " | ".join(f"{x:.4f}" for x in sensitivity[i])
-              + f" | {int(good.sum())} of {len(names)} |")
+        print(
+            f"| {lam:g} | {k_querry[i]:.3g} | "
+            + " | ".join(f"{x:.4f}" for x in sensitivity[i])
+            + f" | {int(good.sum())} of {len(names)} |"
+        )
     window = [lam for lam in wl if ACCEPT_NM[0] <= lam <= ACCEPT_NM[1]]
-    print(f"\nIn the acceptance window {ACCEPT_NM[0]:g}-{ACCEPT_NM[1]:g} nm, {len(blind)} of "
-          f"{len(window)} wavelengths have no informative fraction"
-          + (f" ({', '.join(f'{x:g}' for x in blind)} nm)" if blind else "") + ".")
+    print(
+        f"\nIn the acceptance window {ACCEPT_NM[0]:g}-{ACCEPT_NM[1]:g} nm, {len(blind)} of "
+        f"{len(window)} wavelengths have no informative fraction"
+        + (f" ({', '.join(f'{x:g}' for x in blind)} nm)" if blind else "")
+        + "."
+    )
 
 
 def check_gds76(wl, median, rays, seed) -> None:
@@ -236,7 +261,7 @@ def check_gds76(wl, median, rays, seed) -> None:
         if not math.isfinite(lk):
             derived.append(math.nan)
             continue
-        with hematite_k(10.0 ** lk):
+        with hematite_k(10.0**lk):
             derived.append(sandlight.reflectance(sample, [lam], rays=rays, seed=seed, progress=False).values[0])
     derived = np.array(derived)
     print("\nCheck on the validation mixture GDS76 (preset gds76-hematite-quartz), not used above:\n")
@@ -261,14 +286,25 @@ def plot(path, wl, joint, median, per_sample, flags, names, meas, models_at_best
     fig, (a, b) = plt.subplots(1, 2, figsize=(11, 4.2), dpi=120)
     grid, _, querry, longtin = hematite_sources(find_shared_optical(), np.arange(400.0, 2501.0, 10.0))
     a.semilogy(grid, querry, "k-", lw=1.2, label="Querry 1985, (2o+e)/3")
-    a.semilogy(grid[grid >= 633.0], longtin[grid >= 633.0], "k:", lw=1.2,
-               label="Longtin 1988, (2o+e)/3 (shipped beyond the edge)")
-    a.semilogy(wl, 10 ** median, "s-", color="C0", ms=5, label="derived: median of the fractions")
-    a.semilogy(wl, 10 ** joint, "o--", color="C3", ms=4, label="derived: one k for all 7 fractions (joint)")
+    a.semilogy(
+        grid[grid >= 633.0],
+        longtin[grid >= 633.0],
+        "k:",
+        lw=1.2,
+        label="Longtin 1988, (2o+e)/3 (shipped beyond the edge)",
+    )
+    a.semilogy(wl, 10**median, "s-", color="C0", ms=5, label="derived: median of the fractions")
+    a.semilogy(wl, 10**joint, "o--", color="C3", ms=4, label="derived: one k for all 7 fractions (joint)")
     for f, name in enumerate(names):
         found = np.array([fl[f] == "" for fl in flags])
-        a.semilogy(wl[found], 10 ** per_sample[found, f], ".", color=plt.cm.viridis(f / 6), ms=6,
-                   label=f"derived from {name} alone" if f in (0, 3, 6) else None)
+        a.semilogy(
+            wl[found],
+            10 ** per_sample[found, f],
+            ".",
+            color=plt.cm.viridis(f / 6),
+            ms=6,
+            label=f"derived from {name} alone" if f in (0, 3, 6) else None,
+        )
     a.set_xlabel("wavelength (nm)")
     a.set_ylabel("k")
     a.set_ylim(1e-5, 3)

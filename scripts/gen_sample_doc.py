@@ -37,8 +37,7 @@ def parameter_table() -> str:
     rows = ["| name | meaning | unit | default | domain |", "|---|---|---|---|---|"]
     for p in PARAMETERS:
         added = " *(sandlight addition)*" if p.added else ""
-        rows.append(f"| `{p.name}` | {p.description}{added} | {p.unit or '–'} | "
-                    f"{_default(p)} | {_domain(p)} |")
+        rows.append(f"| `{p.name}` | {p.description}{added} | {p.unit or '–'} | {_default(p)} | {_domain(p)} |")
     return "\n".join(rows)
 
 
@@ -67,7 +66,7 @@ def render(text: str) -> str:
         pattern = re.compile(rf"(<!-- BEGIN {name} -->\n).*?(\n<!-- END {name} -->)", re.S)
         if not pattern.search(text):
             raise SystemExit(f"{DOC}: markers for {name!r} not found")
-        text = pattern.sub(lambda m: m.group(1) + make() + m.group(2), text)
+        text = pattern.sub(lambda m, make=make: m.group(1) + make() + m.group(2), text)
     return text
 
 

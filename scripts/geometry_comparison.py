@@ -83,8 +83,15 @@ def within_target(value, ref):
 def packing_report(pk, d_mm=None, porosity=None, medium=None, threads=None, rays=0):
     """Packing figures: size, fractions, overlaps, chords, and light reaching the bottom."""
     empty, multiple = pk.point_statistics(200_000, 9)
-    row = {"n": pk.n_particles, "period": pk.period_mm, "eta": pk.packing_fraction, "phi_sample": pk.sample_porosity,
-           "phi_points": empty, "overlap_volume": multiple, "max_overlap": pk.max_overlap}
+    row = {
+        "n": pk.n_particles,
+        "period": pk.period_mm,
+        "eta": pk.packing_fraction,
+        "phi_sample": pk.sample_porosity,
+        "phi_points": empty,
+        "overlap_volume": multiple,
+        "max_overlap": pk.max_overlap,
+    }
     if d_mm is not None:
         ch = pk.pore_chords(4000, 10, 3)
         row["chord_ratio"] = ch.mean() / (2.0 / 3.0 * d_mm * porosity / (1 - porosity))
@@ -115,8 +122,11 @@ def run_case(name, make_medium, packing, rays, threads, label):
         out[mem] = dhr(make_medium(mem), rays, threads)[:2]
         out[f"t_{mem}"] = time.perf_counter() - t0
     out["rays"] = rays
-    print(f"{name:28s} {label:>10s}  explicit {out['explicit'][0]:.4f}  " + "  ".join(
-        f"{m} {out[m][0]:.4f}" for m in MEMORIES), flush=True)
+    print(
+        f"{name:28s} {label:>10s}  explicit {out['explicit'][0]:.4f}  "
+        + "  ".join(f"{m} {out[m][0]:.4f}" for m in MEMORIES),
+        flush=True,
+    )
     return out
 
 
@@ -126,8 +136,10 @@ def fmt(v, se):
 
 
 def table(rows):
-    head = ("| case | explicit | on-the-fly (none) | Δ | " + " | ".join(f"{m} | Δ" for m in MEMORIES[1:]) + " |\n"
-            "|---|---|" + "---|---|" * len(MEMORIES) + "\n")
+    head = (
+        "| case | explicit | on-the-fly (none) | Δ | " + " | ".join(f"{m} | Δ" for m in MEMORIES[1:]) + " |\n"
+        "|---|---|" + "---|---|" * len(MEMORIES) + "\n"
+    )
     lines = []
     for r in rows:
         ref = r["explicit"][0]
@@ -141,17 +153,21 @@ def table(rows):
 
 
 def packing_table(reports):
-    head = ("| sand | grains | box (mm) | η packed | φ (points) | overlap volume | max overlap / d | "
-            "mean chord / (2/3)dφ/(1−φ) | chord sd/mean | rays deeper than H |\n"
-            "|---|---|---|---|---|---|---|---|---|---|\n")
+    head = (
+        "| sand | grains | box (mm) | η packed | φ (points) | overlap volume | max overlap / d | "
+        "mean chord / (2/3)dφ/(1−φ) | chord sd/mean | rays deeper than H |\n"
+        "|---|---|---|---|---|---|---|---|---|---|\n"
+    )
     lines = []
     for name, r in reports.items():
         box = "{:.2f} × {:.2f} × {:.2f}".format(*r["period"])
         chord = f"{r['chord_ratio']:.4f}" if "chord_ratio" in r else "–"
         cv = f"{r['chord_cv']:.3f}" if "chord_cv" in r else "–"
         bottom = f"{r['bottom']:.2e}" if "bottom" in r else "–"
-        lines.append(f"| {name} | {r['n']} | {box} | {r['eta']:.4f} | {r['phi_points']:.4f} | {r['overlap_volume']:.2e} | "
-                     f"{r['max_overlap']:.1e} | {chord} | {cv} | {bottom} |")
+        lines.append(
+            f"| {name} | {r['n']} | {box} | {r['eta']:.4f} | {r['phi_points']:.4f} | {r['overlap_volume']:.2e} | "
+            f"{r['max_overlap']:.1e} | {chord} | {cv} | {bottom} |"
+        )
     return head + "\n".join(lines) + "\n"
 
 
@@ -172,7 +188,9 @@ def write_atomic(path: Path, text: str):
 def brdf_principal_plane(medium, theta_deg, rays, threads, stacks=18, slices=36):
     """Principal-plane BRDF (sr⁻¹) from fixed-incidence counts: signed view zenith (positive
     toward the light, i.e. backscatter side) and values with standard errors."""
-    counts, _, launched, _ = medium.fixed_counts(stacks, slices, theta_deg, 0.0, 1, 0, 0, rays, MAX_EVENTS, MAX_INTERNAL, threads)
+    counts, _, launched, _ = medium.fixed_counts(
+        stacks, slices, theta_deg, 0.0, 1, 0, 0, rays, MAX_EVENTS, MAX_INTERNAL, threads
+    )
     geo = _native.hemisphere_geometry(stacks, slices)
     proj = geo["projected_solid_angles"]
     f = counts / (launched * proj)
@@ -196,8 +214,12 @@ def run_brdf(scale, threads, packing):
 
     rays = int(4_000_000 * scale)
     alpha = 5.0  # 50 cm⁻¹
-    models = {(label if label == "explicit" else f"on-the-fly, memory {label}"):
-              sphere_model(label, packing, alpha_per_mm=alpha) for label in ("explicit", "none", "cut", "packed")}
+    models = {
+        (label if label == "explicit" else f"on-the-fly, memory {label}"): sphere_model(
+            label, packing, alpha_per_mm=alpha
+        )
+        for label in ("explicit", "none", "cut", "packed")
+    }
     fig, axes = plt.subplots(1, 3, figsize=(13, 4), sharey=True)
     rows = []
     for ax, theta in zip(axes, (0.0, 30.0, 60.0)):
@@ -225,9 +247,11 @@ def run_brdf(scale, threads, packing):
     os.close(fd)
     fig.savefig(tmp, dpi=110)
     os.replace(tmp, out)
-    body = (f"Rays per curve: {rays:,}; collector 18 × 36 patches (5° × 10°). Peak ratio: BRDF in the patch "
-            "of the light's own direction over the mean 15°–25° away from it.\n\n"
-            "| incidence | model | BRDF toward the light (sr⁻¹) | peak ratio |\n|---|---|---|---|\n")
+    body = (
+        f"Rays per curve: {rays:,}; collector 18 × 36 patches (5° × 10°). Peak ratio: BRDF in the patch "
+        "of the light's own direction over the mean 15°–25° away from it.\n\n"
+        "| incidence | model | BRDF toward the light (sr⁻¹) | peak ratio |\n|---|---|---|---|\n"
+    )
     body += "\n".join(f"| {t:.0f}° | {n} | {v:.4f} ± {s:.4f} | {r:.3f} |" for t, n, v, s, r in rows) + "\n\n"
     body += "![principal-plane BRDFs](img/geometry-brdf.png)\n"
     for r in rows:
@@ -243,9 +267,12 @@ def run_diagnostics(scale, threads):
     orders = (1, 2, 3, 4, 6, 10, MAX_EVENTS)
     pk = pk_spheres = generate_packing(grain_medium([d]), reference_mm=d, seed=1)
     rays = int(300_000 * scale)
-    lines = [f"Escape by scattering order, monodisperse spheres, α = 5 cm⁻¹ ({rays:,} rays per run): the "
-             "fraction of rays that escape after at most k events (runs capped at k events).\n",
-             "| model | k = 1 | 2 | 3 | 4 | 6 | 10 | all |", "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        f"Escape by scattering order, monodisperse spheres, α = 5 cm⁻¹ ({rays:,} rays per run): the "
+        "fraction of rays that escape after at most k events (runs capped at k events).\n",
+        "| model | k = 1 | 2 | 3 | 4 | 6 | 10 | all |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for label in ("explicit", "none", "cut", "packed"):
         m = sphere_model(label, pk, alpha_per_mm=0.5)
         cum = []
@@ -256,16 +283,23 @@ def run_diagnostics(scale, threads):
         print(f"orders {label}: " + " ".join(f"{v:.4f}" for v in cum), flush=True)
     rays = int(100_000 * scale)
     pk = generate_packing(grains_with_fines(), reference_mm=d, seed=1)
-    lines += ["", f"Grains (d = 0.25 mm, φ = 0.40) with 2 µm fines making 90 % of the encounters "
-                  f"({rays:,} rays per run, one packing of seed 1); α in mm⁻¹ (1 mm⁻¹ = 10 cm⁻¹). "
-                  "Δ relative to explicit.\n",
-              "| grains | α grains | α fines | explicit | " + " | ".join(f"{m} | Δ" for m in MEMORIES) + " |",
-              "|---|---|---|---|" + "---|---|" * len(MEMORIES)]
+    lines += [
+        "",
+        f"Grains (d = 0.25 mm, φ = 0.40) with 2 µm fines making 90 % of the encounters "
+        f"({rays:,} rays per run, one packing of seed 1); α in mm⁻¹ (1 mm⁻¹ = 10 cm⁻¹). "
+        "Δ relative to explicit.\n",
+        "| grains | α grains | α fines | explicit | " + " | ".join(f"{m} | Δ" for m in MEMORIES) + " |",
+        "|---|---|---|---|" + "---|---|" * len(MEMORIES),
+    ]
     for n_sand, a_sand, a_fines in ((1.0001, 0.0, 5.0), (1.544, 0.0, 5.0), (1.544, 0.5, 5.0), (1.544, 0.5, 0.0)):
         fines = dict(n=n_sand, alpha_per_mm=a_sand, fines_alpha_per_mm=a_fines)
         ref = dhr(grains_with_fines(**fines).explicit(pk), rays, threads)
-        cells = [("index-matched (n = 1.0001)" if n_sand < 1.01 else f"n = {n_sand:g}"), f"{a_sand:g}", f"{a_fines:g}",
-                 fmt(*ref[:2])]
+        cells = [
+            ("index-matched (n = 1.0001)" if n_sand < 1.01 else f"n = {n_sand:g}"),
+            f"{a_sand:g}",
+            f"{a_fines:g}",
+            fmt(*ref[:2]),
+        ]
         for mem in MEMORIES:
             v = dhr(grains_with_fines(**fines, memory=mem), rays, threads)
             mark = "" if within_target(v[0], ref[0]) else " ✗"
@@ -273,27 +307,36 @@ def run_diagnostics(scale, threads):
         lines.append("| " + " | ".join(cells) + " |")
         print("fines " + " | ".join(cells), flush=True)
     samples = int(30_000 * scale)
-    lines += ["", f"Where the next grain is met after leaving one, monodisperse spheres ({samples:,} flights from "
-                  "uniform points on random grains of the packing, Lambertian directions): mean cosine of the "
-                  "incidence angle on the next grain, by flight length s. The on-the-fly (Boolean) model has "
-                  "2/3 at every length; equilibrium requires 2/3 on average.\n",
-              "| s (mm) | flights | packing ⟨μ⟩ |", "|---|---|---|"]
+    lines += [
+        "",
+        f"Where the next grain is met after leaving one, monodisperse spheres ({samples:,} flights from "
+        "uniform points on random grains of the packing, Lambertian directions): mean cosine of the "
+        "incidence angle on the next grain, by flight length s. The on-the-fly (Boolean) model has "
+        "2/3 at every length; equilibrium requires 2/3 on average.\n",
+        "| s (mm) | flights | packing ⟨μ⟩ |",
+        "|---|---|---|",
+    ]
     for (lo, hi), count, mean in incidence_by_flight(pk_spheres, samples):
         lines.append(f"| {lo:g}–{hi:g} | {count} | {mean:.3f} |")
     lines += slab_rows(pk_spheres, scale, threads)
     lines += wet_sand_rows(scale, threads)
-    return f"Generated by `scripts/geometry_comparison.py --diagnostics --scale {scale:g}`.\n\n" + "\n".join(lines) + "\n"
+    return (
+        f"Generated by `scripts/geometry_comparison.py --diagnostics --scale {scale:g}`.\n\n" + "\n".join(lines) + "\n"
+    )
 
 
 def slab_rows(pk, scale, threads, depths_mm=(1.0, 3.0)):
     """Transmission of non-absorbing slabs of monodisperse spheres: how far light diffuses in the
     packing and on the fly, free of absorption and of the surface's single scattering."""
     rays = int(400_000 * scale)
-    lines = ["", f"Non-absorbing slabs of monodisperse spheres (α = 0), normal incidence, {rays:,} rays per run: "
-                 "transmittance T (rays deeper than the slab) and events per ray. Thickness from the cut "
-                 "plane (explicit and `cut`) or from the boundary plane (`none`). Δ relative to explicit.\n",
-             "| thickness | explicit | none | Δ | cut | Δ | packed | Δ | events per ray (explicit / none / cut / packed) |",
-             "|---|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "",
+        f"Non-absorbing slabs of monodisperse spheres (α = 0), normal incidence, {rays:,} rays per run: "
+        "transmittance T (rays deeper than the slab) and events per ray. Thickness from the cut "
+        "plane (explicit and `cut`) or from the boundary plane (`none`). Δ relative to explicit.\n",
+        "| thickness | explicit | none | Δ | cut | Δ | packed | Δ | events per ray (explicit / none / cut / packed) |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
     for depth in depths_mm:
         values, events = {}, {}
         for label in ("explicit", "none", "cut", "packed"):
@@ -320,9 +363,13 @@ def wet_sand_rows(scale, threads):
 
     rays = int(20_000 * scale)
     sample = SandSample.preset("wet-beach")
-    lines = ["", f"Wet sand: the `wet-beach` preset (saturation {sample.saturation:g}), {rays:,} rays per run, "
-                 "default packing for the explicit reference.\n",
-             "| model | ρ 450 nm | ρ 1450 nm (water band) |", "|---|---|---|"]
+    lines = [
+        "",
+        f"Wet sand: the `wet-beach` preset (saturation {sample.saturation:g}), {rays:,} rays per run, "
+        "default packing for the explicit reference.\n",
+        "| model | ρ 450 nm | ρ 1450 nm (water band) |",
+        "|---|---|---|",
+    ]
     for label, kw in (("none", {}), ("cut", {"memory": "cut"}), ("explicit", {"geometry": "explicit"})):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", UserWarning)  # the wet-sand warning this row documents
@@ -332,8 +379,9 @@ def wet_sand_rows(scale, threads):
     return lines
 
 
-def incidence_by_flight(pk, samples, seed=1, bins=((0, 0.01), (0.01, 0.03), (0.03, 0.06), (0.06, 0.12),
-                                                   (0.12, 0.25), (0.25, math.inf))):
+def incidence_by_flight(
+    pk, samples, seed=1, bins=((0, 0.01), (0.01, 0.03), (0.03, 0.06), (0.06, 0.12), (0.12, 0.25), (0.25, math.inf))
+):
     """Flights through a packing of monodisperse spheres: from a uniform point on a random grain,
     in a Lambertian direction about its normal, to the first grain met (periodic images); per bin of
     flight length, the count and the mean cosine of the incidence angle on that grain."""
@@ -360,8 +408,11 @@ def incidence_by_flight(pk, samples, seed=1, bins=((0, 0.01), (0.01, 0.03), (0.0
         j = int(np.argmin(t))
         lengths[k] = t[j]
         cosines[k] = -(d @ (d * t[j] - rel[ahead[j]])) / r
-    return [((lo, hi), int(sel.sum()), float(cosines[sel].mean()))
-            for lo, hi in bins for sel in [(lengths >= lo) & (lengths < hi)]]
+    return [
+        ((lo, hi), int(sel.sum()), float(cosines[sel].mean()))
+        for lo, hi in bins
+        for sel in [(lengths >= lo) & (lengths < hi)]
+    ]
 
 
 def settled_report(pk, cut, d_mm, seed=9):
@@ -376,14 +427,23 @@ def settled_report(pk, cut, d_mm, seed=9):
     porosity, overlap = pk.porosity_profile(h + np.linspace(0.25, 1.0, 7) * d_mm, 50_000, seed)
     dep, d_dep = pk.deposited()
     dz = 0.02 * d_mm
-    solid = np.sum(np.pi / 6 * d_dep ** 3)
+    solid = np.sum(np.pi / 6 * d_dep**3)
     overlap_volume = np.nan
     if solid:
         _, overlap_all = pk.porosity_profile(np.arange((dep[:, 2] - d_dep).min(), pk.top_mm, dz), 5_000, seed)
         overlap_volume = overlap_all.sum() * dz * pk.period_mm[0] * pk.period_mm[1] / solid
-    return {"n": pk.n_deposited, "top": pk.top_mm - h, "mean": heights.mean() - h, "sd": heights.std(),
-            "min": heights.min() - h, "max": heights.max() - h, "covered": covered, "eta": 1.0 - porosity.mean(),
-            "overlap": overlap.mean(), "overlap_volume": overlap_volume}
+    return {
+        "n": pk.n_deposited,
+        "top": pk.top_mm - h,
+        "mean": heights.mean() - h,
+        "sd": heights.std(),
+        "min": heights.min() - h,
+        "max": heights.max() - h,
+        "covered": covered,
+        "eta": 1.0 - porosity.mean(),
+        "overlap": overlap.mean(),
+        "overlap_volume": overlap_volume,
+    }
 
 
 def run_settled(scale, threads):
@@ -393,8 +453,10 @@ def run_settled(scale, threads):
     rays = {a: int(RAYS[a] * scale) for a in ALPHAS_PER_CM}
     rows, layers = [], {}
     for name, eps, counts in (("monodisperse spheres", 1.0, (1.0, 2.0, 3.0)), ("spheroids ε = 1.4", 1.4, (2.0,))):
+
         def make(alpha=0.0, mem="none", eps=eps):
             return grain_medium([d], aspect_ratio=eps, alpha_per_mm=alpha, porosity=phi, memory=mem)
+
         t0 = time.perf_counter()
         cut = generate_packing(make(), reference_mm=d, seed=1)
         t_cut = time.perf_counter() - t0
@@ -414,16 +476,22 @@ def run_settled(scale, threads):
                 out["explicit settled"] = dhr(make(alpha).explicit(settled), rays[a], threads)[:2]
                 for mem in ("none", "cut"):
                     out[mem] = dhr(make(alpha, mem), rays[a], threads)[:2]
-                print(f"settled {out['label']:>16s}  " + "  ".join(f"{k} {v[0]:.4f}" for k, v in out.items() if k != "label"), flush=True)
+                print(
+                    f"settled {out['label']:>16s}  "
+                    + "  ".join(f"{k} {v[0]:.4f}" for k, v in out.items() if k != "label"),
+                    flush=True,
+                )
                 rows.append(out)
-    body = (f"Generated by `scripts/geometry_comparison.py --no-tables --settled --scale {scale:g}` on {describe()}, "
-            f"{time.strftime('%Y-%m-%d')}. Monodisperse spheres d = 0.25 mm, φ = 0.40, n = 1.544, one packing "
-            "(seed 1, 4 × 4 × 8 mm) with its cut surface and with 2 reference-grain layers settled on it; normal "
-            "incidence, directional-hemispherical reflectance ± one standard error; rays per α: "
-            + ", ".join(f"{rays[a]:,} at {a:g} cm⁻¹" for a in ALPHAS_PER_CM)
-            + ". Δ: relative to the explicit settled surface; ✗: outside issue 9's target (3 % or 0.002).\n\n"
-            "| α | explicit cut | Δ | explicit settled | on-the-fly `none` | Δ | on-the-fly `cut` | Δ |\n"
-            "|---|---|---|---|---|---|---|---|\n")
+    body = (
+        f"Generated by `scripts/geometry_comparison.py --no-tables --settled --scale {scale:g}` on {describe()}, "
+        f"{time.strftime('%Y-%m-%d')}. Monodisperse spheres d = 0.25 mm, φ = 0.40, n = 1.544, one packing "
+        "(seed 1, 4 × 4 × 8 mm) with its cut surface and with 2 reference-grain layers settled on it; normal "
+        "incidence, directional-hemispherical reflectance ± one standard error; rays per α: "
+        + ", ".join(f"{rays[a]:,} at {a:g} cm⁻¹" for a in ALPHAS_PER_CM)
+        + ". Δ: relative to the explicit settled surface; ✗: outside issue 9's target (3 % or 0.002).\n\n"
+        "| α | explicit cut | Δ | explicit settled | on-the-fly `none` | Δ | on-the-fly `cut` | Δ |\n"
+        "|---|---|---|---|---|---|---|---|\n"
+    )
     for r in rows:
         ref = r["explicit settled"][0]
         cells = [r["label"]]
@@ -433,20 +501,24 @@ def run_settled(scale, threads):
             if key != "explicit settled":
                 cells.append(f"{100 * (v / ref - 1):+.1f} %" + ("" if within_target(v, ref) else " ✗"))
         body += "| " + " | ".join(cells) + " |\n"
-    body += ("\nSettled layers (seed 1, same box; heights relative to the cut plane z = H in mm, from 20 000 vertical "
-             "lines; covered: fraction of those lines that meet a deposited grain first; η and points in ≥ 2 grains: "
-             "7 planes 0.25–1 grain above the cut plane, 50 000 points each; overlap volume: points in ≥ 2 grains "
-             "over the deposit's height range, relative to the deposited solid; time: generating the cut packing, "
-             "and the settled one with its deposit; 0 layers: the cut itself):\n\n"
-             "| grains | layers | deposited | surface height mean ± sd | range | rays start at | covered | "
-             "η of the layer | points in ≥ 2 grains | overlap volume | time cut / settled |\n"
-             "|---|---|---|---|---|---|---|---|---|---|---|\n")
+    body += (
+        "\nSettled layers (seed 1, same box; heights relative to the cut plane z = H in mm, from 20 000 vertical "
+        "lines; covered: fraction of those lines that meet a deposited grain first; η and points in ≥ 2 grains: "
+        "7 planes 0.25–1 grain above the cut plane, 50 000 points each; overlap volume: points in ≥ 2 grains "
+        "over the deposit's height range, relative to the deposited solid; time: generating the cut packing, "
+        "and the settled one with its deposit; 0 layers: the cut itself):\n\n"
+        "| grains | layers | deposited | surface height mean ± sd | range | rays start at | covered | "
+        "η of the layer | points in ≥ 2 grains | overlap volume | time cut / settled |\n"
+        "|---|---|---|---|---|---|---|---|---|---|---|\n"
+    )
     for (name, n_layers), r in layers.items():
         volume = "–" if np.isnan(r["overlap_volume"]) else f"{r['overlap_volume']:.2e}"
         times = f"{r['t_cut']:.1f} s" + ("" if np.isnan(r["t_settled"]) else f" / {r['t_settled']:.1f} s")
-        body += (f"| {name} | {n_layers:g} | {r['n']} | {r['mean']:+.3f} ± {r['sd']:.3f} | {r['min']:+.3f} … "
-                 f"{r['max']:+.3f} | {r['top']:+.3f} | {r['covered']:.4f} | {r['eta']:.4f} | {r['overlap']:.4f} | "
-                 f"{volume} | {times} |\n")
+        body += (
+            f"| {name} | {n_layers:g} | {r['n']} | {r['mean']:+.3f} ± {r['sd']:.3f} | {r['min']:+.3f} … "
+            f"{r['max']:+.3f} | {r['top']:+.3f} | {r['covered']:.4f} | {r['eta']:.4f} | {r['overlap']:.4f} | "
+            f"{volume} | {times} |\n"
+        )
     return body
 
 
@@ -472,15 +544,29 @@ def run_presets(scale, threads):
             label = f"{name} (dried)"
         comp = compose(sample)
         pk = preset_packing(comp)
-        reports[label] = packing_report(pk, medium=native_medium(comp, 650.0), threads=threads,
-                                        rays=int(100_000 * scale))
+        reports[label] = packing_report(
+            pk, medium=native_medium(comp, 650.0), threads=threads, rays=int(100_000 * scale)
+        )
         for lam in PRESET_WAVELENGTHS_NM:
-            rows.append(run_case(label, lambda mem, lam=lam, comp=comp: native_medium(comp, lam, memory=mem), pk,
-                                 int(RAYS["preset"] * scale), threads, f"{label}, {lam:.0f} nm"))
-    return (f"Generated by `scripts/geometry_comparison.py --presets --scale {scale:g}` on {describe()}, "
-            f"{time.strftime('%Y-%m-%d')}. Dry, normal incidence; columns as in the main table.\n\n" + table(rows)
-            + "\n" + passed_line(rows) + "\n\nPackings (seed 1; rays deeper than H at 650 nm):\n\n"
-            + packing_table(reports))
+            rows.append(
+                run_case(
+                    label,
+                    lambda mem, lam=lam, comp=comp: native_medium(comp, lam, memory=mem),
+                    pk,
+                    int(RAYS["preset"] * scale),
+                    threads,
+                    f"{label}, {lam:.0f} nm",
+                )
+            )
+    return (
+        f"Generated by `scripts/geometry_comparison.py --presets --scale {scale:g}` on {describe()}, "
+        f"{time.strftime('%Y-%m-%d')}. Dry, normal incidence; columns as in the main table.\n\n"
+        + table(rows)
+        + "\n"
+        + passed_line(rows)
+        + "\n\nPackings (seed 1; rays deeper than H at 650 nm):\n\n"
+        + packing_table(reports)
+    )
 
 
 def main(argv=None):
@@ -489,8 +575,9 @@ def main(argv=None):
     ap.add_argument("--threads", type=int, default=None)
     ap.add_argument("--brdf", action="store_true", help="also measure principal-plane BRDFs")
     ap.add_argument("--no-tables", action="store_true", help="skip the main tables")
-    ap.add_argument("--diagnostics", action="store_true",
-                    help="also the diagnostics: escape by scattering order, grains with fines")
+    ap.add_argument(
+        "--diagnostics", action="store_true", help="also the diagnostics: escape by scattering order, grains with fines"
+    )
     ap.add_argument("--settled", action="store_true", help="also compare the cut and the settled surface")
     ap.add_argument("--presets", action="store_true", help="also compare every preset, dried, at four wavelengths")
     args = ap.parse_args(argv)
@@ -508,31 +595,60 @@ def main(argv=None):
     mono_packing = None
     if not args.no_tables:
         for name, g in grains.items():
+
             def make(mem, alpha=0.0, g=g):
                 return grain_medium(g["q"], aspect_ratio=g["eps"], alpha_per_mm=alpha, porosity=phi, memory=mem)
+
             pk = generate_packing(make("none"), reference_mm=d, seed=1)
             mono_packing = mono_packing or pk
-            reports[name] = packing_report(pk, d if g["eps"] == 1.0 and len(g["q"]) == 1 else None, phi,
-                                           make("none", 0.05), args.threads, int(100_000 * args.scale))
+            reports[name] = packing_report(
+                pk,
+                d if g["eps"] == 1.0 and len(g["q"]) == 1 else None,
+                phi,
+                make("none", 0.05),
+                args.threads,
+                int(100_000 * args.scale),
+            )
             for a in ALPHAS_PER_CM:
-                rows.append(run_case(name, lambda mem, a=a, make=make: make(mem, a / 10.0), pk,
-                                     int(RAYS[a] * args.scale), args.threads, f"{name}, α = {a:g} cm⁻¹"))
+                rows.append(
+                    run_case(
+                        name,
+                        lambda mem, a=a, make=make: make(mem, a / 10.0),
+                        pk,
+                        int(RAYS[a] * args.scale),
+                        args.threads,
+                        f"{name}, α = {a:g} cm⁻¹",
+                    )
+                )
         comp = compose(SandSample.preset("red-dune"))
         pk = preset_packing(comp)
         reports["red-dune (sand packed; silt, clay on the fly)"] = packing_report(
-            pk, medium=native_medium(comp, 650.0), threads=args.threads, rays=int(100_000 * args.scale))
+            pk, medium=native_medium(comp, 650.0), threads=args.threads, rays=int(100_000 * args.scale)
+        )
         for lam in (450.0, 550.0, 650.0):
-            rows.append(run_case("red-dune", lambda mem, lam=lam: native_medium(comp, lam, memory=mem), pk,
-                                 int(RAYS["preset"] * args.scale), args.threads, f"red-dune, {lam:.0f} nm"))
-        body = (f"Generated by `scripts/geometry_comparison.py --scale {args.scale:g}` on {describe()}, "
-                f"{time.strftime('%Y-%m-%d')}. Normal incidence, directional-hemispherical reflectance, "
-                "± one standard error √(ρ(1 − ρ)/N). Δ: on-the-fly relative to explicit; ✗: outside the target "
-                "(3 % relative or 0.002 absolute, whichever is larger).\n\n" + table(rows)
-                + "\n" + passed_line(rows) + "\n\n"
-                "Packings (seed 1; φ (points): fraction of 200 000 random points in no packed grain; overlap "
-                "volume: fraction in two or more; rays deeper than H: fraction of rays at α = 0.5 cm⁻¹ "
-                "(red-dune: 650 nm) that get more than one box period H below the cut plane):\n\n"
-                + packing_table(reports))
+            rows.append(
+                run_case(
+                    "red-dune",
+                    lambda mem, lam=lam: native_medium(comp, lam, memory=mem),
+                    pk,
+                    int(RAYS["preset"] * args.scale),
+                    args.threads,
+                    f"red-dune, {lam:.0f} nm",
+                )
+            )
+        body = (
+            f"Generated by `scripts/geometry_comparison.py --scale {args.scale:g}` on {describe()}, "
+            f"{time.strftime('%Y-%m-%d')}. Normal incidence, directional-hemispherical reflectance, "
+            "± one standard error √(ρ(1 − ρ)/N). Δ: on-the-fly relative to explicit; ✗: outside the target "
+            "(3 % relative or 0.002 absolute, whichever is larger).\n\n"
+            + table(rows)
+            + "\n"
+            + passed_line(rows)
+            + "\n\n"
+            "Packings (seed 1; φ (points): fraction of 200 000 random points in no packed grain; overlap "
+            "volume: fraction in two or more; rays deeper than H: fraction of rays at α = 0.5 cm⁻¹ "
+            "(red-dune: 650 nm) that get more than one box period H below the cut plane):\n\n" + packing_table(reports)
+        )
         text = replace_block(text, BEGIN, END, body)
         write_atomic(DOC, text)
         print(body)

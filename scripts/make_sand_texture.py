@@ -23,8 +23,7 @@ from PIL import Image
 from scipy.ndimage import gaussian_filter
 from scipy.spatial import cKDTree
 
-DEFAULT_OUTPUT = (Path(__file__).resolve().parent.parent
-                  / "python" / "sandlight" / "data" / "textures" / "sand.png")
+DEFAULT_OUTPUT = Path(__file__).resolve().parent.parent / "python" / "sandlight" / "data" / "textures" / "sand.png"
 
 # Encoded sRGB albedos of the grain populations and their shares: mostly tan quartz with iron
 # staining, some clear quartz, a few dark (heavy mineral) and reddish grains.
@@ -68,7 +67,7 @@ def sand_texture(size: int, seed: int) -> np.ndarray:
 
     # Dome height and its normal: z = sqrt(1 - ρ²) on a unit sphere scaled to the grain.
     offset = (pixels - centres[grain]) / radii[grain][:, None]
-    z = np.sqrt(np.clip(1.0 - rel_top ** 2, 0.0, 1.0))
+    z = np.sqrt(np.clip(1.0 - rel_top**2, 0.0, 1.0))
     normal = np.column_stack([offset, np.maximum(z, 0.15)])
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
     light = LIGHT_DIRECTION / np.linalg.norm(LIGHT_DIRECTION)
@@ -101,7 +100,8 @@ def main() -> None:
         # A 128-colour palette (median cut, no dithering) keeps the file at a few tens of kB
         # with no visible banding: the texture's gradients are short, within single grains.
         image = Image.fromarray(rgb8, mode="RGB").quantize(
-            PALETTE_COLOURS, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE)
+            PALETTE_COLOURS, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE
+        )
         image.save(tmp, format="PNG", optimize=True)
         os.chmod(tmp, 0o644)
         os.replace(tmp, args.output)

@@ -32,9 +32,25 @@ def render(scene: str, work: Path) -> float:
     """Render ``scene`` into ``work/scene`` with the CLI; the wall time in seconds."""
     out = work / scene
     start = time.perf_counter()
-    subprocess.run([sys.executable, "-m", "sandlight", "render", scene, "-o", str(out),
-                    "--video", str(work / f"{scene}.mp4"), "--width", "320", "--height", "180",
-                    "--no-progress"], check=True)
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "sandlight",
+            "render",
+            scene,
+            "-o",
+            str(out),
+            "--video",
+            str(work / f"{scene}.mp4"),
+            "--width",
+            "320",
+            "--height",
+            "180",
+            "--no-progress",
+        ],
+        check=True,
+    )
     return time.perf_counter() - start
 
 
@@ -66,8 +82,10 @@ def main() -> int:
         seconds = render(scene, args.work)
         target = args.out / f"render_{scene.replace('-', '_')}.png"
         strip(scene, args.work, target)
-        print(f"{scene}: {len(list((args.work / scene).glob('frame_*.png')))} frames at 320×180 "
-              f"with MP4 in {seconds / 60:.1f} min; wrote {target}")
+        print(
+            f"{scene}: {len(list((args.work / scene).glob('frame_*.png')))} frames at 320×180 "
+            f"with MP4 in {seconds / 60:.1f} min; wrote {target}"
+        )
     return 0
 
 

@@ -44,25 +44,50 @@ def parse_args(argv=None):
     p.add_argument("--holdout-rays", type=count, default=400_000_000, help="trials of the held-out measurement")
     p.add_argument("--holdout", type=float, default=0.5, help="saturation of the held-out point")
     p.add_argument("--wavelength", type=float, default=550.0, help="nm")
-    p.add_argument("--method", default="pooled", choices=["average", "pooled"],
-                   help="class estimator of the reduction (pooled: minimum variance)")
+    p.add_argument(
+        "--method",
+        default="pooled",
+        choices=["average", "pooled"],
+        help="class estimator of the reduction (pooled: minimum variance)",
+    )
     p.add_argument("--variance", type=float, default=0.999, help="signal-variance threshold for ℓ")
     p.add_argument("--components", type=int, default=None, help="force ℓ")
-    p.add_argument("--scaling", default="relative", choices=["relative", "none", "noise"],
-                   help="scaling of the values before the PCA (none: the paper)")
+    p.add_argument(
+        "--scaling",
+        default="relative",
+        choices=["relative", "none", "noise"],
+        help="scaling of the values before the PCA (none: the paper)",
+    )
     p.add_argument("--seed", type=int, default=20261122, help="master seed")
-    p.add_argument("--work-dir", type=Path, default=ROOT / "build" / "train-default-spatial",
-                   help="job stores and intermediate files (resumable)")
-    p.add_argument("--threads", type=int, default=None,
-                   help="engine threads per node (default: all CPUs in-process, 1 with --workers/--dask-*)")
+    p.add_argument(
+        "--work-dir",
+        type=Path,
+        default=ROOT / "build" / "train-default-spatial",
+        help="job stores and intermediate files (resumable)",
+    )
+    p.add_argument(
+        "--threads",
+        type=int,
+        default=None,
+        help="engine threads per node (default: all CPUs in-process, 1 with --workers/--dask-*)",
+    )
     ex = p.add_mutually_exclusive_group()
-    ex.add_argument("--workers", type=int, help="local worker processes (default: nodes run one after the other "
-                    "in this process, each on all CPUs)")
+    ex.add_argument(
+        "--workers",
+        type=int,
+        help="local worker processes (default: nodes run one after the other in this process, each on all CPUs)",
+    )
     ex.add_argument("--dask-local", type=int, help="start a Dask LocalCluster of N workers")
     ex.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT (no checkpoints)")
-    p.add_argument("--no-install", action="store_true", help=f"do not copy the model to {PACKAGE_MODEL.relative_to(ROOT)}")
-    p.add_argument("--figure", type=Path, default=ROOT / "docs" / "img" / "spatial-holdout.png",
-                   help="principal-plane plot of the held-out prediction against the measurement ('' for none)")
+    p.add_argument(
+        "--no-install", action="store_true", help=f"do not copy the model to {PACKAGE_MODEL.relative_to(ROOT)}"
+    )
+    p.add_argument(
+        "--figure",
+        type=Path,
+        default=ROOT / "docs" / "img" / "spatial-holdout.png",
+        help="principal-plane plot of the held-out prediction against the measurement ('' for none)",
+    )
     return p.parse_args(argv)
 
 
@@ -79,14 +104,19 @@ def leave_one_out(nodes_dataset, mesh, method: str) -> dict:
     table = {}
     for scaling in ("none", "relative", "noise"):
         for ell in (1, 2, 3, 4, 5, 6, 8, 10):
-            results = [r for _, r in cross_validate(brdfs, mesh, {"n_components": ell, "scaling": scaling},
-                                                    max_relative_stderr=0.05)]
+            results = [
+                r
+                for _, r in cross_validate(
+                    brdfs, mesh, {"n_components": ell, "scaling": scaling}, max_relative_stderr=0.05
+                )
+            ]
             table[f"{scaling} l={ell}"] = {
                 "relative_rms": round(float(np.mean([r.relative_rms for r in results])), 5),
                 "noise_rms": round(float(np.mean([r.noise_rms for r in results])), 5),
                 "model_error": round(float(np.mean([r.model_error for r in results])), 5),
                 "normalised_rms": round(float(np.mean([r.normalised_rms for r in results])), 4),
-                "n_values": int(np.mean([r.n_values for r in results]))}
+                "n_values": int(np.mean([r.n_values for r in results])),
+            }
     return table
 
 
@@ -114,21 +144,34 @@ def plot_holdout(model, holdout_dataset, method: str, path: Path) -> None:
         # incidence, the plane through the centroids of slice 0.
         az = np.arctan2(wi_c[1], wi_c[0]) if i != h.cap else np.arctan2(h.centroids[1, 1], h.centroids[1, 0])
         dphi = np.mod(np.arctan2(h.centroids[:, 1], h.centroids[:, 0]) - az, 2 * np.pi)
-        plane = (np.isclose(dphi, 0, atol=1e-9) | np.isclose(dphi, np.pi, atol=1e-9) |
-                 np.isclose(dphi, 2 * np.pi, atol=1e-9)) | (h.band == 0)
+        plane = (
+            np.isclose(dphi, 0, atol=1e-9) | np.isclose(dphi, np.pi, atol=1e-9) | np.isclose(dphi, 2 * np.pi, atol=1e-9)
+        ) | (h.band == 0)
         signed = np.degrees(np.arccos(np.clip(h.centroids[plane, 2], -1, 1))) * np.where(
-            np.isclose(dphi[plane], np.pi, atol=1e-9), -1, 1)
+            np.isclose(dphi[plane], np.pi, atol=1e-9), -1, 1
+        )
         order = np.argsort(signed)
         value, err = measured.values[i, plane][order], measured.stderr[i, plane][order]
-        ax.errorbar(signed[order], value, yerr=2 * err, fmt="o", ms=2.5, color=colour, alpha=0.6,
-                    label=f"measured, θi = {np.degrees(np.arccos(wi_c[2])):.0f}°")
+        ax.errorbar(
+            signed[order],
+            value,
+            yerr=2 * err,
+            fmt="o",
+            ms=2.5,
+            color=colour,
+            alpha=0.6,
+            label=f"measured, θi = {np.degrees(np.arccos(wi_c[2])):.0f}°",
+        )
         theta = np.radians(np.linspace(-89, 89, 357))
         wo = np.stack([np.sin(theta), np.zeros_like(theta), np.cos(theta)], 1)  # positive θ: the light's side
         rot = np.array([[np.cos(az), -np.sin(az), 0], [np.sin(az), np.cos(az), 0], [0, 0, 1]])
         ax.plot(np.degrees(theta), predicted.f(np.broadcast_to(wi_c, wo.shape), wo @ rot.T), color=colour, lw=1.2)
-    ax.set(xlabel="outgoing zenith angle in the plane of incidence (°; positive: the light's side)",
-           ylabel="normalised BRDF (sr⁻¹)", yscale="log",
-           title=f"held-out saturation {measured.sample['saturation']:g}: prediction (lines) vs measurement")
+    ax.set(
+        xlabel="outgoing zenith angle in the plane of incidence (°; positive: the light's side)",
+        ylabel="normalised BRDF (sr⁻¹)",
+        yscale="log",
+        title=f"held-out saturation {measured.sample['saturation']:g}: prediction (lines) vs measurement",
+    )
     ax.legend(fontsize=7, ncol=2)
     ax.grid(alpha=0.3)
     fig.tight_layout()
@@ -150,16 +193,31 @@ def main(argv=None) -> int:
     executor = make_executor(args.workers, args.dask_local, args.scheduler) if pooled else make_executor(workers=1)
     threads = args.threads or (1 if pooled else os.cpu_count() or 1)
     print(f"sandlight {sandlight.__version__} on {describe_machine()}")
-    print(f"mesh: {mesh}; base: default SandSample(); {args.wavelength:g} nm; 31 x 30 patches; "
-          f"{args.rays:,} trials per node; held-out saturation {args.holdout:g} with {args.holdout_rays:,} trials; "
-          f"reduction {args.method}; {threads} engine thread(s) per node")
+    print(
+        f"mesh: {mesh}; base: default SandSample(); {args.wavelength:g} nm; 31 x 30 patches; "
+        f"{args.rays:,} trials per node; held-out saturation {args.holdout:g} with {args.holdout_rays:,} trials; "
+        f"reduction {args.method}; {threads} engine thread(s) per node"
+    )
     cpu0, start = time.process_time(), time.perf_counter()
     try:
-        run = train_spatial(args.work_dir, mesh, args.rays, args.wavelength, args.seed, holdout=[[args.holdout]],
-                            holdout_rays=args.holdout_rays, method=args.method, executor=executor, threads=threads,
-                            checkpoint=args.scheduler is None,
-                            model_params={"n_components": args.components, "variance_threshold": args.variance,
-                                          "scaling": args.scaling})
+        run = train_spatial(
+            args.work_dir,
+            mesh,
+            args.rays,
+            args.wavelength,
+            args.seed,
+            holdout=[[args.holdout]],
+            holdout_rays=args.holdout_rays,
+            method=args.method,
+            executor=executor,
+            threads=threads,
+            checkpoint=args.scheduler is None,
+            model_params={
+                "n_components": args.components,
+                "variance_threshold": args.variance,
+                "scaling": args.scaling,
+            },
+        )
     except Cancelled as exc:
         print(f"interrupted: {exc}", file=sys.stderr)
         return 130
@@ -174,16 +232,23 @@ def main(argv=None) -> int:
     ratio, signal = model.explained_variance_ratio_, model.signal_variance_ratio_
     ell = model.n_components_
     summary = {
-        "nodes": mesh.n_nodes, "rays_per_node": args.rays, "holdout_rays": args.holdout_rays,
-        "wavelength_nm": args.wavelength, "method": args.method,
-        "wall_s_this_run": round(wall, 1), "measurement_s_this_run": round(run.measurement_s, 1),
-        "fit_s": round(run.fit_s, 2), "parent_cpu_s": round(time.process_time() - cpu0, 1),
-        "n_components": ell, "variance_threshold": args.variance,
+        "nodes": mesh.n_nodes,
+        "rays_per_node": args.rays,
+        "holdout_rays": args.holdout_rays,
+        "wavelength_nm": args.wavelength,
+        "method": args.method,
+        "wall_s_this_run": round(wall, 1),
+        "measurement_s_this_run": round(run.measurement_s, 1),
+        "fit_s": round(run.fit_s, 2),
+        "parent_cpu_s": round(time.process_time() - cpu0, 1),
+        "n_components": ell,
+        "variance_threshold": args.variance,
         "explained_variance_ratio": [round(float(x), 6) for x in ratio[:6]],
         "signal_variance_ratio": None if signal is None else [round(float(x), 6) for x in signal[:6]],
         "explained_variance_kept": float(ratio[:ell].sum()),
         "signal_variance_kept": None if signal is None else float(signal[:ell].sum()),
-        "reconstruction_rms_sr-1": model.reconstruction_rms_, "node_noise_rms_sr-1": model.node_noise_rms_,
+        "reconstruction_rms_sr-1": model.reconstruction_rms_,
+        "node_noise_rms_sr-1": model.node_noise_rms_,
         "node_normal_reflectance": [round(float(x), 5) for x in model.node_normal_reflectance_],
         "holdout": [r.to_dict() for r in run.reports],
         "leave_one_out": leave_one_out(run.nodes.dataset_path, mesh, args.method),

@@ -38,8 +38,11 @@ PACKAGE_DIR = ROOT / "python" / "sandlight" / "data" / "models"
 #: generated over S ∈ [0, 0.15] and fitted from S = FILM_FROM.
 WATER = {"dry": None, "film": (0.0, 0.15), "wet": (0.15, 1.0)}
 FILM_FROM = 0.001
-WATER_TEXT = {"dry": "dry (saturation 0)", "film": "saturation 0.001-0.15 (water films)",
-              "wet": "saturation 0.15-1 (filled pores)"}
+WATER_TEXT = {
+    "dry": "dry (saturation 0)",
+    "film": "saturation 0.001-0.15 (water films)",
+    "wet": "saturation 0.15-1 (filled pores)",
+}
 
 
 @dataclass(frozen=True)
@@ -64,13 +67,10 @@ class BankEntry:
     @property
     def description(self) -> str:
         if self.water is None:
-            return ("every SandSample parameter over its range (coverage; error about ten times "
-                    "the target)")
+            return "every SandSample parameter over its range (coverage; error about ten times the target)"
         lo, hi = self.iron_range
-        base = ("reference sand (SandSample defaults)" if self.base is None
-                else f"preset {self.base}")
-        return (f"{base}, {WATER_TEXT[self.water]}, iron oxide {100 * lo:.2g}-{100 * hi:.2g} %, "
-                f"any hematite ratio")
+        base = "reference sand (SandSample defaults)" if self.base is None else f"preset {self.base}"
+        return f"{base}, {WATER_TEXT[self.water]}, iron oxide {100 * lo:.2g}-{100 * hi:.2g} %, any hematite ratio"
 
     def fit_domain(self):
         """The sub-domain the model is fitted on and covers (None: the generation domain)."""
@@ -86,8 +86,7 @@ class BankEntry:
         if self.water is None:
             return Domain.default()
         # The paper's Figure 6/7 parameters vary, iron oxide on a log scale.
-        dims = [Dimension("iron_oxide", *self.iron_range, "log"),
-                Dimension("hematite_ratio", 0.0, 1.0)]
+        dims = [Dimension("iron_oxide", *self.iron_range, "log"), Dimension("hematite_ratio", 0.0, 1.0)]
         if WATER[self.water] is not None:
             dims.append(Dimension("saturation", *WATER[self.water]))
         if self.base is None:
@@ -102,9 +101,17 @@ def _narrow(name, water, base=None, iron_range=(0.001, 0.05), forms=3):
     # 200 (dry: 2 parameters) or 300 (3 parameters) training samples per iron-oxide form, a
     # sixth as many hold-out samples: what met the target for the reference sand.
     per_form, holdout = (200, 40) if water == "dry" else (300, 50)
-    return BankEntry(name, per_form * forms, holdout * forms, rays=10_000, holdout_rays=40_000,
-                     model_params={"degree": 4, "n_components": 6}, water=water, base=base,
-                     iron_range=iron_range)
+    return BankEntry(
+        name,
+        per_form * forms,
+        holdout * forms,
+        rays=10_000,
+        holdout_rays=40_000,
+        model_params={"degree": 4, "n_components": 6},
+        water=water,
+        base=base,
+        iron_range=iron_range,
+    )
 
 
 def _preset_range(name, factor=3.0):
@@ -122,10 +129,10 @@ PRESETS = ("red-dune", "yellow-dune", "wet-beach")
 #: The shipped bank (docs/spectral-predictor.md gives the measurements behind these choices).
 BANK = (
     *(_narrow(f"reference-{w}", w) for w in WATER),
-    *(_narrow(f"{p}-{w}", w, base=p, iron_range=_preset_range(p), forms=1)
-      for p in PRESETS for w in WATER),
-    BankEntry("broad", samples=3000, holdout=300, rays=500, holdout_rays=1_000,
-              model_params={"degree": 3, "n_components": 6}),
+    *(_narrow(f"{p}-{w}", w, base=p, iron_range=_preset_range(p), forms=1) for p in PRESETS for w in WATER),
+    BankEntry(
+        "broad", samples=3000, holdout=300, rays=500, holdout_rays=1_000, model_params={"degree": 3, "n_components": 6}
+    ),
 )
 
 
@@ -133,21 +140,34 @@ def parse_args(argv=None):
     from sandlight.engine import MEMORIES
 
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--only", action="append", choices=[e.name for e in BANK],
-                   help="train only this model (repeatable; default: the whole bank)")
+    p.add_argument(
+        "--only",
+        action="append",
+        choices=[e.name for e in BANK],
+        help="train only this model (repeatable; default: the whole bank)",
+    )
     p.add_argument("--wavelengths", default="400:700:20", help="nm, start:stop:step")
     p.add_argument("--seed", type=int, default=20240601, help="master seed")
-    p.add_argument("--work-dir", type=Path, default=ROOT / "build" / "train-default-spectral",
-                   help="job stores and intermediate files (resumable), one directory per model")
+    p.add_argument(
+        "--work-dir",
+        type=Path,
+        default=ROOT / "build" / "train-default-spectral",
+        help="job stores and intermediate files (resumable), one directory per model",
+    )
     ex = p.add_mutually_exclusive_group()
     ex.add_argument("--workers", type=int, help="local worker processes")
     ex.add_argument("--dask-local", type=int, help="start a Dask LocalCluster of N workers")
     ex.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT")
-    p.add_argument("--no-install", action="store_true",
-                   help=f"do not copy the models to {PACKAGE_DIR.relative_to(ROOT)}")
-    p.add_argument("--memory", default="none", choices=MEMORIES,
-                   help="path memory of the engine (docs/geometry.md; default none, the classic "
-                        "model of the shipped bank; use another --work-dir)")
+    p.add_argument(
+        "--no-install", action="store_true", help=f"do not copy the models to {PACKAGE_DIR.relative_to(ROOT)}"
+    )
+    p.add_argument(
+        "--memory",
+        default="none",
+        choices=MEMORIES,
+        help="path memory of the engine (docs/geometry.md; default none, the classic "
+        "model of the shipped bank; use another --work-dir)",
+    )
     return p.parse_args(argv)
 
 
@@ -169,37 +189,58 @@ def train_one(entry: BankEntry, args, executor):
 
     domain = entry.domain()
     print(f"\n=== {entry.name}: {entry.description}")
-    print(f"dimensions {domain.names}, forms {domain.forms}; {entry.samples} training samples at "
-          f"{entry.rays} rays, {entry.holdout} hold-out samples at {entry.holdout_rays} rays; "
-          f"model {entry.model_params}")
+    print(
+        f"dimensions {domain.names}, forms {domain.forms}; {entry.samples} training samples at "
+        f"{entry.rays} rays, {entry.holdout} hold-out samples at {entry.holdout_rays} rays; "
+        f"model {entry.model_params}"
+    )
     start = time.perf_counter()
-    run = train_spectral(args.work_dir / entry.name, entry.samples, entry.rays, args.wavelengths,
-                         args.seed, n_holdout=entry.holdout, holdout_rays=entry.holdout_rays,
-                         executor=executor, domain=domain, model_params=entry.model_params,
-                         name=entry.name, description=entry.description,
-                         fit_domain=entry.fit_domain(), memory=args.memory)
+    run = train_spectral(
+        args.work_dir / entry.name,
+        entry.samples,
+        entry.rays,
+        args.wavelengths,
+        args.seed,
+        n_holdout=entry.holdout,
+        holdout_rays=entry.holdout_rays,
+        executor=executor,
+        domain=domain,
+        model_params=entry.model_params,
+        name=entry.name,
+        description=entry.description,
+        fit_domain=entry.fit_domain(),
+        memory=args.memory,
+    )
     total_s = time.perf_counter() - start
     model, report = run.model, run.report
 
     k = model.n_components_
     ratio, signal = model.explained_variance_ratio_, model.signal_variance_ratio_
     print(f"principal components: k = {k}")
-    print("  explained variance (raw):    " + ", ".join(f"{r:.5%}" for r in ratio[:k])
-          + f"  -> {ratio[:k].sum():.4%}")
+    print("  explained variance (raw):    " + ", ".join(f"{r:.5%}" for r in ratio[:k]) + f"  -> {ratio[:k].sum():.4%}")
     if signal is not None:
-        print("  explained variance (signal): " + ", ".join(f"{r:.5%}" for r in signal[:k])
-              + f"  -> {signal[:k].sum():.4%}")
-    print(f"monomials: {model.powers_.shape[0]} per form; training RMS error "
-          f"{model.training_rms_:.5f} (PCA truncation floor {model.reconstruction_rms_:.5f})")
+        print(
+            "  explained variance (signal): "
+            + ", ".join(f"{r:.5%}" for r in signal[:k])
+            + f"  -> {signal[:k].sum():.4%}"
+        )
+    print(
+        f"monomials: {model.powers_.shape[0]} per form; training RMS error "
+        f"{model.training_rms_:.5f} (PCA truncation floor {model.reconstruction_rms_:.5f})"
+    )
     # Training noise carried into the predictions: least squares with m coefficients fitted to
     # n noisy samples passes on about σ·√(m/n) at an average point (σ the training noise).
     sigma_train = float(np.sqrt(np.mean(run_noise(run.training.dataset_path) ** 2)))
     n_form = entry.samples / len(domain.forms)
-    print(f"training noise {sigma_train:.5f} per sample; carried into predictions ≈ "
-          f"{sigma_train * np.sqrt(model.powers_.shape[0] / n_form):.5f}")
+    print(
+        f"training noise {sigma_train:.5f} per sample; carried into predictions ≈ "
+        f"{sigma_train * np.sqrt(model.powers_.shape[0] / n_form):.5f}"
+    )
     print(report.table())
-    print(f"wall time of this run: {total_s:.0f} s (generation {run.generation_s:.0f} s, fit "
-          f"{run.fit_s:.1f} s); a resumed run counts only its own part")
+    print(
+        f"wall time of this run: {total_s:.0f} s (generation {run.generation_s:.0f} s, fit "
+        f"{run.fit_s:.1f} s); a resumed run counts only its own part"
+    )
 
     # Speed-up at equal accuracy: Monte Carlo noise falls as 1/√rays, so reaching the model's
     # error ε needs rays·(σ/ε)² rays, σ the noise at `rays`, and its cost scales with the rays.
@@ -207,20 +248,25 @@ def train_one(entry: BankEntry, args, executor):
     # (it includes the reference's noise): the speed-up printed is a lower bound.
     wl = wavelength_grid(args.wavelengths)
     samples = (entry.fit_domain() or domain).draw(3, seed=args.seed + 1, design="random")
-    mc_s = time_per_call(lambda: [engine_simulate(s, wl, rays=entry.rays, seed=1, memory=args.memory)
-                                  for s in samples], 1) / len(samples)
+    mc_s = time_per_call(
+        lambda: [engine_simulate(s, wl, rays=entry.rays, seed=1, memory=args.memory) for s in samples], 1
+    ) / len(samples)
     error = report.rms_error_overall
     noise = sigma_train
     rays_equal = entry.rays * (noise / error) ** 2
     mc_equal_s = mc_s * rays_equal / entry.rays
     one = samples[0]
     single_s = time_per_call(lambda: model.predict(one), 2000)
-    print(f"Monte Carlo: {mc_s:.3f} s per sample at {entry.rays} rays (noise {noise:.5f}); "
-          f"hold-out RMS error {error:.5f} (model error alone ≈ "
-          f"{float(np.sqrt(np.mean(report.model_error_estimate**2))):.5f})")
-    print(f"equal accuracy needs ≈ {rays_equal:.3g} rays, {mc_equal_s:.3g} s per sample; "
-          f"prediction takes {single_s * 1e6:.0f} µs per call: speed-up ≥ "
-          f"{mc_equal_s / single_s:.3g}×")
+    print(
+        f"Monte Carlo: {mc_s:.3f} s per sample at {entry.rays} rays (noise {noise:.5f}); "
+        f"hold-out RMS error {error:.5f} (model error alone ≈ "
+        f"{float(np.sqrt(np.mean(report.model_error_estimate**2))):.5f})"
+    )
+    print(
+        f"equal accuracy needs ≈ {rays_equal:.3g} rays, {mc_equal_s:.3g} s per sample; "
+        f"prediction takes {single_s * 1e6:.0f} µs per call: speed-up ≥ "
+        f"{mc_equal_s / single_s:.3g}×"
+    )
     return run
 
 
@@ -242,14 +288,16 @@ def main(argv=None) -> int:
     executor = make_executor(args.workers, args.dask_local, args.scheduler)
     entries = [e for e in BANK if not args.only or e.name in args.only]
     print(f"sandlight {sandlight.__version__}; machine: {describe_machine()}")
-    print(f"models {[e.name for e in entries]}, wavelengths {args.wavelengths} nm, seed "
-          f"{args.seed}, executor {executor.describe()}, work dir {args.work_dir}")
+    print(
+        f"models {[e.name for e in entries]}, wavelengths {args.wavelengths} nm, seed "
+        f"{args.seed}, executor {executor.describe()}, work dir {args.work_dir}"
+    )
     runs = {e.name: train_one(e, args, executor) for e in entries}
     if args.no_install:
         return 0
     for name, run in runs.items():
         target = PACKAGE_DIR / f"spectral-{name}.npz"
-        write_atomically(target, lambda tmp: shutil.copyfile(run.model_path, tmp))
+        write_atomically(target, lambda tmp, run=run: shutil.copyfile(run.model_path, tmp))
         SpectralModel.load(target)  # the installed file reads back
         print(f"installed {target}")
     names = {f"spectral-{e.name}.npz" for e in BANK}

@@ -27,7 +27,8 @@ STACKS, SLICES = 7, 8
 def spatial():
     mesh = Mesh.beach(6)
     return SpatialModel(n_components=3).fit(
-        spatial_fakes.measured_nodes(mesh, 10**8, stacks=STACKS, slices=SLICES, seed=5), mesh)
+        spatial_fakes.measured_nodes(mesh, 10**8, stacks=STACKS, slices=SLICES, seed=5), mesh
+    )
 
 
 @pytest.fixture(scope="module")
@@ -177,9 +178,16 @@ def test_samples_away_from_the_mesh_base(spatial, spectral):
     with pytest.raises(ParameterError, match="base sample"):
         SandAppearance("red-dune", spectral, spatial, fixed="error")
     with pytest.raises(ParameterError, match="saturation"):
-        SandAppearance(SandSample(saturation=0.3), spectral, SpatialModel(n_components=1).fit(
-            spatial_fakes.measured_nodes(Mesh(("saturation",), [0.5, 0.7, 0.9]), 10**6, stacks=STACKS, slices=SLICES),
-            Mesh(("saturation",), [0.5, 0.7, 0.9])))
+        SandAppearance(
+            SandSample(saturation=0.3),
+            spectral,
+            SpatialModel(n_components=1).fit(
+                spatial_fakes.measured_nodes(
+                    Mesh(("saturation",), [0.5, 0.7, 0.9]), 10**6, stacks=STACKS, slices=SLICES
+                ),
+                Mesh(("saturation",), [0.5, 0.7, 0.9]),
+            ),
+        )
 
 
 # ---- sampling -----------------------------------------------------------------------------------
@@ -203,8 +211,9 @@ def test_sampler_follows_its_pdf_chi_square(app, theta, method):
     wi = np.broadcast_to(from_angles(theta), (n, 3))
     wo, weight, pdf = app.sample(wi, rng.random(n), rng.random(n), 550.0, method=method)
     mu_edges, phi_edges = cell_edges(app)
-    result = hemisphere_chi2(wo, lambda d: app.pdf(np.broadcast_to(wi[0], d.shape), d, method=method),
-                             mu_edges=mu_edges, phi_edges=phi_edges)
+    result = hemisphere_chi2(
+        wo, lambda d: app.pdf(np.broadcast_to(wi[0], d.shape), d, method=method), mu_edges=mu_edges, phi_edges=phi_edges
+    )
     assert result.pdf_integral == pytest.approx(1.0, abs=1e-3)
     assert result.passed(SIGNIFICANCE), result
 
@@ -215,8 +224,9 @@ def test_chi_square_detects_a_wrong_pdf(app):
     wi = np.broadcast_to(from_angles(75.0), (n, 3))
     wo, _, _ = app.sample(wi, rng.random(n), rng.random(n), method="cosine")
     mu_edges, phi_edges = cell_edges(app)
-    result = hemisphere_chi2(wo, lambda d: app.pdf(np.broadcast_to(wi[0], d.shape), d, method="brdf"),
-                             mu_edges=mu_edges, phi_edges=phi_edges)
+    result = hemisphere_chi2(
+        wo, lambda d: app.pdf(np.broadcast_to(wi[0], d.shape), d, method="brdf"), mu_edges=mu_edges, phi_edges=phi_edges
+    )
     assert result.p_value < 1e-6
 
 
@@ -340,14 +350,23 @@ def test_table_keeps_a_normal_incidence_peak_energy(spatial):
     ds = peaked.table(n_mu=32, n_dphi=9, wavelengths_nm=[550.0])
     f, mu, dphi = ds["f"].values[0], ds["mu_o"].values, ds["dphi"].values
     h = mu[1] - mu[0]
-    hat_mu = np.array([(h * (mu[q - 1] + 2 * mu[q]) / 6 if q > 0 else 0) + (h * (2 * mu[q] + mu[q + 1]) / 6
-                       if q < mu.size - 1 else 0) for q in range(mu.size)])
+    hat_mu = np.array(
+        [
+            (h * (mu[q - 1] + 2 * mu[q]) / 6 if q > 0 else 0)
+            + (h * (2 * mu[q] + mu[q + 1]) / 6 if q < mu.size - 1 else 0)
+            for q in range(mu.size)
+        ]
+    )
     from_table = (2 * np.trapezoid(f[-1], dphi, axis=1)) @ hat_mu
     # The table's μ_i = 1 row averages over its hat in μ_i too, diluting the cap: compare with the
     # model averaged the same way.
     x, W = peaked._hat_quadrature(mu)
-    row = W[-1] @ np.array([(peaked.brdf(from_angles(np.degrees(np.arccos(min(xi, 1.0)))), d, [550.0])[:, 0]
-                            * d[:, 2] * w).sum() for xi in x])
+    row = W[-1] @ np.array(
+        [
+            (peaked.brdf(from_angles(np.degrees(np.arccos(min(xi, 1.0)))), d, [550.0])[:, 0] * d[:, 2] * w).sum()
+            for xi in x
+        ]
+    )
     assert from_table == pytest.approx(row, rel=5e-3)
     assert exact > from_table  # the peak at exactly μ_i = 1 is brighter than its hat average
 
@@ -355,7 +374,8 @@ def test_table_keeps_a_normal_incidence_peak_energy(spatial):
 def test_models_of_different_engine_memories_are_flagged(spatial, spectral, tmp_path):
     # A callable's memory is unknown: no warning, recorded as such.
     table = SandAppearance(SandSample(saturation=0.3), spatial_fakes.fake_spectrum, spatial).to_table(
-        tmp_path / "a.nc", n_mu=3, n_dphi=3)
+        tmp_path / "a.nc", n_mu=3, n_dphi=3
+    )
     with xr.open_dataset(table, engine="h5netcdf") as ds:
         assert json.loads(ds.attrs["engine_memory"]) == {"spectral": "unknown", "spatial": "none"}
     same = SandAppearance(SandSample(saturation=0.3), spectral, spatial)

@@ -13,8 +13,12 @@ SHARED = next((p / "shared" for p in REPO.parents if (p / "shared" / "data" / "m
 
 @pytest.mark.skipif(SHARED is None, reason="shared data not available")
 def test_inversion_proof_runs_and_reports_identifiability():
-    out = subprocess.run([sys.executable, str(REPO / "scripts" / "derive_constants.py"), "--rays", "200",
-                          "--wavelengths", "550,1500"], capture_output=True, text=True, check=True).stdout
+    out = subprocess.run(
+        [sys.executable, str(REPO / "scripts" / "derive_constants.py"), "--rays", "200", "--wavelengths", "550,1500"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
     assert "Figure of merit, RMS of log10(k_median / k_Querry) over 2 wavelengths" in out
     # At 550 nm every GDS69 fraction is opaque: none can pin k within the acceptance factor.
     row = next(line for line in out.splitlines() if line.startswith("| 550 | 0.485 |") and "of 7 |" in line)

@@ -13,8 +13,8 @@ from sandlight import _native
 from sandlight.errors import ParameterError
 from sandlight.sample import SandSample
 
-
 # --- Chandrasekhar's isotropic half-space, H computed here, independently of the package ---
+
 
 def h_function(mu, omega, n=96):
     """Chandrasekhar H for isotropic scattering, from the iteration
@@ -58,6 +58,7 @@ def test_conservative_isotropic_halfspace_reflects_everything():
 
 # --- Fresnel at the first surface of a sphere ---
 
+
 def fresnel_dielectric(n1, n2, cos_i):
     sin_t = n1 / n2 * np.sqrt(1 - cos_i**2)
     cos_t = np.sqrt(1 - sin_t**2)
@@ -66,11 +67,13 @@ def fresnel_dielectric(n1, n2, cos_i):
     return 0.5 * (rs**2 + rp**2)
 
 
-def one_type_medium(n=1.5, k=0.0, alpha=0.0, aspect=1.0, coating=(1.0, 0.0, 0.0), film=0.0, filled=0.0,
-                    water_alpha=0.0, depth=math.inf):
+def one_type_medium(
+    n=1.5, k=0.0, alpha=0.0, aspect=1.0, coating=(1.0, 0.0, 0.0), film=0.0, filled=0.0, water_alpha=0.0, depth=math.inf
+):
     cn, ca, ct = coating
-    return _native.Medium.particulate([1.0], [[0.25]], [aspect], [n], [k], [alpha], [cn], [ca], [ct],
-                                      0.2, 1.333, water_alpha, film, filled, depth)
+    return _native.Medium.particulate(
+        [1.0], [[0.25]], [aspect], [n], [k], [alpha], [cn], [ca], [ct], 0.2, 1.333, water_alpha, film, filled, depth
+    )
 
 
 def test_first_surface_reflection_of_a_sphere_is_hemispherical_fresnel():
@@ -91,11 +94,15 @@ def test_first_surface_reflection_of_a_sphere_is_hemispherical_fresnel():
 
 # --- Energy conservation ---
 
-@pytest.mark.parametrize("aspect,coating,film,filled", [
-    (1.0, (1.0, 0.0, 0.0), 0.0, 0.0),
-    (2.5, (1.9, 0.0, 0.0005), 0.001, 0.0),
-    (1.4, (1.0, 0.0, 0.0), 0.002, 0.7),
-])
+
+@pytest.mark.parametrize(
+    "aspect,coating,film,filled",
+    [
+        (1.0, (1.0, 0.0, 0.0), 0.0, 0.0),
+        (2.5, (1.9, 0.0, 0.0005), 0.001, 0.0),
+        (1.4, (1.0, 0.0, 0.0), 0.002, 0.7),
+    ],
+)
 def test_no_absorption_reflects_everything(aspect, coating, film, filled):
     # Without absorption every ray returns, but the number of events before it does is
     # heavy-tailed (P(N > n) ~ n^(-1/2) for a random walk near a boundary), so the run is kept
@@ -113,6 +120,7 @@ def test_no_absorption_in_a_finite_slab_conserves_rays():
 
 
 # --- Trends with real optical constants ---
+
 
 def _dhr(sample, wavelengths, rays=20_000, seed=7):
     return sandlight.reflectance(sample, wavelengths, rays=rays, seed=seed, progress=False)
@@ -166,6 +174,7 @@ def test_hematite_is_redder_than_goethite():
 
 # --- Determinism, bookkeeping, input checking ---
 
+
 def test_same_seed_is_bit_identical_for_any_thread_count_and_batching():
     s = SandSample.preset("red-dune")
     one = sandlight.reflectance(s, [450, 650], rays=6000, seed=11, threads=1, progress=False)
@@ -191,19 +200,22 @@ def test_event_cap_is_counted_not_dropped():
     assert r.counts["escaped"][0] + r.counts["absorbed"][0] + r.capped[0] == 500
 
 
-@pytest.mark.parametrize("kwargs,name", [
-    (dict(wavelengths_nm=[300]), "wavelengths_nm"),
-    (dict(wavelengths_nm=[float("nan")]), "wavelengths_nm"),
-    (dict(wavelengths_nm=[]), "wavelengths_nm"),
-    (dict(rays=0), "rays"),
-    (dict(rays=1.5), "rays"),
-    (dict(rays="many"), "rays"),
-    (dict(incidence_deg=90), "incidence_deg"),
-    (dict(incidence_deg=-1), "incidence_deg"),
-    (dict(seed=-1), "seed"),
-    (dict(seed=1.5), "seed"),
-    (dict(threads=0), "threads"),
-])
+@pytest.mark.parametrize(
+    "kwargs,name",
+    [
+        (dict(wavelengths_nm=[300]), "wavelengths_nm"),
+        (dict(wavelengths_nm=[float("nan")]), "wavelengths_nm"),
+        (dict(wavelengths_nm=[]), "wavelengths_nm"),
+        (dict(rays=0), "rays"),
+        (dict(rays=1.5), "rays"),
+        (dict(rays="many"), "rays"),
+        (dict(incidence_deg=90), "incidence_deg"),
+        (dict(incidence_deg=-1), "incidence_deg"),
+        (dict(seed=-1), "seed"),
+        (dict(seed=1.5), "seed"),
+        (dict(threads=0), "threads"),
+    ],
+)
 def test_invalid_run_arguments_name_the_parameter(kwargs, name):
     args = dict(wavelengths_nm=[550], rays=10)
     args.update(kwargs)
@@ -222,8 +234,9 @@ def test_native_medium_rejects_bad_values_with_parameter_errors():
     with pytest.raises(ParameterError, match="aspect_ratio"):
         one_type_medium(aspect=0.5)
     with pytest.raises(ParameterError, match="size_quantiles_mm"):
-        _native.Medium.particulate([1.0], [[-1.0]], [1.0], [1.5], [0.0], [0.0], [1.0], [0.0], [0.0],
-                                   0.2, 1.333, 0.0, 0.0, 0.0, math.inf)
+        _native.Medium.particulate(
+            [1.0], [[-1.0]], [1.0], [1.5], [0.0], [0.0], [1.0], [0.0], [0.0], 0.2, 1.333, 0.0, 0.0, 0.0, math.inf
+        )
 
 
 def test_result_files(tmp_path):

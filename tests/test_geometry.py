@@ -21,7 +21,9 @@ POROSITY = 0.40
 @pytest.fixture(scope="module")
 def spheres():
     """Monodisperse spheres, d = 0.25 mm, φ = 0.40, in a 2 mm × 2 mm × 2 mm periodic box."""
-    return generate_packing(grain_medium([D_MM], porosity=POROSITY), reference_mm=D_MM, lateral_mm=2.0, depth_mm=2.0, seed=7)
+    return generate_packing(
+        grain_medium([D_MM], porosity=POROSITY), reference_mm=D_MM, lateral_mm=2.0, depth_mm=2.0, seed=7
+    )
 
 
 def test_sphere_packing_reaches_the_porosity_without_overlap(spheres):
@@ -35,16 +37,21 @@ def test_sphere_packing_reaches_the_porosity_without_overlap(spheres):
     period = np.array(spheres.period_mm)
     worst = 0.0
     for i in range(len(centres) - 1):
-        r = centres[i + 1:] - centres[i]
+        r = centres[i + 1 :] - centres[i]
         r -= period * np.round(r / period)
-        worst = max(worst, float(np.max(0.5 * (diameters[i] + diameters[i + 1:]) - np.linalg.norm(r, axis=1))) / D_MM)
+        worst = max(worst, float(np.max(0.5 * (diameters[i] + diameters[i + 1 :]) - np.linalg.norm(r, axis=1))) / D_MM)
     assert worst <= 1e-3
     assert spheres.max_overlap <= 1e-3
 
 
 def test_spheroid_packing_porosity_and_true_overlap():
-    pk = generate_packing(grain_medium([D_MM], aspect_ratio=1.4, porosity=POROSITY), reference_mm=D_MM,
-                          lateral_mm=1.6, depth_mm=1.6, seed=2)
+    pk = generate_packing(
+        grain_medium([D_MM], aspect_ratio=1.4, porosity=POROSITY),
+        reference_mm=D_MM,
+        lateral_mm=1.6,
+        depth_mm=1.6,
+        seed=2,
+    )
     empty, multiple = pk.point_statistics(100_000, 4)
     assert empty == pytest.approx(POROSITY, abs=0.01)
     # The radial contact rule leaves off-centre-line overlaps: below 1 % of the volume.
@@ -96,7 +103,8 @@ def test_neighbour_memory_applies_to_spheres_only():
     # for ray; spheres are not.
     def counts(aspect_ratio, memory):
         return grain_medium([D_MM], aspect_ratio=aspect_ratio, alpha_per_mm=0.5, memory=memory).dhr(
-            0.0, 5, 0, 0, 20_000, 10**7, 10**4, None)
+            0.0, 5, 0, 0, 20_000, 10**7, 10**4, None
+        )
 
     assert counts(1.4, "packed") == counts(1.4, "cut")
     assert counts(1.0, "packed") != counts(1.0, "cut")
@@ -105,8 +113,9 @@ def test_neighbour_memory_applies_to_spheres_only():
 def _grains_with_fines(memory="none"):
     """Grains (d = 0.25 mm, α = 5 cm⁻¹) with fines (2 µm, α = 50 cm⁻¹) that make 90 % of the
     encounters: light is scattered many times inside each pore."""
-    return grains_with_fines(alpha_per_mm=0.5, fines_alpha_per_mm=5.0, diameter_mm=D_MM, porosity=POROSITY,
-                             memory=memory)
+    return grains_with_fines(
+        alpha_per_mm=0.5, fines_alpha_per_mm=5.0, diameter_mm=D_MM, porosity=POROSITY, memory=memory
+    )
 
 
 def test_path_memory_meets_the_target_with_fines():
@@ -128,8 +137,16 @@ def test_explicit_reflectance_through_the_public_api():
     from sandlight.physics.medium import native_medium
     from sandlight.sample import SandSample
 
-    sample = SandSample(grain_size=0.4, grain_size_spread=1.0, aspect_ratio=1.0, sand=1.0, silt=0.0, clay=0.0,
-                        iron_oxide=0.01, porosity=0.4)
+    sample = SandSample(
+        grain_size=0.4,
+        grain_size_spread=1.0,
+        aspect_ratio=1.0,
+        sand=1.0,
+        silt=0.0,
+        clay=0.0,
+        iron_oxide=0.01,
+        porosity=0.4,
+    )
     comp = compose(sample)
     pk = generate_packing(native_medium(comp, 550.0), reference_mm=0.4, lateral_mm=2.5, depth_mm=2.5, seed=1)
     kw = dict(rays=20_000, seed=3, progress=False)
@@ -148,7 +165,7 @@ def test_default_box_grows_to_hold_the_largest_grains():
     # across) cannot hold three 1 mm grains; the default grows, a box that is given does not.
     medium = grain_medium(np.linspace(0.3, 1.0, 8))
     pk = generate_packing(medium, reference_mm=0.12, seed=3)
-    assert pk.period_mm[0] == pytest.approx(16 * 0.12 * 1.5 ** 2) and pk.period_mm[0] >= 3 * 1.0
+    assert pk.period_mm[0] == pytest.approx(16 * 0.12 * 1.5**2) and pk.period_mm[0] >= 3 * 1.0
     with pytest.raises(ParameterError, match="lateral_mm/depth_mm"):
         generate_packing(medium, reference_mm=0.12, lateral_mm=1.92, depth_mm=3.84, seed=3)
 
@@ -192,8 +209,10 @@ def test_slabs_are_measured_from_the_same_plane_on_the_fly_and_explicit(spheres)
     thicker by one grain radius transmits 5 % less."""
     rays = 20_000
     t = {}
-    for label, medium in (("explicit", grain_medium([D_MM]).explicit(spheres, 1.0)),
-                          ("cut", grain_medium([D_MM], memory="cut", depth_mm=1.0))):
+    for label, medium in (
+        ("explicit", grain_medium([D_MM]).explicit(spheres, 1.0)),
+        ("cut", grain_medium([D_MM], memory="cut", depth_mm=1.0)),
+    ):
         launched, escaped, absorbed, transmitted, capped, _ = medium.dhr(0.0, 3, 0, 0, rays, 10**7, 10**4, None)
         assert absorbed == 0 and capped == 0 and escaped + transmitted == launched
         t[label] = transmitted / launched
@@ -208,11 +227,29 @@ def test_goniophotometer_traces_the_explicit_geometry():
     from sandlight.physics.medium import native_medium
     from sandlight.sample import SandSample
 
-    sample = SandSample(grain_size=0.4, grain_size_spread=1.0, aspect_ratio=1.0, sand=1.0, silt=0.0, clay=0.0,
-                        iron_oxide=0.002, porosity=0.4)
+    sample = SandSample(
+        grain_size=0.4,
+        grain_size_spread=1.0,
+        aspect_ratio=1.0,
+        sand=1.0,
+        silt=0.0,
+        clay=0.0,
+        iron_oxide=0.002,
+        porosity=0.4,
+    )
     pk = generate_packing(native_medium(compose(sample), 550.0), reference_mm=0.4, lateral_mm=2.5, depth_mm=2.5, seed=1)
-    g = fixed_incidence(sample, 550.0, incidence_deg=0.0, rays=5000, stacks=6, slices=8, seed=4, geometry="explicit",
-                        packing=pk, progress=False)
+    g = fixed_incidence(
+        sample,
+        550.0,
+        incidence_deg=0.0,
+        rays=5000,
+        stacks=6,
+        slices=8,
+        seed=4,
+        geometry="explicit",
+        packing=pk,
+        progress=False,
+    )
     r = sandlight.reflectance(sample, [550.0], rays=5000, seed=4, geometry="explicit", packing=pk, progress=False)
     # Normal incidence: the same rays with the same random streams, tallied two ways.
     assert g.reflectance == r.values[0]

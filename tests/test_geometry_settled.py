@@ -101,8 +101,9 @@ def test_settled_layer_is_looser_than_the_bulk(settled):
 
 def test_transparent_settled_sample_reflects_everything(settled):
     # Non-absorbing, semi-infinite: every ray escapes unless capped by the event limit.
-    launched, escaped, absorbed, transmitted, capped, _ = grain_medium([D_MM]).explicit(settled).dhr(
-        0.0, 3, 0, 0, 2000, 20_000, 10_000, None)
+    launched, escaped, absorbed, transmitted, capped, _ = (
+        grain_medium([D_MM]).explicit(settled).dhr(0.0, 3, 0, 0, 2000, 20_000, 10_000, None)
+    )
     assert absorbed == transmitted == 0
     assert escaped == launched - capped
     assert capped < 0.05 * launched
@@ -126,17 +127,22 @@ def test_settled_and_cut_share_the_packing_below_the_deposit(settled):
     below = (dep[:, 2] - d_dep / 2).min() - 0.01
     # Also where images of the deposit one period down would be, if it were periodic in z.
     heights = np.linspace(0.05, below, 12)
-    np.testing.assert_array_equal(settled.porosity_profile(heights, 5000, 2)[0], cut.porosity_profile(heights, 5000, 2)[0])
+    np.testing.assert_array_equal(
+        settled.porosity_profile(heights, 5000, 2)[0], cut.porosity_profile(heights, 5000, 2)[0]
+    )
 
 
-@pytest.mark.parametrize("kwargs, name", [
-    (dict(surface="pile"), "surface"),
-    (dict(surface=None), "surface"),
-    (dict(surface="settled", settled_layers=0.0), "settled_layers"),
-    (dict(surface="settled", settled_layers=math.nan), "settled_layers"),
-    (dict(surface="settled", settled_layers="two"), "settled_layers"),
-    (dict(surface="settled", settled_layers=100.0), "settled_layers"),
-])
+@pytest.mark.parametrize(
+    "kwargs, name",
+    [
+        (dict(surface="pile"), "surface"),
+        (dict(surface=None), "surface"),
+        (dict(surface="settled", settled_layers=0.0), "settled_layers"),
+        (dict(surface="settled", settled_layers=math.nan), "settled_layers"),
+        (dict(surface="settled", settled_layers="two"), "settled_layers"),
+        (dict(surface="settled", settled_layers=100.0), "settled_layers"),
+    ],
+)
 def test_bad_surface_arguments_raise(kwargs, name):
     with pytest.raises(ParameterError, match=name) as e:
         generate_packing(grain_medium([D_MM]), reference_mm=D_MM, lateral_mm=1.5, depth_mm=1.5, **kwargs)

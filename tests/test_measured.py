@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 import sandlight
-
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.measured import read_csv, read_usgs, usgs_library
 
@@ -35,15 +34,18 @@ def write(path: Path, text: str) -> Path:
 @pytest.fixture
 def tiny_library(tmp_path):
     """A 4-channel spectrometer: wavelength file (um) and a spectrum with a deleted channel."""
-    write(tmp_path / "splib07a_Wavelengths_TINY_4ch.txt",
-          " splib07a Record=1: Wavelengths TINY\n 0.4\n 0.5\n 0.6\n 0.7\n")
-    spectrum = write(tmp_path / "splib07a_Thing_TINYa_AREF.txt",
-                     " splib07a Record=2: Thing   TINYa AREF\n 1.0e-001\n-1.2300000e+034\n"
-                     " 3.0e-001\n 4.0e-001\n\n")
+    write(
+        tmp_path / "splib07a_Wavelengths_TINY_4ch.txt", " splib07a Record=1: Wavelengths TINY\n 0.4\n 0.5\n 0.6\n 0.7\n"
+    )
+    spectrum = write(
+        tmp_path / "splib07a_Thing_TINYa_AREF.txt",
+        " splib07a Record=2: Thing   TINYa AREF\n 1.0e-001\n-1.2300000e+034\n 3.0e-001\n 4.0e-001\n\n",
+    )
     return spectrum
 
 
 # ---------------------------------------------------------------------------- read_usgs
+
 
 def test_round_trip_against_shared_csv_versions():
     shared = shared_usgs()
@@ -59,8 +61,7 @@ def test_round_trip_against_shared_csv_versions():
         # The CSV rounds wavelengths to 0.01 nm and reflectance to 1e-6.
         np.testing.assert_allclose(from_ascii["wavelength"], from_csv["wavelength"], atol=0.006)
         np.testing.assert_array_equal(np.isnan(from_ascii.values), np.isnan(from_csv.values))
-        np.testing.assert_allclose(from_ascii.values, from_csv.values, atol=6e-7,
-                                   equal_nan=True, err_msg=csv_file.name)
+        np.testing.assert_allclose(from_ascii.values, from_csv.values, atol=6e-7, equal_nan=True, err_msg=csv_file.name)
 
 
 def test_shipped_copies_are_the_shared_files():
@@ -87,8 +88,7 @@ def test_shipped_validation_spectra_load():
     assert "Quartz GDS74 Sand Ottawa" in quartz.attrs["title"]
 
     def ratio(s):
-        return float(s.sel(wavelength=650, method="nearest") / s.sel(wavelength=550,
-                                                                       method="nearest"))
+        return float(s.sel(wavelength=650, method="nearest") / s.sel(wavelength=550, method="nearest"))
 
     # 2 wt% hematite gives the mixture hematite's absorption edge between 550 and 650 nm.
     assert ratio(mixture) > 2.0 > 1.2 > ratio(quartz)
@@ -121,20 +121,22 @@ def test_wrong_channel_count_names_both_files(tiny_library, tmp_path):
     shared = shared_usgs()
     if shared is not None:
         with pytest.raises(ModelFileError, match="480 channels.*2151"):
-            read_usgs(PACKAGE_MEASURED / f"splib07a_{VALIDATION_STEMS[0]}.txt",
-                      wavelengths=shared / "ascii" / ASD)
+            read_usgs(PACKAGE_MEASURED / f"splib07a_{VALIDATION_STEMS[0]}.txt", wavelengths=shared / "ascii" / ASD)
 
 
-@pytest.mark.parametrize("content, message", [
-    ("", "empty file"),
-    ("\n\n", "empty file"),
-    (" splib07a Record=3: header only\n", "no values"),
-    (" 0.1\n 0.2\n 0.3\n 0.4\n", "line 1: expected the splib07 header"),
-    (" splib07a Record=3: x\n 0.1\n 0.2\n oops\n 0.4\n", "line 4: expected one number"),
-    (" splib07a Record=3: x\n 0.1\n\n 0.3\n 0.4\n", "line 3: expected one number"),
-    (" splib07a Record=3: x\n 0.1\n nan\n 0.3\n 0.4\n", "line 3: non-finite"),
-    (" splib07a Record=3: x\n 0.1 0.2\n 0.3\n 0.4\n 0.5\n", "line 2: expected one number"),
-])
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        ("", "empty file"),
+        ("\n\n", "empty file"),
+        (" splib07a Record=3: header only\n", "no values"),
+        (" 0.1\n 0.2\n 0.3\n 0.4\n", "line 1: expected the splib07 header"),
+        (" splib07a Record=3: x\n 0.1\n 0.2\n oops\n 0.4\n", "line 4: expected one number"),
+        (" splib07a Record=3: x\n 0.1\n\n 0.3\n 0.4\n", "line 3: expected one number"),
+        (" splib07a Record=3: x\n 0.1\n nan\n 0.3\n 0.4\n", "line 3: non-finite"),
+        (" splib07a Record=3: x\n 0.1 0.2\n 0.3\n 0.4\n 0.5\n", "line 2: expected one number"),
+    ],
+)
 def test_malformed_usgs_spectra(tmp_path, content, message):
     write(tmp_path / "splib07a_Wavelengths_TINY_4ch.txt", "w\n0.4\n0.5\n0.6\n0.7\n")
     bad = write(tmp_path / "splib07a_Bad_TINYa_AREF.txt", content)
@@ -143,11 +145,14 @@ def test_malformed_usgs_spectra(tmp_path, content, message):
     assert "splib07a_Bad_TINYa_AREF.txt" in str(info.value)
 
 
-@pytest.mark.parametrize("content, message", [
-    ("w\n0.4\n0.6\n0.5\n0.7\n", "line 4: wavelengths are not strictly increasing"),
-    ("w\n0.4\n0.5\n-1.23e34\n0.7\n", "line 4: deleted value"),
-    ("w\n0.4\n0.5\nzero\n0.7\n", "line 4: expected one number"),
-])
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        ("w\n0.4\n0.6\n0.5\n0.7\n", "line 4: wavelengths are not strictly increasing"),
+        ("w\n0.4\n0.5\n-1.23e34\n0.7\n", "line 4: deleted value"),
+        ("w\n0.4\n0.5\nzero\n0.7\n", "line 4: expected one number"),
+    ],
+)
 def test_malformed_wavelength_files(tiny_library, tmp_path, content, message):
     wavelengths = write(tmp_path / "bad_wavelengths.txt", content)
     with pytest.raises(ModelFileError, match=message) as info:
@@ -173,11 +178,13 @@ def test_binary_file_is_a_model_file_error(tmp_path):
 
 # ---------------------------------------------------------------------------- read_csv
 
+
 def test_csv_with_and_without_header_and_comments(tmp_path):
     plain = write(tmp_path / "plain.csv", "400,0.1\n500,0.2\n600,0.3\n")
-    with_header = write(tmp_path / "header.csv",
-                        "# my sand, measured 2024\n\nwavelength_nm,reflectance\n400,0.1\n"
-                        "# a comment between rows\n500,0.2\n600,0.3\n")
+    with_header = write(
+        tmp_path / "header.csv",
+        "# my sand, measured 2024\n\nwavelength_nm,reflectance\n400,0.1\n# a comment between rows\n500,0.2\n600,0.3\n",
+    )
     for path in (plain, with_header):
         spectrum = read_csv(path)
         np.testing.assert_allclose(spectrum["wavelength"], [400, 500, 600])
@@ -186,8 +193,9 @@ def test_csv_with_and_without_header_and_comments(tmp_path):
         assert spectrum["wavelength"].attrs["units"] == "nm"
 
 
-@pytest.mark.parametrize("text", ["400;0.1\n500;0.2\n", "400\t0.1\n500\t0.2\n",
-                                  "400   0.1\n500 0.2\n", "400, 0.1\n500 ,0.2\n"])
+@pytest.mark.parametrize(
+    "text", ["400;0.1\n500;0.2\n", "400\t0.1\n500\t0.2\n", "400   0.1\n500 0.2\n", "400, 0.1\n500 ,0.2\n"]
+)
 def test_csv_delimiters(tmp_path, text):
     spectrum = read_csv(write(tmp_path / "d.csv", text))
     np.testing.assert_allclose(spectrum.values, [0.1, 0.2])
@@ -220,19 +228,22 @@ def test_csv_micrometres(tmp_path):
         read_csv(write(tmp_path / "um2.csv", "0.4,0.1\n2.5,0.2\n"))
 
 
-@pytest.mark.parametrize("content, message", [
-    ("", "no data rows"),
-    ("# only a comment\n", "no data rows"),
-    ("wavelength_nm,reflectance\n", "no data rows"),
-    ("400,0.1\n500,0.2,0.3\n", "line 2: expected 2 columns .* found 3"),
-    ("400\n500\n", "line 1: expected 2 columns .* found 1"),
-    ("wavelength_nm,reflectance\n400,0.1\n500,abc\n", "line 3: expected two numbers"),
-    ("wavelength_nm,reflectance\n400,0.1\nfoo,0.2\n", "line 3: expected two numbers"),
-    ("400,0.1\n600,0.2\n500,0.3\n", "line 3: wavelengths are not strictly increasing"),
-    ("400,0.1\n400,0.2\n", "line 2: wavelengths are not strictly increasing"),
-    ("400,0.1\ninf,0.2\n", "line 2: wavelength 'inf' is not finite"),
-    ("400,\n500,\n", "no reflectance values"),
-])
+@pytest.mark.parametrize(
+    "content, message",
+    [
+        ("", "no data rows"),
+        ("# only a comment\n", "no data rows"),
+        ("wavelength_nm,reflectance\n", "no data rows"),
+        ("400,0.1\n500,0.2,0.3\n", "line 2: expected 2 columns .* found 3"),
+        ("400\n500\n", "line 1: expected 2 columns .* found 1"),
+        ("wavelength_nm,reflectance\n400,0.1\n500,abc\n", "line 3: expected two numbers"),
+        ("wavelength_nm,reflectance\n400,0.1\nfoo,0.2\n", "line 3: expected two numbers"),
+        ("400,0.1\n600,0.2\n500,0.3\n", "line 3: wavelengths are not strictly increasing"),
+        ("400,0.1\n400,0.2\n", "line 2: wavelengths are not strictly increasing"),
+        ("400,0.1\ninf,0.2\n", "line 2: wavelength 'inf' is not finite"),
+        ("400,\n500,\n", "no reflectance values"),
+    ],
+)
 def test_malformed_csv(tmp_path, content, message):
     bad = write(tmp_path / "bad_spectrum.csv", content)
     with pytest.raises(ModelFileError, match=message) as info:
@@ -241,6 +252,7 @@ def test_malformed_csv(tmp_path, content, message):
 
 
 # ---------------------------------------------------------------------------- usgs_library
+
 
 def test_usgs_library_lookup(tiny_library, tmp_path):
     assert usgs_library("Thing_TINYa_AREF", root=tmp_path) == tiny_library

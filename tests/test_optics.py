@@ -11,8 +11,7 @@ import xarray as xr
 
 from sandlight import optics
 from sandlight.errors import ParameterError
-from sandlight.optics import (DENSITY_G_CM3, MATERIALS, absorption_coefficient_per_mm,
-                              complex_index, provenance, table)
+from sandlight.optics import DENSITY_G_CM3, MATERIALS, absorption_coefficient_per_mm, complex_index, provenance, table
 
 REPO = Path(__file__).resolve().parents[1]
 PROVISIONAL = ("goethite", "kaolinite")
@@ -28,8 +27,7 @@ def shared_optical():
 
 
 def load_build_script():
-    spec = importlib.util.spec_from_file_location(
-        "build_optical_tables", REPO / "scripts" / "build_optical_tables.py")
+    spec = importlib.util.spec_from_file_location("build_optical_tables", REPO / "scripts" / "build_optical_tables.py")
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # dataclasses resolve annotations through sys.modules
     spec.loader.exec_module(module)
@@ -37,6 +35,7 @@ def load_build_script():
 
 
 # ---------------------------------------------------------------------------- the tables
+
 
 @pytest.mark.parametrize("material", MATERIALS)
 def test_table_covers_domain_with_physical_values(material):
@@ -70,8 +69,7 @@ def test_provenance_of_all_materials_and_provisional_status():
     for material in MATERIALS:
         assert f"material: {material}" in text
     for material in MATERIALS:
-        status = next(line for line in provenance(material).splitlines()
-                      if line.startswith("status: "))
+        status = next(line for line in provenance(material).splitlines() if line.startswith("status: "))
         # Goethite and kaolinite entirely, quartz below 1270 nm: clearly marked.
         assert ("PROVISIONAL" in status) == (material in PROVISIONAL + ("quartz",))
 
@@ -99,8 +97,7 @@ def test_hematite_k_is_querry_below_the_edge_and_longtin_beyond():
 
 def test_quartz_index_is_orientation_average_at_590nm():
     # Ghosh 1999 at 590 nm: n_o = 1.5442, n_e = 1.5533 (shared README).
-    assert complex_index("quartz", 590.0).real == pytest.approx((2 * 1.5442 + 1.5533) / 3,
-                                                               abs=1e-4)
+    assert complex_index("quartz", 590.0).real == pytest.approx((2 * 1.5442 + 1.5533) / 3, abs=1e-4)
 
 
 def test_mineralogical_indices_of_provisional_materials():
@@ -153,8 +150,7 @@ def test_water_k_close_to_wopp_in_red_if_available():
         pytest.skip("shared WOPP water file not available")
     data = np.genfromtxt(wopp, delimiter=",", skip_header=2)
     wavelengths = np.arange(550.0, 701.0, 10.0)
-    ratio = complex_index("water", wavelengths).imag / np.interp(wavelengths, data[:, 0],
-                                                                 data[:, 2])
+    ratio = complex_index("water", wavelengths).imag / np.interp(wavelengths, data[:, 0], data[:, 2])
     assert np.all(np.abs(ratio - 1) < 0.2)
 
 
@@ -166,11 +162,12 @@ def test_shipped_tables_are_exactly_what_the_build_script_writes():
     tables = build.build_all(src)
     assert tuple(tables) == MATERIALS
     for material, t in tables.items():
-        shipped = (REPO / "python" / "sandlight" / "data" / "optical" / f"{material}.csv")
+        shipped = REPO / "python" / "sandlight" / "data" / "optical" / f"{material}.csv"
         assert shipped.read_text(encoding="utf-8") == build.render(t), material
 
 
 # ---------------------------------------------------------------------------- the API
+
 
 @pytest.mark.parametrize("material", MATERIALS)
 def test_values_at_table_points_and_interpolation_rules(material):
@@ -213,8 +210,7 @@ def test_absorption_coefficient_is_4_pi_k_over_lambda():
     for material in MATERIALS:
         k = complex_index(material, wavelengths).imag
         expected = 4 * np.pi * k / (wavelengths * 1e-6)  # lambda in mm
-        np.testing.assert_allclose(absorption_coefficient_per_mm(material, wavelengths),
-                                   expected, rtol=1e-12)
+        np.testing.assert_allclose(absorption_coefficient_per_mm(material, wavelengths), expected, rtol=1e-12)
     # Hematite at 550 nm: k ~ 0.49, absorption length 1/alpha below 0.1 um.
     assert 1.0 / absorption_coefficient_per_mm("hematite", 550.0) < 1e-4
 
@@ -233,8 +229,9 @@ def test_unknown_material_is_rejected_with_the_allowed_list(material):
             provenance(material)
 
 
-@pytest.mark.parametrize("wavelengths", [349.99, 2500.01, np.nan, np.inf, -500.0, "abc",
-                                         [500.0, 3000.0], [[500.0], [np.nan]], None])
+@pytest.mark.parametrize(
+    "wavelengths", [349.99, 2500.01, np.nan, np.inf, -500.0, "abc", [500.0, 3000.0], [[500.0], [np.nan]], None]
+)
 def test_bad_wavelengths_are_rejected_naming_the_parameter(wavelengths):
     with pytest.raises(ParameterError, match="wavelengths_nm") as info:
         complex_index("quartz", wavelengths)

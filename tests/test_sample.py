@@ -15,8 +15,7 @@ from sandlight.errors import ModelFileError, ParameterError
 from sandlight.sample import PARAMETERS, SEPARATES_TOLERANCE, SandSample
 
 FLOATS = [p for p in PARAMETERS if p.kind == "float"]
-REQUIRED_PRESETS = ["ottawa-quartz", "red-dune", "yellow-dune", "wet-beach",
-                    "gds76-hematite-quartz", "ottawa-gds74"]
+REQUIRED_PRESETS = ["ottawa-quartz", "red-dune", "yellow-dune", "wet-beach", "gds76-hematite-quartz", "ottawa-gds74"]
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -30,6 +29,7 @@ def assert_names(exc: ParameterError, name: str, value, *fragments: str) -> None
 
 
 # -- the table and the defaults ------------------------------------------------------------
+
 
 def test_fields_follow_the_parameter_table_in_order():
     assert [f.name for f in dataclasses.fields(SandSample)] == [p.name for p in PARAMETERS]
@@ -46,11 +46,24 @@ def test_issue_parameters_and_additions():
 
 def test_defaults():
     s = SandSample()
-    expected = dict(iron_oxide=0.01, hematite_ratio=0.5, magnetite=0.0,
-                    iron_oxide_form="coating", coating_iron_share=0.2, saturation=0.0,
-                    film_saturation=0.15, sand=0.95, silt=0.04, clay=0.01, grain_size=0.25,
-                    grain_size_spread=1.4, aspect_ratio=1.4, porosity=0.40,
-                    iron_oxide_particle_size_um=1.0, depth_mm=math.inf)
+    expected = dict(
+        iron_oxide=0.01,
+        hematite_ratio=0.5,
+        magnetite=0.0,
+        iron_oxide_form="coating",
+        coating_iron_share=0.2,
+        saturation=0.0,
+        film_saturation=0.15,
+        sand=0.95,
+        silt=0.04,
+        clay=0.01,
+        grain_size=0.25,
+        grain_size_spread=1.4,
+        aspect_ratio=1.4,
+        porosity=0.40,
+        iron_oxide_particle_size_um=1.0,
+        depth_mm=math.inf,
+    )
     assert {p.name: getattr(s, p.name) for p in PARAMETERS} == expected
     assert all(getattr(s, p.name) == p.default for p in PARAMETERS)
 
@@ -58,18 +71,31 @@ def test_defaults():
 def test_domains_as_specified():
     domains = {p.name: (p.low, p.high) for p in FLOATS}
     assert domains == {
-        "iron_oxide": (0, 0.10), "hematite_ratio": (0, 1), "magnetite": (0, 0.05),
-        "coating_iron_share": (0.01, 1), "saturation": (0, 1), "film_saturation": (0, 1),
-        "sand": (0.85, 1), "silt": (0, 0.15), "clay": (0, 0.10), "grain_size": (0.05, 2.0),
-        "grain_size_spread": (1, 3), "aspect_ratio": (1, 3), "porosity": (0.25, 0.55),
-        "iron_oxide_particle_size_um": (0.1, 50), "depth_mm": (0, math.inf)}
+        "iron_oxide": (0, 0.10),
+        "hematite_ratio": (0, 1),
+        "magnetite": (0, 0.05),
+        "coating_iron_share": (0.01, 1),
+        "saturation": (0, 1),
+        "film_saturation": (0, 1),
+        "sand": (0.85, 1),
+        "silt": (0, 0.15),
+        "clay": (0, 0.10),
+        "grain_size": (0.05, 2.0),
+        "grain_size_spread": (1, 3),
+        "aspect_ratio": (1, 3),
+        "porosity": (0.25, 0.55),
+        "iron_oxide_particle_size_um": (0.1, 50),
+        "depth_mm": (0, math.inf),
+    }
     assert [p.name for p in PARAMETERS if p.low_open] == ["depth_mm"]
 
 
 # The separates are checked jointly: their domain ends come with partners summing to 1.
-SEPARATE_ENDS = {"sand": [dict(sand=1.0, silt=0.0, clay=0.0), dict(sand=0.85, silt=0.15, clay=0.0)],
-                 "silt": [dict(sand=1.0, silt=0.0, clay=0.0), dict(sand=0.85, silt=0.15, clay=0.0)],
-                 "clay": [dict(sand=0.96, silt=0.04, clay=0.0), dict(sand=0.9, silt=0.0, clay=0.1)]}
+SEPARATE_ENDS = {
+    "sand": [dict(sand=1.0, silt=0.0, clay=0.0), dict(sand=0.85, silt=0.15, clay=0.0)],
+    "silt": [dict(sand=1.0, silt=0.0, clay=0.0), dict(sand=0.85, silt=0.15, clay=0.0)],
+    "clay": [dict(sand=0.96, silt=0.04, clay=0.0), dict(sand=0.9, silt=0.0, clay=0.1)],
+}
 
 
 @pytest.mark.parametrize("p", FLOATS, ids=lambda p: p.name)
@@ -90,19 +116,29 @@ def test_parameter_lookup_of_unknown_name():
 
 # -- invalid values ------------------------------------------------------------------------
 
+
 def _bad_values(p):
     """(case id, value) pairs outside the domain of float parameter p."""
     below = p.low if p.low_open else p.low - 0.01 * max(1.0, abs(p.low))
-    cases = [("below", below), ("far_below", -1.0), ("nan", math.nan), ("-inf", -math.inf),
-             ("string", "abc"), ("numeric_string", "0.3"), ("empty_string", ""),
-             ("none", None), ("true", True), ("false", False), ("list", [0.3])]
+    cases = [
+        ("below", below),
+        ("far_below", -1.0),
+        ("nan", math.nan),
+        ("-inf", -math.inf),
+        ("string", "abc"),
+        ("numeric_string", "0.3"),
+        ("empty_string", ""),
+        ("none", None),
+        ("true", True),
+        ("false", False),
+        ("list", [0.3]),
+    ]
     if p.high != math.inf:
         cases += [("above", p.high + 0.01 * max(1.0, p.high)), ("+inf", math.inf)]
     return cases
 
 
-BAD_FLOAT_CASES = [pytest.param(p, value, id=f"{p.name}-{case}")
-                   for p in FLOATS for case, value in _bad_values(p)]
+BAD_FLOAT_CASES = [pytest.param(p, value, id=f"{p.name}-{case}") for p in FLOATS for case, value in _bad_values(p)]
 
 
 @pytest.mark.parametrize(("p", "value"), BAD_FLOAT_CASES)
@@ -133,8 +169,7 @@ def test_depth_accepts_inf_and_the_string_inf_only():
 def test_numbers_of_other_types_are_converted():
     s = SandSample(grain_size=np.float32(0.5), porosity=np.float64(0.3), sand=1, silt=0, clay=0)
     assert type(s.grain_size) is float and s.grain_size == 0.5
-    assert type(s.sand) is float and s == SandSample(grain_size=0.5, porosity=0.3, sand=1.0,
-                                                     silt=0.0, clay=0.0)
+    assert type(s.sand) is float and s == SandSample(grain_size=0.5, porosity=0.3, sand=1.0, silt=0.0, clay=0.0)
     with pytest.raises(ParameterError):
         SandSample(grain_size=10**400)  # too large for a float
 
@@ -142,8 +177,7 @@ def test_numbers_of_other_types_are_converted():
 def test_separates_must_sum_to_one():
     with pytest.raises(ParameterError) as info:
         SandSample(sand=0.95, silt=0.04, clay=0.06)
-    assert_names(info.value, "sand + silt + clay", 1.05, "sand=0.95", "silt=0.04", "clay=0.06",
-                 "1 within 1e-06")
+    assert_names(info.value, "sand + silt + clay", 1.05, "sand=0.95", "silt=0.04", "clay=0.06", "1 within 1e-06")
     with pytest.raises(ParameterError):
         SandSample(sand=0.90, silt=0.04, clay=0.01)  # sums to 0.95
     # within the tolerance: accepted and stored as given
@@ -171,6 +205,7 @@ def test_positional_and_unknown_keyword_arguments_are_refused():
 
 
 # -- value semantics -----------------------------------------------------------------------
+
 
 def test_immutable():
     s = SandSample()
@@ -210,6 +245,7 @@ def test_repr_lists_every_parameter():
 
 # -- presets -------------------------------------------------------------------------------
 
+
 def test_required_presets_exist():
     names = SandSample.presets()
     assert set(REQUIRED_PRESETS) <= set(names)
@@ -243,8 +279,7 @@ def test_preset_values():
     assert beach.porosity == pytest.approx(0.42, abs=0.02)
     assert beach.iron_oxide < red.iron_oxide
     gds76 = SandSample.preset("gds76-hematite-quartz")
-    assert (gds76.iron_oxide, gds76.hematite_ratio, gds76.iron_oxide_form) == \
-        (0.02, 1.0, "particles")
+    assert (gds76.iron_oxide, gds76.hematite_ratio, gds76.iron_oxide_form) == (0.02, 1.0, "particles")
     assert gds76.grain_size < 0.25  # quartz < 250 µm: the median of the sand part is below it
     gds74 = SandSample.preset("ottawa-gds74")
     assert (gds74.iron_oxide, gds74.magnetite, gds74.sand) == (0, 0, 1)
@@ -259,8 +294,9 @@ def test_unknown_preset_lists_the_available_ones(name):
 
 # -- dicts and files -----------------------------------------------------------------------
 
-ALL_SAMPLES = [SandSample(), SandSample(depth_mm=12.5, iron_oxide=1e-5)] + \
-    [SandSample.preset(n) for n in SandSample.presets()]
+ALL_SAMPLES = [SandSample(), SandSample(depth_mm=12.5, iron_oxide=1e-5)] + [
+    SandSample.preset(n) for n in SandSample.presets()
+]
 
 
 @pytest.mark.parametrize("s", ALL_SAMPLES)
@@ -282,8 +318,9 @@ def test_toml_round_trip(s, tmp_path):
 
 def test_json_file(tmp_path):
     path = tmp_path / "s.json"
-    path.write_text(json.dumps({"sample": {"preset": "red-dune", "saturation": 0.3,
-                                           "depth_mm": "inf"}}), encoding="utf-8")
+    path.write_text(
+        json.dumps({"sample": {"preset": "red-dune", "saturation": 0.3, "depth_mm": "inf"}}), encoding="utf-8"
+    )
     assert SandSample.from_file(path) == SandSample.preset("red-dune").replace(saturation=0.3)
     path.write_text(json.dumps(SandSample(depth_mm=4.0).to_dict()), encoding="utf-8")
     assert SandSample.from_file(path).depth_mm == 4.0
@@ -294,7 +331,7 @@ def test_toml_sample_table_and_preset_override(tmp_path):
     path.write_text('[sample]\npreset = "wet-beach"\nsaturation = 0.1\ndepth_mm = 20\n', "utf-8")
     s = SandSample.from_file(path)
     assert s == SandSample.preset("wet-beach").replace(saturation=0.1, depth_mm=20.0)
-    path.write_text('grain_size = 0.5\n', "utf-8")  # top-level keys, no preset: defaults
+    path.write_text("grain_size = 0.5\n", "utf-8")  # top-level keys, no preset: defaults
     assert SandSample.from_file(path) == SandSample(grain_size=0.5)
 
 
@@ -305,17 +342,20 @@ def test_empty_file_gives_defaults(tmp_path, suffix):
     assert SandSample.from_file(path) == SandSample()
 
 
-@pytest.mark.parametrize(("suffix", "text", "name", "value"), [
-    (".toml", 'porosity = ""\n', "porosity", ""),
-    (".toml", 'porosity = "0.4"\n', "porosity", "0.4"),
-    (".toml", "porosity = nan\n", "porosity", math.nan),
-    (".toml", "saturation = true\n", "saturation", True),
-    (".toml", "grain_size = 3\n", "grain_size", 3),
-    (".json", '{"porosity": null}', "porosity", None),
-    (".json", '{"grain_size": ""}', "grain_size", ""),
-    (".json", '{"grain_size": NaN}', "grain_size", math.nan),
-    (".json", '{"grain_size": Infinity}', "grain_size", math.inf),
-])
+@pytest.mark.parametrize(
+    ("suffix", "text", "name", "value"),
+    [
+        (".toml", 'porosity = ""\n', "porosity", ""),
+        (".toml", 'porosity = "0.4"\n', "porosity", "0.4"),
+        (".toml", "porosity = nan\n", "porosity", math.nan),
+        (".toml", "saturation = true\n", "saturation", True),
+        (".toml", "grain_size = 3\n", "grain_size", 3),
+        (".json", '{"porosity": null}', "porosity", None),
+        (".json", '{"grain_size": ""}', "grain_size", ""),
+        (".json", '{"grain_size": NaN}', "grain_size", math.nan),
+        (".json", '{"grain_size": Infinity}', "grain_size", math.inf),
+    ],
+)
 def test_invalid_value_in_file_names_parameter_and_file(tmp_path, suffix, text, name, value):
     path = tmp_path / f"bad{suffix}"
     path.write_text(text, encoding="utf-8")
@@ -330,13 +370,12 @@ def test_unknown_key_in_file(tmp_path, text):
     path.write_text(text, encoding="utf-8")
     with pytest.raises(ParameterError) as info:
         SandSample.from_file(path)
-    assert_names(info.value, "colour", "red", "allowed keys: preset, iron_oxide",
-                 "grain_size", "depth_mm", str(path))
+    assert_names(info.value, "colour", "red", "allowed keys: preset, iron_oxide", "grain_size", "depth_mm", str(path))
 
 
 def test_keys_outside_the_sample_table_are_refused(tmp_path):
     path = tmp_path / "s.toml"
-    path.write_text('porosity = 0.3\n[sample]\ngrain_size = 0.5\n', encoding="utf-8")
+    path.write_text("porosity = 0.3\n[sample]\ngrain_size = 0.5\n", encoding="utf-8")
     with pytest.raises(ParameterError) as info:
         SandSample.from_file(path)
     assert_names(info.value, "porosity", 0.3, "[sample]")
@@ -357,14 +396,17 @@ def test_missing_file(tmp_path):
     assert str(path) in str(info.value)
 
 
-@pytest.mark.parametrize(("name", "content", "problem"), [
-    ("broken.toml", b"porosity = \n", "TOML"),
-    ("broken.toml", b"porosity = 0.3\nporosity = 0.4\n", "TOML"),
-    ("broken.json", b'{"porosity": 0.3,', "JSON"),
-    ("latin1.toml", "# caf\u00e9\n".encode("latin-1"), "TOML"),
-    ("list.json", b"[0.3]", "list"),
-    ("sample.yaml", b"porosity: 0.3\n", ".toml or .json"),
-])
+@pytest.mark.parametrize(
+    ("name", "content", "problem"),
+    [
+        ("broken.toml", b"porosity = \n", "TOML"),
+        ("broken.toml", b"porosity = 0.3\nporosity = 0.4\n", "TOML"),
+        ("broken.json", b'{"porosity": 0.3,', "JSON"),
+        ("latin1.toml", "# caf\u00e9\n".encode("latin-1"), "TOML"),
+        ("list.json", b"[0.3]", "list"),
+        ("sample.yaml", b"porosity: 0.3\n", ".toml or .json"),
+    ],
+)
 def test_unparsable_file_names_file_and_problem(tmp_path, name, content, problem):
     path = tmp_path / name
     path.write_bytes(content)
@@ -383,9 +425,9 @@ def test_to_toml_is_commented():
 
 # -- docs ----------------------------------------------------------------------------------
 
+
 def test_generated_doc_sections_are_up_to_date():
-    spec = importlib.util.spec_from_file_location("gen_sample_doc",
-                                                  ROOT / "scripts" / "gen_sample_doc.py")
+    spec = importlib.util.spec_from_file_location("gen_sample_doc", ROOT / "scripts" / "gen_sample_doc.py")
     gen = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(gen)
     text = (ROOT / "docs" / "sample.md").read_text(encoding="utf-8")

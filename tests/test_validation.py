@@ -20,11 +20,13 @@ def results():
 
 
 def spectrum(wavelengths, values):
-    return xr.DataArray(np.asarray(values, dtype=float), dims="wavelength",
-                        coords={"wavelength": np.asarray(wavelengths, dtype=float)})
+    return xr.DataArray(
+        np.asarray(values, dtype=float), dims="wavelength", coords={"wavelength": np.asarray(wavelengths, dtype=float)}
+    )
 
 
 # --- comparing a grid with a measurement ---
+
 
 def test_measured_on_grid_averages_window_interpolates_gaps_and_skips_deleted():
     s = spectrum([396, 398, 400, 403, 404, 406, 440, 470, 600], [0.1, 9.0, 0.3, 0.5, np.nan, 0.7, 0.2, 0.5, 0.9])
@@ -61,6 +63,7 @@ def test_band_error_arithmetic_and_monte_carlo_bound():
 
 
 # --- end to end ---
+
 
 def test_validate_end_to_end_gives_finite_errors_and_a_plot(results, tmp_path):
     assert [r.sample.name for r in results] == [s.name for s in v.SAMPLES]
@@ -101,8 +104,8 @@ def test_variant_changes_optics_only_for_its_run():
 
     original = medium.complex_index
     clear = v.Variant(v.SAMPLES[0].name, "hematite k × 0", "test", k_factor={"hematite": 0.0}, k_factor_from_nm=500.0)
-    preset, = v.validate([v.SAMPLES[0].name], rays=300, wavelengths_nm=[450.0, 600.0], seed=2)
-    variant, = v.run_variants([clear], rays=300, wavelengths_nm=[450.0, 600.0], seed=2)
+    (preset,) = v.validate([v.SAMPLES[0].name], rays=300, wavelengths_nm=[450.0, 600.0], seed=2)
+    (variant,) = v.run_variants([clear], rays=300, wavelengths_nm=[450.0, 600.0], seed=2)
     assert medium.complex_index is original
     # Below 500 nm nothing changed and the random streams are shared: identical values.
     assert variant.model[0] == preset.model[0]
@@ -127,13 +130,20 @@ def test_powder_reflectance_opaque_vs_transparent_and_checks():
 
 # --- the report ---
 
+
 def test_report_writer_sections_and_update_keeps_hand_written_text(results, tmp_path):
     report = tmp_path / "docs" / "validation.md"
     figs = [tmp_path / "docs" / "img" / f"{r.sample.preset}.png" for r in results]
     v.write_report(report, results, figure_paths=figs, command="sandlight validate --rays 300")
     text = report.read_text(encoding="utf-8")
-    for heading in ("# Validation against measured spectra", "## How to reproduce", "## Results", "## Spectra",
-                    "## Diagnostic variants", "## The paper's Figure 3, from the model"):
+    for heading in (
+        "# Validation against measured spectra",
+        "## How to reproduce",
+        "## Results",
+        "## Spectra",
+        "## Diagnostic variants",
+        "## The paper's Figure 3, from the model",
+    ):
         assert heading in text
     for name in v.REPORT_BLOCKS:
         assert f"<!-- BEGIN validation:{name} -->" in text and f"<!-- END validation:{name} -->" in text
@@ -159,8 +169,21 @@ def test_cli_validate_writes_report_and_figures(tmp_path):
     from sandlight.cli import app
 
     out = tmp_path / "validation.md"
-    res = CliRunner().invoke(app, ["validate", "--rays", "200", "--no-variants", "--sample",
-                                   "Hematite.02+Quartz.98_GDS76", "-o", str(out), "--figures", str(tmp_path / "img")])
+    res = CliRunner().invoke(
+        app,
+        [
+            "validate",
+            "--rays",
+            "200",
+            "--no-variants",
+            "--sample",
+            "Hematite.02+Quartz.98_GDS76",
+            "-o",
+            str(out),
+            "--figures",
+            str(tmp_path / "img"),
+        ],
+    )
     assert res.exit_code == 0, res.output
     assert (tmp_path / "img" / "validation-gds76-hematite-quartz.png").is_file()
     text = out.read_text(encoding="utf-8")

@@ -20,13 +20,17 @@ except PackageNotFoundError:  # running from a source tree that was never instal
 from sandlight.errors import ModelFileError, ParameterError, SandlightError  # noqa: E402
 from sandlight.sample import PARAMETERS, SandSample  # noqa: E402
 
-
 _NATIVE_API = {
-    "reflectance": "sandlight.engine", "isotropic_halfspace": "sandlight.engine", "ReflectanceResult": "sandlight.engine",
-    "brdf": "sandlight.gonio.measure", "fixed_incidence": "sandlight.gonio.measure",
-    "IsotropicScatterers": "sandlight.gonio.measure", "LambertianSurface": "sandlight.gonio.measure",
+    "reflectance": "sandlight.engine",
+    "isotropic_halfspace": "sandlight.engine",
+    "ReflectanceResult": "sandlight.engine",
+    "brdf": "sandlight.gonio.measure",
+    "fixed_incidence": "sandlight.gonio.measure",
+    "IsotropicScatterers": "sandlight.gonio.measure",
+    "LambertianSurface": "sandlight.gonio.measure",
     "SpectralModel": "sandlight.predictor",
-    "SpatialModel": "sandlight.spatial", "SandAppearance": "sandlight.appearance",
+    "SpatialModel": "sandlight.spatial",
+    "SandAppearance": "sandlight.appearance",
 }
 
 
@@ -40,5 +44,12 @@ def __getattr__(name):
     raise AttributeError(f"module 'sandlight' has no attribute {name!r}")
 
 
-__all__ = ["SandlightError", "ParameterError", "ModelFileError", "SandSample", "PARAMETERS", "__version__",
-           *_NATIVE_API]
+__all__ = [
+    "SandlightError",
+    "ParameterError",
+    "ModelFileError",
+    "SandSample",
+    "PARAMETERS",
+    "__version__",
+    *_NATIVE_API,
+]

@@ -9,7 +9,7 @@ because every ray has its own counter-based random stream.
 from __future__ import annotations
 
 import time
-from typing import Callable
+from collections.abc import Callable
 
 from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
@@ -18,9 +18,16 @@ FIRST_BATCH = 2048
 SHOW_AFTER_SECONDS = 1.0
 
 
-def run_in_batches(run_batch: Callable[[int, int], None], total: int, *, label: str, progress: bool = True,
-                   start_at: int = 0, on_checkpoint: Callable[[int], None] | None = None,
-                   checkpoint_seconds: float = 60.0) -> None:
+def run_in_batches(
+    run_batch: Callable[[int, int], None],
+    total: int,
+    *,
+    label: str,
+    progress: bool = True,
+    start_at: int = 0,
+    on_checkpoint: Callable[[int], None] | None = None,
+    checkpoint_seconds: float = 60.0,
+) -> None:
     """Calls ``run_batch(first, count)`` over ``start_at .. total`` in adaptively sized batches.
 
     A progress bar appears once the run has taken more than a second. ``on_checkpoint(done)``
@@ -40,8 +47,15 @@ def run_in_batches(run_batch: Callable[[int, int], None], total: int, *, label: 
             # Aim for a fixed wall time per batch, growing at most 4× at a time.
             batch = int(max(256, min(4 * n, n * TARGET_BATCH_SECONDS / max(dt, 1e-6))))
             if progress and bar is None and time.perf_counter() - start > SHOW_AFTER_SECONDS and done < total:
-                bar = Progress(TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-                               TextColumn("{task.fields[rate]}"), TimeElapsedColumn(), TimeRemainingColumn(), transient=True)
+                bar = Progress(
+                    TextColumn("{task.description}"),
+                    BarColumn(),
+                    MofNCompleteColumn(),
+                    TextColumn("{task.fields[rate]}"),
+                    TimeElapsedColumn(),
+                    TimeRemainingColumn(),
+                    transient=True,
+                )
                 bar.start()
                 task = bar.add_task(label, total=total, completed=done, rate="")
             if bar is not None:

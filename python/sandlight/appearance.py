@@ -102,12 +102,19 @@ from pathlib import Path
 import numpy as np
 
 from sandlight.errors import ParameterError
+
 # The interpolant's linear weights in μ: (band a, band b, t), shared with the BRDF itself so that
 # albedo, sampling tables and the BRDF bracket μ identically.
 from sandlight.gonio.brdf import _bracket
 
-__all__ = ["SandAppearance", "TABLE_FORMAT", "TABLE_FORMAT_VERSION", "DEFENSIVE_COSINE_SHARE", "COMBINATIONS",
-           "SAMPLING_METHODS"]
+__all__ = [
+    "SandAppearance",
+    "TABLE_FORMAT",
+    "TABLE_FORMAT_VERSION",
+    "DEFENSIVE_COSINE_SHARE",
+    "COMBINATIONS",
+    "SAMPLING_METHODS",
+]
 
 TABLE_FORMAT = "sandlight-brdf-table"
 TABLE_FORMAT_VERSION = 1
@@ -177,13 +184,24 @@ def _resolve_spectral(model, sample) -> tuple[np.ndarray, np.ndarray, str, str |
         wl, r = (np.asarray(x, dtype=float) for x in model(sample))
         source = getattr(model, "__qualname__", repr(model))
     else:
-        raise ParameterError("spectral_model", type(model).__name__,
-                             "None (the shipped model), a SpectralModel, a model file, or a callable "
-                             "sample -> (wavelengths_nm, reflectance)")
-    if wl.ndim != 1 or wl.shape != r.shape or wl.size < 1 or not (np.isfinite(wl).all() and np.isfinite(r).all()) \
-            or np.any(np.diff(wl) <= 0):
-        raise ParameterError("spectral_model", f"wavelengths of shape {wl.shape}, reflectance of shape {r.shape}",
-                             "increasing finite wavelengths (nm) and one finite reflectance per wavelength")
+        raise ParameterError(
+            "spectral_model",
+            type(model).__name__,
+            "None (the shipped model), a SpectralModel, a model file, or a callable "
+            "sample -> (wavelengths_nm, reflectance)",
+        )
+    if (
+        wl.ndim != 1
+        or wl.shape != r.shape
+        or wl.size < 1
+        or not (np.isfinite(wl).all() and np.isfinite(r).all())
+        or np.any(np.diff(wl) <= 0)
+    ):
+        raise ParameterError(
+            "spectral_model",
+            f"wavelengths of shape {wl.shape}, reflectance of shape {r.shape}",
+            "increasing finite wavelengths (nm) and one finite reflectance per wavelength",
+        )
     return wl, r, source, getattr(model, "memory_", None)
 
 
@@ -196,7 +214,9 @@ def _resolve_spatial(model):
         return SpatialModel.load(model)
     if isinstance(model, SpatialModel):
         return model
-    raise ParameterError("spatial_model", type(model).__name__, "None (the shipped model), a SpatialModel or a model file")
+    raise ParameterError(
+        "spatial_model", type(model).__name__, "None (the shipped model), a SpatialModel or a model file"
+    )
 
 
 class SandAppearance:
@@ -243,8 +263,9 @@ class SandAppearance:
     >>> f = app.brdf([[0, 0, 1]], [[0.5, 0, 0.866]])                        # (1, 16), sr⁻¹
     """
 
-    def __init__(self, sample, spectral_model=None, spatial_model=None, *, combination: str = "energy",
-                 fixed: str = "warn"):
+    def __init__(
+        self, sample, spectral_model=None, spatial_model=None, *, combination: str = "energy", fixed: str = "warn"
+    ):
         from sandlight import _native
 
         if combination not in COMBINATIONS:
@@ -256,9 +277,13 @@ class SandAppearance:
         self.normal_reflectance = np.clip(r, 0.0, 1.0)
         model = _resolve_spatial(spatial_model)
         if self.spectral_memory is not None and self.spectral_memory != model.memory_:
-            warnings.warn(f"the spectral model was trained with engine memory {self.spectral_memory!r}, the spatial "
-                          f"model with {model.memory_!r}: the appearance combines two transport models "
-                          f"(docs/geometry.md)", UserWarning, stacklevel=2)
+            warnings.warn(
+                f"the spectral model was trained with engine memory {self.spectral_memory!r}, the spatial "
+                f"model with {model.memory_!r}: the appearance combines two transport models "
+                f"(docs/geometry.md)",
+                UserWarning,
+                stacklevel=2,
+            )
         self.spatial_model = model
         self.spatial = model.brdf(self.sand_sample, fixed=fixed)
         h = self.spatial.hemisphere
@@ -283,8 +308,11 @@ class SandAppearance:
         # integral is (2π/L) Σ_k F and whose μ_o integral is Σ c_q (_mu_integral_weights).
         albedo_nodes = (grid.sum(axis=2) * (2.0 * math.pi / self._slices)) @ self._mu_weights
         if not albedo_nodes[0] > 0:
-            raise ParameterError("spatial_model", "a BRDF that reflects nothing at normal incidence",
-                                 "a spatial model with positive normalised values")
+            raise ParameterError(
+                "spatial_model",
+                "a BRDF that reflects nothing at normal incidence",
+                "a spatial model with positive normalised values",
+            )
         grid /= albedo_nodes[0]
         self._albedo_nodes = albedo_nodes / albedo_nodes[0]  # A at the nodes; A(1) = 1
         self._grid = np.ascontiguousarray(grid)
@@ -329,8 +357,11 @@ class SandAppearance:
         bad = ~((wl >= lo) & (wl <= hi))
         if wl.ndim != 1 or bad.any():
             value = wl[bad][0] if wl.ndim == 1 and bad.any() else wavelengths_nm
-            raise ParameterError("wavelengths_nm", value if np.ndim(value) else float(value),
-                                 f"wavelengths in [{lo:g}, {hi:g}] nm, the spectral model's range")
+            raise ParameterError(
+                "wavelengths_nm",
+                value if np.ndim(value) else float(value),
+                f"wavelengths in [{lo:g}, {hi:g}] nm, the spectral model's range",
+            )
         return np.interp(wl, self.wavelengths_nm, self.normal_reflectance)
 
     # ---- evaluation --------------------------------------------------------------------------
@@ -366,8 +397,13 @@ class SandAppearance:
             else:
                 raise ParameterError("wo", f"{wo.shape[0]} rows", f"as many rows as wi ({wi.shape[0]}) or one")
         a, b = self._weights(self.reflectance_at(wavelengths_nm))
-        return self._native.evaluate(np.ascontiguousarray(wi), np.ascontiguousarray(wo), np.ascontiguousarray(a),
-                                     np.ascontiguousarray(b), threads)
+        return self._native.evaluate(
+            np.ascontiguousarray(wi),
+            np.ascontiguousarray(wo),
+            np.ascontiguousarray(a),
+            np.ascontiguousarray(b),
+            threads,
+        )
 
     def albedo(self, wi, wavelengths_nm=None) -> np.ndarray:
         """Directional-hemispherical reflectance ∫ f(ω_i, ω_o, λ) cos θ_o dω_o, exact for the model.
@@ -443,7 +479,10 @@ class SandAppearance:
     def _cell_of(self, mu_o: np.ndarray, dphi: np.ndarray) -> np.ndarray:
         band = np.sum(self._band_z0[None, :] > mu_o[:, None], axis=1)  # bands wholly above μ_o
         band = np.minimum(band, self._stacks - 1)
-        k = np.floor(np.mod(dphi, 2.0 * math.pi) * (self._slices / (2.0 * math.pi)) + 0.5).astype(np.int64) % self._slices
+        k = (
+            np.floor(np.mod(dphi, 2.0 * math.pi) * (self._slices / (2.0 * math.pi)) + 0.5).astype(np.int64)
+            % self._slices
+        )
         return np.where(band == 0, 0, 1 + (band - 1) * self._slices + k)
 
     def _frame(self, wi, wo):
@@ -610,37 +649,65 @@ class SandAppearance:
         albedo = W @ self._albedo_mu(x, wl)  # the same averages of the model's albedo
         attrs = {
             "title": "Spectral BRDF of a sand sample (sandlight)",
-            "format": TABLE_FORMAT, "format_version": TABLE_FORMAT_VERSION,
+            "format": TABLE_FORMAT,
+            "format_version": TABLE_FORMAT_VERSION,
             "sandlight_version": sandlight.__version__,
             "sample": json.dumps(self.sand_sample.to_dict(), sort_keys=True),
             "combination": self.combination,
             "spectral_source": self.spectral_source,
-            "engine_memory": json.dumps({"spectral": self.spectral_memory or "unknown",
-                                         "spatial": self.spatial_model.memory_}),
-            "spatial_mesh": json.dumps({"parameters": list(self.spatial_model.mesh_.parameters),
-                                        "coordinates": self.spatial.coordinates.tolist()}),
-            "spatial_wavelength_nm": -1.0 if self.spatial_model.wavelength_nm_ is None else self.spatial_model.wavelength_nm_,
+            "engine_memory": json.dumps(
+                {"spectral": self.spectral_memory or "unknown", "spatial": self.spatial_model.memory_}
+            ),
+            "spatial_mesh": json.dumps(
+                {
+                    "parameters": list(self.spatial_model.mesh_.parameters),
+                    "coordinates": self.spatial.coordinates.tolist(),
+                }
+            ),
+            "spatial_wavelength_nm": -1.0
+            if self.spatial_model.wavelength_nm_ is None
+            else self.spatial_model.wavelength_nm_,
             "reference_reflectance": self.reference_reflectance,
-            "conventions": ("local frame: z = surface normal; mu = cos(zenith angle); dphi = |phi_o - phi_i| in [0, pi]; "
-                            "wi points towards the light, wo towards the viewer; f in sr-1 with "
-                            "L_o = integral of f L_i cos(theta_i) d(omega_i)"),
-            "interpolation": ("multilinear in (mu_i, mu_o, dphi); f is reciprocal (f[:, i, j, k] == f[:, j, i, k]) "
-                              "and even in dphi; in mu_i and mu_o each value is the cos-weighted average of the "
-                              "model over the node's interpolation hat (energy-conserving), in dphi a point sample"),
+            "conventions": (
+                "local frame: z = surface normal; mu = cos(zenith angle); dphi = |phi_o - phi_i| in [0, pi]; "
+                "wi points towards the light, wo towards the viewer; f in sr-1 with "
+                "L_o = integral of f L_i cos(theta_i) d(omega_i)"
+            ),
+            "interpolation": (
+                "multilinear in (mu_i, mu_o, dphi); f is reciprocal (f[:, i, j, k] == f[:, j, i, k]) "
+                "and even in dphi; in mu_i and mu_o each value is the cos-weighted average of the "
+                "model over the node's interpolation hat (energy-conserving), in dphi a point sample"
+            ),
         }
         ds = xr.Dataset(
-            {"f": (("wavelength", "mu_i", "mu_o", "dphi"), f,
-                   {"units": "sr-1", "long_name": "bidirectional reflectance distribution function"}),
-             "albedo": (("wavelength", "mu_i"), albedo.T,
-                        {"units": "1", "long_name": "directional-hemispherical reflectance of the continuous model"}),
-             "normal_reflectance": (("wavelength",), self.reflectance_at(wl),
-                                    {"units": "1", "long_name": "directional-hemispherical reflectance at normal "
-                                     "incidence (spectral predictor)"})},
-            coords={"wavelength": ("wavelength", wl, {"units": "nm"}),
-                    "mu_i": ("mu_i", mu, {"units": "1", "long_name": "cosine of the incident zenith angle"}),
-                    "mu_o": ("mu_o", mu, {"units": "1", "long_name": "cosine of the outgoing zenith angle"}),
-                    "dphi": ("dphi", dphi, {"units": "rad", "long_name": "azimuth difference |phi_o - phi_i|"})},
-            attrs=attrs)
+            {
+                "f": (
+                    ("wavelength", "mu_i", "mu_o", "dphi"),
+                    f,
+                    {"units": "sr-1", "long_name": "bidirectional reflectance distribution function"},
+                ),
+                "albedo": (
+                    ("wavelength", "mu_i"),
+                    albedo.T,
+                    {"units": "1", "long_name": "directional-hemispherical reflectance of the continuous model"},
+                ),
+                "normal_reflectance": (
+                    ("wavelength",),
+                    self.reflectance_at(wl),
+                    {
+                        "units": "1",
+                        "long_name": "directional-hemispherical reflectance at normal incidence (spectral predictor)",
+                    },
+                ),
+            },
+            coords={
+                "wavelength": ("wavelength", wl, {"units": "nm"}),
+                "mu_i": ("mu_i", mu, {"units": "1", "long_name": "cosine of the incident zenith angle"}),
+                "mu_o": ("mu_o", mu, {"units": "1", "long_name": "cosine of the outgoing zenith angle"}),
+                "dphi": ("dphi", dphi, {"units": "rad", "long_name": "azimuth difference |phi_o - phi_i|"}),
+            },
+            attrs=attrs,
+        )
         return ds
 
     def _hat_quadrature(self, mu: np.ndarray):
@@ -667,9 +734,11 @@ class SandAppearance:
         for q in range(n):
             lo = mu[q - 1] if q > 0 else mu[q]
             hi = mu[q + 1] if q < n - 1 else mu[q]
-            hat = np.where(points <= mu[q],
-                           (points - lo) / (mu[q] - lo) if q > 0 else 0.0,
-                           (hi - points) / (hi - mu[q]) if q < n - 1 else 0.0)
+            hat = np.where(
+                points <= mu[q],
+                (points - lo) / (mu[q] - lo) if q > 0 else 0.0,
+                (hi - points) / (hi - mu[q]) if q < n - 1 else 0.0,
+            )
             hat = np.where((points >= lo) & (points <= hi), np.clip(hat, 0.0, 1.0), 0.0)
             weights[q] = base * hat * points
         weights /= weights.sum(axis=1, keepdims=True)
@@ -690,6 +759,7 @@ class SandAppearance:
         return path
 
     def __repr__(self) -> str:
-        return (f"SandAppearance({len(self.wavelengths_nm)} wavelengths {self.wavelengths_nm[0]:g}–"
-                f"{self.wavelengths_nm[-1]:g} nm, combination={self.combination!r}, r_0={self.reference_reflectance:.4f})")
-
+        return (
+            f"SandAppearance({len(self.wavelengths_nm)} wavelengths {self.wavelengths_nm[0]:g}–"
+            f"{self.wavelengths_nm[-1]:g} nm, combination={self.combination!r}, r_0={self.reference_reflectance:.4f})"
+        )

@@ -72,10 +72,12 @@ def _check_choice(name, value, allowed):
 
 
 #: Why the surface-layer models are not for wet sand yet (docs/geometry.md, "Wet sand").
-WET_TOP_LAYER = ("memory='cut' or 'packed' and geometry='explicit' put the flat water surface of a water-filled "
-                 "surface pore at the top of the surface layer, above the highest grain, so with water-filled pores "
-                 "(saturation above film_saturation) they lose more light in the water bands than the classic model; "
-                 "use memory='none' for wet sand (docs/geometry.md, 'Wet sand')")
+WET_TOP_LAYER = (
+    "memory='cut' or 'packed' and geometry='explicit' put the flat water surface of a water-filled "
+    "surface pore at the top of the surface layer, above the highest grain, so with water-filled pores "
+    "(saturation above film_saturation) they lose more light in the water bands than the classic model; "
+    "use memory='none' for wet sand (docs/geometry.md, 'Wet sand')"
+)
 
 
 def medium_factory(comp, *, geometry: str = "on-the-fly", memory: str | None = None, packing=None, seed: int = 0):
@@ -115,8 +117,10 @@ def _trace(medium, *, rays, incidence_deg, seed, threads, max_events, label, pro
     counts = np.zeros(len(_COUNT_NAMES), dtype=np.uint64)
 
     def batch(first, n):
-        counts[:] += np.array(medium.dhr(incidence_deg, seed, stream, first, n, max_events,
-                                         MAX_INTERNAL_REFLECTIONS, threads), dtype=np.uint64)
+        counts[:] += np.array(
+            medium.dhr(incidence_deg, seed, stream, first, n, max_events, MAX_INTERNAL_REFLECTIONS, threads),
+            dtype=np.uint64,
+        )
 
     run_in_batches(batch, rays, label=label, progress=progress)
     return dict(zip(_COUNT_NAMES, (int(c) for c in counts)))
@@ -171,20 +175,37 @@ class ReflectanceResult:
         import sandlight
 
         data = {
-            "reflectance": ("wavelength", self.values, {"units": "1", "long_name": "directional-hemispherical reflectance"}),
-            "stderr": ("wavelength", self.stderr, {"units": "1", "long_name": "Monte Carlo standard error of reflectance"}),
+            "reflectance": (
+                "wavelength",
+                self.values,
+                {"units": "1", "long_name": "directional-hemispherical reflectance"},
+            ),
+            "stderr": (
+                "wavelength",
+                self.stderr,
+                {"units": "1", "long_name": "Monte Carlo standard error of reflectance"},
+            ),
         }
         for k, v in self.counts.items():
-            data[f"count_{k}"] = ("wavelength", np.asarray(v, dtype=np.int64), {"units": "1", "long_name": f"rays {k}" if k != "events" else "particle events summed over rays"})
+            data[f"count_{k}"] = (
+                "wavelength",
+                np.asarray(v, dtype=np.int64),
+                {"units": "1", "long_name": f"rays {k}" if k != "events" else "particle events summed over rays"},
+            )
         ds = xr.Dataset(
             data,
             coords={"wavelength": ("wavelength", self.wavelengths, {"units": "nm", "long_name": "vacuum wavelength"})},
             attrs={
                 "title": "sandlight Monte Carlo reflectance",
                 "sandlight_version": sandlight.__version__,
-                "rays": self.rays, "incidence_deg": self.incidence_deg, "seed": str(self.seed),
-                "max_events": self.max_events, "sample": json.dumps(self.sample), "elapsed_s": self.elapsed_s,
-                "geometry": self.geometry, "memory": self.memory,
+                "rays": self.rays,
+                "incidence_deg": self.incidence_deg,
+                "seed": str(self.seed),
+                "max_events": self.max_events,
+                "sample": json.dumps(self.sample),
+                "elapsed_s": self.elapsed_s,
+                "geometry": self.geometry,
+                "memory": self.memory,
             },
         )
         return ds
@@ -202,8 +223,14 @@ class ReflectanceResult:
 
         table = np.column_stack([self.wavelengths, self.values, self.stderr, self.mean_events_per_ray, self.capped])
         with atomic_path(path) as tmp:
-            np.savetxt(tmp, table, delimiter=",", fmt=["%.6g", "%.8f", "%.8f", "%.6g", "%d"],
-                       header="wavelength_nm,reflectance,stderr,mean_events_per_ray,capped", comments="")
+            np.savetxt(
+                tmp,
+                table,
+                delimiter=",",
+                fmt=["%.6g", "%.8f", "%.8f", "%.6g", "%d"],
+                header="wavelength_nm,reflectance,stderr,mean_events_per_ray,capped",
+                comments="",
+            )
 
     def plot(self, path, *, title: str | None = None) -> None:
         """Plots the spectrum with ±2 standard-error band to a PNG."""
@@ -212,9 +239,20 @@ class ReflectanceResult:
         plot_spectrum(self.wavelengths, self.values, self.stderr, path, title=title)
 
 
-def reflectance(sample, wavelengths_nm, *, rays, incidence_deg: float = 0.0, seed: int = 0, threads: int | None = None,
-                max_events: int = DEFAULT_MAX_EVENTS, progress: bool = True, geometry: str = "on-the-fly",
-                memory: str | None = None, packing=None) -> ReflectanceResult:
+def reflectance(
+    sample,
+    wavelengths_nm,
+    *,
+    rays,
+    incidence_deg: float = 0.0,
+    seed: int = 0,
+    threads: int | None = None,
+    max_events: int = DEFAULT_MAX_EVENTS,
+    progress: bool = True,
+    geometry: str = "on-the-fly",
+    memory: str | None = None,
+    packing=None,
+) -> ReflectanceResult:
     """Monte Carlo directional-hemispherical reflectance of a sand sample.
 
     Parameters
@@ -274,20 +312,46 @@ def reflectance(sample, wavelengths_nm, *, rays, incidence_deg: float = 0.0, see
     make_medium, _ = medium_factory(comp, geometry=geometry, memory=memory, packing=packing, seed=seed)
     rows = []
     for i, lam in enumerate(wl):
-        rows.append(_trace(make_medium(float(lam)), rays=rays, incidence_deg=incidence_deg, seed=seed,
-                           threads=threads, max_events=max_events, progress=progress,
-                           label=f"λ = {lam:g} nm ({i + 1}/{wl.size})"))
+        rows.append(
+            _trace(
+                make_medium(float(lam)),
+                rays=rays,
+                incidence_deg=incidence_deg,
+                seed=seed,
+                threads=threads,
+                max_events=max_events,
+                progress=progress,
+                label=f"λ = {lam:g} nm ({i + 1}/{wl.size})",
+            )
+        )
     counts = {k: np.array([r[k] for r in rows], dtype=np.int64) for k in _COUNT_NAMES}
     rho = counts["escaped"] / counts["launched"]
     return ReflectanceResult(
-        wavelengths=wl, values=rho, stderr=np.sqrt(rho * (1 - rho) / counts["launched"]), counts=counts,
-        rays=rays, incidence_deg=incidence_deg, seed=seed, max_events=max_events,
-        sample=sample.to_dict(), elapsed_s=time.perf_counter() - start, geometry=geometry,
-        memory=DEFAULT_MEMORY if memory is None else memory)
+        wavelengths=wl,
+        values=rho,
+        stderr=np.sqrt(rho * (1 - rho) / counts["launched"]),
+        counts=counts,
+        rays=rays,
+        incidence_deg=incidence_deg,
+        seed=seed,
+        max_events=max_events,
+        sample=sample.to_dict(),
+        elapsed_s=time.perf_counter() - start,
+        geometry=geometry,
+        memory=DEFAULT_MEMORY if memory is None else memory,
+    )
 
 
-def isotropic_halfspace(albedo: float, *, rays, incidence_deg: float = 0.0, seed: int = 0, threads: int | None = None,
-                        max_events: int = DEFAULT_MAX_EVENTS, depth: float = math.inf) -> tuple[float, float]:
+def isotropic_halfspace(
+    albedo: float,
+    *,
+    rays,
+    incidence_deg: float = 0.0,
+    seed: int = 0,
+    threads: int | None = None,
+    max_events: int = DEFAULT_MAX_EVENTS,
+    depth: float = math.inf,
+) -> tuple[float, float]:
     """Reflectance of a half-space of isotropic point scatterers (Chandrasekhar's problem).
 
     Same free-path, boundary and tally code as :func:`reflectance`, with each particle replaced
@@ -308,8 +372,16 @@ def isotropic_halfspace(albedo: float, *, rays, incidence_deg: float = 0.0, seed
     """
     rays = _check_rays(rays)
     medium = _native.Medium.isotropic(float(albedo), float(depth))
-    c = _trace(medium, rays=rays, incidence_deg=_check_incidence(incidence_deg), seed=_check_seed(seed),
-               threads=_check_threads(threads), max_events=_check_rays(max_events), label="isotropic half-space", progress=False)
+    c = _trace(
+        medium,
+        rays=rays,
+        incidence_deg=_check_incidence(incidence_deg),
+        seed=_check_seed(seed),
+        threads=_check_threads(threads),
+        max_events=_check_rays(max_events),
+        label="isotropic half-space",
+        progress=False,
+    )
     rho = c["escaped"] / c["launched"]
     return rho, math.sqrt(rho * (1 - rho) / c["launched"])
 

@@ -110,17 +110,21 @@ def read_model_npz(path, *, kind: str, format_name: str, max_version: int) -> tu
     except ModelFileError:
         raise
     except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile) as exc:
-        raise ModelFileError(f"{path} is not a readable sandlight {kind} file (truncated, corrupt or another "
-                             f"format): {exc}") from exc
+        raise ModelFileError(
+            f"{path} is not a readable sandlight {kind} file (truncated, corrupt or another format): {exc}"
+        ) from exc
     try:
         meta = json.loads(str(data["metadata"][()]))
     except (ValueError, TypeError) as exc:
         raise ModelFileError(f"{path}: the metadata entry is not valid JSON ({exc})") from exc
     if not isinstance(meta, dict) or meta.get("format") != format_name:
-        raise ModelFileError(f"{path} is not a sandlight {kind} (format "
-                             f"{meta.get('format') if isinstance(meta, dict) else None!r})")
+        raise ModelFileError(
+            f"{path} is not a sandlight {kind} (format {meta.get('format') if isinstance(meta, dict) else None!r})"
+        )
     version = meta.get("format_version")
     if not isinstance(version, int) or not 1 <= version <= max_version:
-        raise ModelFileError(f"{path} has {kind} format version {version!r}; this sandlight reads versions "
-                             f"1..{max_version} (upgrade sandlight)")
+        raise ModelFileError(
+            f"{path} has {kind} format version {version!r}; this sandlight reads versions "
+            f"1..{max_version} (upgrade sandlight)"
+        )
     return meta, data

@@ -20,4 +20,5 @@ def cpu_model() -> str:
 
 def describe() -> str:
     """e.g. ``"AMD EPYC, 2 CPUs, Linux 6.1, Python 3.11.7"``."""
-    return f"{cpu_model()}, {os.cpu_count()} CPUs, {platform.system()} {platform.release()}, Python {platform.python_version()}"
+    system = f"{platform.system()} {platform.release()}"
+    return f"{cpu_model()}, {os.cpu_count()} CPUs, {system}, Python {platform.python_version()}"

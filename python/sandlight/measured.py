@@ -40,8 +40,10 @@ from sandlight.errors import ModelFileError, ParameterError
 
 __all__ = ["read_usgs", "read_csv", "usgs_library"]
 
-USGS_CITATION = ("Kokaly, R.F., et al., 2017, USGS Spectral Library Version 7: U.S. Geological "
-                 "Survey Data Series 1035, https://doi.org/10.3133/ds1035 (public domain)")
+USGS_CITATION = (
+    "Kokaly, R.F., et al., 2017, USGS Spectral Library Version 7: U.S. Geological "
+    "Survey Data Series 1035, https://doi.org/10.3133/ds1035 (public domain)"
+)
 # splib07 marks deleted or bad channels with -1.23e34; anything below -1e34 is that marker.
 _USGS_DELETED_BELOW = -1e34
 # A CSV whose largest reflectance exceeds this is read as percent (see read_csv, Domain).
@@ -72,18 +74,21 @@ def _read_usgs_column(path: Path) -> tuple[str, np.ndarray]:
         raise ModelFileError(f"{path}: empty file, expected a splib07 header line and values")
     header = lines[0].strip()
     if _is_number(header) or not header:
-        raise ModelFileError(f"{path}, line 1: expected the splib07 header line "
-                             f"(e.g. 'splib07a Record=...: <title>'), found {lines[0]!r}")
+        raise ModelFileError(
+            f"{path}, line 1: expected the splib07 header line "
+            f"(e.g. 'splib07a Record=...: <title>'), found {lines[0]!r}"
+        )
     values = np.empty(len(lines) - 1)
     for i, line in enumerate(lines[1:]):
         try:
             value = float(line)
         except ValueError:
-            raise ModelFileError(f"{path}, line {i + 2}: expected one number per line, "
-                                 f"found {line!r}") from None
+            raise ModelFileError(f"{path}, line {i + 2}: expected one number per line, found {line!r}") from None
         if not math.isfinite(value):
-            raise ModelFileError(f"{path}, line {i + 2}: non-finite value {line.strip()!r} "
-                                 f"(splib07 marks deleted channels with -1.23e34)")
+            raise ModelFileError(
+                f"{path}, line {i + 2}: non-finite value {line.strip()!r} "
+                f"(splib07 marks deleted channels with -1.23e34)"
+            )
         values[i] = math.nan if value < _USGS_DELETED_BELOW else value
     if values.size == 0:
         raise ModelFileError(f"{path}: header line but no values")
@@ -114,7 +119,8 @@ def _find_wavelength_file(spectrum: Path, channels: int) -> Path:
             f"matching '*Wavelengths*' files in {spectrum.parent}: {found}. Pass "
             f"wavelengths=<path of the splib07 wavelength file> (e.g. "
             f"splib07a_Wavelengths_BECK_Beckman_0.2-3.0_microns.txt for 480 channels, "
-            f"splib07a_Wavelengths_ASD_0.35-2.5_microns_2151_ch.txt for 2151)")
+            f"splib07a_Wavelengths_ASD_0.35-2.5_microns_2151_ch.txt for 2151)"
+        )
     return matches[0]
 
 
@@ -159,26 +165,24 @@ def read_usgs(path, wavelengths=None) -> xr.DataArray:
     """
     path = Path(os.fspath(path))
     header, values = _read_usgs_column(path)
-    wavelength_path = (_find_wavelength_file(path, values.size) if wavelengths is None
-                       else Path(os.fspath(wavelengths)))
+    wavelength_path = _find_wavelength_file(path, values.size) if wavelengths is None else Path(os.fspath(wavelengths))
     _, wavelength_um = _read_usgs_column(wavelength_path)
     if wavelength_um.size != values.size:
-        raise ModelFileError(f"{path}: {values.size} channels, but the wavelength file "
-                             f"{wavelength_path} has {wavelength_um.size}")
+        raise ModelFileError(
+            f"{path}: {values.size} channels, but the wavelength file {wavelength_path} has {wavelength_um.size}"
+        )
     if np.any(np.isnan(wavelength_um)):
         line = int(np.flatnonzero(np.isnan(wavelength_um))[0]) + 2
         raise ModelFileError(f"{wavelength_path}, line {line}: deleted value in a wavelength file")
     steps = np.diff(wavelength_um)
     if np.any(steps <= 0):
         line = int(np.flatnonzero(steps <= 0)[0]) + 3
-        raise ModelFileError(f"{wavelength_path}, line {line}: wavelengths are not strictly "
-                             f"increasing")
+        raise ModelFileError(f"{wavelength_path}, line {line}: wavelengths are not strictly increasing")
     wavelength_nm = wavelength_um * 1000.0  # splib07 wavelength files are in micrometres
     return xr.DataArray(
         values,
         dims="wavelength",
-        coords={"wavelength": ("wavelength", wavelength_nm,
-                               {"units": "nm", "long_name": "vacuum wavelength"})},
+        coords={"wavelength": ("wavelength", wavelength_nm, {"units": "nm", "long_name": "vacuum wavelength"})},
         name="reflectance",
         attrs={
             "title": " ".join(header.split()),
@@ -253,8 +257,10 @@ def read_csv(path) -> xr.DataArray:
             continue
         fields = _split(line)
         if len(fields) != 2:
-            raise ModelFileError(f"{path}, line {lineno}: expected 2 columns (wavelength_nm, "
-                                 f"reflectance), found {len(fields)} in {raw!r}")
+            raise ModelFileError(
+                f"{path}, line {lineno}: expected 2 columns (wavelength_nm, "
+                f"reflectance), found {len(fields)} in {raw!r}"
+            )
         if not rows and header is None and not _is_number(fields[0]):
             header = fields
             continue
@@ -262,13 +268,13 @@ def read_csv(path) -> xr.DataArray:
             wavelength = float(fields[0])
             reflectance = float(fields[1]) if fields[1] else math.nan
         except ValueError:
-            raise ModelFileError(f"{path}, line {lineno}: expected two numbers, found "
-                                 f"{raw!r}") from None
+            raise ModelFileError(f"{path}, line {lineno}: expected two numbers, found {raw!r}") from None
         if not math.isfinite(wavelength):
             raise ModelFileError(f"{path}, line {lineno}: wavelength {fields[0]!r} is not finite")
         if rows and wavelength <= rows[-1][1]:
-            raise ModelFileError(f"{path}, line {lineno}: wavelengths are not strictly "
-                                 f"increasing ({wavelength:g} after {rows[-1][1]:g})")
+            raise ModelFileError(
+                f"{path}, line {lineno}: wavelengths are not strictly increasing ({wavelength:g} after {rows[-1][1]:g})"
+            )
         rows.append((lineno, wavelength, reflectance))
     if not rows:
         raise ModelFileError(f"{path}: no data rows (empty file or only comments/header)")
@@ -279,9 +285,11 @@ def read_csv(path) -> xr.DataArray:
     if re.search(r"(\bum\b|_um\b|µm|micron)", first_name):
         wavelength = wavelength * 1000.0
     elif wavelength.max() < 100.0:
-        raise ModelFileError(f"{path}: wavelengths end at {wavelength.max():g}, which looks like "
-                             f"micrometres; convert to nm or name the first column "
-                             f"'wavelength_um'")
+        raise ModelFileError(
+            f"{path}: wavelengths end at {wavelength.max():g}, which looks like "
+            f"micrometres; convert to nm or name the first column "
+            f"'wavelength_um'"
+        )
 
     finite = reflectance[np.isfinite(reflectance)]
     if finite.size == 0:
@@ -290,16 +298,17 @@ def read_csv(path) -> xr.DataArray:
     peak = float(np.max(finite))
     if peak > _PERCENT_MAX:
         line = rows[int(np.nanargmax(reflectance))][0]
-        raise ModelFileError(f"{path}, line {line}: reflectance {peak:g} exceeds {_PERCENT_MAX:g};"
-                             f" expected a fraction (0-1) or percent (0-100)")
+        raise ModelFileError(
+            f"{path}, line {line}: reflectance {peak:g} exceeds {_PERCENT_MAX:g};"
+            f" expected a fraction (0-1) or percent (0-100)"
+        )
     scale = "percent" if (says_percent or peak > _FRACTION_MAX) else "fraction"
     if scale == "percent":
         reflectance = reflectance / 100.0
     return xr.DataArray(
         reflectance,
         dims="wavelength",
-        coords={"wavelength": ("wavelength", wavelength,
-                               {"units": "nm", "long_name": "vacuum wavelength"})},
+        coords={"wavelength": ("wavelength", wavelength, {"units": "nm", "long_name": "vacuum wavelength"})},
         name="reflectance",
         attrs={
             "title": path.stem,
@@ -356,13 +365,12 @@ def usgs_library(stem: str, root=None) -> Path:
         `stem` is empty or matches several spectra (the message lists them).
     """
     if not isinstance(stem, str) or not stem.strip():
-        raise ParameterError("stem", stem, "a splib07a spectrum name such as "
-                             "'Quartz_GDS74_Sand_Ottawa_BECKc_AREF'")
+        raise ParameterError("stem", stem, "a splib07a spectrum name such as 'Quartz_GDS74_Sand_Ottawa_BECKc_AREF'")
     stem = stem.strip()
     if stem.startswith("splib07a_"):
-        stem = stem[len("splib07a_"):]
+        stem = stem[len("splib07a_") :]
     if stem.endswith(".txt"):
-        stem = stem[:-len(".txt")]
+        stem = stem[: -len(".txt")]
     if root is not None:
         root = Path(os.fspath(root))
         folders = [root, root / "ascii"]
@@ -377,12 +385,17 @@ def usgs_library(stem: str, root=None) -> Path:
         exact = folder / f"splib07a_{stem}.txt"
         if exact.is_file():
             return exact
-        matches = [p for p in sorted(folder.glob(f"splib07a_{glob.escape(stem)}*.txt"))
-                   if "Wavelengths" not in p.name and "Bandpass" not in p.name]
+        matches = [
+            p
+            for p in sorted(folder.glob(f"splib07a_{glob.escape(stem)}*.txt"))
+            if "Wavelengths" not in p.name and "Bandpass" not in p.name
+        ]
         if len(matches) == 1:
             return matches[0]
         if len(matches) > 1:
-            raise ParameterError("stem", stem, "a name matching one spectrum; in "
-                                 f"{folder} it matches " + ", ".join(p.name for p in matches))
-    raise FileNotFoundError(f"no splib07a spectrum named {stem!r} in "
-                            + ", ".join(str(f) for f in folders))
+            raise ParameterError(
+                "stem",
+                stem,
+                f"a name matching one spectrum; in {folder} it matches " + ", ".join(p.name for p in matches),
+            )
+    raise FileNotFoundError(f"no splib07a spectrum named {stem!r} in " + ", ".join(str(f) for f in folders))

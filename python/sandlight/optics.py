@@ -61,14 +61,16 @@ MATERIALS: tuple[str, ...] = ("quartz", "hematite", "goethite", "magnetite", "ka
 
 WAVELENGTH_RANGE_NM: tuple[float, float] = (350.0, 2500.0)
 
-DENSITY_G_CM3 = MappingProxyType({
-    "quartz": 2.65,
-    "hematite": 5.26,
-    "goethite": 4.27,
-    "magnetite": 5.18,
-    "kaolinite": 2.63,
-    "water": 1.00,
-})
+DENSITY_G_CM3 = MappingProxyType(
+    {
+        "quartz": 2.65,
+        "hematite": 5.26,
+        "goethite": 4.27,
+        "magnetite": 5.18,
+        "kaolinite": 2.63,
+        "water": 1.00,
+    }
+)
 """Density of each material in g cm⁻³ (read-only mapping).
 
 Mineral (grain) densities, not bulk densities of a packed sand. Quartz 2.65, hematite 5.26,
@@ -78,8 +80,18 @@ Mineralogy, measured 4.28); liquid water 1.00 g cm⁻³ (0.998 at 20 °C, a
 difference below the accuracy of any sample's water content).
 """
 
-_HEADER_KEYS = ("material", "description", "status", "source", "origin", "licence", "units",
-                "sampling", "method", "built_by")
+_HEADER_KEYS = (
+    "material",
+    "description",
+    "status",
+    "source",
+    "origin",
+    "licence",
+    "units",
+    "sampling",
+    "method",
+    "built_by",
+)
 _COLUMNS = "wavelength_nm,n,k"
 
 
@@ -91,14 +103,12 @@ def _check_material(material) -> str:
 
 def _check_wavelengths(wavelengths_nm) -> np.ndarray:
     """Wavelengths as a float array, every value finite and inside WAVELENGTH_RANGE_NM."""
-    allowed = (f"finite vacuum wavelengths in nm within [{WAVELENGTH_RANGE_NM[0]:g}, "
-               f"{WAVELENGTH_RANGE_NM[1]:g}]")
+    allowed = f"finite vacuum wavelengths in nm within [{WAVELENGTH_RANGE_NM[0]:g}, {WAVELENGTH_RANGE_NM[1]:g}]"
     try:
         wavelengths = np.asarray(wavelengths_nm, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError("wavelengths_nm", wavelengths_nm, allowed) from None
-    bad = ~np.isfinite(wavelengths) | (wavelengths < WAVELENGTH_RANGE_NM[0]) | (
-        wavelengths > WAVELENGTH_RANGE_NM[1])
+    bad = ~np.isfinite(wavelengths) | (wavelengths < WAVELENGTH_RANGE_NM[0]) | (wavelengths > WAVELENGTH_RANGE_NM[1])
     if np.any(bad):
         # Name the first offending value: an array of thousands of wavelengths is not readable.
         first = wavelengths[bad].flat[0]
@@ -107,7 +117,7 @@ def _check_wavelengths(wavelengths_nm) -> np.ndarray:
     return wavelengths
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _load(material: str):
     """Parse a shipped table once: (header entries, wavelength, n, k), arrays read-only."""
     resource = resources.files("sandlight").joinpath("data", "optical", f"{material}.csv")
@@ -127,15 +137,15 @@ def _load(material: str):
             continue
         if not seen_columns:
             if line.strip() != _COLUMNS:
-                raise ModelFileError(f"{name}, line {lineno}: expected the column line "
-                                     f"{_COLUMNS!r}, found {line!r}")
+                raise ModelFileError(f"{name}, line {lineno}: expected the column line {_COLUMNS!r}, found {line!r}")
             seen_columns = True
             continue
         try:
             w, n, k = (float(x) for x in line.split(","))
         except ValueError:
-            raise ModelFileError(f"{name}, line {lineno}: expected three numbers "
-                                 f"wavelength_nm,n,k, found {line!r}") from None
+            raise ModelFileError(
+                f"{name}, line {lineno}: expected three numbers wavelength_nm,n,k, found {line!r}"
+            ) from None
         rows.append((w, n, k))
     data = np.array(rows, dtype=float).reshape(-1, 3)
     keys = {key for key, _ in header}
@@ -169,7 +179,7 @@ def _interpolate_k(wavelengths: np.ndarray, grid: np.ndarray, k: np.ndarray) -> 
     both = (k0 > 0) & (k1 > 0)
     # k0 (k1/k0)^t is exp of the linear interpolation of log k; guarded where a value is 0.
     ratio = np.where(both, k1, 1.0) / np.where(both, k0, 1.0)
-    return np.where(both, k0 * ratio ** t, k0 + t * (k1 - k0))
+    return np.where(both, k0 * ratio**t, k0 + t * (k1 - k0))
 
 
 def complex_index(material: str, wavelengths_nm) -> np.ndarray:
@@ -212,8 +222,7 @@ def complex_index(material: str, wavelengths_nm) -> np.ndarray:
     wavelengths = _check_wavelengths(wavelengths_nm)
     _, grid, n, k = _load(material)
     flat = wavelengths.ravel()
-    result = (np.interp(flat, grid, n) + 1j * _interpolate_k(flat, grid, k)).reshape(
-        wavelengths.shape)
+    result = (np.interp(flat, grid, n) + 1j * _interpolate_k(flat, grid, k)).reshape(wavelengths.shape)
     return result[()] if result.ndim == 0 else result
 
 
@@ -310,17 +319,20 @@ def table(material: str) -> xr.Dataset:
     attrs: dict[str, str] = {}
     for key, value in header:
         attrs[key] = f"{attrs[key]}\n{value}" if key in attrs else value
-    wavelength = xr.DataArray(grid.copy(), dims="wavelength",
-                              attrs={"units": "nm", "long_name": "vacuum wavelength"})
+    wavelength = xr.DataArray(grid.copy(), dims="wavelength", attrs={"units": "nm", "long_name": "vacuum wavelength"})
     return xr.Dataset(
         {
-            "n": ("wavelength", n.copy(),
-                  {"units": "1", "long_name": "real part of the complex refractive index"}),
-            "k": ("wavelength", k.copy(),
-                  {"units": "1", "long_name": "imaginary part of the complex refractive index"}),
-            "absorption_coefficient": ("wavelength", 4.0 * math.pi * k / (grid * 1e-6),
-                                       {"units": "mm-1", "long_name": "absorption coefficient "
-                                        "4 pi k / lambda"}),
+            "n": ("wavelength", n.copy(), {"units": "1", "long_name": "real part of the complex refractive index"}),
+            "k": (
+                "wavelength",
+                k.copy(),
+                {"units": "1", "long_name": "imaginary part of the complex refractive index"},
+            ),
+            "absorption_coefficient": (
+                "wavelength",
+                4.0 * math.pi * k / (grid * 1e-6),
+                {"units": "mm-1", "long_name": "absorption coefficient 4 pi k / lambda"},
+            ),
         },
         coords={"wavelength": wavelength},
         attrs=attrs,

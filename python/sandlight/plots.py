@@ -5,7 +5,9 @@ from __future__ import annotations
 import numpy as np
 
 
-def plot_spectrum(wavelengths_nm, values, stderr, path, *, title=None, label="sandlight (Monte Carlo)", others=()) -> None:
+def plot_spectrum(
+    wavelengths_nm, values, stderr, path, *, title=None, label="sandlight (Monte Carlo)", others=()
+) -> None:
     """Reflectance vs wavelength with a ±2 standard-error band, to a PNG written atomically.
 
     ``others`` is a sequence of (wavelengths_nm, values, label) curves drawn for comparison.

@@ -24,11 +24,12 @@ import json
 import math
 import numbers
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass
 from importlib import resources
 from os import PathLike
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
 
 from sandlight.errors import ModelFileError, ParameterError
 
@@ -111,43 +112,63 @@ class Parameter:
 
 
 PARAMETERS: tuple[Parameter, ...] = (
-    Parameter("iron_oxide", "", 0.01, 0.0, 0.10,
-              "hematite + goethite, mass fraction of the solids"),
-    Parameter("hematite_ratio", "", 0.5, 0.0, 1.0,
-              "hematite / (hematite + goethite), by mass"),
-    Parameter("magnetite", "", 0.0, 0.0, 0.05,
-              "magnetite (separate opaque grains), mass fraction of the solids"),
-    Parameter("iron_oxide_form", "", "coating", None, None,
-              "where the iron oxide sits: 'coating' (in a kaolinite matrix around the grains), "
-              "'mixed' (dispersed inside the quartz grains), 'particles' (separate fine particles)",
-              kind="choice", choices=("coating", "mixed", "particles")),
-    Parameter("coating_iron_share", "", 0.2, 0.01, 1.0,
-              "volume fraction of iron oxide in the coating (the rest is kaolinite)"),
-    Parameter("saturation", "", 0.0, 0.0, 1.0,
-              "degree of saturation: fraction of the pore volume filled with water"),
-    Parameter("film_saturation", "", 0.15, 0.0, 1.0,
-              "degree of saturation up to which water sits as films on the grains "
-              "before pores start to fill", added=True),
+    Parameter("iron_oxide", "", 0.01, 0.0, 0.10, "hematite + goethite, mass fraction of the solids"),
+    Parameter("hematite_ratio", "", 0.5, 0.0, 1.0, "hematite / (hematite + goethite), by mass"),
+    Parameter("magnetite", "", 0.0, 0.0, 0.05, "magnetite (separate opaque grains), mass fraction of the solids"),
+    Parameter(
+        "iron_oxide_form",
+        "",
+        "coating",
+        None,
+        None,
+        "where the iron oxide sits: 'coating' (in a kaolinite matrix around the grains), "
+        "'mixed' (dispersed inside the quartz grains), 'particles' (separate fine particles)",
+        kind="choice",
+        choices=("coating", "mixed", "particles"),
+    ),
+    Parameter(
+        "coating_iron_share", "", 0.2, 0.01, 1.0, "volume fraction of iron oxide in the coating (the rest is kaolinite)"
+    ),
+    Parameter("saturation", "", 0.0, 0.0, 1.0, "degree of saturation: fraction of the pore volume filled with water"),
+    Parameter(
+        "film_saturation",
+        "",
+        0.15,
+        0.0,
+        1.0,
+        "degree of saturation up to which water sits as films on the grains before pores start to fill",
+        added=True,
+    ),
     # The separates' single domains follow from the USDA 'sand' class with sand + silt +
     # clay = 1: sand >= 0.85, silt <= 0.15, 1.5 clay <= 0.15. The joint rule is checked too.
-    Parameter("sand", "", 0.95, 0.85, 1.0,
-              "USDA sand separate (0.05-2 mm), mass fraction of the host solids"),
-    Parameter("silt", "", 0.04, 0.0, 0.15,
-              "USDA silt separate (0.002-0.05 mm), mass fraction of the host solids"),
-    Parameter("clay", "", 0.01, 0.0, 0.10,
-              "USDA clay separate (< 0.002 mm), mass fraction of the host solids"),
-    Parameter("grain_size", "mm", 0.25, 0.05, 2.0,
-              "median diameter (by mass) of the sand-sized grains"),
-    Parameter("grain_size_spread", "", 1.4, 1.0, 3.0,
-              "geometric standard deviation of the sand grain size distribution"),
-    Parameter("aspect_ratio", "", 1.4, 1.0, 3.0,
-              "major / minor axis ratio of the prolate spheroid grains"),
-    Parameter("porosity", "", 0.40, 0.25, 0.55,
-              "pore volume fraction of the sample"),
-    Parameter("iron_oxide_particle_size_um", "µm", 1.0, 0.1, 50.0,
-              "diameter of the separate iron-oxide particles (form 'particles')", added=True),
-    Parameter("depth_mm", "mm", math.inf, 0.0, math.inf,
-              "sample thickness; inf means a semi-infinite sample", low_open=True, added=True),
+    Parameter("sand", "", 0.95, 0.85, 1.0, "USDA sand separate (0.05-2 mm), mass fraction of the host solids"),
+    Parameter("silt", "", 0.04, 0.0, 0.15, "USDA silt separate (0.002-0.05 mm), mass fraction of the host solids"),
+    Parameter("clay", "", 0.01, 0.0, 0.10, "USDA clay separate (< 0.002 mm), mass fraction of the host solids"),
+    Parameter("grain_size", "mm", 0.25, 0.05, 2.0, "median diameter (by mass) of the sand-sized grains"),
+    Parameter(
+        "grain_size_spread", "", 1.4, 1.0, 3.0, "geometric standard deviation of the sand grain size distribution"
+    ),
+    Parameter("aspect_ratio", "", 1.4, 1.0, 3.0, "major / minor axis ratio of the prolate spheroid grains"),
+    Parameter("porosity", "", 0.40, 0.25, 0.55, "pore volume fraction of the sample"),
+    Parameter(
+        "iron_oxide_particle_size_um",
+        "µm",
+        1.0,
+        0.1,
+        50.0,
+        "diameter of the separate iron-oxide particles (form 'particles')",
+        added=True,
+    ),
+    Parameter(
+        "depth_mm",
+        "mm",
+        math.inf,
+        0.0,
+        math.inf,
+        "sample thickness; inf means a semi-infinite sample",
+        low_open=True,
+        added=True,
+    ),
 )
 
 _BY_NAME: dict[str, Parameter] = {p.name: p for p in PARAMETERS}
@@ -167,8 +188,7 @@ def _default(name: str) -> Any:
 
 
 def _unknown_key_error(key: Any, value: Any) -> ParameterError:
-    return ParameterError(str(key), value, "not a sample parameter; allowed keys: preset, "
-                          + ", ".join(_NAMES))
+    return ParameterError(str(key), value, "not a sample parameter; allowed keys: preset, " + ", ".join(_NAMES))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -253,17 +273,20 @@ class SandSample:
         # The sums are rounded to 12 digits for the message only (0.19, not 0.19000000000000003).
         total = self.sand + self.silt + self.clay
         if abs(total - 1.0) > SEPARATES_TOLERANCE:
-            raise ParameterError("sand + silt + clay", round(total, 12),
-                                 f"1 within {SEPARATES_TOLERANCE:g} (mass fractions; {given})")
+            raise ParameterError(
+                "sand + silt + clay", round(total, 12), f"1 within {SEPARATES_TOLERANCE:g} (mass fractions; {given})"
+            )
         # USDA texture triangle, 'sand' class: silt + 1.5 clay <= 15 % (sand >= 85 % is the
         # domain of `sand`). Both are needed: sand = 0.86, clay = 0.10 passes the first only.
         silt_clay = self.silt + 1.5 * self.clay
         if silt_clay > _USDA_SILT_CLAY_MAX + SEPARATES_TOLERANCE:
             raise ParameterError(
-                "silt + 1.5·clay", round(silt_clay, 12),
+                "silt + 1.5·clay",
+                round(silt_clay, 12),
                 f"<= {_USDA_SILT_CLAY_MAX:g} for the USDA 'sand' class "
                 f"(sand >= {_USDA_SAND_MIN:g} and silt + 1.5·clay <= {_USDA_SILT_CLAY_MAX:g}; "
-                f"{given})")
+                f"{given})",
+            )
 
     # -- construction -----------------------------------------------------------------------
 
@@ -319,25 +342,23 @@ class SandSample:
         path = Path(path)
         suffix = path.suffix.lower()
         if suffix not in (".toml", ".json"):
-            raise ModelFileError(f"{path}: cannot tell the format of a sample file from the "
-                                 f"suffix {path.suffix!r}; use .toml or .json")
+            raise ModelFileError(
+                f"{path}: cannot tell the format of a sample file from the suffix {path.suffix!r}; use .toml or .json"
+            )
         raw = path.read_bytes()
         try:
             text = raw.decode("utf-8")
-            if suffix == ".toml":
-                doc = tomllib.loads(text)
-            else:
-                doc = json.loads(text) if text.strip() else {}
+            doc = tomllib.loads(text) if suffix == ".toml" else json.loads(text) if text.strip() else {}
         except (UnicodeDecodeError, tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
             raise ModelFileError(f"{path}: not a valid {suffix[1:].upper()} file: {exc}") from exc
         if not isinstance(doc, dict):
-            raise ModelFileError(f"{path}: expected a table of sample parameters at the top "
-                                 f"level, found a {type(doc).__name__}")
+            raise ModelFileError(
+                f"{path}: expected a table of sample parameters at the top level, found a {type(doc).__name__}"
+            )
         if "sample" in doc:
             for key, value in doc.items():
                 if key != "sample":
-                    raise ParameterError(str(key), value, f"no keys are allowed outside the "
-                                         f"[sample] table (in {path})")
+                    raise ParameterError(str(key), value, f"no keys are allowed outside the [sample] table (in {path})")
             doc = doc["sample"]
         try:
             return cls.from_dict(doc)
@@ -361,8 +382,11 @@ class SandSample:
     @staticmethod
     def presets() -> tuple[str, ...]:
         """Names of the shipped presets, sorted."""
-        return tuple(sorted(entry.name.removesuffix(".toml") for entry in _preset_dir().iterdir()
-                            if entry.name.endswith(".toml")))
+        return tuple(
+            sorted(
+                entry.name.removesuffix(".toml") for entry in _preset_dir().iterdir() if entry.name.endswith(".toml")
+            )
+        )
 
     def replace(self, **changes: Any) -> SandSample:
         """A copy with some parameters changed (and validated again)."""

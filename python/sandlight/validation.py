@@ -52,19 +52,32 @@ import math
 import os
 import re
 import time
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping, Sequence
 
 import numpy as np
 
 from sandlight.errors import ParameterError
 
 __all__ = [
-    "SAMPLES", "TARGET_RMS", "BANDS_NM", "ValidationSample", "BandError", "ValidationResult",
-    "default_wavelengths_nm", "measured_on_grid", "band_error", "validate", "Variant",
-    "DIAGNOSTIC_VARIANTS", "run_variants", "powder_reflectance", "figure3_spectra",
-    "plot_figure3", "write_report",
+    "SAMPLES",
+    "TARGET_RMS",
+    "BANDS_NM",
+    "ValidationSample",
+    "BandError",
+    "ValidationResult",
+    "default_wavelengths_nm",
+    "measured_on_grid",
+    "band_error",
+    "validate",
+    "Variant",
+    "DIAGNOSTIC_VARIANTS",
+    "run_variants",
+    "powder_reflectance",
+    "figure3_spectra",
+    "plot_figure3",
+    "write_report",
 ]
 
 # Issue 3 §3: RMS reflectance error targets per band (band limits in nm, inclusive).
@@ -100,11 +113,17 @@ class ValidationSample:
 
 SAMPLES: tuple[ValidationSample, ...] = (
     ValidationSample(
-        "Hematite.02+Quartz.98_GDS76", "Hematite.02+Quartz.98_GDS76_BECKa_AREF", "gds76-hematite-quartz",
-        "Hematite GDS27 2 wt% + 98 wt% pure crystal quartz (< 250 µm), intimate laboratory mixture"),
+        "Hematite.02+Quartz.98_GDS76",
+        "Hematite.02+Quartz.98_GDS76_BECKa_AREF",
+        "gds76-hematite-quartz",
+        "Hematite GDS27 2 wt% + 98 wt% pure crystal quartz (< 250 µm), intimate laboratory mixture",
+    ),
     ValidationSample(
-        "Quartz_GDS74_Sand_Ottawa", "Quartz_GDS74_Sand_Ottawa_BECKc_AREF", "ottawa-gds74",
-        "pure commercial quartz sand, Ottawa; grain size not stated"),
+        "Quartz_GDS74_Sand_Ottawa",
+        "Quartz_GDS74_Sand_Ottawa_BECKc_AREF",
+        "ottawa-gds74",
+        "pure commercial quartz sand, Ottawa; grain size not stated",
+    ),
 )
 
 
@@ -120,8 +139,9 @@ def default_wavelengths_nm() -> np.ndarray:
     return np.concatenate([np.arange(400.0, 701.0, 10.0), np.arange(750.0, 2501.0, 50.0)])
 
 
-def measured_on_grid(spectrum, wavelengths_nm, *, half_window_nm: float = HALF_WINDOW_NM,
-                     max_gap_nm: float = MAX_GAP_NM) -> np.ndarray:
+def measured_on_grid(
+    spectrum, wavelengths_nm, *, half_window_nm: float = HALF_WINDOW_NM, max_gap_nm: float = MAX_GAP_NM
+) -> np.ndarray:
     """A measured spectrum at the model's wavelengths.
 
     Parameters
@@ -157,7 +177,7 @@ def measured_on_grid(spectrum, wavelengths_nm, *, half_window_nm: float = HALF_W
             continue
         j = int(np.searchsorted(w, lam))
         if 0 < j < w.size and w[j] - w[j - 1] <= max_gap_nm:
-            out[i] = np.interp(lam, w[j - 1:j + 1], v[j - 1:j + 1])
+            out[i] = np.interp(lam, w[j - 1 : j + 1], v[j - 1 : j + 1])
     return out
 
 
@@ -204,8 +224,9 @@ class BandError:
         return "met" if self.rms < self.target_rms else "missed"
 
 
-def band_error(wavelengths_nm, model, stderr, measured, band: str, low_nm: float, high_nm: float,
-               target_rms: float = math.nan) -> BandError:
+def band_error(
+    wavelengths_nm, model, stderr, measured, band: str, low_nm: float, high_nm: float, target_rms: float = math.nan
+) -> BandError:
     """Errors of ``model`` (± ``stderr``) against ``measured`` over [low_nm, high_nm].
 
     Wavelengths where the measurement is NaN are left out. Raises ``ParameterError`` if no
@@ -214,8 +235,9 @@ def band_error(wavelengths_nm, model, stderr, measured, band: str, low_nm: float
     wl = np.asarray(wavelengths_nm, dtype=float)
     sel = (wl >= low_nm) & (wl <= high_nm) & np.isfinite(measured)
     if not sel.any():
-        raise ParameterError("wavelengths_nm", f"{wl.min():g}–{wl.max():g} nm",
-                             f"at least one wavelength with a measurement in {band}")
+        raise ParameterError(
+            "wavelengths_nm", f"{wl.min():g}–{wl.max():g} nm", f"at least one wavelength with a measurement in {band}"
+        )
     d = np.asarray(model, dtype=float)[sel] - np.asarray(measured, dtype=float)[sel]
     s = np.asarray(stderr, dtype=float)[sel]
     n = d.size
@@ -223,8 +245,19 @@ def band_error(wavelengths_nm, model, stderr, measured, band: str, low_nm: float
     # δRMS ≤ Σ|dᵢ|σᵢ/(n RMS) for any correlation between wavelengths (module docstring).
     rms_mc = float(np.sum(np.abs(d) * s) / (n * rms)) if rms > 0 else float(np.max(s))
     i = int(np.argmax(np.abs(d)))
-    return BandError(band, low_nm, high_nm, n, rms, rms_mc, float(abs(d[i])), float(s[i]),
-                     float(wl[sel][i]), float(np.mean(d)), target_rms)
+    return BandError(
+        band,
+        low_nm,
+        high_nm,
+        n,
+        rms,
+        rms_mc,
+        float(abs(d[i])),
+        float(s[i]),
+        float(wl[sel][i]),
+        float(np.mean(d)),
+        target_rms,
+    )
 
 
 @dataclass(frozen=True)
@@ -274,10 +307,14 @@ class ValidationResult:
         meas = self.spectrum[sel]
         errs = ", ".join(f"RMS {b} = {e.rms:.3f}" for b, e in self.errors.items())
         _plot_curves(
-            path, self.wavelengths_nm, self.model, self.model_stderr,
+            path,
+            self.wavelengths_nm,
+            self.model,
+            self.model_stderr,
             model_label=f"sandlight ({self.label}, {self.rays:,} rays/λ)",
             others=[(meas["wavelength"].values, meas.values, f"measured: USGS {self.sample.spectrum}", "k")],
-            title=title or f"{self.sample.name}\n{errs}")
+            title=title or f"{self.sample.name}\n{errs}",
+        )
 
 
 def _plot_curves(path, wl, values, stderr, *, model_label, others, title) -> None:
@@ -293,8 +330,15 @@ def _plot_curves(path, wl, values, stderr, *, model_label, others, title) -> Non
     fig, ax = plt.subplots(figsize=(7.5, 4.2), dpi=120)
     ax.axvspan(400, 700, color="0.93", lw=0, label="400–700 nm")
     ax.plot(wl, values, "-o", ms=2.5, color="C3", label=model_label)
-    ax.fill_between(wl, values - 2 * stderr, values + 2 * stderr, color="C3", alpha=0.3, lw=0,
-                    label="±2 Monte Carlo standard errors")
+    ax.fill_between(
+        wl,
+        values - 2 * stderr,
+        values + 2 * stderr,
+        color="C3",
+        alpha=0.3,
+        lw=0,
+        label="±2 Monte Carlo standard errors",
+    )
     top = float(np.nanmax(values + 2 * stderr))
     for w2, v2, lab, colour in others:
         ax.plot(w2, v2, "-", lw=1, color=colour, label=lab)
@@ -314,10 +358,13 @@ def _plot_curves(path, wl, values, stderr, *, model_label, others, title) -> Non
 
 def _score(sample, label, wl, model, stderr, spectrum, rays, seed, elapsed, sample_values) -> ValidationResult:
     measured = measured_on_grid(spectrum, wl)
-    errors = {b: band_error(wl, model, stderr, measured, b, lo, hi, TARGET_RMS.get(b, math.nan))
-              for b, (lo, hi) in BANDS_NM.items()}
-    return ValidationResult(sample, label, wl, model, stderr, measured, spectrum, errors, rays, seed, elapsed,
-                            sample_values)
+    errors = {
+        b: band_error(wl, model, stderr, measured, b, lo, hi, TARGET_RMS.get(b, math.nan))
+        for b, (lo, hi) in BANDS_NM.items()
+    }
+    return ValidationResult(
+        sample, label, wl, model, stderr, measured, spectrum, errors, rays, seed, elapsed, sample_values
+    )
 
 
 def _measured_spectrum(sample: ValidationSample):
@@ -326,8 +373,9 @@ def _measured_spectrum(sample: ValidationSample):
     return read_usgs(usgs_library(sample.spectrum))
 
 
-def validate(samples: Sequence[str] | None = None, *, rays, wavelengths_nm=None, seed: int = 0,
-             progress: bool = False) -> list[ValidationResult]:
+def validate(
+    samples: Sequence[str] | None = None, *, rays, wavelengths_nm=None, seed: int = 0, progress: bool = False
+) -> list[ValidationResult]:
     """Runs the model for measured samples and scores it against their spectra.
 
     Parameters
@@ -362,12 +410,25 @@ def validate(samples: Sequence[str] | None = None, *, rays, wavelengths_nm=None,
         spectrum = _measured_spectrum(s)
         start = time.perf_counter()
         r = reflectance(sample, wl, rays=rays, seed=seed, progress=progress)
-        results.append(_score(s, f"preset {s.preset}", r.wavelengths, r.values, r.stderr, spectrum, r.rays, seed,
-                              time.perf_counter() - start, sample.to_dict()))
+        results.append(
+            _score(
+                s,
+                f"preset {s.preset}",
+                r.wavelengths,
+                r.values,
+                r.stderr,
+                spectrum,
+                r.rays,
+                seed,
+                time.perf_counter() - start,
+                sample.to_dict(),
+            )
+        )
     return results
 
 
 # --- Diagnostic variants: one physical change at a time ---------------------------------------
+
 
 @dataclass(frozen=True)
 class Variant:
@@ -411,30 +472,56 @@ _GDS76 = SAMPLES[0].name
 _OTTAWA = SAMPLES[1].name
 
 DIAGNOSTIC_VARIANTS: tuple[Variant, ...] = (
-    Variant(_GDS76, "no hematite (the quartz host alone)",
-            "ceiling: what the quartz host gives with no absorber", {"iron_oxide": 0.0}),
-    Variant(_GDS76, "hematite k × 0.2 at λ ≥ 580 nm",
-            "hematite's absorption edge is steeper than the log-linear join of Querry and Longtin",
-            k_factor={"hematite": 0.2}, k_factor_from_nm=580.0),
-    Variant(_GDS76, "hematite particles 1 µm",
-            "finer primary hematite grains (more cross-section per mass)", {"iron_oxide_particle_size_um": 1.0}),
-    Variant(_GDS76, "hematite particles 10 µm",
-            "partial aggregation of the 2–3 µm hematite grains", {"iron_oxide_particle_size_um": 10.0}),
-    Variant(_GDS76, "hematite as a uniform coating",
-            "the hematite smeared over the quartz grains instead of separate particles",
-            {"iron_oxide_form": "coating", "coating_iron_share": 1.0}),
-    Variant(_GDS76, "no silt (fines)",
-            "fewer quartz fines", {"sand": 1.0, "silt": 0.0}),
-    Variant(_GDS76, "quartz host + 1 cm⁻¹",
-            "absorption of the quartz host (impurities)", extra_alpha_per_cm={"quartz": 1.0}),
+    Variant(
+        _GDS76,
+        "no hematite (the quartz host alone)",
+        "ceiling: what the quartz host gives with no absorber",
+        {"iron_oxide": 0.0},
+    ),
+    Variant(
+        _GDS76,
+        "hematite k × 0.2 at λ ≥ 580 nm",
+        "hematite's absorption edge is steeper than the log-linear join of Querry and Longtin",
+        k_factor={"hematite": 0.2},
+        k_factor_from_nm=580.0,
+    ),
+    Variant(
+        _GDS76,
+        "hematite particles 1 µm",
+        "finer primary hematite grains (more cross-section per mass)",
+        {"iron_oxide_particle_size_um": 1.0},
+    ),
+    Variant(
+        _GDS76,
+        "hematite particles 10 µm",
+        "partial aggregation of the 2–3 µm hematite grains",
+        {"iron_oxide_particle_size_um": 10.0},
+    ),
+    Variant(
+        _GDS76,
+        "hematite as a uniform coating",
+        "the hematite smeared over the quartz grains instead of separate particles",
+        {"iron_oxide_form": "coating", "coating_iron_share": 1.0},
+    ),
+    Variant(_GDS76, "no silt (fines)", "fewer quartz fines", {"sand": 1.0, "silt": 0.0}),
+    Variant(
+        _GDS76, "quartz host + 1 cm⁻¹", "absorption of the quartz host (impurities)", extra_alpha_per_cm={"quartz": 1.0}
+    ),
     Variant(_OTTAWA, "grain size 0.2 mm", "the unknown grade: finer sand", {"grain_size": 0.2}),
     Variant(_OTTAWA, "grain size 0.8 mm", "the unknown grade: coarser sand", {"grain_size": 0.8}),
     Variant(_OTTAWA, "depth 5 mm over a black bottom", "a shallow sample cup", {"depth_mm": 5.0}),
-    Variant(_OTTAWA, "quartz host + 1 cm⁻¹",
-            "grey absorption of the quartz host (inclusions, impurities)", extra_alpha_per_cm={"quartz": 1.0}),
-    Variant(_OTTAWA, "0.01 wt% iron oxide coating",
-            "trace iron staining (hematite/goethite 1:1 in the default kaolinite coating)",
-            {"iron_oxide": 0.0001, "hematite_ratio": 0.5, "iron_oxide_form": "coating"}),
+    Variant(
+        _OTTAWA,
+        "quartz host + 1 cm⁻¹",
+        "grey absorption of the quartz host (inclusions, impurities)",
+        extra_alpha_per_cm={"quartz": 1.0},
+    ),
+    Variant(
+        _OTTAWA,
+        "0.01 wt% iron oxide coating",
+        "trace iron staining (hematite/goethite 1:1 in the default kaolinite coating)",
+        {"iron_oxide": 0.0001, "hematite_ratio": 0.5, "iron_oxide_form": "coating"},
+    ),
 )
 
 
@@ -470,8 +557,14 @@ def _adjusted_optics(variant: Variant):
         medium.complex_index = original
 
 
-def run_variants(variants: Sequence[Variant] = DIAGNOSTIC_VARIANTS, *, rays, wavelengths_nm=None, seed: int = 0,
-                 progress: bool = False) -> list[ValidationResult]:
+def run_variants(
+    variants: Sequence[Variant] = DIAGNOSTIC_VARIANTS,
+    *,
+    rays,
+    wavelengths_nm=None,
+    seed: int = 0,
+    progress: bool = False,
+) -> list[ValidationResult]:
     """Runs and scores diagnostic variants (:class:`Variant`) like :func:`validate` does."""
     from sandlight.engine import reflectance
     from sandlight.sample import SandSample
@@ -487,15 +580,37 @@ def run_variants(variants: Sequence[Variant] = DIAGNOSTIC_VARIANTS, *, rays, wav
         start = time.perf_counter()
         with _adjusted_optics(v):
             r = reflectance(sample, wl, rays=rays, seed=seed, progress=progress)
-        results.append(_score(s, v.label, r.wavelengths, r.values, r.stderr, spectra[s.name], r.rays, seed,
-                              time.perf_counter() - start, sample.to_dict()))
+        results.append(
+            _score(
+                s,
+                v.label,
+                r.wavelengths,
+                r.values,
+                r.stderr,
+                spectra[s.name],
+                r.rays,
+                seed,
+                time.perf_counter() - start,
+                sample.to_dict(),
+            )
+        )
     return results
 
 
 # --- Pure powders and the paper's Figure 3 ------------------------------------------------------
 
-def powder_reflectance(material: str, diameter_um, wavelengths_nm, *, rays, porosity: float = 0.45,
-                       aspect_ratio: float = 1.0, seed: int = 0, progress: bool = False):
+
+def powder_reflectance(
+    material: str,
+    diameter_um,
+    wavelengths_nm,
+    *,
+    rays,
+    porosity: float = 0.45,
+    aspect_ratio: float = 1.0,
+    seed: int = 0,
+    progress: bool = False,
+):
     """Directional-hemispherical reflectance of a dry powder of one pure material.
 
     A :class:`~sandlight.SandSample` is a quartz sand with at most 10 wt% iron oxide, so it
@@ -526,8 +641,14 @@ def powder_reflectance(material: str, diameter_um, wavelengths_nm, *, rays, poro
     sandlight.ReflectanceResult
         Its ``sample`` attribute records the powder's description.
     """
-    from sandlight.engine import (ReflectanceResult, _check_rays, _check_seed, _check_wavelengths, _trace,
-                                  DEFAULT_MAX_EVENTS)
+    from sandlight.engine import (
+        DEFAULT_MAX_EVENTS,
+        ReflectanceResult,
+        _check_rays,
+        _check_seed,
+        _check_wavelengths,
+        _trace,
+    )
     from sandlight.optics import MATERIALS
     from sandlight.physics.composition import Composition, Population, _surface_per_volume
     from sandlight.physics.medium import native_medium
@@ -536,8 +657,12 @@ def powder_reflectance(material: str, diameter_um, wavelengths_nm, *, rays, poro
     if material not in MATERIALS:
         raise ParameterError("material", material, "one of " + ", ".join(MATERIALS))
     sizes_um = np.atleast_1d(np.asarray(diameter_um, dtype=float))
-    if sizes_um.size not in (1, 2) or not np.all(np.isfinite(sizes_um)) or np.any(sizes_um <= 0) or \
-            (sizes_um.size == 2 and sizes_um[1] <= sizes_um[0]):
+    if (
+        sizes_um.size not in (1, 2)
+        or not np.all(np.isfinite(sizes_um))
+        or np.any(sizes_um <= 0)
+        or (sizes_um.size == 2 and sizes_um[1] <= sizes_um[0])
+    ):
         raise ParameterError("diameter_um", diameter_um, "a diameter > 0 µm, or (d_min, d_max) with 0 < d_min < d_max")
     if not (0.0 < porosity < 1.0):
         raise ParameterError("porosity", porosity, "a number in (0, 1)")
@@ -556,16 +681,38 @@ def powder_reflectance(material: str, diameter_um, wavelengths_nm, *, rays, poro
     # Mean free path in the pore space ℓ = 4φ / [(1 − φ) ⟨S⟩/⟨V⟩] (splits-model.md §2.1).
     comp = Composition((pop,), porosity, 4.0 * porosity / ((1.0 - porosity) * sv), 0.0, 0.0, math.inf)
     start = time.perf_counter()
-    rows = [_trace(native_medium(comp, float(lam)), rays=rays, incidence_deg=0.0, seed=seed, threads=None,
-                   max_events=DEFAULT_MAX_EVENTS, label=f"{material} powder, λ = {lam:g} nm", progress=progress)
-            for lam in wl]
+    rows = [
+        _trace(
+            native_medium(comp, float(lam)),
+            rays=rays,
+            incidence_deg=0.0,
+            seed=seed,
+            threads=None,
+            max_events=DEFAULT_MAX_EVENTS,
+            label=f"{material} powder, λ = {lam:g} nm",
+            progress=progress,
+        )
+        for lam in wl
+    ]
     counts = {k: np.array([r[k] for r in rows], dtype=np.int64) for k in rows[0]}
     rho = counts["escaped"] / counts["launched"]
     return ReflectanceResult(
-        wavelengths=wl, values=rho, stderr=np.sqrt(rho * (1 - rho) / counts["launched"]), counts=counts,
-        rays=rays, incidence_deg=0.0, seed=seed, max_events=DEFAULT_MAX_EVENTS,
-        sample={"material": material, "diameter_um": sizes_um.tolist(), "porosity": porosity,
-                "aspect_ratio": aspect_ratio}, elapsed_s=time.perf_counter() - start)
+        wavelengths=wl,
+        values=rho,
+        stderr=np.sqrt(rho * (1 - rho) / counts["launched"]),
+        counts=counts,
+        rays=rays,
+        incidence_deg=0.0,
+        seed=seed,
+        max_events=DEFAULT_MAX_EVENTS,
+        sample={
+            "material": material,
+            "diameter_um": sizes_um.tolist(),
+            "porosity": porosity,
+            "aspect_ratio": aspect_ratio,
+        },
+        elapsed_s=time.perf_counter() - start,
+    )
 
 
 FIGURE3_PARTICLE_UM = 2.5
@@ -590,22 +737,29 @@ def figure3_spectra(*, rays, wavelengths_nm=None, seed: int = 0, progress: bool 
 
     wl = default_wavelengths_nm() if wavelengths_nm is None else np.atleast_1d(np.asarray(wavelengths_nm, dtype=float))
     base = SandSample.preset("gds76-hematite-quartz").replace(iron_oxide_particle_size_um=FIGURE3_PARTICLE_UM)
-    out = {"wavelengths_nm": wl,
-           "quartz": reflectance(base.replace(iron_oxide=0.0), wl, rays=rays, seed=seed, progress=progress)}
+    out = {
+        "wavelengths_nm": wl,
+        "quartz": reflectance(base.replace(iron_oxide=0.0), wl, rays=rays, seed=seed, progress=progress),
+    }
     for mineral, ratio in (("hematite", 1.0), ("goethite", 0.0)):
         out[mineral] = {
-            "powder": powder_reflectance(mineral, FIGURE3_PARTICLE_UM, wl, rays=rays, porosity=base.porosity,
-                                         seed=seed, progress=progress),
-            "mixture": reflectance(base.replace(iron_oxide=0.02, hematite_ratio=ratio), wl, rays=rays, seed=seed,
-                                   progress=progress),
+            "powder": powder_reflectance(
+                mineral, FIGURE3_PARTICLE_UM, wl, rays=rays, porosity=base.porosity, seed=seed, progress=progress
+            ),
+            "mixture": reflectance(
+                base.replace(iron_oxide=0.02, hematite_ratio=ratio), wl, rays=rays, seed=seed, progress=progress
+            ),
         }
     return out
 
 
 # Measured counterparts drawn in grey (USGS splib07a), where the library has them.
 FIGURE3_MEASURED = {
-    "hematite": {"quartz": "Quartz_HS32.4B_BECKa_AREF", "powder": "Hematite_GDS27_BECKa_AREF",
-                 "mixture": "Hematite.02+Quartz.98_GDS76_BECKa_AREF"},
+    "hematite": {
+        "quartz": "Quartz_HS32.4B_BECKa_AREF",
+        "powder": "Hematite_GDS27_BECKa_AREF",
+        "mixture": "Hematite.02+Quartz.98_GDS76_BECKa_AREF",
+    },
     "goethite": {"quartz": "Quartz_HS32.4B_BECKa_AREF", "powder": "Goethite_WS222_Medium_Gr._BECKa_AREF"},
 }
 
@@ -640,10 +794,18 @@ def plot_figure3(spectra: dict, path, *, measured: bool = True) -> None:
                 except (FileNotFoundError, ParameterError):
                     continue
                 m = m[(m["wavelength"].values >= 350) & (m["wavelength"].values <= 2500)]
-                ax.plot(m["wavelength"].values, m.values, styles[key], color="0.55", lw=1,
-                        label=f"measured: {stem.replace('_AREF', '')}")
-        ax.set_title(f"iron oxide = {mineral}" + (" (provisional optical constants)" if mineral == "goethite" else ""),
-                     fontsize=9)
+                ax.plot(
+                    m["wavelength"].values,
+                    m.values,
+                    styles[key],
+                    color="0.55",
+                    lw=1,
+                    label=f"measured: {stem.replace('_AREF', '')}",
+                )
+        ax.set_title(
+            f"iron oxide = {mineral}" + (" (provisional optical constants)" if mineral == "goethite" else ""),
+            fontsize=9,
+        )
         ax.set_xlabel("wavelength (nm)")
         ax.set_xlim(350, 2500)
         ax.set_ylim(0, 1)
@@ -703,20 +865,28 @@ def _fmt_band(e: BandError) -> str:
 
 
 def _results_block(results: Sequence[ValidationResult]) -> str:
-    lines = ["| sample | band | RMS error ± MC | target | verdict | max abs error ± MC (at λ) | mean bias | points |",
-             "|---|---|---|---|---|---|---|---|"]
+    lines = [
+        "| sample | band | RMS error ± MC | target | verdict | max abs error ± MC (at λ) | mean bias | points |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
     for r in results:
         for e in r.errors.values():
-            lines.append(f"| {r.sample.name} | {e.band} | {_fmt_band(e)} | ≤ {e.target_rms:g} | **{e.verdict}** | "
-                         f"{e.max_abs:.4f} ± {e.max_abs_mc:.4f} ({e.max_at_nm:g} nm) | {e.bias:+.4f} | {e.points} |")
+            lines.append(
+                f"| {r.sample.name} | {e.band} | {_fmt_band(e)} | ≤ {e.target_rms:g} | **{e.verdict}** | "
+                f"{e.max_abs:.4f} ± {e.max_abs_mc:.4f} ({e.max_at_nm:g} nm) | {e.bias:+.4f} | {e.points} |"
+            )
     lines.append("")
-    lines.append("Mean bias = mean(model − measured): positive means the model is too bright. ± MC is the Monte "
-                 "Carlo error bar (bound for correlated noise, see `sandlight.validation`).")
+    lines.append(
+        "Mean bias = mean(model − measured): positive means the model is too bright. ± MC is the Monte "
+        "Carlo error bar (bound for correlated noise, see `sandlight.validation`)."
+    )
     for r in results:
-        lines.append(f"- **{r.sample.name}**: preset `{r.sample.preset}` ({r.sample.description}); measured "
-                     f"spectrum `{r.sample.spectrum}`; {r.rays:,} rays per wavelength, seed {r.seed}, "
-                     f"{r.wavelengths_nm.size} wavelengths, {r.skipped} skipped (no usable measurement), "
-                     f"model run {r.elapsed_s:.1f} s.")
+        lines.append(
+            f"- **{r.sample.name}**: preset `{r.sample.preset}` ({r.sample.description}); measured "
+            f"spectrum `{r.sample.spectrum}`; {r.rays:,} rays per wavelength, seed {r.seed}, "
+            f"{r.wavelengths_nm.size} wavelengths, {r.skipped} skipped (no usable measurement), "
+            f"model run {r.elapsed_s:.1f} s."
+        )
     return "\n".join(lines)
 
 
@@ -744,11 +914,14 @@ def _variants_block(variants: Sequence[ValidationResult] | None, reference: Sequ
     if not variants:
         return "Not run in this report (`--no-variants`)."
     by_name = {r.sample.name: r for r in reference}
-    lines = [f"Run at {variants[0].rays:,} rays per wavelength (seed {variants[0].seed}), same grid and scoring as "
-             "above; the reference row is the preset.", "",
-             "| sample | variant | probes | RMS 400–700 | RMS 400–2500 | bias 400–700 | bias 400–2500 | "
-             "ρ 450 model / meas | ρ 650 | ρ 1500 |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+    lines = [
+        f"Run at {variants[0].rays:,} rays per wavelength (seed {variants[0].seed}), same grid and scoring as "
+        "above; the reference row is the preset.",
+        "",
+        "| sample | variant | probes | RMS 400–700 | RMS 400–2500 | bias 400–700 | bias 400–2500 | "
+        "ρ 450 model / meas | ρ 650 | ρ 1500 |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
 
     def row(r, probes):
         vis, full = r.errors["400–700 nm"], r.errors["400–2500 nm"]
@@ -756,8 +929,10 @@ def _variants_block(variants: Sequence[ValidationResult] | None, reference: Sequ
         for lam in (450.0, 650.0, 1500.0):
             i = np.flatnonzero(r.wavelengths_nm == lam)
             at.append(f"{r.model[i[0]]:.3f} / {r.measured[i[0]]:.3f}" if i.size else "–")
-        return (f"| {r.sample.name} | {r.label} | {probes} | {_fmt_band(vis)} | {_fmt_band(full)} | {vis.bias:+.3f} | "
-                f"{full.bias:+.3f} | " + " | ".join(at) + " |")
+        return (
+            f"| {r.sample.name} | {r.label} | {probes} | {_fmt_band(vis)} | {_fmt_band(full)} | {vis.bias:+.3f} | "
+            f"{full.bias:+.3f} | " + " | ".join(at) + " |"
+        )
 
     seen = set()
     hypotheses = {v.label: v.hypothesis for v in DIAGNOSTIC_VARIANTS}
@@ -776,12 +951,16 @@ def _figure3_block(path, report_dir, spectra) -> str:
     wl = spectra["wavelengths_nm"]
     keep = [lam for lam in (450, 550, 650, 900, 1500, 2200) if lam in wl]
     idx = [int(np.flatnonzero(wl == lam)[0]) for lam in keep]
-    lines = [f"![Figure 3 from the model: quartz, iron oxide and the 98/2 mixture]({rel})", "",
-             f"Model, {spectra['quartz'].rays:,} rays per wavelength. Dotted: pure quartz (the GDS76 preset's "
-             "host); dashed: pure iron-oxide powder of 2.5 µm particles; solid: 98 wt% quartz + 2 wt% iron oxide as "
-             "separate 2.5 µm particles. Grey: USGS measurements where the library has them.", "",
-             "| spectrum | " + " | ".join(f"ρ {lam:g}" for lam in keep) + " |",
-             "|---|" + "---|" * len(keep)]
+    lines = [
+        f"![Figure 3 from the model: quartz, iron oxide and the 98/2 mixture]({rel})",
+        "",
+        f"Model, {spectra['quartz'].rays:,} rays per wavelength. Dotted: pure quartz (the GDS76 preset's "
+        "host); dashed: pure iron-oxide powder of 2.5 µm particles; solid: 98 wt% quartz + 2 wt% iron oxide as "
+        "separate 2.5 µm particles. Grey: USGS measurements where the library has them.",
+        "",
+        "| spectrum | " + " | ".join(f"ρ {lam:g}" for lam in keep) + " |",
+        "|---|" + "---|" * len(keep),
+    ]
 
     def row(name, r):
         return f"| {name} | " + " | ".join(f"{r.values[i]:.3f}" for i in idx) + " |"
@@ -793,9 +972,16 @@ def _figure3_block(path, report_dir, spectra) -> str:
     return "\n".join(lines)
 
 
-def write_report(path, results: Sequence[ValidationResult], *, figure_paths: Sequence, command: str,
-                 variants: Sequence[ValidationResult] | None = None, figure3_path=None,
-                 figure3: dict | None = None) -> None:
+def write_report(
+    path,
+    results: Sequence[ValidationResult],
+    *,
+    figure_paths: Sequence,
+    command: str,
+    variants: Sequence[ValidationResult] | None = None,
+    figure3_path=None,
+    figure3: dict | None = None,
+) -> None:
     """Writes the validation report (Markdown), atomically.
 
     If ``path`` already holds a report with ``<!-- BEGIN validation:… -->`` /

@@ -63,8 +63,9 @@ def fingerprint() -> dict[str, str]:
     out["brdf/red-dune"] = _digest(b.counts, b.values)
     b = sandlight.brdf("wet-beach", 550.0, rays=10000, stacks=7, slices=6, seed=2, progress=False, memory="cut")
     out["brdf/wet-beach/cut"] = _digest(b.counts)
-    f = sandlight.fixed_incidence("yellow-dune", 550.0, incidence_deg=40, rays=20000, stacks=7, slices=6, seed=4,
-                                  progress=False)
+    f = sandlight.fixed_incidence(
+        "yellow-dune", 550.0, incidence_deg=40, rays=20000, stacks=7, slices=6, seed=4, progress=False
+    )
     out["fixed_incidence/yellow-dune"] = _digest(f.values)
 
     bank = default_model()
@@ -105,8 +106,9 @@ def fingerprint() -> dict[str, str]:
     with tempfile.TemporaryDirectory() as tmp, warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for name in ("desert-day", "beach-drying"):
-            scene = Scene.load(name).with_overrides(width=32, height=18, frames=2, spp=2, seed=0, threads=None,
-                                                    write_linear="xyz")
+            scene = Scene.load(name).with_overrides(
+                width=32, height=18, frames=2, spp=2, seed=0, threads=None, write_linear="xyz"
+            )
             run = render_scene(scene, Path(tmp) / name, video=None, progress=False)
             out[f"render/{name}"] = _digest(*[np.frombuffer(Path(p).read_bytes(), np.uint8) for p in run.pngs])
     return out

@@ -17,8 +17,9 @@ runner = CliRunner()
 
 def test_reflectance_writes_netcdf_csv_and_plot(tmp_path):
     nc, csv, png = tmp_path / "r.nc", tmp_path / "r.csv", tmp_path / "r.png"
-    res = runner.invoke(app, ["reflectance", "--preset", "red-dune", "-w", "450,650", "-n", "2000", "-o", str(nc),
-                              "--plot", str(png)])
+    res = runner.invoke(
+        app, ["reflectance", "--preset", "red-dune", "-w", "450,650", "-n", "2000", "-o", str(nc), "--plot", str(png)]
+    )
     assert res.exit_code == 0, res.output
     ds = xr.open_dataset(nc, engine="h5netcdf")
     assert ds["reflectance"].shape == (2,) and ds.attrs["rays"] == 2000
@@ -30,8 +31,9 @@ def test_reflectance_writes_netcdf_csv_and_plot(tmp_path):
 
 def test_reflectance_with_path_memory_and_explicit_geometry(tmp_path):
     nc = tmp_path / "r.nc"
-    res = runner.invoke(app, ["reflectance", "--preset", "red-dune", "-w", "550", "-n", "3000", "--memory", "cut",
-                              "-o", str(nc)])
+    res = runner.invoke(
+        app, ["reflectance", "--preset", "red-dune", "-w", "550", "-n", "3000", "--memory", "cut", "-o", str(nc)]
+    )
     assert res.exit_code == 0, res.output
     assert xr.open_dataset(nc, engine="h5netcdf").attrs["memory"] == "cut"
     for args, needle in [(["--memory", "full"], "memory"), (["--geometry", "packed"], "geometry")]:
@@ -62,27 +64,63 @@ def test_bad_inputs_exit_2_with_a_message(tmp_path):
 
 def test_brdf_command(tmp_path):
     out, png = tmp_path / "b.nc", tmp_path / "b.png"
-    res = runner.invoke(app, ["brdf", "--preset", "red-dune", "-n", "20000", "--stacks", "7", "--slices", "6",
-                              "-o", str(out), "--plot", str(png)])
+    res = runner.invoke(
+        app,
+        [
+            "brdf",
+            "--preset",
+            "red-dune",
+            "-n",
+            "20000",
+            "--stacks",
+            "7",
+            "--slices",
+            "6",
+            "-o",
+            str(out),
+            "--plot",
+            str(png),
+        ],
+    )
     assert res.exit_code == 0, res.output
     from sandlight.gonio.io import read_netcdf
 
     assert read_netcdf(out).hemisphere.n_patches == 37 and png.exists()
     assert not (tmp_path / "b.nc.checkpoint.npz").exists()
     cut = tmp_path / "cut.nc"
-    res = runner.invoke(app, ["brdf", "--preset", "red-dune", "-n", "5000", "--stacks", "7", "--slices", "6",
-                              "--memory", "cut", "-o", str(cut)])
+    res = runner.invoke(
+        app,
+        [
+            "brdf",
+            "--preset",
+            "red-dune",
+            "-n",
+            "5000",
+            "--stacks",
+            "7",
+            "--slices",
+            "6",
+            "--memory",
+            "cut",
+            "-o",
+            str(cut),
+        ],
+    )
     assert res.exit_code == 0, res.output
     assert read_netcdf(cut).sample["memory"] == "cut"
 
 
 def test_ctrl_c_stops_a_long_run_cleanly(tmp_path):
     out = tmp_path / "never.nc"
-    proc = subprocess.Popen([sys.executable, "-m", "sandlight", "reflectance", "--preset", "ottawa-quartz", "-n", "1e10",
-                             "-o", str(out)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path,
-                            env={**os.environ, "COLUMNS": "200"},
-                            # A shell's background job inherits SIGINT ignored; give the child the default.
-                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "sandlight", "reflectance", "--preset", "ottawa-quartz", "-n", "1e10", "-o", str(out)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        cwd=tmp_path,
+        env={**os.environ, "COLUMNS": "200"},
+        # A shell's background job inherits SIGINT ignored; give the child the default.
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+    )
     # Interrupt once the run has started (start-up time varies with the machine's load).
     deadline = time.monotonic() + 120
     line = b""
@@ -95,7 +133,7 @@ def test_ctrl_c_stops_a_long_run_cleanly(tmp_path):
         _, err = proc.communicate(timeout=30)
     except subprocess.TimeoutExpired:
         proc.kill()
-        raise AssertionError("the run did not stop within 30 s of Ctrl-C")
+        raise AssertionError("the run did not stop within 30 s of Ctrl-C") from None
     assert proc.returncode == 130, err
     assert b"interrupted" in err
     assert not out.exists() and not list(tmp_path.glob(".never.nc*"))

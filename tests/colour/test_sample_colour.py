@@ -9,7 +9,6 @@ from colour_fakes import FakeSample
 
 from sandlight.colour import (
     PREDICTOR_WAVELENGTHS_NM,
-    default_reflectance_provider,
     sample_lab,
     sample_rgb,
     sample_xyz,
@@ -26,13 +25,11 @@ class TestSampleColour:
         xyz = sample_xyz(fake_sample, reflectance=fake_provider)
         assert xyz.shape == (3,)
         np.testing.assert_allclose(xyz, spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, spectrum))
-        np.testing.assert_allclose(sample_rgb(fake_sample, reflectance=fake_provider),
-                                   xyz_to_srgb(xyz))
+        np.testing.assert_allclose(sample_rgb(fake_sample, reflectance=fake_provider), xyz_to_srgb(xyz))
         np.testing.assert_allclose(
-            sample_rgb(fake_sample, mode="paper", reflectance=fake_provider),
-            xyz_to_srgb(xyz, mode="paper"))
-        np.testing.assert_allclose(sample_lab(fake_sample, reflectance=fake_provider),
-                                   xyz_to_lab(xyz))
+            sample_rgb(fake_sample, mode="paper", reflectance=fake_provider), xyz_to_srgb(xyz, mode="paper")
+        )
+        np.testing.assert_allclose(sample_lab(fake_sample, reflectance=fake_provider), xyz_to_lab(xyz))
 
     def test_list_of_samples_is_one_provider_call(self, fake_provider):
         samples = [FakeSample(hematite_ratio=h) for h in (0.0, 0.5, 1.0)]
@@ -45,8 +42,7 @@ class TestSampleColour:
         assert out.shape == (3,)
 
     def test_plain_dict_sample(self, fake_provider):
-        lab = sample_lab({"iron_oxide": 0.02, "hematite_ratio": 0.3, "saturation": 0.0},
-                         reflectance=fake_provider)
+        lab = sample_lab({"iron_oxide": 0.02, "hematite_ratio": 0.3, "saturation": 0.0}, reflectance=fake_provider)
         assert lab.shape == (3,) and 0 < lab[0] < 100
 
     def test_dense_wavelengths_can_be_requested(self, fake_sample, fake_provider):
@@ -72,8 +68,7 @@ class TestProvider:
         module = types.ModuleType("sandlight.predictor")
         module.default_model = Model
         monkeypatch.setitem(sys.modules, "sandlight.predictor", module)
-        np.testing.assert_allclose(sample_rgb(fake_sample),
-                                   sample_rgb(fake_sample, reflectance=fake_provider))
+        np.testing.assert_allclose(sample_rgb(fake_sample), sample_rgb(fake_sample, reflectance=fake_provider))
         with pytest.raises(SandlightError, match="predicts at wavelengths"):
             sample_rgb(fake_sample, wavelengths_nm=np.arange(400.0, 701.0, 10.0))
 
@@ -102,8 +97,7 @@ def test_more_hematite_is_redder(real_provider):
 
     base = SandSample(iron_oxide=0.02)
     ratios = np.linspace(0.0, 1.0, 5)
-    lab = sample_lab([base.replace(hematite_ratio=float(h)) for h in ratios],
-                     reflectance=real_provider)
+    lab = sample_lab([base.replace(hematite_ratio=float(h)) for h in ratios], reflectance=real_provider)
     hue = hue_angle_deg(lab)
     # Goethite is yellow, hematite red: the CIELAB hue angle falls as hematite replaces goethite.
     assert np.all(np.diff(hue) < 0.5), hue
@@ -115,7 +109,6 @@ def test_wetter_is_darker(real_provider):
 
     base = SandSample.preset("red-dune")
     saturations = [0.0, 0.5, 1.0]
-    lab = sample_lab([base.replace(saturation=s) for s in saturations],
-                     reflectance=real_provider)
+    lab = sample_lab([base.replace(saturation=s) for s in saturations], reflectance=real_provider)
     assert np.all(np.diff(lab[:, 0]) < 0), lab[:, 0]
     assert lab[0, 0] - lab[-1, 0] > 3.0, lab[:, 0]

@@ -2,14 +2,13 @@
 
 import warnings
 
-import colour
 import numpy as np
 import pytest
+from colour_fakes import logistic_spectrum, read_usgs
 
+import colour
 from sandlight.colour import PREDICTOR_WAVELENGTHS_NM, spectrum_to_xyz, white_point_xyz, xyz_to_lab
 from sandlight.errors import ParameterError
-
-from colour_fakes import logistic_spectrum, read_usgs
 
 OBSERVER_10 = "CIE 1964 10 Degree Standard Observer"
 DENSE_NM = np.arange(360.0, 831.0, 1.0)
@@ -25,8 +24,7 @@ class TestWhiteReflector:
     # the 5 nm → 1 nm interpolation of D50, both as colour-science's own sd_to_XYZ does.
     TABLE_ATOL = 2e-4
 
-    @pytest.mark.parametrize("wavelengths_nm", [PREDICTOR_WAVELENGTHS_NM, DENSE_NM],
-                             ids=["16-bands", "1nm"])
+    @pytest.mark.parametrize("wavelengths_nm", [PREDICTOR_WAVELENGTHS_NM, DENSE_NM], ids=["16-bands", "1nm"])
     def test_d50_10deg_white_point(self, wavelengths_nm):
         xyz = spectrum_to_xyz(wavelengths_nm, np.ones(wavelengths_nm.size))
         table = colour.xy_to_XYZ(colour.CCS_ILLUMINANTS[OBSERVER_10]["D50"])
@@ -38,13 +36,16 @@ class TestWhiteReflector:
         sd = colour.SpectralDistribution(np.ones(DENSE_NM.size), DENSE_NM)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # colour-science warns that it aligns the SPD
-            ref = colour.sd_to_XYZ(sd, colour.MSDS_CMFS[OBSERVER_10],
-                                   colour.SDS_ILLUMINANTS["D50"], method="Integration") / 100
+            ref = (
+                colour.sd_to_XYZ(sd, colour.MSDS_CMFS[OBSERVER_10], colour.SDS_ILLUMINANTS["D50"], method="Integration")
+                / 100
+            )
         np.testing.assert_allclose(white_point_xyz(), ref, rtol=1e-12)
 
     def test_other_illuminant_and_observer(self):
-        xyz = spectrum_to_xyz(DENSE_NM, np.ones(DENSE_NM.size), illuminant="D65",
-                              observer="CIE 1931 2 Degree Standard Observer")
+        xyz = spectrum_to_xyz(
+            DENSE_NM, np.ones(DENSE_NM.size), illuminant="D65", observer="CIE 1931 2 Degree Standard Observer"
+        )
         # ASTM E308-15 white point of D65 / 2° at 1 nm: (95.047, 100.000, 108.883).
         np.testing.assert_allclose(xyz, [0.95047, 1.0, 1.08883], atol=1e-5)
 
@@ -67,8 +68,7 @@ def test_measured_spectrum_matches_colour_science_sd_to_xyz(stem):
         # colour-science's own path at 1 nm: its default (cubic spline) interpolation of the
         # irregular data, constant extrapolation, then sd_to_XYZ (ASTM E308 at 1 nm: a sum).
         sd = colour.SpectralDistribution(r, wl).align(colour.SpectralShape(360, 830, 1))
-        ref = colour.sd_to_XYZ(sd, colour.MSDS_CMFS[OBSERVER_10],
-                               colour.SDS_ILLUMINANTS["D50"]) / 100
+        ref = colour.sd_to_XYZ(sd, colour.MSDS_CMFS[OBSERVER_10], colour.SDS_ILLUMINANTS["D50"]) / 100
     ours = spectrum_to_xyz(wl, r)
     np.testing.assert_allclose(ours, ref, rtol=1e-3)  # 0.1 %
 
@@ -79,8 +79,8 @@ class TestCoarseSampling:
         for edge_nm, width_nm in [(520.0, 25.0), (560.0, 30.0), (600.0, 40.0)]:
             dense = spectrum_to_xyz(DENSE_NM, logistic_spectrum(DENSE_NM, edge_nm, width_nm))
             coarse = spectrum_to_xyz(
-                PREDICTOR_WAVELENGTHS_NM,
-                logistic_spectrum(PREDICTOR_WAVELENGTHS_NM, edge_nm, width_nm))
+                PREDICTOR_WAVELENGTHS_NM, logistic_spectrum(PREDICTOR_WAVELENGTHS_NM, edge_nm, width_nm)
+            )
             assert delta_e_2000(dense, coarse) < 0.02
 
     def test_sixteen_bands_of_a_measured_sand(self):
@@ -96,8 +96,7 @@ class TestCoarseSampling:
         r[DENSE_NM < 400] = r[DENSE_NM == 400]
         r[DENSE_NM > 700] = r[DENSE_NM == 700]
         inner = (DENSE_NM >= 400) & (DENSE_NM <= 700)
-        np.testing.assert_allclose(spectrum_to_xyz(DENSE_NM[inner], r[inner]),
-                                   spectrum_to_xyz(DENSE_NM, r), rtol=1e-12)
+        np.testing.assert_allclose(spectrum_to_xyz(DENSE_NM[inner], r[inner]), spectrum_to_xyz(DENSE_NM, r), rtol=1e-12)
 
     def test_interpolation_does_not_overshoot_a_step(self):
         # A reflectance step between two bands: PCHIP keeps the interpolant between the two
@@ -117,17 +116,18 @@ class TestShapesAndScale:
         spectra = logistic_spectrum(PREDICTOR_WAVELENGTHS_NM, edges)
         xyz = spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, spectra)
         assert xyz.shape == (2, 3, 3)
-        np.testing.assert_allclose(
-            xyz[1, 2], spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, spectra[1, 2]), rtol=1e-14)
+        np.testing.assert_allclose(xyz[1, 2], spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, spectra[1, 2]), rtol=1e-14)
 
     def test_linear_in_reflectance_scale(self):
         r = logistic_spectrum(PREDICTOR_WAVELENGTHS_NM)
-        np.testing.assert_allclose(spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, 0.5 * r),
-                                   0.5 * spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, r),
-                                   rtol=1e-12)
         np.testing.assert_allclose(
-            spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, np.full(16, 0.25)),
-            0.25 * white_point_xyz(), rtol=1e-12)
+            spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, 0.5 * r),
+            0.5 * spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, r),
+            rtol=1e-12,
+        )
+        np.testing.assert_allclose(
+            spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, np.full(16, 0.25)), 0.25 * white_point_xyz(), rtol=1e-12
+        )
 
 
 class TestErrors:
@@ -141,12 +141,15 @@ class TestErrors:
         with pytest.raises(ParameterError, match="divided by 100"):
             spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, np.full(16, 45.0))
 
-    @pytest.mark.parametrize("wavelengths_nm", [
-        np.arange(420.0, 701.0, 20.0),            # starts after 400 nm
-        np.arange(400.0, 681.0, 20.0),            # ends before 700 nm
-        PREDICTOR_WAVELENGTHS_NM[::-1],           # decreasing
-        np.array([400.0, 400.0, 700.0]),          # repeated
-    ])
+    @pytest.mark.parametrize(
+        "wavelengths_nm",
+        [
+            np.arange(420.0, 701.0, 20.0),  # starts after 400 nm
+            np.arange(400.0, 681.0, 20.0),  # ends before 700 nm
+            PREDICTOR_WAVELENGTHS_NM[::-1],  # decreasing
+            np.array([400.0, 400.0, 700.0]),  # repeated
+        ],
+    )
     def test_bad_wavelengths(self, wavelengths_nm):
         with pytest.raises(ParameterError, match="wavelengths_nm.*400–700 nm"):
             spectrum_to_xyz(wavelengths_nm, np.full(wavelengths_nm.size, 0.3))

@@ -1,9 +1,9 @@
 """xyz_to_srgb (paper and managed modes), xyz_to_lab, srgb_to_uint8."""
 
-import colour
 import numpy as np
 import pytest
 
+import colour
 from sandlight.colour import (
     PAPER_XYZ_TO_LINEAR_RGB,
     paper_encoding,
@@ -20,9 +20,7 @@ D50_10_XY = colour.XYZ_to_xy(white_point_xyz())
 class TestPaperMode:
     def test_printed_matrix(self):
         # §4.1.1 of the paper, digit for digit.
-        printed = [[3.2410, -1.5374, -0.4986],
-                   [-0.9692, 1.8760, 0.0416],
-                   [0.0556, -0.2040, 1.0570]]
+        printed = [[3.2410, -1.5374, -0.4986], [-0.9692, 1.8760, 0.0416], [0.0556, -0.2040, 1.0570]]
         assert PAPER_XYZ_TO_LINEAR_RGB.tolist() == printed
 
     def test_hand_computed_colour(self):
@@ -35,8 +33,7 @@ class TestPaperMode:
         linear = np.array([0.13712, 0.37312, 0.05562])
         expected = 1.055 * linear ** (1 / 2.4) - 0.055
         np.testing.assert_allclose(expected, [0.40601, 0.64461, 0.26154], atol=1e-5)
-        np.testing.assert_allclose(xyz_to_srgb([0.2, 0.3, 0.1], mode="paper"), expected,
-                                   rtol=1e-12)
+        np.testing.assert_allclose(xyz_to_srgb([0.2, 0.3, 0.1], mode="paper"), expected, rtol=1e-12)
 
     def test_no_linear_segment_near_black(self):
         # The printed curve has no 12.92·v segment: v = 0.001 → 0.004327, where sRGB has 0.01292.
@@ -80,8 +77,7 @@ class TestManagedMode:
         # colour-science's XYZ_to_sRGB with Bradford from our D50/10° white. It uses the IEC
         # printed 4-decimal matrix, which differs from the derived one by ~1e-4.
         xyz = np.array([[0.25, 0.22, 0.12], [0.40, 0.42, 0.30], [0.08, 0.07, 0.04]])
-        ref = colour.XYZ_to_sRGB(xyz, illuminant=D50_10_XY,
-                                 chromatic_adaptation_transform="Bradford")
+        ref = colour.XYZ_to_sRGB(xyz, illuminant=D50_10_XY, chromatic_adaptation_transform="Bradford")
         np.testing.assert_allclose(xyz_to_srgb(xyz), ref, atol=3e-4)
 
     def test_out_of_gamut_flag(self):
@@ -126,13 +122,13 @@ class TestLab:
     def test_white_and_grey(self):
         np.testing.assert_allclose(xyz_to_lab(white_point_xyz()), [100.0, 0.0, 0.0], atol=1e-10)
         # CIE 015 Eq. 8.4: L* = 116 (Y/Yn)^(1/3) − 16; flat 18 % grey is neutral.
-        np.testing.assert_allclose(xyz_to_lab(0.18 * white_point_xyz()),
-                                   [116 * 0.18 ** (1 / 3) - 16, 0.0, 0.0], atol=1e-10)
+        np.testing.assert_allclose(
+            xyz_to_lab(0.18 * white_point_xyz()), [116 * 0.18 ** (1 / 3) - 16, 0.0, 0.0], atol=1e-10
+        )
 
     def test_matches_colour_science(self):
         xyz = np.array([0.25, 0.22, 0.12])
-        np.testing.assert_allclose(xyz_to_lab(xyz), colour.XYZ_to_Lab(xyz, D50_10_XY),
-                                   rtol=1e-12)
+        np.testing.assert_allclose(xyz_to_lab(xyz), colour.XYZ_to_Lab(xyz, D50_10_XY), rtol=1e-12)
 
     def test_scale_invariance_of_hue(self):
         # Scaling XYZ changes L* but not the hue angle (a*, b* scale together).
@@ -140,12 +136,12 @@ class TestLab:
         lab1, lab2 = xyz_to_lab(xyz), xyz_to_lab(0.5 * xyz)
         assert lab2[0] < lab1[0]
         assert np.degrees(np.arctan2(lab1[2], lab1[1])) == pytest.approx(
-            np.degrees(np.arctan2(lab2[2], lab2[1])), abs=1e-9)
+            np.degrees(np.arctan2(lab2[2], lab2[1])), abs=1e-9
+        )
 
 
 def test_srgb_to_uint8():
-    np.testing.assert_array_equal(srgb_to_uint8([0.0, 0.5, 1.0, -0.2, 1.3]),
-                                  [0, 128, 255, 0, 255])
+    np.testing.assert_array_equal(srgb_to_uint8([0.0, 0.5, 1.0, -0.2, 1.3]), [0, 128, 255, 0, 255])
     assert srgb_to_uint8(np.zeros((2, 2, 3))).dtype == np.uint8
     with pytest.raises(ParameterError, match="rgb"):
         srgb_to_uint8([np.nan, 0.0, 0.0])

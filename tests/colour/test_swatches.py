@@ -24,11 +24,23 @@ class TestGridSpec:
         np.testing.assert_allclose(axis.values, [1.0, 0.5, 0.0])
         np.testing.assert_allclose(parse_grid_spec("saturation=0.3:0.3:1").values, [0.3])
 
-    @pytest.mark.parametrize("text", [
-        "iron_oxide", "iron_oxide=0:1", "iron_oxide=0:1:2:3", "=0:1:3", "2x=0:1:3",
-        "iron_oxide=a:1:3", "iron_oxide=0:1:2.5", "iron_oxide=0:1:0", "iron_oxide=0:1:65",
-        "iron_oxide=0:1:1", "iron_oxide=nan:1:3", "iron_oxide=0:inf:3",
-    ])
+    @pytest.mark.parametrize(
+        "text",
+        [
+            "iron_oxide",
+            "iron_oxide=0:1",
+            "iron_oxide=0:1:2:3",
+            "=0:1:3",
+            "2x=0:1:3",
+            "iron_oxide=a:1:3",
+            "iron_oxide=0:1:2.5",
+            "iron_oxide=0:1:0",
+            "iron_oxide=0:1:65",
+            "iron_oxide=0:1:1",
+            "iron_oxide=nan:1:3",
+            "iron_oxide=0:inf:3",
+        ],
+    )
     def test_bad_specs_name_the_text(self, text):
         with pytest.raises(ParameterError) as info:
             parse_grid_spec(text)
@@ -46,24 +58,22 @@ class TestSwatchGrid:
         assert fake_provider.calls == 1
         for j, h in enumerate(y[1]):
             for i, c in enumerate(x[1]):
-                expected = sample_rgb(fake_sample.replace(iron_oxide=c, hematite_ratio=h),
-                                      reflectance=fake_provider)
+                expected = sample_rgb(fake_sample.replace(iron_oxide=c, hematite_ratio=h), reflectance=fake_provider)
                 np.testing.assert_allclose(grid.rgb[j, i], expected, rtol=1e-14)
 
     def test_spec_strings_and_paper_mode(self, fake_sample, fake_provider):
-        grid = swatch_grid(fake_sample, "saturation=0:1:4", "hematite_ratio=0:1:2",
-                           mode="paper", reflectance=fake_provider)
+        grid = swatch_grid(
+            fake_sample, "saturation=0:1:4", "hematite_ratio=0:1:2", mode="paper", reflectance=fake_provider
+        )
         assert grid.mode == "paper" and grid.rgb.shape == (2, 4, 3)
 
     def test_same_parameter_twice(self, fake_sample, fake_provider):
         with pytest.raises(ParameterError, match="other than x"):
-            swatch_grid(fake_sample, "saturation=0:1:4", "saturation=0:1:2",
-                        reflectance=fake_provider)
+            swatch_grid(fake_sample, "saturation=0:1:4", "saturation=0:1:2", reflectance=fake_provider)
 
     def test_base_without_replace(self, fake_provider):
         with pytest.raises(ParameterError, match="replace"):
-            swatch_grid(object(), "saturation=0:1:4", "hematite_ratio=0:1:2",
-                        reflectance=fake_provider)
+            swatch_grid(object(), "saturation=0:1:4", "hematite_ratio=0:1:2", reflectance=fake_provider)
 
     def test_figure6_and_figure7_axes(self, fake_sample, fake_provider):
         f6 = figure6(fake_sample, reflectance=fake_provider)
@@ -78,8 +88,7 @@ class TestSwatchGrid:
 
 class TestPng:
     def test_default_size_and_cell_colours(self, tmp_path, fake_sample, fake_provider):
-        grid = swatch_grid(fake_sample, "iron_oxide=0.001:0.05:4", "hematite_ratio=0:1:3",
-                           reflectance=fake_provider)
+        grid = swatch_grid(fake_sample, "iron_oxide=0.001:0.05:4", "hematite_ratio=0:1:3", reflectance=fake_provider)
         path = grid.save_png(tmp_path / "grid.png", title="test")
         with Image.open(path) as im:
             assert im.size == framed_size_px(4 * 96, 3 * 96)
@@ -91,22 +100,19 @@ class TestPng:
 
     @pytest.mark.parametrize("show_lab", [False, True])
     def test_requested_size(self, tmp_path, fake_sample, fake_provider, show_lab):
-        grid = swatch_grid(fake_sample, "iron_oxide=0.001:0.05:8", "hematite_ratio=0:1:6",
-                           reflectance=fake_provider)
+        grid = swatch_grid(fake_sample, "iron_oxide=0.001:0.05:8", "hematite_ratio=0:1:6", reflectance=fake_provider)
         path = grid.save_png(tmp_path / "g.png", size_px=(640, 480), show_lab=show_lab)
         with Image.open(path) as im:
             assert im.size == (640, 480)
 
     def test_too_small_size(self, tmp_path, fake_sample, fake_provider):
-        grid = swatch_grid(fake_sample, "iron_oxide=0.001:0.05:8", "hematite_ratio=0:1:6",
-                           reflectance=fake_provider)
+        grid = swatch_grid(fake_sample, "iron_oxide=0.001:0.05:8", "hematite_ratio=0:1:6", reflectance=fake_provider)
         with pytest.raises(ParameterError, match="size_px"):
             grid.save_png(tmp_path / "g.png", size_px=(100, 100))
         assert not list(tmp_path.iterdir())
 
     def test_missing_output_directory(self, tmp_path, fake_sample, fake_provider):
-        grid = swatch_grid(fake_sample, "iron_oxide=0.001:0.05:2", "hematite_ratio=0:1:2",
-                           reflectance=fake_provider)
+        grid = swatch_grid(fake_sample, "iron_oxide=0.001:0.05:2", "hematite_ratio=0:1:2", reflectance=fake_provider)
         with pytest.raises(FileNotFoundError, match="nowhere"):
             grid.save_png(tmp_path / "nowhere" / "g.png")
 
@@ -118,17 +124,28 @@ def cli(monkeypatch, fake_provider):
     import sandlight.colour.provider as provider
 
     monkeypatch.setattr(provider, "default_reflectance_provider", lambda: fake_provider)
-    monkeypatch.setattr(cli_colour, "_load_sample",
-                        lambda preset, sample_file: FakeSample(iron_oxide=0.03))
+    monkeypatch.setattr(cli_colour, "_load_sample", lambda preset, sample_file: FakeSample(iron_oxide=0.03))
     return CliRunner()
 
 
 class TestSwatchesCommand:
     def test_grid_of_requested_size(self, cli, tmp_path):
         out = tmp_path / "grid.png"
-        result = cli.invoke(app, ["swatches", "--x", "iron_oxide=0.001:0.05:8",
-                                  "--y", "hematite_ratio=0:1:6", "--size", "700x500",
-                                  "--lab", "-o", str(out)])
+        result = cli.invoke(
+            app,
+            [
+                "swatches",
+                "--x",
+                "iron_oxide=0.001:0.05:8",
+                "--y",
+                "hematite_ratio=0:1:6",
+                "--size",
+                "700x500",
+                "--lab",
+                "-o",
+                str(out),
+            ],
+        )
         assert result.exit_code == 0, result.output
         with Image.open(out) as im:
             assert im.size == (700, 500)
@@ -136,20 +153,22 @@ class TestSwatchesCommand:
     @pytest.mark.parametrize("figure, cells", [("6", (8, 6)), ("7", (6, 5))])
     def test_figures(self, cli, tmp_path, figure, cells):
         out = tmp_path / f"f{figure}.png"
-        result = cli.invoke(app, ["swatches", "--figure", figure, "--mode", "paper",
-                                  "-o", str(out)])
+        result = cli.invoke(app, ["swatches", "--figure", figure, "--mode", "paper", "-o", str(out)])
         assert result.exit_code == 0, result.output
         with Image.open(out) as im:
             assert im.size == framed_size_px(96 * cells[0], 96 * cells[1])
 
-    @pytest.mark.parametrize("args, message", [
-        (["--x", "iron_oxide=0.001:0.05", "--y", "hematite_ratio=0:1:6"], "iron_oxide=0.001:0.05"),
-        (["--x", "iron_oxide=0.001:0.05:8"], "--x and --y go together"),
-        (["--figure", "6", "--x", "a=0:1:2", "--y", "b=0:1:2"], "not both"),
-        (["--size", "big"], "--size 'big'"),
-        (["--mode", "cmyk"], "cmyk"),
-        (["--figure", "8"], "8"),
-    ])
+    @pytest.mark.parametrize(
+        "args, message",
+        [
+            (["--x", "iron_oxide=0.001:0.05", "--y", "hematite_ratio=0:1:6"], "iron_oxide=0.001:0.05"),
+            (["--x", "iron_oxide=0.001:0.05:8"], "--x and --y go together"),
+            (["--figure", "6", "--x", "a=0:1:2", "--y", "b=0:1:2"], "not both"),
+            (["--size", "big"], "--size 'big'"),
+            (["--mode", "cmyk"], "cmyk"),
+            (["--figure", "8"], "8"),
+        ],
+    )
     def test_bad_input_exits_2_without_traceback(self, cli, tmp_path, args, message):
         result = cli.invoke(app, ["swatches", *args, "-o", str(tmp_path / "g.png")])
         assert result.exit_code == 2
@@ -177,16 +196,27 @@ class TestSwatchesCommand:
 class TestSwatchesWithTheEngine:
     def test_engine_grid_of_real_samples(self, tmp_path):
         out = tmp_path / "engine.png"
-        result = CliRunner().invoke(app, ["swatches", "--x", "iron_oxide=0.001:0.02:2",
-                                          "--y", "saturation=0:0:1", "--engine-rays", "200",
-                                          "--size", "300x200", "-o", str(out)])
+        result = CliRunner().invoke(
+            app,
+            [
+                "swatches",
+                "--x",
+                "iron_oxide=0.001:0.02:2",
+                "--y",
+                "saturation=0:0:1",
+                "--engine-rays",
+                "200",
+                "--size",
+                "300x200",
+                "-o",
+                str(out),
+            ],
+        )
         assert result.exit_code == 0, result.output
         with Image.open(out) as im:
             assert im.size == (300, 200)
 
     def test_engine_rays_must_be_positive(self, tmp_path):
-        result = CliRunner().invoke(app, ["swatches", "--engine-rays", "0",
-                                          "-o", str(tmp_path / "g.png")])
+        result = CliRunner().invoke(app, ["swatches", "--engine-rays", "0", "-o", str(tmp_path / "g.png")])
         assert result.exit_code == 2
         assert "--engine-rays 0" in result.output and "Traceback" not in result.output
-

@@ -2,8 +2,7 @@
 
 import pytest
 
-from sandlight.gonio import CollectorHemisphere, MeasuredBRDF
-from sandlight.gonio import synthetic
+from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, synthetic
 
 LAMBERT_ALBEDO = 0.6
 CHANDRASEKHAR_OMEGA = 0.9
@@ -37,8 +36,12 @@ def chandrasekhar_counts(hemisphere, chandrasekhar_probabilities):
 
 @pytest.fixture(scope="session")
 def chandrasekhar_brdf(chandrasekhar_counts):
-    return MeasuredBRDF.from_counts(**chandrasekhar_counts, sample={"medium": "isotropic", "omega": CHANDRASEKHAR_OMEGA},
-                                    wavelength_nm=550.0, seed=12)
+    return MeasuredBRDF.from_counts(
+        **chandrasekhar_counts,
+        sample={"medium": "isotropic", "omega": CHANDRASEKHAR_OMEGA},
+        wavelength_nm=550.0,
+        seed=12,
+    )
 
 
 @pytest.fixture(scope="session")

@@ -4,8 +4,7 @@ import numpy as np
 import pytest
 
 from sandlight.errors import ParameterError
-from sandlight.gonio import CollectorHemisphere, MeasuredBRDF
-from sandlight.gonio import synthetic
+from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, synthetic
 
 
 def random_upper(n, seed):
@@ -31,14 +30,24 @@ class TestFromCounts:
         assert not b.counts.flags.writeable
 
     def test_reduction_is_reproducible(self, chandrasekhar_counts, chandrasekhar_brdf):
-        again = MeasuredBRDF.from_counts(**chandrasekhar_counts, sample={"medium": "isotropic", "omega": 0.9},
-                                         wavelength_nm=550, seed=12)
+        again = MeasuredBRDF.from_counts(
+            **chandrasekhar_counts, sample={"medium": "isotropic", "omega": 0.9}, wavelength_nm=550, seed=12
+        )
         assert again == chandrasekhar_brdf
         assert MeasuredBRDF.from_counts(**chandrasekhar_counts, seed=13) != chandrasekhar_brdf
 
-    @pytest.mark.parametrize("kwargs, name", [({"wavelength_nm": -5}, "wavelength_nm"), ({"wavelength_nm": "red"}, "wavelength_nm"),
-                                              ({"sample": {"x": object()}}, "sample"), ({"rays": -1}, "rays"),
-                                              ({"seed": 1.5}, "seed"), ({"stacks": 1}, "stacks"), ({"method": "best"}, "method")])
+    @pytest.mark.parametrize(
+        "kwargs, name",
+        [
+            ({"wavelength_nm": -5}, "wavelength_nm"),
+            ({"wavelength_nm": "red"}, "wavelength_nm"),
+            ({"sample": {"x": object()}}, "sample"),
+            ({"rays": -1}, "rays"),
+            ({"seed": 1.5}, "seed"),
+            ({"stacks": 1}, "stacks"),
+            ({"method": "best"}, "method"),
+        ],
+    )
     def test_invalid_metadata(self, lambert_counts, kwargs, name):
         with pytest.raises(ParameterError, match=name):
             MeasuredBRDF.from_counts(**lambert_counts, **kwargs)
@@ -54,10 +63,12 @@ class TestFromCounts:
 class TestContinuousBRDF:
     def test_equals_patch_values_at_centroids(self, chandrasekhar_brdf, hemisphere):
         c = hemisphere.centroids
-        np.testing.assert_allclose(chandrasekhar_brdf.f(c[:, None], c[None, :]), chandrasekhar_brdf.values_absolute,
-                                   rtol=1e-12)
-        np.testing.assert_allclose(chandrasekhar_brdf.f(c[:, None], c[None, :], normalised=True),
-                                   chandrasekhar_brdf.values, rtol=1e-12)
+        np.testing.assert_allclose(
+            chandrasekhar_brdf.f(c[:, None], c[None, :]), chandrasekhar_brdf.values_absolute, rtol=1e-12
+        )
+        np.testing.assert_allclose(
+            chandrasekhar_brdf.f(c[:, None], c[None, :], normalised=True), chandrasekhar_brdf.values, rtol=1e-12
+        )
 
     def test_reciprocal_at_random_pairs(self, chandrasekhar_brdf):
         wi, wo = random_upper(20_000, 1), random_upper(20_000, 2)
@@ -66,8 +77,9 @@ class TestContinuousBRDF:
     def test_isotropic_at_random_pairs(self, chandrasekhar_brdf):
         wi, wo = random_upper(20_000, 3), random_upper(20_000, 4)
         angle = 2.0  # rad, not a multiple of the slice width
-        np.testing.assert_allclose(chandrasekhar_brdf.f(rotate_z(wi, angle), rotate_z(wo, angle)),
-                                   chandrasekhar_brdf.f(wi, wo), rtol=1e-10)
+        np.testing.assert_allclose(
+            chandrasekhar_brdf.f(rotate_z(wi, angle), rotate_z(wo, angle)), chandrasekhar_brdf.f(wi, wo), rtol=1e-10
+        )
 
     def test_continuous_including_the_pole(self, chandrasekhar_brdf):
         wo = random_upper(2_000, 5)
@@ -91,8 +103,9 @@ class TestContinuousBRDF:
         b = MeasuredBRDF.from_counts(counts, launched - counts.sum(axis=1), launched, stacks=7, slices=6)
         values = b.f(random_upper(1000, 8), random_upper(1000, 9))
         np.testing.assert_allclose(values, 0.5 / math.pi, rtol=1e-9)
-        np.testing.assert_allclose(b.f(random_upper(1000, 8), random_upper(1000, 9), normalised=True), 1 / math.pi,
-                                   rtol=1e-9)
+        np.testing.assert_allclose(
+            b.f(random_upper(1000, 8), random_upper(1000, 9), normalised=True), 1 / math.pi, rtol=1e-9
+        )
 
     def test_below_horizon_is_zero_and_nan_propagates(self, chandrasekhar_brdf):
         up = np.array([0.3, 0.1, 0.9])

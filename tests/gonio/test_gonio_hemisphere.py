@@ -45,7 +45,9 @@ class TestGeometry:
         z0, z1 = h.bounds[:, 0], h.bounds[:, 1]
         assert h.projected_solid_angles.sum() == pytest.approx(math.pi, rel=1e-13)
         # Band patches: π(z1² − z0²)/slices; cap: π t(2 − t), t = 1/r (splits-model.md §3).
-        np.testing.assert_allclose(h.projected_solid_angles[1:], math.pi * (z1[1:] ** 2 - z0[1:] ** 2) / slices, rtol=1e-12)
+        np.testing.assert_allclose(
+            h.projected_solid_angles[1:], math.pi * (z1[1:] ** 2 - z0[1:] ** 2) / slices, rtol=1e-12
+        )
         t = 1 / h.n_patches
         assert h.projected_solid_angles[0] == pytest.approx(math.pi * t * (2 - t), rel=1e-12)
 
@@ -87,8 +89,9 @@ class TestPatchIndex:
         z0, z1, p0, p1 = hemisphere.bounds[1:].T
         g = lambda z: 0.5 * (z * np.sqrt(1 - z * z) + np.arcsin(z))  # noqa: E731 ∫√(1−z²)dz
         s = g(z1) - g(z0)
-        mean = np.stack([s * (np.sin(p1) - np.sin(p0)), s * (np.cos(p0) - np.cos(p1)),
-                         0.5 * (z1**2 - z0**2) * (p1 - p0)], axis=-1)
+        mean = np.stack(
+            [s * (np.sin(p1) - np.sin(p0)), s * (np.cos(p0) - np.cos(p1)), 0.5 * (z1**2 - z0**2) * (p1 - p0)], axis=-1
+        )
         mean /= np.linalg.norm(mean, axis=1, keepdims=True)
         angle = np.degrees(np.arccos(np.clip((mean * hemisphere.centroids[1:]).sum(axis=1), -1, 1)))
         # The documented offsets: 0.52° in the top band (2.7°–15.1°), < 0.12° below it.
@@ -118,8 +121,17 @@ class TestPatchIndex:
 
 
 class TestValidation:
-    @pytest.mark.parametrize("stacks, slices, name", [(1, 30, "stacks"), (31, 0, "slices"), (2.5, 3, "stacks"),
-                                                      (True, 3, "stacks"), (31, 10_001, "slices"), ("31", 30, "stacks")])
+    @pytest.mark.parametrize(
+        "stacks, slices, name",
+        [
+            (1, 30, "stacks"),
+            (31, 0, "slices"),
+            (2.5, 3, "stacks"),
+            (True, 3, "stacks"),
+            (31, 10_001, "slices"),
+            ("31", 30, "stacks"),
+        ],
+    )
     def test_invalid_sizes(self, stacks, slices, name):
         with pytest.raises(ParameterError, match=name):
             CollectorHemisphere(stacks, slices)

@@ -6,18 +6,23 @@ import pytest
 import xarray as xr
 
 from sandlight.errors import ModelFileError
-from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, read_netcdf, to_netcdf
-from sandlight.gonio import synthetic
+from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, read_netcdf, synthetic, to_netcdf
 from sandlight.gonio.io import FORMAT_NAME, FORMAT_VERSION, _dataset
 
 
 @pytest.fixture(scope="module")
 def small_brdf():
     h = CollectorHemisphere(7, 6)
-    c = synthetic.sample_counts(h, synthetic.chandrasekhar_probabilities(h, 0.8), 10**6, seed=3,
-                                lost_probability=0.01)
-    return MeasuredBRDF.from_counts(**c, stacks=7, slices=6, sample={"name": "test", "grain_size_um": [150, 300]},
-                                    wavelength_nm=632.8, seed=3, method="pooled")
+    c = synthetic.sample_counts(h, synthetic.chandrasekhar_probabilities(h, 0.8), 10**6, seed=3, lost_probability=0.01)
+    return MeasuredBRDF.from_counts(
+        **c,
+        stacks=7,
+        slices=6,
+        sample={"name": "test", "grain_size_um": [150, 300]},
+        wavelength_nm=632.8,
+        seed=3,
+        method="pooled",
+    )
 
 
 def test_round_trip_gives_the_same_object(tmp_path, chandrasekhar_brdf):
@@ -30,8 +35,9 @@ def test_round_trip_gives_the_same_object(tmp_path, chandrasekhar_brdf):
 
 def test_round_trip_small_with_pooled_and_without_optional_metadata(tmp_path, small_brdf):
     assert read_netcdf(to_netcdf(small_brdf, tmp_path / "a.nc")) == small_brdf
-    bare = MeasuredBRDF.from_counts(small_brdf.counts, small_brdf.absorbed, small_brdf.launched, small_brdf.lost,
-                                    stacks=7, slices=6)
+    bare = MeasuredBRDF.from_counts(
+        small_brdf.counts, small_brdf.absorbed, small_brdf.launched, small_brdf.lost, stacks=7, slices=6
+    )
     back = read_netcdf(to_netcdf(bare, tmp_path / "b.nc"))
     assert back == bare and back.wavelength_nm is None and back.seed is None and back.sample == {}
 

@@ -22,11 +22,13 @@ def z_ok(z, *, mean_tol):
 
 def test_chandrasekhar_brdf_patch_by_patch():
     hemi = CollectorHemisphere(STACKS, SLICES)
-    m = brdf(IsotropicScatterers(0.9), rays=2_000_000, stacks=STACKS, slices=SLICES, seed=1, method="pooled",
-             progress=False)
+    m = brdf(
+        IsotropicScatterers(0.9), rays=2_000_000, stacks=STACKS, slices=SLICES, seed=1, method="pooled", progress=False
+    )
     red = reduce_counts(hemi, m.counts, m.absorbed, m.launched, m.lost, method="pooled")
     expected = EquivalenceClasses(hemi).mean(
-        synthetic.expected_brdf(hemi, synthetic.chandrasekhar_probabilities(hemi, 0.9)))
+        synthetic.expected_brdf(hemi, synthetic.chandrasekhar_probabilities(hemi, 0.9))
+    )
     z = (red.unique_absolute - expected) / red.unique_absolute_stderr
     z_ok(z, mean_tol=0.2)
     assert 0.8 < z.std() < 1.2
@@ -41,8 +43,9 @@ def test_lambertian_surface_gives_a_over_pi_everywhere():
 
 
 def test_fixed_incidence_lambertian():
-    r = fixed_incidence(LambertianSurface(0.5), incidence_deg=40, rays=300_000, stacks=STACKS, slices=SLICES,
-                        seed=3, progress=False)
+    r = fixed_incidence(
+        LambertianSurface(0.5), incidence_deg=40, rays=300_000, stacks=STACKS, slices=SLICES, seed=3, progress=False
+    )
     assert r.launched == 300_000 and r.absorbed + r.counts.sum() == r.launched
     z_ok((r.values - 0.5 / math.pi) / r.stderr, mean_tol=0.5)
     assert abs(r.reflectance - 0.5) < 4 * math.sqrt(0.25 / 300_000)
@@ -74,6 +77,7 @@ def test_checkpointed_run_resumes_to_the_same_counts(tmp_path, monkeypatch):
             kw["on_checkpoint"](done)
             calls["n"] += 1
             raise KeyboardInterrupt
+
         kw = dict(kw, checkpoint_seconds=-1.0)
         return original(run_batch, total, **{**kw, "on_checkpoint": on_checkpoint})
 
@@ -82,15 +86,23 @@ def test_checkpointed_run_resumes_to_the_same_counts(tmp_path, monkeypatch):
         brdf(LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, checkpoint=ck, progress=False)
     assert ck.exists() and calls["n"] == 1
     monkeypatch.setattr("sandlight.gonio.measure.run_in_batches", original)
-    resumed = brdf(LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, checkpoint=ck,
-                   progress=False)
+    resumed = brdf(
+        LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, checkpoint=ck, progress=False
+    )
     assert np.array_equal(resumed.counts, full.counts) and not ck.exists()
     # A checkpoint of another run is refused.
     brdf_ck = tmp_path / "other.npz"
     np.savez(brdf_ck, key=np.array("not this run"), done=np.array(1))
     with pytest.raises(ModelFileError, match="different run"):
-        brdf(LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, checkpoint=brdf_ck,
-             progress=False)
+        brdf(
+            LambertianSurface(0.4),
+            rays=40_000,
+            stacks=STACKS,
+            slices=SLICES,
+            seed=5,
+            checkpoint=brdf_ck,
+            progress=False,
+        )
 
 
 def test_bad_inputs():

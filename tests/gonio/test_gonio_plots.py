@@ -6,8 +6,7 @@ import pytest
 from PIL import Image
 
 from sandlight.errors import ParameterError
-from sandlight.gonio import CollectorHemisphere, MeasuredBRDF
-from sandlight.gonio import synthetic
+from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, synthetic
 from sandlight.gonio.plots import plot_outgoing_polar, plot_principal_plane, save_overview_png
 
 

@@ -4,8 +4,7 @@ import numpy as np
 import pytest
 
 from sandlight.errors import ParameterError
-from sandlight.gonio import CollectorHemisphere, EquivalenceClasses, reduce_counts, reduce_fixed_incidence
-from sandlight.gonio import synthetic
+from sandlight.gonio import CollectorHemisphere, EquivalenceClasses, reduce_counts, reduce_fixed_incidence, synthetic
 
 
 def check_z_scores(z, *, mean_tol):
@@ -42,8 +41,9 @@ class TestLambertian:
 
 
 class TestChandrasekhar:
-    def test_matches_the_patch_averaged_analytic_brdf(self, hemisphere, chandrasekhar_counts,
-                                                      chandrasekhar_probabilities):
+    def test_matches_the_patch_averaged_analytic_brdf(
+        self, hemisphere, chandrasekhar_counts, chandrasekhar_probabilities
+    ):
         red = reduce_counts(hemisphere, **chandrasekhar_counts)
         classes = EquivalenceClasses(hemisphere)
         expected = classes.mean(synthetic.expected_brdf(hemisphere, chandrasekhar_probabilities))
@@ -164,8 +164,9 @@ class TestInput:
         with pytest.raises(ParameterError, match="launched.*incoming patch 7"):
             reduce_counts(hemisphere, **bad)
 
-    @pytest.mark.parametrize("name, value", [("counts", np.zeros((900, 901))), ("absorbed", -np.ones(901)),
-                                             ("lost", np.full(901, 0.5))])
+    @pytest.mark.parametrize(
+        "name, value", [("counts", np.zeros((900, 901))), ("absorbed", -np.ones(901)), ("lost", np.full(901, 0.5))]
+    )
     def test_invalid_counters(self, hemisphere, lambert_counts, name, value):
         bad = dict(lambert_counts)
         bad[name] = value

@@ -7,9 +7,9 @@ from sandlight.gonio import CollectorHemisphere, EquivalenceClasses
 
 def expected_classes(stacks, slices):
     """m = 1 + B + (B²L + B·e)/2, e = number of Δ with 2Δ ≡ 0 (mod L)."""
-    b, l = stacks - 1, slices
-    e = 2 if l % 2 == 0 else 1
-    return 1 + b + (b * b * l + b * e) // 2
+    b, n_slices = stacks - 1, slices
+    e = 2 if n_slices % 2 == 0 else 1
+    return 1 + b + (b * b * n_slices + b * e) // 2
 
 
 def orbits_by_union_find(h):
@@ -108,7 +108,9 @@ class TestCompressExpand:
         nearly[2, 7] = 1 + 1e-13
         with pytest.raises(ParameterError):
             c.compress(nearly)
-        np.testing.assert_array_equal(c.compress(nearly, rtol=1e-12), nearly.ravel()[np.unique(c.class_of, return_index=True)[1]])
+        np.testing.assert_array_equal(
+            c.compress(nearly, rtol=1e-12), nearly.ravel()[np.unique(c.class_of, return_index=True)[1]]
+        )
 
     def test_wrong_shapes(self, hemisphere):
         c = EquivalenceClasses(hemisphere)

@@ -35,8 +35,7 @@ def fake_reflectance(params, wavelengths_nm, *, rays, seed, memory="none"):
     truth = true_reflectance(params, wavelengths_nm) * (1.0 if memory == "none" else MEMORY_FACTOR)
     stderr = np.sqrt(truth * (1 - truth) / rays)
     values = truth + stderr * np.random.default_rng(seed).standard_normal(truth.shape)
-    return SimpleNamespace(values=values, stderr=stderr,
-                           wavelengths=np.asarray(wavelengths_nm, dtype=float))
+    return SimpleNamespace(values=values, stderr=stderr, wavelengths=np.asarray(wavelengths_nm, dtype=float))
 
 
 def fail_once(marker_dir, fail_index_seed, params, wavelengths_nm, *, rays, seed):

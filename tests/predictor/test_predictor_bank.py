@@ -2,10 +2,10 @@
 
 import numpy as np
 import pytest
+from test_predictor_spectral import SMALL, WL, exact_cubic_problem
 
 from sandlight.errors import ParameterError
 from sandlight.predictor import Dimension, Domain, ModelBank, SpectralModel
-from test_predictor_spectral import SMALL, WL, exact_cubic_problem
 
 #: A narrow domain inside SMALL: saturation fixed at 0, iron oxide from 0.001 to 0.05.
 NARROW = SMALL.restrict(saturation=0.0, iron_oxide=(0.001, 0.05))
@@ -13,8 +13,9 @@ NARROW = SMALL.restrict(saturation=0.0, iron_oxide=(0.001, 0.05))
 
 def fitted(domain, name, error, seed):
     train, R, _, _ = exact_cubic_problem(domain, 300, seed=seed)
-    model = SpectralModel(ridge=1e-9).fit(train, R, wavelengths_nm=WL, domain=domain, name=name,
-                                          description=f"test model {name}")
+    model = SpectralModel(ridge=1e-9).fit(
+        train, R, wavelengths_nm=WL, domain=domain, name=name, description=f"test model {name}"
+    )
     model.holdout_scores_ = {"rms_error_overall": error, "n_samples": 10}
     return model
 
@@ -98,8 +99,9 @@ class TestInputs:
 
     def test_models_must_share_wavelengths_and_names(self, models):
         broad, narrow = models
-        other = SpectralModel(ridge=1e-9).fit(*exact_cubic_problem(NARROW, 300, seed=2)[:2],
-                                              wavelengths_nm=WL + 1, domain=NARROW, name="x")
+        other = SpectralModel(ridge=1e-9).fit(
+            *exact_cubic_problem(NARROW, 300, seed=2)[:2], wavelengths_nm=WL + 1, domain=NARROW, name="x"
+        )
         with pytest.raises(ParameterError, match="wavelengths"):
             ModelBank([broad, other])
         with pytest.raises(ParameterError, match="distinct names"):
@@ -111,8 +113,9 @@ class TestInputs:
         broad, narrow = models
         assert ModelBank(models).memory_ == "none"
         train, R, _, _ = exact_cubic_problem(NARROW, 300, seed=2)
-        packed = SpectralModel(ridge=1e-9).fit(train, R, wavelengths_nm=WL, domain=NARROW, name="packed",
-                                               training_set={"engine": {"memory": "packed"}})
+        packed = SpectralModel(ridge=1e-9).fit(
+            train, R, wavelengths_nm=WL, domain=NARROW, name="packed", training_set={"engine": {"memory": "packed"}}
+        )
         assert packed.memory_ == "packed"
         with pytest.raises(ParameterError, match="engine memory.*'broad': 'none'.*'packed': 'packed'"):
             ModelBank([broad, packed])
@@ -135,10 +138,10 @@ class TestDomainContains:
         assert inside.sum() == 200 - len(range(0, 200, 3))
         for row in range(10):
             if inside[row]:
-                SMALL.check(values[row:row + 1])
+                SMALL.check(values[row : row + 1])
             else:
                 with pytest.raises(ParameterError):
-                    SMALL.check(values[row:row + 1])
+                    SMALL.check(values[row : row + 1])
 
     def test_texture_class_and_nan(self):
         domain = Domain.default()
@@ -153,11 +156,11 @@ class TestDomainContains:
 def test_reference_domain_fixes_the_reference_sand():
     from sandlight.predictor.domain import REFERENCE_SAND
 
-    domain = Domain.reference([Dimension("iron_oxide", 0.001, 0.05, "log"),
-                               Dimension("saturation", 0.0, 1.0)], forms=["coating"])
+    domain = Domain.reference(
+        [Dimension("iron_oxide", 0.001, 0.05, "log"), Dimension("saturation", 0.0, 1.0)], forms=["coating"]
+    )
     assert domain.names == ("iron_oxide", "saturation")
-    assert domain.fixed == {k: v for k, v in REFERENCE_SAND.items()
-                            if k not in ("iron_oxide", "saturation")}
+    assert domain.fixed == {k: v for k, v in REFERENCE_SAND.items() if k not in ("iron_oxide", "saturation")}
     sample = domain.draw(1, seed=1)[0]
     assert sample["sand"] == pytest.approx(1 - REFERENCE_SAND["silt"] - REFERENCE_SAND["clay"])
 

@@ -34,10 +34,8 @@ class TestDraw:
             if d.name in ("silt", "clay"):
                 continue  # their maxima are corners of the class triangle (tested below)
             # the draws reach close to both ends of every range
-            assert d.forward(values.min()) - d.forward(d.low) < 0.01 * (
-                d.forward(d.high) - d.forward(d.low)), d.name
-            assert d.forward(d.high) - d.forward(values.max()) < 0.01 * (
-                d.forward(d.high) - d.forward(d.low)), d.name
+            assert d.forward(values.min()) - d.forward(d.low) < 0.01 * (d.forward(d.high) - d.forward(d.low)), d.name
+            assert d.forward(d.high) - d.forward(values.max()) < 0.01 * (d.forward(d.high) - d.forward(d.low)), d.name
 
     def test_texture_inside_the_sand_class(self, draws):
         silt, clay, sand = (column(draws, n) for n in ("silt", "clay", "sand"))
@@ -98,8 +96,7 @@ class TestDraw:
 
 class TestRestrictAndSerialise:
     def test_restrict(self):
-        d = DEFAULT.restrict(forms=["coating"], saturation=0.0, iron_oxide=(0.0, 0.02),
-                             texture_limit=0.06)
+        d = DEFAULT.restrict(forms=["coating"], saturation=0.0, iron_oxide=(0.0, 0.02), texture_limit=0.06)
         assert "saturation" not in d.names and d.fixed["saturation"] == 0.0
         assert d.dimension("iron_oxide").high == 0.02 and d.forms == ("coating",)
         assert d.dimension("silt").high == 0.06 and d.dimension("clay").high == pytest.approx(0.04)
@@ -112,15 +109,18 @@ class TestRestrictAndSerialise:
         s = d.draw(3, seed=1)[0]
         assert (s["silt"], s["clay"], s["sand"]) == (0.05, 0.02, pytest.approx(0.93))
 
-    @pytest.mark.parametrize("kwargs, name", [
-        ({"porosity": (0.2, 0.5)}, "porosity"),
-        ({"porosity": 0.7}, "porosity"),
-        ({"silt": (0.0, 0.1)}, "silt"),
-        ({"silt": 0.05}, "silt, clay"),
-        ({"colour": 1.0}, "colour"),
-        ({"forms": ["hematite"]}, "forms"),
-        ({"texture_limit": 0.2}, "texture_limit"),
-    ])
+    @pytest.mark.parametrize(
+        "kwargs, name",
+        [
+            ({"porosity": (0.2, 0.5)}, "porosity"),
+            ({"porosity": 0.7}, "porosity"),
+            ({"silt": (0.0, 0.1)}, "silt"),
+            ({"silt": 0.05}, "silt, clay"),
+            ({"colour": 1.0}, "colour"),
+            ({"forms": ["hematite"]}, "forms"),
+            ({"texture_limit": 0.2}, "texture_limit"),
+        ],
+    )
     def test_bad_restrictions(self, kwargs, name):
         with pytest.raises(ParameterError) as info:
             DEFAULT.restrict(**kwargs)
@@ -155,11 +155,17 @@ class TestCheck:
         hi = np.array([[d.high for d in DEFAULT.dimensions]])
         np.testing.assert_allclose(DEFAULT.scaled(lo), -1.0, atol=1e-14)
         np.testing.assert_allclose(DEFAULT.scaled(hi), 1.0, atol=1e-14)
-        mid = np.array([[math.sqrt(0.05 * 2) if n == "grain_size" else
-                         # midpoint of ln(c + 1e-4) over [0, 0.1]: √(1e-4·0.1001) − 1e-4
-                         (math.sqrt(1e-4 * 0.1001) - 1e-4 if n == "iron_oxide"
-                          else 0.5 * (d.low + d.high))
-                         for n, d in zip(DEFAULT.names, DEFAULT.dimensions)]])
+        mid = np.array(
+            [
+                [
+                    math.sqrt(0.05 * 2)
+                    if n == "grain_size"
+                    # midpoint of ln(c + 1e-4) over [0, 0.1]: √(1e-4·0.1001) − 1e-4
+                    else (math.sqrt(1e-4 * 0.1001) - 1e-4 if n == "iron_oxide" else 0.5 * (d.low + d.high))
+                    for n, d in zip(DEFAULT.names, DEFAULT.dimensions)
+                ]
+            ]
+        )
         for n in ("grain_size", "iron_oxide", "porosity"):
             assert DEFAULT.scaled(mid)[0, DEFAULT.names.index(n)] == pytest.approx(0.0, abs=1e-12)
 
@@ -188,19 +194,19 @@ class TestContains:
 
 class TestCoversSampleParameters:
     def fake_parameters(self, **overrides):
-        rows = [SimpleNamespace(name=d.name, low=d.low, high=d.high, kind="float")
-                for d in DEFAULT.dimensions]
-        rows += [SimpleNamespace(name="sand", low=0.85, high=1.0, kind="float"),
-                 SimpleNamespace(name="depth_mm", low=0.0, high=math.inf, kind="float"),
-                 SimpleNamespace(name="iron_oxide_form", kind="choice", choices=FORMS)]
+        rows = [SimpleNamespace(name=d.name, low=d.low, high=d.high, kind="float") for d in DEFAULT.dimensions]
+        rows += [
+            SimpleNamespace(name="sand", low=0.85, high=1.0, kind="float"),
+            SimpleNamespace(name="depth_mm", low=0.0, high=math.inf, kind="float"),
+            SimpleNamespace(name="iron_oxide_form", kind="choice", choices=FORMS),
+        ]
         return rows + [SimpleNamespace(**o) for o in overrides.values()]
 
     def test_default_domain_covers_the_documented_parameters(self):
         DEFAULT.check_covers(self.fake_parameters())
 
     def test_unknown_parameter_is_reported(self):
-        params = self.fake_parameters(goethite={"name": "goethite", "low": 0.0, "high": 0.1,
-                                                "kind": "float"})
+        params = self.fake_parameters(goethite={"name": "goethite", "low": 0.0, "high": 0.1, "kind": "float"})
         with pytest.raises(SandlightError, match="goethite"):
             DEFAULT.check_covers(params)
 
@@ -214,9 +220,8 @@ class TestCoversSampleParameters:
 def test_every_default_domain_draw_is_a_physical_sample():
     # The training domain must never hand the engine a sample the mass balance refuses.
     from sandlight.physics.composition import compose
-    from sandlight.sample import SandSample
-
     from sandlight.predictor.domain import Domain
+    from sandlight.sample import SandSample
 
     for params in Domain.default().draw(3000, seed=3, design="random"):
         comp = compose(SandSample(**params))

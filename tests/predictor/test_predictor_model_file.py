@@ -5,19 +5,20 @@ import zipfile
 
 import numpy as np
 import pytest
+from test_predictor_spectral import SMALL, WL, exact_cubic_problem
 
 import sandlight
 import sandlight.predictor.bank as bank
 from sandlight.errors import ModelFileError, SandlightError
 from sandlight.predictor import Dimension, Domain, ModelVersionWarning, SpectralModel, default_model
-from test_predictor_spectral import SMALL, WL, exact_cubic_problem
 
 
 @pytest.fixture(scope="module")
 def model():
     train, R, _, _ = exact_cubic_problem(SMALL, 300, seed=3)
-    m = SpectralModel(ridge=1e-9).fit(train, R, wavelengths_nm=WL, domain=SMALL,
-                                      training_set={"path": "somewhere/dataset.nc", "seed": 3})
+    m = SpectralModel(ridge=1e-9).fit(
+        train, R, wavelengths_nm=WL, domain=SMALL, training_set={"path": "somewhere/dataset.nc", "seed": 3}
+    )
     m.holdout_scores_ = {"rms_error_overall": 0.001}
     m.name_, m.description_ = "small", "a test model"
     return m
@@ -44,6 +45,7 @@ def with_metadata(src, dst, **updates):
         meta = json.loads(str(array[()]))
         meta.update(updates)
         return np.array(json.dumps(meta))
+
     return rewrite(src, dst, change)
 
 
@@ -52,13 +54,24 @@ class TestRoundTrip:
         loaded = SpectralModel.load(saved)
         samples = SMALL.draw(50, seed=21)
         np.testing.assert_array_equal(loaded.predict(samples), model.predict(samples))
-        for name in ("wavelengths_", "mean_", "components_", "explained_variance_ratio_",
-                     "scale_center_", "scale_halfwidth_", "powers_", "W_"):
+        for name in (
+            "wavelengths_",
+            "mean_",
+            "components_",
+            "explained_variance_ratio_",
+            "scale_center_",
+            "scale_halfwidth_",
+            "powers_",
+            "W_",
+        ):
             np.testing.assert_array_equal(getattr(loaded, name), getattr(model, name))
         assert loaded.get_params() == model.get_params()
         assert loaded.domain_ == model.domain_
         assert (loaded.parameter_names_, loaded.forms_, loaded.n_components_) == (
-            model.parameter_names_, model.forms_, model.n_components_)
+            model.parameter_names_,
+            model.forms_,
+            model.n_components_,
+        )
         assert loaded.training_set_ == {"path": "somewhere/dataset.nc", "seed": 3}
         assert loaded.holdout_scores_ == {"rms_error_overall": 0.001}
         assert loaded.training_rms_ == model.training_rms_
@@ -89,7 +102,7 @@ class TestRefused:
     @pytest.mark.parametrize("keep", [0.3, 0.9, 0.999])
     def test_truncated(self, saved, keep):
         data = saved.read_bytes()
-        saved.write_bytes(data[:int(len(data) * keep)])
+        saved.write_bytes(data[: int(len(data) * keep)])
         with pytest.raises(ModelFileError, match="not a readable"):
             SpectralModel.load(saved)
 
@@ -98,9 +111,12 @@ class TestRefused:
         with zipfile.ZipFile(saved) as z:  # a byte in the middle of the coefficients' data
             info = z.getinfo("W.npy")
         # local file header: 30 bytes, then the file name and the extra field (lengths at 26, 28)
-        start = info.header_offset + 30 + int.from_bytes(
-            data[info.header_offset + 26:info.header_offset + 28], "little") + int.from_bytes(
-            data[info.header_offset + 28:info.header_offset + 30], "little")
+        start = (
+            info.header_offset
+            + 30
+            + int.from_bytes(data[info.header_offset + 26 : info.header_offset + 28], "little")
+            + int.from_bytes(data[info.header_offset + 28 : info.header_offset + 30], "little")
+        )
         data[start + info.file_size // 2] ^= 0xFF
         saved.write_bytes(bytes(data))
         with pytest.raises(ModelFileError, match="CRC"):
@@ -135,8 +151,7 @@ class TestRefused:
             SpectralModel.load(path)
 
     def test_inconsistent_shapes(self, saved, tmp_path):
-        path = rewrite(saved, tmp_path / "x.npz",
-                       lambda k, a: a[:, :, :-1] if k == "W" else a)
+        path = rewrite(saved, tmp_path / "x.npz", lambda k, a: a[:, :, :-1] if k == "W" else a)
         with pytest.raises(ModelFileError, match="'W' has shape"):
             SpectralModel.load(path)
 
@@ -146,14 +161,12 @@ class TestRefused:
             SpectralModel.load(path)
 
     def test_scaling_that_contradicts_the_domain(self, saved, tmp_path):
-        path = rewrite(saved, tmp_path / "x.npz",
-                       lambda k, a: a * 1.01 if k == "scale_halfwidth" else a)
+        path = rewrite(saved, tmp_path / "x.npz", lambda k, a: a * 1.01 if k == "scale_halfwidth" else a)
         with pytest.raises(ModelFileError, match="scaling"):
             SpectralModel.load(path)
 
     def test_nan_coefficients(self, saved, tmp_path):
-        path = rewrite(saved, tmp_path / "x.npz",
-                       lambda k, a: np.full_like(a, np.nan) if k == "mean" else a)
+        path = rewrite(saved, tmp_path / "x.npz", lambda k, a: np.full_like(a, np.nan) if k == "mean" else a)
         with pytest.raises(ModelFileError, match="NaN"):
             SpectralModel.load(path)
 
@@ -170,8 +183,9 @@ def test_format_1_file_still_loads(tmp_path):
     """Format 1 had √c-scaled concentrations, no log offsets and no model name: such a file
     reads back with the same predictions, named after the file."""
     iron = SMALL.dimension("iron_oxide")
-    dims = tuple(Dimension("iron_oxide", iron.low, iron.high, "sqrt") if d.name == "iron_oxide"
-                 else d for d in SMALL.dimensions)
+    dims = tuple(
+        Dimension("iron_oxide", iron.low, iron.high, "sqrt") if d.name == "iron_oxide" else d for d in SMALL.dimensions
+    )
     domain = Domain(dims, SMALL.forms, SMALL.fixed, SMALL.texture_limit)
     train, R, _, _ = exact_cubic_problem(domain, 300, seed=3)
     model = SpectralModel(ridge=1e-9).fit(train, R, wavelengths_nm=WL, domain=domain)

@@ -25,7 +25,7 @@ def test_every_shipped_model_is_scored_and_compact(bank):
         assert scores and scores["n_samples"] >= 40, model.name_
         # issue 5: at most 6 principal components holding >= 99.9 % of the variance
         assert model.n_components_ <= 6
-        assert model.explained_variance_ratio_[:model.n_components_].sum() >= 0.999
+        assert model.explained_variance_ratio_[: model.n_components_].sum() >= 0.999
         np.testing.assert_allclose(model.wavelengths_, np.arange(400.0, 701.0, 20.0))
 
 
@@ -34,8 +34,10 @@ def test_dry_sand_is_not_predicted_as_filmed_sand(bank):
     # model must not claim dry sand, nor the dry model wet sand.
     from sandlight.sample import SandSample
 
-    assert list(bank.predict([SandSample(saturation=0.0), SandSample(saturation=0.05)],
-                             return_models=True)[1]) == ["reference-dry", "reference-film"]
+    assert list(bank.predict([SandSample(saturation=0.0), SandSample(saturation=0.05)], return_models=True)[1]) == [
+        "reference-dry",
+        "reference-film",
+    ]
 
 
 def test_narrow_models_meet_the_target(bank):
@@ -51,16 +53,21 @@ def test_narrow_models_meet_the_target(bank):
     assert names[-1] == "broad" and bank.fallback.name_ == "broad"
 
 
-@pytest.mark.parametrize("params, expected", [
-    ({"iron_oxide": 0.02, "hematite_ratio": 0.8}, "reference-dry"),
-    ({"iron_oxide": 0.01, "hematite_ratio": 0.2, "saturation": 0.08,
-      "iron_oxide_form": "particles"}, "reference-film"),
-    ({"iron_oxide": 0.004, "hematite_ratio": 0.3, "saturation": 0.6}, "reference-wet"),
-    ({"preset": "red-dune"}, "red-dune-dry"),
-    ({"preset": "wet-beach"}, "wet-beach-wet"),
-    ({"preset": "yellow-dune", "saturation": 0.1, "hematite_ratio": 0.6}, "yellow-dune-film"),
-    ({"preset": "ottawa-quartz"}, "broad"),
-])
+@pytest.mark.parametrize(
+    "params, expected",
+    [
+        ({"iron_oxide": 0.02, "hematite_ratio": 0.8}, "reference-dry"),
+        (
+            {"iron_oxide": 0.01, "hematite_ratio": 0.2, "saturation": 0.08, "iron_oxide_form": "particles"},
+            "reference-film",
+        ),
+        ({"iron_oxide": 0.004, "hematite_ratio": 0.3, "saturation": 0.6}, "reference-wet"),
+        ({"preset": "red-dune"}, "red-dune-dry"),
+        ({"preset": "wet-beach"}, "wet-beach-wet"),
+        ({"preset": "yellow-dune", "saturation": 0.1, "hematite_ratio": 0.6}, "yellow-dune-film"),
+        ({"preset": "ottawa-quartz"}, "broad"),
+    ],
+)
 def test_prediction_agrees_with_fresh_monte_carlo(bank, params, expected):
     sandlight = pytest.importorskip("sandlight")
     sample_module = pytest.importorskip("sandlight.sample")
@@ -72,10 +79,9 @@ def test_prediction_agrees_with_fresh_monte_carlo(bank, params, expected):
     predicted, used = bank.predict([sample], return_models=True)
     assert used[0] == expected
     model = bank.model(expected)
-    mc = sandlight.reflectance(sample, model.wavelengths_, rays=20_000, seed=5,
-                               incidence_deg=0, threads=1)
+    mc = sandlight.reflectance(sample, model.wavelengths_, rays=20_000, seed=5, incidence_deg=0, threads=1)
     rms = float(np.sqrt(np.mean((predicted[0] - mc.values) ** 2)))
-    noise = float(np.sqrt(np.mean(mc.stderr ** 2)))
+    noise = float(np.sqrt(np.mean(mc.stderr**2)))
     documented = model.holdout_scores_["rms_error_overall"]
     # One sample's error may exceed the RMS over many: allow 3× the documented RMS, plus the
     # fresh run's own noise (2σ).

@@ -12,9 +12,16 @@ from sandlight.predictor.spectral import _monomial_plan, _monomials
 WL = np.arange(400.0, 701.0, 20.0)  # the paper's 16 wavelengths
 #: A 5-parameter domain (56 cubic monomials) so that small training sets determine the fit.
 SMALL = Domain.default().restrict(
-    forms=["coating", "particles"], hematite_ratio=0.5, magnetite=0.0, coating_iron_share=0.5,
-    iron_oxide_particle_size_um=1.0, film_saturation=0.0, porosity=0.4,
-    grain_size_spread=1.5, aspect_ratio=1.5)
+    forms=["coating", "particles"],
+    hematite_ratio=0.5,
+    magnetite=0.0,
+    coating_iron_share=0.5,
+    iron_oxide_particle_size_um=1.0,
+    film_saturation=0.0,
+    porosity=0.4,
+    grain_size_spread=1.5,
+    aspect_ratio=1.5,
+)
 
 
 def as_array(domain, samples):
@@ -51,7 +58,6 @@ def fitted():
 
 
 class TestExactCubic:
-
     def test_pca_finds_the_rank_and_the_basis(self, fitted):
         model, _, basis = fitted
         assert model.n_components_ == 3
@@ -60,8 +66,7 @@ class TestExactCubic:
         # the principal directions span the basis the data were built from
         projected = basis @ model.components_.T @ model.components_
         np.testing.assert_allclose(projected, basis, atol=1e-10)
-        np.testing.assert_allclose(model.components_ @ model.components_.T, np.eye(3),
-                                   atol=1e-12)
+        np.testing.assert_allclose(model.components_ @ model.components_.T, np.eye(3), atol=1e-12)
 
     def test_regression_is_exact_on_new_samples(self, fitted):
         model, spectra, _ = fitted
@@ -98,8 +103,9 @@ class TestFastEvaluator:
         X = np.random.default_rng(degree).uniform(-1, 1, (37, d))
         poly = PolynomialFeatures(degree).fit(X)
         plan = _monomial_plan(poly.powers_)
-        F = _monomials(np.ascontiguousarray(X.T), plan, poly.n_output_features_,
-                       np.empty((poly.n_output_features_, 64)))
+        F = _monomials(
+            np.ascontiguousarray(X.T), plan, poly.n_output_features_, np.empty((poly.n_output_features_, 64))
+        )
         np.testing.assert_allclose(F.T, poly.transform(X), rtol=1e-14, atol=1e-15)
         if degree == 3 and d == 13:
             assert len(plan) <= 3 * d + 1  # a few numpy calls, not one per monomial
@@ -114,7 +120,7 @@ class TestFastEvaluator:
         X = as_array(SMALL, fresh)
         codes = np.array([SMALL.forms.index(s["iron_oxide_form"]) for s in fresh])
         together = model.predict(X, codes)
-        one_by_one = np.vstack([model.predict(X[i], codes[i:i + 1]) for i in range(0, len(X), 97)])
+        one_by_one = np.vstack([model.predict(X[i], codes[i : i + 1]) for i in range(0, len(X), 97)])
         np.testing.assert_allclose(together[::97], one_by_one, rtol=0, atol=1e-14)
         np.testing.assert_allclose(together, spectra(fresh), atol=1e-10)
 
@@ -125,7 +131,6 @@ def model_and_samples(fitted):
 
 
 class TestInputs:
-
     def test_every_container_gives_the_same_answer(self, model_and_samples):
         model, samples = model_and_samples
         expected = model.predict(samples)
@@ -163,10 +168,8 @@ class TestInputs:
             def to_dict(self):
                 return dict(self.d)
 
-        np.testing.assert_array_equal(model.predict([Sample(s) for s in samples]),
-                                      model.predict(samples))
-        np.testing.assert_array_equal(model.predict(Sample(samples[0])),
-                                      model.predict(samples[:1]))
+        np.testing.assert_array_equal(model.predict([Sample(s) for s in samples]), model.predict(samples))
+        np.testing.assert_array_equal(model.predict(Sample(samples[0])), model.predict(samples[:1]))
 
     def test_bad_inputs(self, model_and_samples):
         model, samples = model_and_samples
@@ -194,13 +197,15 @@ def model(fitted):
 
 
 class TestDomainOfValidity:
-
-    @pytest.mark.parametrize("change, name", [
-        ({"iron_oxide": 0.2}, "iron_oxide"),
-        ({"grain_size": 0.01}, "grain_size"),
-        ({"silt": 0.12, "clay": 0.05}, "silt + 1.5·clay"),
-        ({"depth_mm": 5.0}, "depth_mm"),
-    ])
+    @pytest.mark.parametrize(
+        "change, name",
+        [
+            ({"iron_oxide": 0.2}, "iron_oxide"),
+            ({"grain_size": 0.01}, "grain_size"),
+            ({"silt": 0.12, "clay": 0.05}, "silt + 1.5·clay"),
+            ({"depth_mm": 5.0}, "depth_mm"),
+        ],
+    )
     def test_outside_raises_naming_the_parameter_unless_extrapolate(self, model, change, name):
         sample = {**SMALL.draw(1, seed=4)[0], **change}
         with pytest.raises(ParameterError, match="extrapolate=True") as info:
@@ -233,11 +238,22 @@ class TestDomainOfValidity:
 class TestEstimatorConventions:
     def test_init_only_stores_and_fit_validates(self):
         model = SpectralModel(degree=9, ridge=-1)  # no error before fit
-        assert model.get_params() == {"n_components": None, "variance_threshold": 0.999,
-                                      "degree": 9, "ridge": -1, "forms": "separate"}
+        assert model.get_params() == {
+            "n_components": None,
+            "variance_threshold": 0.999,
+            "degree": 9,
+            "ridge": -1,
+            "forms": "separate",
+        }
         train, R, _, _ = exact_cubic_problem(SMALL, 100, seed=3)
-        for bad in [{"degree": 9}, {"ridge": -1.0}, {"forms": "both"}, {"n_components": 0},
-                    {"variance_threshold": 1.5}, {"n_components": 17}]:
+        for bad in [
+            {"degree": 9},
+            {"ridge": -1.0},
+            {"forms": "both"},
+            {"n_components": 0},
+            {"variance_threshold": 1.5},
+            {"n_components": 17},
+        ]:
             with pytest.raises(ParameterError, match=next(iter(bad))):
                 SpectralModel(**bad).fit(train, R, wavelengths_nm=WL, domain=SMALL)
 
@@ -255,8 +271,7 @@ class TestEstimatorConventions:
         train, R, _, _ = exact_cubic_problem(SMALL, 300, seed=3)
         norms = []
         for ridge in (0.0, 1.0, 1e12):
-            m = SpectralModel(n_components=3, ridge=ridge).fit(train, R, wavelengths_nm=WL,
-                                                               domain=SMALL)
+            m = SpectralModel(n_components=3, ridge=ridge).fit(train, R, wavelengths_nm=WL, domain=SMALL)
             norms.append(np.abs(m.W_[:, 1:]).sum())
         assert norms[0] > norms[1] > norms[2]
         # An overwhelming penalty leaves only the (unpenalised) constant: the mean spectrum of
@@ -266,16 +281,13 @@ class TestEstimatorConventions:
         for form in SMALL.forms:
             rows = [i for i, s in enumerate(fresh) if s["iron_oxide_form"] == form]
             own = [i for i, s in enumerate(train) if s["iron_oxide_form"] == form]
-            np.testing.assert_allclose(preds[rows], np.broadcast_to(R[own].mean(0),
-                                                                    (len(rows), len(WL))),
-                                       atol=1e-8)
+            np.testing.assert_allclose(preds[rows], np.broadcast_to(R[own].mean(0), (len(rows), len(WL))), atol=1e-8)
 
     def test_refit_discards_old_state(self):
         train, R, _, _ = exact_cubic_problem(SMALL, 300, seed=3)
         model = SpectralModel(n_components=2).fit(train, R, wavelengths_nm=WL, domain=SMALL)
         model.holdout_scores_ = {"rms": 1.0}
-        model.set_params(n_components=3).fit(train, R[:, :8], wavelengths_nm=WL[:8],
-                                             domain=SMALL)
+        model.set_params(n_components=3).fit(train, R[:, :8], wavelengths_nm=WL[:8], domain=SMALL)
         assert model.components_.shape == (3, 8) and model.holdout_scores_ is None
 
     def test_underdetermined_fit_warns(self):

@@ -5,16 +5,23 @@ import functools
 import json
 
 import numpy as np
+import predictor_fakes
 import pytest
 import xarray as xr
-
-import predictor_fakes
-from sandlight.errors import Cancelled, ParameterError
-from sandlight.jobs import DaskExecutor, InProcessExecutor, JobSettingsError, LocalExecutor
-from sandlight.predictor import (Domain, SpectralModel, evaluate, fit_training_set,
-                                 generate_training_set, train_spectral, wavelength_grid)
-from sandlight.predictor.training import training_job
 from test_predictor_spectral import SMALL
+
+from sandlight.errors import ParameterError
+from sandlight.jobs import DaskExecutor, InProcessExecutor, JobSettingsError, LocalExecutor
+from sandlight.predictor import (
+    Domain,
+    SpectralModel,
+    evaluate,
+    fit_training_set,
+    generate_training_set,
+    train_spectral,
+    wavelength_grid,
+)
+from sandlight.predictor.training import training_job
 
 WL = "400:700:20"
 RAYS = 20_000
@@ -22,8 +29,15 @@ N = 240
 
 
 def generate(path, executor=None, **kw):
-    args = dict(n_samples=N, wavelengths_nm=WL, rays=RAYS, seed=11, domain=SMALL,
-                simulate=predictor_fakes.fake_reflectance, progress=False)
+    args = dict(
+        n_samples=N,
+        wavelengths_nm=WL,
+        rays=RAYS,
+        seed=11,
+        domain=SMALL,
+        simulate=predictor_fakes.fake_reflectance,
+        progress=False,
+    )
     args.update(kw)
     return generate_training_set(path, executor=executor or InProcessExecutor(), **args)
 
@@ -64,18 +78,17 @@ class TestDataset:
         assert ds.attrs["format"] == "sandlight-spectral-training-set"
         assert (ds.attrs["rays"], ds.attrs["seed"], ds.attrs["design"]) == (RAYS, 11, "lhs")
         assert json.loads(ds.attrs["domain"])["forms"] == list(SMALL.forms)
-        assert json.loads(ds.attrs["engine"]) == {"incidence_deg": 0.0, "threads": 1,
-                                                  "rays": RAYS}
+        assert json.loads(ds.attrs["engine"]) == {"incidence_deg": 0.0, "threads": 1, "rays": RAYS}
         assert ds.attrs["simulator"].endswith("predictor_fakes.fake_reflectance")
         assert "sandlight_version" in ds.attrs
 
     def test_values_are_the_simulators_at_the_sample_seed(self, reference):
         ds, _ = reference
         for i in (0, 17, N - 1):
-            params = {k: ds[k].values[i].item() for k in ds.data_vars if ds[k].dims == ("sample",)
-                      and k != "seed"}
+            params = {k: ds[k].values[i].item() for k in ds.data_vars if ds[k].dims == ("sample",) and k != "seed"}
             expected = predictor_fakes.fake_reflectance(
-                params, ds["wavelength"].values, rays=RAYS, seed=int(ds["seed"][i]))
+                params, ds["wavelength"].values, rays=RAYS, seed=int(ds["seed"][i])
+            )
             np.testing.assert_array_equal(ds["reflectance"][i], expected.values)
             np.testing.assert_array_equal(ds["stderr"][i], expected.stderr)
 
@@ -94,8 +107,9 @@ class TestRestartAndScaleOut:
         # resubmitted, and no sample is lost or stored twice.
         seed_5 = int(reference[0]["seed"][5])
         simulate = functools.partial(predictor_fakes.fail_once, str(tmp_path), seed_5)
-        status = generate(tmp_path / "training", DaskExecutor(n_workers=2, processes=False),
-                          simulate=simulate, max_tasks=None)
+        status = generate(
+            tmp_path / "training", DaskExecutor(n_workers=2, processes=False), simulate=simulate, max_tasks=None
+        )
         assert (tmp_path / "failed-once").exists()
         with xr.open_dataset(status.dataset_path) as ds:
             # same numbers; only the recorded simulator name differs
@@ -108,14 +122,12 @@ class TestRestartAndScaleOut:
         with pytest.raises(JobSettingsError, match="domain.dimensions"):
             generate(tmp_path / "training", domain=SMALL.restrict(saturation=(0.0, 0.5)))
         with pytest.raises(JobSettingsError, match="simulator"):
-            generate(tmp_path / "training", simulate=functools.partial(
-                predictor_fakes.fail_once, str(tmp_path), -1))
+            generate(tmp_path / "training", simulate=functools.partial(predictor_fakes.fail_once, str(tmp_path), -1))
 
 
 @pytest.fixture(scope="module")
 def fitted(reference, tmp_path_factory):
-    holdout = generate(tmp_path_factory.mktemp("holdout") / "holdout", n_samples=80,
-                       seed=12, design="random")
+    holdout = generate(tmp_path_factory.mktemp("holdout") / "holdout", n_samples=80, seed=12, design="random")
     train_path = tmp_path_factory.mktemp("train") / "training.nc"
     train_path.write_bytes(reference[1])
     model, report = fit_training_set(train_path, holdout.dataset_path)
@@ -141,10 +153,11 @@ class TestFitAndEvaluate:
         # The regression averages the Monte Carlo noise of 240 samples: against the noise-free
         # truth it must be closer than a single Monte Carlo estimate is.
         model, _, holdout = fitted
-        params = [{k: holdout[k].values[i].item() for k in holdout.data_vars
-                   if holdout[k].dims == ("sample",)} for i in range(holdout.sizes["sample"])]
-        truth = np.array([predictor_fakes.true_reflectance(p, model.wavelengths_)
-                          for p in params])
+        params = [
+            {k: holdout[k].values[i].item() for k in holdout.data_vars if holdout[k].dims == ("sample",)}
+            for i in range(holdout.sizes["sample"])
+        ]
+        truth = np.array([predictor_fakes.true_reflectance(p, model.wavelengths_) for p in params])
         error = np.sqrt(np.mean((model.predict(holdout) - truth) ** 2))
         mc_noise = np.sqrt(np.mean(holdout["stderr"].values ** 2))
         assert error < mc_noise
@@ -155,8 +168,7 @@ class TestFitAndEvaluate:
         error = model.predict(holdout) - holdout["reflectance"].values
         np.testing.assert_allclose(report.rms_error, np.sqrt((error**2).mean(0)))
         np.testing.assert_allclose(report.max_error, np.abs(error).max(0))
-        np.testing.assert_allclose(report.mc_noise_rms,
-                                   np.sqrt((holdout["stderr"].values ** 2).mean(0)))
+        np.testing.assert_allclose(report.mc_noise_rms, np.sqrt((holdout["stderr"].values ** 2).mean(0)))
         # errors against MC are mostly its noise: RMS error ≈ MC noise (±40 % for 80 samples)
         assert np.all(report.rms_error < 1.4 * report.mc_noise_rms + report.model_error_estimate)
         assert "RMS error" in report.table() and len(report.table().splitlines()) == 18
@@ -171,9 +183,17 @@ class TestFitAndEvaluate:
 
 class TestPipeline:
     def test_train_spectral_end_to_end_and_rerun(self, tmp_path):
-        kw = dict(n_samples=N, rays=RAYS, wavelengths_nm=WL, seed=3, n_holdout=40,
-                  executor=InProcessExecutor(), domain=SMALL,
-                  simulate=predictor_fakes.fake_reflectance, progress=False)
+        kw = dict(
+            n_samples=N,
+            rays=RAYS,
+            wavelengths_nm=WL,
+            seed=3,
+            n_holdout=40,
+            executor=InProcessExecutor(),
+            domain=SMALL,
+            simulate=predictor_fakes.fake_reflectance,
+            progress=False,
+        )
         partial = train_spectral(tmp_path, max_tasks=50, **kw)
         assert not partial.complete and partial.training.n_done == 50
         with pytest.raises(ParameterError, match="incomplete"):
@@ -193,13 +213,22 @@ class TestPipeline:
         assert loaded.holdout_scores_["n_samples"] == 40
 
     def test_holdout_rays_and_model_name(self, tmp_path):
-        kw = dict(n_samples=N, rays=RAYS, wavelengths_nm=WL, seed=3, n_holdout=20,
-                  executor=InProcessExecutor(), domain=SMALL,
-                  simulate=predictor_fakes.fake_reflectance, progress=False)
-        run = train_spectral(tmp_path, holdout_rays=RAYS * 16, name="small",
-                             description="a small domain", **kw)
-        with xr.open_dataset(tmp_path / "holdout" / "dataset.nc") as ho, \
-                xr.open_dataset(tmp_path / "training" / "dataset.nc") as tr:
+        kw = dict(
+            n_samples=N,
+            rays=RAYS,
+            wavelengths_nm=WL,
+            seed=3,
+            n_holdout=20,
+            executor=InProcessExecutor(),
+            domain=SMALL,
+            simulate=predictor_fakes.fake_reflectance,
+            progress=False,
+        )
+        run = train_spectral(tmp_path, holdout_rays=RAYS * 16, name="small", description="a small domain", **kw)
+        with (
+            xr.open_dataset(tmp_path / "holdout" / "dataset.nc") as ho,
+            xr.open_dataset(tmp_path / "training" / "dataset.nc") as tr,
+        ):
             assert (ho.attrs["rays"], tr.attrs["rays"]) == (RAYS * 16, RAYS)
             # the fake engine's noise falls as 1/√rays: 4× less in the hold-out
             ratio = np.sqrt((tr["stderr"] ** 2).mean() / (ho["stderr"] ** 2).mean())
@@ -208,15 +237,25 @@ class TestPipeline:
         assert (loaded.name_, loaded.description_) == ("small", "a small domain")
 
     def test_fit_domain_keeps_the_samples_inside_it(self, tmp_path):
-        kw = dict(n_samples=N, rays=RAYS, wavelengths_nm=WL, seed=3, n_holdout=40,
-                  executor=InProcessExecutor(), domain=SMALL,
-                  simulate=predictor_fakes.fake_reflectance, progress=False)
+        kw = dict(
+            n_samples=N,
+            rays=RAYS,
+            wavelengths_nm=WL,
+            seed=3,
+            n_holdout=40,
+            executor=InProcessExecutor(),
+            domain=SMALL,
+            simulate=predictor_fakes.fake_reflectance,
+            progress=False,
+        )
         low, high = SMALL.dimension("grain_size").low, SMALL.dimension("grain_size").high
         middle = float(np.sqrt(low * high))
         sub = SMALL.restrict(grain_size=(middle, high))
         run = train_spectral(tmp_path, fit_domain=sub, **kw)
-        with xr.open_dataset(tmp_path / "training" / "dataset.nc") as tr, \
-                xr.open_dataset(tmp_path / "holdout" / "dataset.nc") as ho:
+        with (
+            xr.open_dataset(tmp_path / "training" / "dataset.nc") as tr,
+            xr.open_dataset(tmp_path / "holdout" / "dataset.nc") as ho,
+        ):
             n_train = int((tr["grain_size"].values >= middle).sum())
             n_hold = int((ho["grain_size"].values >= middle).sum())
         assert 0 < n_train < N and 0 < n_hold < 40
@@ -242,22 +281,37 @@ class TestPathMemory:
         # Two dry samples of the real engine, 450 nm, few rays: the stored values are those of
         # sandlight.reflectance with memory="cut" at each sample's seed, bit for bit.
         dry = SMALL.restrict(saturation=0.0)
-        status = generate_training_set(tmp_path / "cut", 2, "450", 2000, 5, InProcessExecutor(),
-                                       domain=dry, progress=False, memory="cut")
+        status = generate_training_set(
+            tmp_path / "cut", 2, "450", 2000, 5, InProcessExecutor(), domain=dry, progress=False, memory="cut"
+        )
         with xr.open_dataset(status.dataset_path) as ds:
             ds = ds.load()
         assert json.loads(ds.attrs["engine"])["memory"] == "cut"
         for i in range(2):
-            params = {k: ds[k].values[i].item() for k in ds.data_vars
-                      if ds[k].dims == ("sample",) and k != "seed"}
-            run = functools.partial(reflectance, SandSample(**params), [450.0], rays=2000,
-                                    seed=int(ds["seed"][i]), incidence_deg=0.0, threads=1)
+            params = {k: ds[k].values[i].item() for k in ds.data_vars if ds[k].dims == ("sample",) and k != "seed"}
+            run = functools.partial(
+                reflectance,
+                SandSample(**params),
+                [450.0],
+                rays=2000,
+                seed=int(ds["seed"][i]),
+                incidence_deg=0.0,
+                threads=1,
+            )
             np.testing.assert_array_equal(ds["reflectance"][i], run(memory="cut").values)
             assert ds["reflectance"][i].item() != run(memory="none").values[0]
 
     def test_recorded_in_the_model_and_refused_on_resume(self, tmp_path, fake_engine):
-        kw = dict(n_samples=N, rays=RAYS, wavelengths_nm=WL, seed=3, n_holdout=20,
-                  executor=InProcessExecutor(), domain=SMALL, progress=False)
+        kw = dict(
+            n_samples=N,
+            rays=RAYS,
+            wavelengths_nm=WL,
+            seed=3,
+            n_holdout=20,
+            executor=InProcessExecutor(),
+            domain=SMALL,
+            progress=False,
+        )
         train_spectral(tmp_path, max_tasks=5, memory="packed", **kw)
         with pytest.raises(JobSettingsError, match="engine"):
             train_spectral(tmp_path, **kw)
@@ -274,8 +328,9 @@ class TestPathMemory:
         assert "engine memory 'packed'" in ModelBank([loaded]).describe(0)
 
     def test_classic_by_default_and_in_older_files(self, tmp_path, fake_engine):
-        status = generate_training_set(tmp_path / "t", 3, "450", 100, 1, InProcessExecutor(),
-                                       domain=SMALL, progress=False)
+        status = generate_training_set(
+            tmp_path / "t", 3, "450", 100, 1, InProcessExecutor(), domain=SMALL, progress=False
+        )
         with xr.open_dataset(status.dataset_path) as ds:
             assert "memory" not in json.loads(ds.attrs["engine"])
         # the shipped models were trained before path memory existed: the classic model
@@ -289,8 +344,9 @@ class TestPathMemory:
         with pytest.raises(ParameterError, match="memory.*'none', 'channel', 'cut', 'packed'"):
             training_job(tmp_path, 3, "450", 100, 1, domain=SMALL, memory="full")
         with pytest.raises(ParameterError, match="memory.*simulate"):
-            training_job(tmp_path, 3, "450", 100, 1, domain=SMALL, memory="cut",
-                         simulate=predictor_fakes.fake_reflectance)
+            training_job(
+                tmp_path, 3, "450", 100, 1, domain=SMALL, memory="cut", simulate=predictor_fakes.fake_reflectance
+            )
 
 
 class TestCommandLine:
@@ -308,13 +364,29 @@ class TestCommandLine:
         return CliRunner().invoke(app, [str(a) for a in args])
 
     def test_train_spectral_then_resume(self, tmp_path, fake_engine):
-        args = ["train-spectral", "--samples", 60, "--holdout", 20, "--rays", 1000,
-                "--wavelengths", "400:700:100", "--seed", 4, "--out", tmp_path, "--workers", 1,
-                "--ridge", 1e-3, "--no-progress"]
+        args = [
+            "train-spectral",
+            "--samples",
+            60,
+            "--holdout",
+            20,
+            "--rays",
+            1000,
+            "--wavelengths",
+            "400:700:100",
+            "--seed",
+            4,
+            "--out",
+            tmp_path,
+            "--workers",
+            1,
+            "--ridge",
+            1e-3,
+            "--no-progress",
+        ]
         result = self.invoke(*args)
         assert result.exit_code == 0, result.output
-        assert "principal components: k =" in result.output and "hold-out: 20 samples" in \
-            result.output
+        assert "principal components: k =" in result.output and "hold-out: 20 samples" in result.output
         model = SpectralModel.load(tmp_path / "spectral-model.npz")
         assert model.wavelengths_.tolist() == [400.0, 500.0, 600.0, 700.0]
         assert model.get_params()["ridge"] == 1e-3
@@ -324,18 +396,15 @@ class TestCommandLine:
         assert changed.exit_code == 1 and "rays" in changed.output
         other = self.invoke(*args, "--memory", "packed")
         assert other.exit_code == 1 and "engine" in other.output
-        result = self.invoke(*[tmp_path / "packed" if a == tmp_path else a for a in args],
-                             "--memory", "packed")
+        result = self.invoke(*[tmp_path / "packed" if a == tmp_path else a for a in args], "--memory", "packed")
         assert result.exit_code == 0, result.output
         assert "engine memory 'packed'" in result.output
         assert SpectralModel.load(tmp_path / "packed" / "spectral-model.npz").memory_ == "packed"
-        bad = self.invoke(*[tmp_path / "bad" if a == tmp_path else a for a in args],
-                          "--memory", "full")
+        bad = self.invoke(*[tmp_path / "bad" if a == tmp_path else a for a in args], "--memory", "full")
         assert bad.exit_code == 1 and "memory" in bad.output
 
     def test_bad_options(self, tmp_path):
-        result = self.invoke("train-spectral", "--out", tmp_path, "--workers", 2,
-                             "--dask-local", 2)
+        result = self.invoke("train-spectral", "--out", tmp_path, "--workers", 2, "--dask-local", 2)
         assert result.exit_code == 1 and "choose one executor" in result.output
         result = self.invoke("train-spectral", "--out", tmp_path, "--wavelengths", "700:400:1")
         assert result.exit_code == 1 and "wavelengths" in result.output
@@ -344,8 +413,7 @@ class TestCommandLine:
         bad = tmp_path / "model.npz"
         bad.write_bytes(b"PK\x03\x04 truncated")
         result = self.invoke("predict", "--preset", "red-dune", "--model", bad)
-        assert result.exit_code == 1 and "not a readable sandlight spectral model" in \
-            result.output
+        assert result.exit_code == 1 and "not a readable sandlight spectral model" in result.output
 
     def test_predict_with_a_model(self, tmp_path):
         pytest.importorskip("sandlight.sample")
@@ -354,8 +422,9 @@ class TestCommandLine:
         model = SpectralModel(ridge=1e-6).fit(train, R, wavelengths_nm=wavelength_grid(WL))
         path = model.save(tmp_path / "m.npz")
         out = tmp_path / "r.csv"
-        result = self.invoke("predict", "--preset", "red-dune", "--model", path, "-o", out,
-                             "--plot", tmp_path / "r.png", "--extrapolate")
+        result = self.invoke(
+            "predict", "--preset", "red-dune", "--model", path, "-o", out, "--plot", tmp_path / "r.png", "--extrapolate"
+        )
         assert result.exit_code == 0, result.output
         rows = out.read_text().splitlines()
         assert rows[0] == "wavelength_nm,reflectance" and len(rows) == 17
@@ -363,8 +432,8 @@ class TestCommandLine:
         # a sample file: TOML with a [sample] table, inside the domain
         sample = Domain.default().draw(1, seed=8)[0]
         toml = "[sample]\n" + "".join(
-            f"{k} = {json.dumps(v) if isinstance(v, str) else repr(v)}\n"
-            for k, v in sample.items())
+            f"{k} = {json.dumps(v) if isinstance(v, str) else repr(v)}\n" for k, v in sample.items()
+        )
         (tmp_path / "s.toml").write_text(toml)
         result = self.invoke("predict", tmp_path / "s.toml", "--model", path)
         assert result.exit_code == 0, result.output

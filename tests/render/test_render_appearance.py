@@ -42,8 +42,10 @@ def test_the_table_reproduces_the_model_under_trilinear_lookup(wet):
     dphi[:k] = np.pi - rng.uniform(0.0, 0.3, k)
     expected = app.brdf(directions(mu_i, 0.0 * mu_i), directions(mu_o, dphi), WL)
     points = np.stack([mu_i, mu_o, dphi], axis=1)
-    got = np.stack([RegularGridInterpolator((table.mu_i, table.mu_o, table.dphi), table.f[0, b])(points)
-                    for b in range(WL.size)], axis=1)
+    got = np.stack(
+        [RegularGridInterpolator((table.mu_i, table.mu_o, table.dphi), table.f[0, b])(points) for b in range(WL.size)],
+        axis=1,
+    )
     np.testing.assert_allclose(got, expected, rtol=1e-6, atol=1e-9)
     assert expected.max() > 1000.0  # the mirror peak is in the test
 
@@ -65,8 +67,9 @@ def test_saturated_plane_under_a_unit_sky_gives_the_albedo_without_fireflies(wet
     # The sampler follows the band mean of f: its error is what sampling controls (single bands
     # add the spectral difference between the grey mirror and the yellow diffuse part).
     for estimator, spp, limit in (("brdf", 64, 0.04), ("mis", 256, 0.1)):
-        img = render_image(cam, PlaneTerrain(), table, Lighting.uniform(1.0, WL),
-                           settings=RenderSettings(spp=spp, estimator=estimator))
+        img = render_image(
+            cam, PlaneTerrain(), table, Lighting.uniform(1.0, WL), settings=RenderSettings(spp=spp, estimator=estimator)
+        )
         assert (img.coverage == 1).all()
         rel = img.radiance.mean(axis=-1) / expected.mean(axis=-1) - 1.0
         assert abs(rel.mean()) < 0.015, (estimator, rel.mean())

@@ -5,8 +5,16 @@ import numpy as np
 import pytest
 
 from sandlight.errors import ParameterError
-from sandlight.render import (BrdfTable, Camera, HeightfieldTerrain, Lighting, MaterialMap, PlaneTerrain,
-                              RenderSettings, render_image)
+from sandlight.render import (
+    BrdfTable,
+    Camera,
+    HeightfieldTerrain,
+    Lighting,
+    MaterialMap,
+    PlaneTerrain,
+    RenderSettings,
+    render_image,
+)
 from sandlight.render.image import native_scene
 
 WL = np.arange(400.0, 701.0, 20.0)
@@ -22,8 +30,13 @@ def downward_camera(width=12, height=8, pitch=-35.0, z=2.0):
 def test_white_lambertian_plane_under_unit_sky_has_unit_radiance(estimator, sampling):
     # L = ∫ (1/π) · 1 · cos θ dω = 1 for every pixel and band: the integrator is unbiased.
     table = BrdfTable.lambertian(np.ones(WL.size), WL)
-    img = render_image(downward_camera(), PlaneTerrain(), table, Lighting.uniform(1.0, WL),
-                       settings=RenderSettings(spp=64, estimator=estimator, sampling=sampling))
+    img = render_image(
+        downward_camera(),
+        PlaneTerrain(),
+        table,
+        Lighting.uniform(1.0, WL),
+        settings=RenderSettings(spp=64, estimator=estimator, sampling=sampling),
+    )
     assert (img.coverage == 1).all()
     assert abs(img.radiance.mean() - 1.0) < 5e-3
     # Per pixel: exact for cosine-like sampling, a few per cent of noise for light sampling.
@@ -32,8 +45,13 @@ def test_white_lambertian_plane_under_unit_sky_has_unit_radiance(estimator, samp
 
 def test_grey_plane_under_a_coloured_sky_reflects_albedo_times_sky():
     sky = np.linspace(0.5, 2.0, WL.size)
-    img = render_image(downward_camera(), PlaneTerrain(1.5), BrdfTable.lambertian(ALBEDO, WL), Lighting.uniform(sky, WL),
-                       settings=RenderSettings(spp=64), )
+    img = render_image(
+        downward_camera(),
+        PlaneTerrain(1.5),
+        BrdfTable.lambertian(ALBEDO, WL),
+        Lighting.uniform(sky, WL),
+        settings=RenderSettings(spp=64),
+    )
     np.testing.assert_allclose(img.radiance.mean(axis=(0, 1)), ALBEDO * sky, rtol=3e-3)
 
 
@@ -44,8 +62,9 @@ def test_sun_only_plane_follows_lambert(elevation_deg):
     el = np.radians(elevation_deg)
     sun = [np.cos(el), 0.3 * np.cos(el), np.sin(el)]
     lighting = Lighting.uniform(0.0, WL, sun_direction=sun, sun_irradiance=e)
-    img = render_image(downward_camera(), PlaneTerrain(), BrdfTable.lambertian(ALBEDO, WL), lighting,
-                       settings=RenderSettings(spp=32))
+    img = render_image(
+        downward_camera(), PlaneTerrain(), BrdfTable.lambertian(ALBEDO, WL), lighting, settings=RenderSettings(spp=32)
+    )
     cos_s = np.asarray(sun)[2] / np.linalg.norm(sun)
     expected = e * ALBEDO / np.pi * cos_s
     np.testing.assert_allclose(img.radiance.mean(axis=(0, 1)), expected, rtol=2e-3)
@@ -68,10 +87,17 @@ def _scene_images(estimator, sampling, seed, spp=192):
     from sandlight.sky import sun_direction
 
     lighting = Lighting.preetham(3.0, sun_direction(30.0, 172, 9.0), WL, resolution=(24, 64))
-    lighting = Lighting(WL, lighting.sky_radiance, lighting.sun_direction, np.zeros(WL.size), lighting.sun_solid_angle_sr)
+    lighting = Lighting(
+        WL, lighting.sky_radiance, lighting.sun_direction, np.zeros(WL.size), lighting.sun_solid_angle_sr
+    )
     table = BrdfTable.oren_nayar(ALBEDO, 25.0, WL)
-    img = render_image(downward_camera(width=8, height=6, pitch=-25.0), PlaneTerrain(), table, lighting,
-                       settings=RenderSettings(spp=spp, estimator=estimator, sampling=sampling, seed=seed))
+    img = render_image(
+        downward_camera(width=8, height=6, pitch=-25.0),
+        PlaneTerrain(),
+        table,
+        lighting,
+        settings=RenderSettings(spp=spp, estimator=estimator, sampling=sampling, seed=seed),
+    )
     # Band average per pixel: the bands of one path are fully correlated, pixels are independent.
     return img.radiance.astype(float).mean(axis=-1)
 
@@ -101,7 +127,7 @@ def hill_terrain():
     # A Gaussian hill 3 m high on flat ground (heightfield embedded in the plane z = 0).
     x = np.arange(-20.0, 20.01, 0.25)
     xx, yy = np.meshgrid(x, x)
-    h = 3.0 * np.exp(-(xx ** 2 + yy ** 2) / (2 * 2.0 ** 2))
+    h = 3.0 * np.exp(-(xx**2 + yy**2) / (2 * 2.0**2))
     return HeightfieldTerrain(h, (-20.0, -20.0), (0.25, 0.25), wrap=False, outside_m=0.0)
 
 
@@ -111,8 +137,9 @@ def test_shadows_exist_on_a_heightfield():
     sun = np.array([np.cos(el), 0.0, np.sin(el)])  # low sun in the east: the shadow falls west
     lighting = Lighting.uniform(0.0, WL, sun_direction=sun, sun_irradiance=1.0)
     cam = Camera.look_at([0.0, -0.5, 40.0], [0.0, 0.0, 0.0], 30.0, 48, 48)  # looking almost straight down
-    img = render_image(cam, terrain, BrdfTable.lambertian(np.full(WL.size, 0.5), WL), lighting,
-                       settings=RenderSettings(spp=16))
+    img = render_image(
+        cam, terrain, BrdfTable.lambertian(np.full(WL.size, 0.5), WL), lighting, settings=RenderSettings(spp=16)
+    )
     lum = img.radiance[..., 8]
     flat = 0.5 / np.pi * np.sin(el)
     # Where each pixel's centre meets the ground (a plane z = 0 is close enough outside the hill).
@@ -133,7 +160,9 @@ def test_shadows_exist_on_a_heightfield():
 
 def test_occlusion_rays_agree_with_the_surface():
     terrain = hill_terrain()
-    scene = native_scene(downward_camera(), terrain, BrdfTable.lambertian(np.full(WL.size, 0.5), WL), Lighting.uniform(1.0, WL))
+    scene = native_scene(
+        downward_camera(), terrain, BrdfTable.lambertian(np.full(WL.size, 0.5), WL), Lighting.uniform(1.0, WL)
+    )
     origins = np.array([[-9.0, 0.0, 0.01], [9.0, 0.0, 0.01], [0.0, 0.0, 10.0]])
     to_sun = np.array([np.cos(np.radians(15.0)), 0.0, np.sin(np.radians(15.0))])
     t, n = scene.intersect(origins, np.array([to_sun, to_sun, [0.0, 0.0, -1.0]]))
@@ -144,11 +173,13 @@ def test_occlusion_rays_agree_with_the_surface():
 
 
 def test_material_map_blends_the_table_levels():
-    stack = BrdfTable.lambertian(np.array([np.full(WL.size, 0.2), np.full(WL.size, 0.8)]), WL, level_values=[0.0, 1.0],
-                                 level_name="saturation")
+    stack = BrdfTable.lambertian(
+        np.array([np.full(WL.size, 0.2), np.full(WL.size, 0.8)]), WL, level_values=[0.0, 1.0], level_name="saturation"
+    )
     light = Lighting.uniform(1.0, WL)
-    img = render_image(downward_camera(), PlaneTerrain(), stack, light, MaterialMap.uniform(0.25),
-                       settings=RenderSettings(spp=64))
+    img = render_image(
+        downward_camera(), PlaneTerrain(), stack, light, MaterialMap.uniform(0.25), settings=RenderSettings(spp=64)
+    )
     # The image mean scatters by 0.05 % between seeds at 64 spp.
     np.testing.assert_allclose(img.radiance.mean(), 0.2 + 0.25 * 0.6, rtol=2e-3)
     with pytest.raises(ParameterError, match="material"):
@@ -161,7 +192,12 @@ def test_images_do_not_depend_on_the_thread_count_and_frames_differ():
     from sandlight.sky import sun_direction
 
     lighting = Lighting.preetham(3.0, sun_direction(30.0, 172, 10.0), WL, resolution=(16, 32))
-    args = (downward_camera(width=16, height=8, pitch=-10.0, z=6.0), hill_terrain(), BrdfTable.oren_nayar(ALBEDO, 20.0, WL), lighting)
+    args = (
+        downward_camera(width=16, height=8, pitch=-10.0, z=6.0),
+        hill_terrain(),
+        BrdfTable.oren_nayar(ALBEDO, 20.0, WL),
+        lighting,
+    )
     one = render_image(*args, settings=RenderSettings(spp=4, threads=1, max_bounces=2))
     two = render_image(*args, settings=RenderSettings(spp=4, threads=2, max_bounces=2))
     assert one.radiance.mean() > 0
@@ -184,8 +220,13 @@ def test_sky_seen_directly_and_the_solar_disc():
 
 
 def test_settings_reject_bad_values():
-    for kwargs, name in [({"spp": 0}, "spp"), ({"estimator": "path"}, "estimator"), ({"sampling": "ggx"}, "sampling"),
-                         ({"max_bounces": 0}, "max_bounces"), ({"threads": 0}, "threads")]:
+    for kwargs, name in [
+        ({"spp": 0}, "spp"),
+        ({"estimator": "path"}, "estimator"),
+        ({"sampling": "ggx"}, "sampling"),
+        ({"max_bounces": 0}, "max_bounces"),
+        ({"threads": 0}, "threads"),
+    ]:
         with pytest.raises(ParameterError, match=name):
             RenderSettings(**kwargs)
 
@@ -201,8 +242,20 @@ def test_white_furnace_on_a_heightfield_with_interreflections(estimator):
     terrain = HeightfieldTerrain(h, (-10.0, -10.0), (0.25, 0.25), wrap=True)
     table = BrdfTable.lambertian(np.ones(WL.size), WL)
     cam = Camera.look_at([0.0, -6.0, 6.0], [0.0, 0.0, 0.0], 50.0, 12, 9)
-    one = render_image(cam, terrain, table, Lighting.uniform(1.0, WL), settings=RenderSettings(spp=48, max_bounces=1, estimator=estimator))
-    many = render_image(cam, terrain, table, Lighting.uniform(1.0, WL), settings=RenderSettings(spp=256, max_bounces=40, estimator=estimator))
+    one = render_image(
+        cam,
+        terrain,
+        table,
+        Lighting.uniform(1.0, WL),
+        settings=RenderSettings(spp=48, max_bounces=1, estimator=estimator),
+    )
+    many = render_image(
+        cam,
+        terrain,
+        table,
+        Lighting.uniform(1.0, WL),
+        settings=RenderSettings(spp=256, max_bounces=40, estimator=estimator),
+    )
     assert (many.coverage == 1).all()
     # Standard error of the image mean ≈ 0.003 for MIS (BRDF sampling is exact here).
     assert abs(many.radiance.mean() - 1.0) < 0.012

@@ -4,9 +4,19 @@ import numpy as np
 import pytest
 
 from sandlight.errors import ModelFileError, ParameterError
-from sandlight.render import (BrdfTable, Camera, Lighting, MaterialMap, PlaneTerrain, RenderSettings, Waterlines,
-                              dune_field, heightfield_from_array, render_image)
-from sandlight.render import post
+from sandlight.render import (
+    BrdfTable,
+    Camera,
+    Lighting,
+    MaterialMap,
+    PlaneTerrain,
+    RenderSettings,
+    Waterlines,
+    dune_field,
+    heightfield_from_array,
+    post,
+    render_image,
+)
 
 WL = np.arange(400.0, 701.0, 20.0)
 
@@ -62,7 +72,9 @@ def test_tables_reject_bad_arrays_and_interpolate_wavelengths():
     np.testing.assert_allclose(native[0, 0, 0, 0], np.array([0.2, 0.4, 0.6]) / np.pi, rtol=1e-6)
     with pytest.raises(ParameterError, match="wavelength"):
         t.native_f([380.0, 500.0])
-    stack = BrdfTable.lambertian(np.array([[0.1] * 2, [0.2] * 2, [0.4] * 2]), [400.0, 700.0], level_values=[0.0, 0.5, 1.0])
+    stack = BrdfTable.lambertian(
+        np.array([[0.1] * 2, [0.2] * 2, [0.4] * 2]), [400.0, 700.0], level_values=[0.0, 0.5, 1.0]
+    )
     np.testing.assert_allclose(stack.level_coordinate([0.0, 0.25, 0.75, 1.0]), [0.0, 0.5, 1.5, 2.0])
     with pytest.raises(ParameterError):
         stack.level_coordinate([1.2])
@@ -113,8 +125,9 @@ def test_horizontal_irradiance_meters_a_white_plane_to_display_white():
 
     lighting = Lighting.preetham(3.0, sun_direction(30.0, 172, 10.0), WL, resolution=(45, 128))
     cam = Camera.heading([0.0, 0.0, 2.0], 0.0, -40.0, 40.0, 8, 6)
-    img = render_image(cam, PlaneTerrain(), BrdfTable.lambertian(np.ones(WL.size), WL), lighting,
-                       settings=RenderSettings(spp=128))
+    img = render_image(
+        cam, PlaneTerrain(), BrdfTable.lambertian(np.ones(WL.size), WL), lighting, settings=RenderSettings(spp=128)
+    )
     y = post.spectral_to_xyz(img.radiance, WL)[..., 1] / post.white_level("auto", lighting, WL)
     assert y.mean() == pytest.approx(1.0, rel=0.01)
     rgb = post.to_srgb(post.spectral_to_xyz(img.radiance, WL), post.white_level("auto", lighting, WL))

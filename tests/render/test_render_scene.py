@@ -41,34 +41,37 @@ def with_change(doc, table, key, value):
     return d
 
 
-@pytest.mark.parametrize("table,key,value,message", [
-    ("camera", "fov_deg", 200.0, "camera.fov_deg"),
-    ("camera", "fov_deg", "wide", "camera.fov_deg"),
-    ("camera", "zoom", 2.0, "camera.zoom"),
-    ("output", "width", 0, "output.width"),
-    ("output", "width", 12.5, "output.width"),
-    ("output", "exposure", "bright", "output.exposure"),
-    ("output", "exposure", -3.0, "output.exposure"),
-    ("output", "linear", True, "output.linear"),
-    ("sun", "turbidity", 0.5, "sun.turbidity"),
-    ("sun", "latitude_deg", 95.0, "sun.latitude_deg"),
-    ("sun", "latitude_deg", None, "sun.latitude_deg"),
-    ("sun", "start_h", 3.0, "sun.start_h"),  # before sunrise
-    ("sun", "end_h", 5.0, "sun.end_h"),
-    ("sun", "longitude_deg", 10.0, "sun.longitude_deg"),  # without utc_offset_h
-    ("render", "spp", 0, "render.spp"),
-    ("render", "estimator", "bdpt", "render.estimator"),
-    ("render", "bands", "700:400:20", "render.bands"),
-    ("render", "bands", [450.0, 550.0], "render.bands"),
-    ("terrain", "type", "mountain", "terrain.type"),
-    ("terrain", "cells", 1000, "terrain.cells"),
-    ("terrain", "ripple_wavelength_m", 0.1, "terrain.ripple_wavelength_m"),
-    ("sand", "preset", "moon-dust", "sand.preset"),
-    ("sand", "brdf", "fancy", "sand.brdf"),
-    ("sand", "vary", "colour", "sand.vary"),
-    ("post.texture", "strength", -1.0, "post.texture.strength"),
-    ("post.texture", "photo", "no/such/photo.png", "post.texture.photo"),
-])
+@pytest.mark.parametrize(
+    "table,key,value,message",
+    [
+        ("camera", "fov_deg", 200.0, "camera.fov_deg"),
+        ("camera", "fov_deg", "wide", "camera.fov_deg"),
+        ("camera", "zoom", 2.0, "camera.zoom"),
+        ("output", "width", 0, "output.width"),
+        ("output", "width", 12.5, "output.width"),
+        ("output", "exposure", "bright", "output.exposure"),
+        ("output", "exposure", -3.0, "output.exposure"),
+        ("output", "linear", True, "output.linear"),
+        ("sun", "turbidity", 0.5, "sun.turbidity"),
+        ("sun", "latitude_deg", 95.0, "sun.latitude_deg"),
+        ("sun", "latitude_deg", None, "sun.latitude_deg"),
+        ("sun", "start_h", 3.0, "sun.start_h"),  # before sunrise
+        ("sun", "end_h", 5.0, "sun.end_h"),
+        ("sun", "longitude_deg", 10.0, "sun.longitude_deg"),  # without utc_offset_h
+        ("render", "spp", 0, "render.spp"),
+        ("render", "estimator", "bdpt", "render.estimator"),
+        ("render", "bands", "700:400:20", "render.bands"),
+        ("render", "bands", [450.0, 550.0], "render.bands"),
+        ("terrain", "type", "mountain", "terrain.type"),
+        ("terrain", "cells", 1000, "terrain.cells"),
+        ("terrain", "ripple_wavelength_m", 0.1, "terrain.ripple_wavelength_m"),
+        ("sand", "preset", "moon-dust", "sand.preset"),
+        ("sand", "brdf", "fancy", "sand.brdf"),
+        ("sand", "vary", "colour", "sand.vary"),
+        ("post.texture", "strength", -1.0, "post.texture.strength"),
+        ("post.texture", "photo", "no/such/photo.png", "post.texture.photo"),
+    ],
+)
 def test_bad_values_in_the_desert_scene_are_refused_with_the_key_named(table, key, value, message):
     doc = with_change(shipped("desert-day"), table, key, value)
     with pytest.raises(ParameterError) as info:
@@ -77,16 +80,19 @@ def test_bad_values_in_the_desert_scene_are_refused_with_the_key_named(table, ke
     assert message in text and "test.toml" in text
 
 
-@pytest.mark.parametrize("table,key,value,message", [
-    ("sand", "levels", 1, "sand.levels"),
-    ("sand", "levels", [0.0, 0.5, 0.4], "sand.levels"),
-    ("sand", "range", [0.0, 2.0], "sand.levels"),  # saturation above 1
-    ("sand.map", "type", "spots", "sand.map.type"),
-    ("sand.map", "start", [1.0, 0.5], "sand.map.start"),
-    ("sand.map", "end", [1.0, 0.5, 1.5], "sand.map.end"),
-    ("sand.map", "offsets_m", [9.0, 2.0], "sand.map.offsets_m"),
-    ("post.grain", "amount", 2.0, "post.grain.amount"),
-])
+@pytest.mark.parametrize(
+    "table,key,value,message",
+    [
+        ("sand", "levels", 1, "sand.levels"),
+        ("sand", "levels", [0.0, 0.5, 0.4], "sand.levels"),
+        ("sand", "range", [0.0, 2.0], "sand.levels"),  # saturation above 1
+        ("sand.map", "type", "spots", "sand.map.type"),
+        ("sand.map", "start", [1.0, 0.5], "sand.map.start"),
+        ("sand.map", "end", [1.0, 0.5, 1.5], "sand.map.end"),
+        ("sand.map", "offsets_m", [9.0, 2.0], "sand.map.offsets_m"),
+        ("post.grain", "amount", 2.0, "post.grain.amount"),
+    ],
+)
 def test_bad_values_in_the_beach_scene_are_refused_with_the_key_named(table, key, value, message):
     doc = with_change(shipped("beach-drying"), table, key, value)
     with pytest.raises(ParameterError, match=message.replace(".", r"\.")):
@@ -158,8 +164,11 @@ def test_brdf_sources_appearance_and_netcdf_tables(tmp_path):
     mu_i, mu_o = wi[0, 2], wo[0, 2] / np.linalg.norm(wo)
     dphi = abs(np.arctan2(wo[0, 1], wo[0, 0]))
     from scipy.interpolate import RegularGridInterpolator  # the renderer's trilinear lookup
-    got = [RegularGridInterpolator((table.mu_i, table.mu_o, table.dphi), table.f[15, b])([mu_i, mu_o, dphi])[0]
-           for b in range(table.wavelength_nm.size)]
+
+    got = [
+        RegularGridInterpolator((table.mu_i, table.mu_o, table.dphi), table.f[15, b])([mu_i, mu_o, dphi])[0]
+        for b in range(table.wavelength_nm.size)
+    ]
     np.testing.assert_allclose(got, wet.brdf(wi, wo, table.wavelength_nm)[0], rtol=1e-6)
     # A NetCDF stack whose levels match the scene's.
     path = table.to_netcdf(tmp_path / "beach.nc")

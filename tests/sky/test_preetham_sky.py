@@ -11,8 +11,7 @@ VISIBLE_NM = np.arange(380.0, 781.0, 5.0)
 
 
 def sky_with_sun_at(turbidity, elevation_deg, azimuth_deg=135.0):
-    return PreethamSky(turbidity, direction_from_angles(np.radians(90.0 - elevation_deg),
-                                                        np.radians(azimuth_deg)))
+    return PreethamSky(turbidity, direction_from_angles(np.radians(90.0 - elevation_deg), np.radians(azimuth_deg)))
 
 
 def random_upper_directions(n, seed):
@@ -25,8 +24,7 @@ def cmfs_at(wavelength_nm):
     import colour
 
     cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
-    return np.stack([np.interp(wavelength_nm, cmfs.wavelengths, cmfs.values[:, i])
-                     for i in range(3)], axis=-1)
+    return np.stack([np.interp(wavelength_nm, cmfs.wavelengths, cmfs.values[:, i]) for i in range(3)], axis=-1)
 
 
 class TestZenith:
@@ -41,13 +39,10 @@ class TestZenith:
 
     @pytest.mark.parametrize("turbidity", [1.7, 2.0, 3.0, 6.0, 10.0])
     @pytest.mark.parametrize("elevation_deg", [2.0, 20.0, 45.0, 89.0])
-    def test_luminance_and_chromaticity_at_the_zenith_equal_zenith_values(self, turbidity,
-                                                                          elevation_deg):
+    def test_luminance_and_chromaticity_at_the_zenith_equal_zenith_values(self, turbidity, elevation_deg):
         sky = sky_with_sun_at(turbidity, elevation_deg)
-        assert sky.luminance([0.0, 0.0, 1.0]) == pytest.approx(sky.zenith_luminance_kcd_m2,
-                                                               rel=1e-12)
-        np.testing.assert_allclose(sky.chromaticity([0.0, 0.0, 1.0]), sky.zenith_chromaticity,
-                                   rtol=1e-12)
+        assert sky.luminance([0.0, 0.0, 1.0]) == pytest.approx(sky.zenith_luminance_kcd_m2, rel=1e-12)
+        np.testing.assert_allclose(sky.chromaticity([0.0, 0.0, 1.0]), sky.zenith_chromaticity, rtol=1e-12)
 
     def test_zenith_luminance_grows_with_sun_elevation(self):
         values = [sky_with_sun_at(3.0, e).zenith_luminance_kcd_m2 for e in (5, 20, 40, 60, 80)]
@@ -67,23 +62,23 @@ class TestAngularStructure:
         assert not np.allclose(d, mirrored)
         np.testing.assert_allclose(sky.luminance(mirrored), sky.luminance(d), rtol=1e-10)
         np.testing.assert_allclose(sky.chromaticity(mirrored), sky.chromaticity(d), rtol=1e-10)
-        np.testing.assert_allclose(sky.radiance(mirrored, VISIBLE_NM[::8]),
-                                   sky.radiance(d, VISIBLE_NM[::8]), rtol=1e-10)
+        np.testing.assert_allclose(
+            sky.radiance(mirrored, VISIBLE_NM[::8]), sky.radiance(d, VISIBLE_NM[::8]), rtol=1e-10
+        )
 
     @pytest.mark.parametrize("turbidity", [2.0, 3.0, 6.0, 10.0])
     @pytest.mark.parametrize("sun_elevation_deg", [10.0, 30.0, 60.0])
     @pytest.mark.parametrize("view_elevation_deg", [5.0, 30.0, 60.0])
-    def test_brighter_toward_the_sun_along_an_almucantar(self, turbidity, sun_elevation_deg,
-                                                         view_elevation_deg):
+    def test_brighter_toward_the_sun_along_an_almucantar(self, turbidity, sun_elevation_deg, view_elevation_deg):
         sun_azimuth = 200.0
         sky = sky_with_sun_at(turbidity, sun_elevation_deg, azimuth_deg=sun_azimuth)
         offsets = np.radians(np.linspace(0.0, 90.0, 91))
-        d = direction_from_angles(np.radians(90.0 - view_elevation_deg),
-                                  np.radians(sun_azimuth) + offsets)
+        d = direction_from_angles(np.radians(90.0 - view_elevation_deg), np.radians(sun_azimuth) + offsets)
         luminance = sky.luminance(d)
         assert np.all(np.diff(luminance) < 0.0)  # falls steadily away from the sun's azimuth
-        opposite = sky.luminance(direction_from_angles(np.radians(90.0 - view_elevation_deg),
-                                                       np.radians(sun_azimuth + 180.0)))
+        opposite = sky.luminance(
+            direction_from_angles(np.radians(90.0 - view_elevation_deg), np.radians(sun_azimuth + 180.0))
+        )
         assert luminance[0] > opposite
 
     def test_clear_sky_zenith_is_blue_and_horizon_whiter(self):
@@ -112,8 +107,8 @@ class TestSpectralRadiance:
     def test_spectrum_reproduces_luminance_and_chromaticity(self, turbidity, elevation_deg):
         sky = sky_with_sun_at(turbidity, elevation_deg)
         d = random_upper_directions(50, seed=3)
-        radiance = sky.radiance(d, VISIBLE_NM)                 # W m⁻² sr⁻¹ nm⁻¹
-        xyz = 683.0 * radiance @ cmfs_at(VISIBLE_NM) * 5.0     # cd m⁻²
+        radiance = sky.radiance(d, VISIBLE_NM)  # W m⁻² sr⁻¹ nm⁻¹
+        xyz = 683.0 * radiance @ cmfs_at(VISIBLE_NM) * 5.0  # cd m⁻²
         np.testing.assert_allclose(xyz[:, 1], 1000.0 * sky.luminance(d), rtol=5e-3)
         xy = xyz[:, :2] / xyz.sum(axis=-1, keepdims=True)
         np.testing.assert_allclose(xy, sky.chromaticity(d), atol=1e-3)
@@ -150,8 +145,7 @@ class TestSpectralRadiance:
         below = np.array([[0.6, 0.3, -0.5], [-0.2, 0.9, -0.01]])
         horizon = below.copy()
         horizon[:, 2] = 0.0
-        np.testing.assert_allclose(sky.radiance(below, VISIBLE_NM),
-                                   sky.radiance(horizon, VISIBLE_NM), rtol=1e-12)
+        np.testing.assert_allclose(sky.radiance(below, VISIBLE_NM), sky.radiance(horizon, VISIBLE_NM), rtol=1e-12)
         straight_down = sky.radiance([0.0, 0.0, -1.0], VISIBLE_NM)
         assert np.all(np.isfinite(straight_down)) and np.all(straight_down > 0.0)
 
@@ -160,13 +154,15 @@ class TestSun:
     def test_sun_radiance_matches_module_and_reddens(self):
         high = sky_with_sun_at(3.0, 70.0)
         low = sky_with_sun_at(3.0, 8.0)
-        np.testing.assert_allclose(high.sun_radiance(VISIBLE_NM),
-                                   sun_spectral_radiance(high.sun_zenith_rad, VISIBLE_NM, 3.0))
+        np.testing.assert_allclose(
+            high.sun_radiance(VISIBLE_NM), sun_spectral_radiance(high.sun_zenith_rad, VISIBLE_NM, 3.0)
+        )
         ratio_high = np.divide(*high.sun_radiance([450.0, 650.0]))
         ratio_low = np.divide(*low.sun_radiance([450.0, 650.0]))
         assert ratio_low < ratio_high
-        np.testing.assert_allclose(high.sun_irradiance(VISIBLE_NM),
-                                   high.sun_radiance(VISIBLE_NM) * high.sun_solid_angle)
+        np.testing.assert_allclose(
+            high.sun_irradiance(VISIBLE_NM), high.sun_radiance(VISIBLE_NM) * high.sun_solid_angle
+        )
         assert 6.7e-5 < high.sun_solid_angle < 6.9e-5
 
     def test_from_location_uses_the_sun_position(self):
@@ -181,8 +177,10 @@ class TestInvalidInputs:
             PreethamSky(turbidity, [0.0, 0.0, 1.0])
         assert info.value.name == "turbidity"
 
-    @pytest.mark.parametrize("direction", [[0.0, 1.0, 0.0], [0.0, 1.0, -0.2], [0.0, 0.0, 0.0],
-                                           [0.0, 0.0, np.nan], [[0, 0, 1], [0, 0, 1]], [1.0, 2.0]])
+    @pytest.mark.parametrize(
+        "direction",
+        [[0.0, 1.0, 0.0], [0.0, 1.0, -0.2], [0.0, 0.0, 0.0], [0.0, 0.0, np.nan], [[0, 0, 1], [0, 0, 1]], [1.0, 2.0]],
+    )
     def test_sun_direction(self, direction):
         with pytest.raises(ParameterError) as info:
             PreethamSky(3.0, direction)

@@ -8,13 +8,11 @@ from typer.testing import CliRunner
 from sandlight.cli import app
 from sandlight.errors import ParameterError
 from sandlight.sky import PreethamSky, direction_from_angles
-from sandlight.sky.plots import (fisheye_directions, plot_sky_day, plot_sky_dome, sky_dome_xyz,
-                                 xyz_to_display_srgb)
+from sandlight.sky.plots import fisheye_directions, plot_sky_day, plot_sky_dome, sky_dome_xyz, xyz_to_display_srgb
 
 
 def sky_with_sun_at(elevation_deg, azimuth_deg, turbidity=3.0):
-    return PreethamSky(turbidity, direction_from_angles(np.radians(90.0 - elevation_deg),
-                                                        np.radians(azimuth_deg)))
+    return PreethamSky(turbidity, direction_from_angles(np.radians(90.0 - elevation_deg), np.radians(azimuth_deg)))
 
 
 class TestFisheye:
@@ -62,13 +60,18 @@ class TestFisheye:
         with Image.open(path) as image:
             assert image.format == "PNG"
 
-    @pytest.mark.parametrize("kwargs, name", [
-        (dict(size=8), "size"), (dict(size=64.5), "size"), (dict(turbidity=0.5), "turbidity"),
-        (dict(times_h=[9.0, 25.0]), "times_h"), (dict(latitude_deg=-100.0), "latitude_deg"),
-    ])
+    @pytest.mark.parametrize(
+        "kwargs, name",
+        [
+            (dict(size=8), "size"),
+            (dict(size=64.5), "size"),
+            (dict(turbidity=0.5), "turbidity"),
+            (dict(times_h=[9.0, 25.0]), "times_h"),
+            (dict(latitude_deg=-100.0), "latitude_deg"),
+        ],
+    )
     def test_plot_sky_day_rejects_bad_values(self, tmp_path, kwargs, name):
-        arguments = dict(latitude_deg=30.0, day_of_year=172, times_h=[9.0, 12.0],
-                         path=tmp_path / "x.png", size=32)
+        arguments = dict(latitude_deg=30.0, day_of_year=172, times_h=[9.0, 12.0], path=tmp_path / "x.png", size=32)
         arguments.update(kwargs)
         with pytest.raises(ParameterError) as info:
             plot_sky_day(**arguments)
@@ -79,31 +82,64 @@ class TestFisheye:
 class TestCommand:
     def test_one_dome(self, tmp_path):
         out = tmp_path / "sky.png"
-        result = CliRunner().invoke(app, ["sky", "--latitude", "30", "--day", "172", "--time",
-                                          "10.5", "--turbidity", "3", "--size", "48", "-o",
-                                          str(out)])
+        result = CliRunner().invoke(
+            app,
+            [
+                "sky",
+                "--latitude",
+                "30",
+                "--day",
+                "172",
+                "--time",
+                "10.5",
+                "--turbidity",
+                "3",
+                "--size",
+                "48",
+                "-o",
+                str(out),
+            ],
+        )
         assert result.exit_code == 0, result.output
         assert "sun elevation 68.9" in result.output
         assert out.exists()
 
     def test_strip_with_clock_time(self, tmp_path):
         out = tmp_path / "day.png"
-        result = CliRunner().invoke(app, ["sky", "--latitude", "33.45", "--longitude", "-112.07",
-                                          "--utc-offset", "-7", "--day", "80", "--times",
-                                          "7,12,17", "--size", "24", "-o", str(out)])
+        result = CliRunner().invoke(
+            app,
+            [
+                "sky",
+                "--latitude",
+                "33.45",
+                "--longitude",
+                "-112.07",
+                "--utc-offset",
+                "-7",
+                "--day",
+                "80",
+                "--times",
+                "7,12,17",
+                "--size",
+                "24",
+                "-o",
+                str(out),
+            ],
+        )
         assert result.exit_code == 0, result.output
         assert out.exists()
 
-    @pytest.mark.parametrize("arguments, fragment", [
-        (["--latitude", "95", "--day", "172", "--time", "10"], "--latitude"),
-        (["--latitude", "30", "--day", "0", "--time", "10"], "--day"),
-        (["--latitude", "30", "--day", "172", "--time", "10", "--turbidity", "20"],
-         "--turbidity"),
-        (["--latitude", "30", "--day", "172", "--time", "23"], "below the horizon"),
-        (["--latitude", "30", "--day", "172"], "--time"),
-        (["--latitude", "30", "--day", "172", "--time", "10", "--longitude", "5"],
-         "--utc-offset"),
-    ])
+    @pytest.mark.parametrize(
+        "arguments, fragment",
+        [
+            (["--latitude", "95", "--day", "172", "--time", "10"], "--latitude"),
+            (["--latitude", "30", "--day", "0", "--time", "10"], "--day"),
+            (["--latitude", "30", "--day", "172", "--time", "10", "--turbidity", "20"], "--turbidity"),
+            (["--latitude", "30", "--day", "172", "--time", "23"], "below the horizon"),
+            (["--latitude", "30", "--day", "172"], "--time"),
+            (["--latitude", "30", "--day", "172", "--time", "10", "--longitude", "5"], "--utc-offset"),
+        ],
+    )
     def test_bad_values_give_clear_errors(self, tmp_path, arguments, fragment):
         out = tmp_path / "sky.png"
         result = CliRunner().invoke(app, ["sky", *arguments, "-o", str(out)])

@@ -6,8 +6,15 @@ import numpy as np
 import pytest
 
 from sandlight.errors import ParameterError
-from sandlight.sky import (angles_from_direction, day_of_year, direction_from_angles,
-                           solar_declination, solar_time, sun_direction, sun_position)
+from sandlight.sky import (
+    angles_from_direction,
+    day_of_year,
+    direction_from_angles,
+    solar_declination,
+    solar_time,
+    sun_direction,
+    sun_position,
+)
 
 
 def noaa_sun_direction(latitude_deg, day, solar_time_h):
@@ -15,14 +22,19 @@ def noaa_sun_direction(latitude_deg, day, solar_time_h):
     Fourier series for the declination, with the textbook hour-angle geometry. Returns
     (x east, y north, z up) unit vectors."""
     gamma = 2.0 * np.pi / 365.0 * (day - 1.0 + (solar_time_h - 12.0) / 24.0)
-    declination = (0.006918 - 0.399912 * np.cos(gamma) + 0.070257 * np.sin(gamma)
-                   - 0.006758 * np.cos(2 * gamma) + 0.000907 * np.sin(2 * gamma)
-                   - 0.002697 * np.cos(3 * gamma) + 0.00148 * np.sin(3 * gamma))
+    declination = (
+        0.006918
+        - 0.399912 * np.cos(gamma)
+        + 0.070257 * np.sin(gamma)
+        - 0.006758 * np.cos(2 * gamma)
+        + 0.000907 * np.sin(2 * gamma)
+        - 0.002697 * np.cos(3 * gamma)
+        + 0.00148 * np.sin(3 * gamma)
+    )
     hour_angle = np.radians(15.0 * (solar_time_h - 12.0))  # 0 at noon, + afternoon
     lat = np.radians(latitude_deg)
     east = -np.cos(declination) * np.sin(hour_angle)
-    north = (np.cos(lat) * np.sin(declination)
-             - np.sin(lat) * np.cos(declination) * np.cos(hour_angle))
+    north = np.cos(lat) * np.sin(declination) - np.sin(lat) * np.cos(declination) * np.cos(hour_angle)
     up = np.sin(lat) * np.sin(declination) + np.cos(lat) * np.cos(declination) * np.cos(hour_angle)
     return np.stack(np.broadcast_arrays(east, north, up), axis=-1)
 
@@ -30,8 +42,13 @@ def noaa_sun_direction(latitude_deg, day, solar_time_h):
 def noaa_equation_of_time_min(day):
     """Spencer/NOAA equation of time in minutes (true solar minus mean solar time)."""
     gamma = 2.0 * np.pi / 365.0 * (day - 1.0)
-    return 229.18 * (0.000075 + 0.001868 * np.cos(gamma) - 0.032077 * np.sin(gamma)
-                     - 0.014615 * np.cos(2 * gamma) - 0.040849 * np.sin(2 * gamma))
+    return 229.18 * (
+        0.000075
+        + 0.001868 * np.cos(gamma)
+        - 0.032077 * np.sin(gamma)
+        - 0.014615 * np.cos(2 * gamma)
+        - 0.040849 * np.sin(2 * gamma)
+    )
 
 
 def angle_between_deg(a, b):
@@ -74,8 +91,9 @@ class TestKnownCases:
     def test_southern_hemisphere_noon_sun_is_north(self):
         zenith, azimuth = sun_position(-35.0, 172, 12.0)
         assert np.degrees(zenith) == pytest.approx(35.0 + 23.45, abs=0.05)
-        assert np.degrees(azimuth) == pytest.approx(0.0, abs=1e-6) or \
-            np.degrees(azimuth) == pytest.approx(360.0, abs=1e-6)
+        assert np.degrees(azimuth) == pytest.approx(0.0, abs=1e-6) or np.degrees(azimuth) == pytest.approx(
+            360.0, abs=1e-6
+        )
 
     def test_equinox_sun_rises_east_sets_west_at_six(self):
         day = 81  # Preetham's declination is zero on day 81
@@ -110,8 +128,7 @@ class TestKnownCases:
         np.testing.assert_allclose(z2, zenith, atol=1e-12)
         np.testing.assert_allclose(a2, azimuth, atol=1e-12)
         # Frame: azimuth π/2 is east (+x), 0 is north (+y).
-        np.testing.assert_allclose(direction_from_angles(np.pi / 2, np.pi / 2), [1, 0, 0],
-                                   atol=1e-15)
+        np.testing.assert_allclose(direction_from_angles(np.pi / 2, np.pi / 2), [1, 0, 0], atol=1e-15)
 
     def test_broadcasting_shapes(self):
         zenith, azimuth = sun_position(np.zeros((4, 1)), 100, np.linspace(6, 18, 5))
@@ -120,21 +137,27 @@ class TestKnownCases:
 
 
 class TestInvalidInputs:
-    @pytest.mark.parametrize("kwargs, name", [
-        (dict(latitude_deg=91.0, day_of_year=1, time_h=12.0), "latitude_deg"),
-        (dict(latitude_deg=np.nan, day_of_year=1, time_h=12.0), "latitude_deg"),
-        (dict(latitude_deg=10.0, day_of_year=0, time_h=12.0), "day_of_year"),
-        (dict(latitude_deg=10.0, day_of_year=367, time_h=12.0), "day_of_year"),
-        (dict(latitude_deg=10.0, day_of_year=10, time_h=24.5), "time_h"),
-        (dict(latitude_deg=10.0, day_of_year=10, time_h=[1.0, -1.0]), "time_h"),
-        (dict(latitude_deg="north", day_of_year=10, time_h=12.0), "latitude_deg"),
-        (dict(latitude_deg=10.0, day_of_year=10, time_h=12.0, longitude_deg=200.0,
-              utc_offset_h=0.0), "longitude_deg"),
-        (dict(latitude_deg=10.0, day_of_year=10, time_h=12.0, longitude_deg=20.0,
-              utc_offset_h=15.0), "utc_offset_h"),
-        (dict(latitude_deg=10.0, day_of_year=10, time_h=12.0, longitude_deg=20.0),
-         "utc_offset_h"),
-    ])
+    @pytest.mark.parametrize(
+        "kwargs, name",
+        [
+            (dict(latitude_deg=91.0, day_of_year=1, time_h=12.0), "latitude_deg"),
+            (dict(latitude_deg=np.nan, day_of_year=1, time_h=12.0), "latitude_deg"),
+            (dict(latitude_deg=10.0, day_of_year=0, time_h=12.0), "day_of_year"),
+            (dict(latitude_deg=10.0, day_of_year=367, time_h=12.0), "day_of_year"),
+            (dict(latitude_deg=10.0, day_of_year=10, time_h=24.5), "time_h"),
+            (dict(latitude_deg=10.0, day_of_year=10, time_h=[1.0, -1.0]), "time_h"),
+            (dict(latitude_deg="north", day_of_year=10, time_h=12.0), "latitude_deg"),
+            (
+                dict(latitude_deg=10.0, day_of_year=10, time_h=12.0, longitude_deg=200.0, utc_offset_h=0.0),
+                "longitude_deg",
+            ),
+            (
+                dict(latitude_deg=10.0, day_of_year=10, time_h=12.0, longitude_deg=20.0, utc_offset_h=15.0),
+                "utc_offset_h",
+            ),
+            (dict(latitude_deg=10.0, day_of_year=10, time_h=12.0, longitude_deg=20.0), "utc_offset_h"),
+        ],
+    )
     def test_raises_parameter_error_naming_the_parameter(self, kwargs, name):
         with pytest.raises(ParameterError) as info:
             sun_position(**kwargs)

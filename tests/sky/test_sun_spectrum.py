@@ -33,8 +33,7 @@ class TestTables:
 
     def test_solid_angle_of_the_sun(self):
         # Angular radius 0.2666° (959.6″) → π r² ≈ 6.79e-5 sr.
-        assert ss.SUN_SOLID_ANGLE_SR == pytest.approx(np.pi * np.radians(959.63 / 3600) ** 2,
-                                                      rel=1e-3)
+        assert pytest.approx(np.pi * np.radians(959.63 / 3600) ** 2, rel=1e-3) == ss.SUN_SOLID_ANGLE_SR
 
 
 class TestPreethamTransmittance:
@@ -43,7 +42,7 @@ class TestPreethamTransmittance:
         m = ss.relative_optical_mass(0.0)
         c = ss.transmittance_components(0.0, 500.0, 3.0)
         assert m == pytest.approx(0.99949, abs=1e-5)
-        assert c["rayleigh"] == pytest.approx(np.exp(-m * 0.008735 * 0.5 ** -4.08), rel=1e-12)
+        assert c["rayleigh"] == pytest.approx(np.exp(-m * 0.008735 * 0.5**-4.08), rel=1e-12)
         assert c["rayleigh"] == pytest.approx(0.863, abs=0.001)
 
     def test_aerosol_follows_angstrom_with_beta_from_turbidity(self):
@@ -56,8 +55,7 @@ class TestPreethamTransmittance:
 
     def test_air_mass_matches_secant_at_moderate_angles(self):
         zenith = np.radians([0.0, 30.0, 60.0])
-        np.testing.assert_allclose(ss.relative_optical_mass(zenith), 1 / np.cos(zenith),
-                                   rtol=4e-3)
+        np.testing.assert_allclose(ss.relative_optical_mass(zenith), 1 / np.cos(zenith), rtol=4e-3)
         assert 30.0 < ss.relative_optical_mass(np.pi / 2) < 40.0
 
     def test_components_within_zero_one_and_absorption_bands_show(self):
@@ -65,9 +63,9 @@ class TestPreethamTransmittance:
         for value in ss.transmittance_components(np.radians(45.0), wavelength, 4.0).values():
             assert np.all((value > 0.0) & (value <= 1.0))
         c = ss.transmittance_components(0.0, [550.0, 600.0, 762.5, 940.0], 3.0)
-        assert c["ozone"][1] < c["ozone"][0] < 1.0         # Chappuis band peaks near 600 nm
-        assert c["mixed_gases"][2] < 0.9                    # O2 A band
-        assert c["water_vapour"][3] < 0.5                   # 940 nm water band
+        assert c["ozone"][1] < c["ozone"][0] < 1.0  # Chappuis band peaks near 600 nm
+        assert c["mixed_gases"][2] < 0.9  # O2 A band
+        assert c["water_vapour"][3] < 0.5  # 940 nm water band
 
 
 class TestSunSpectrum:
@@ -92,13 +90,11 @@ class TestSunSpectrum:
         illuminance = 683.0 * np.sum(e * photopic_ybar(CIE_Y_NM)) * 5.0
         assert 85e3 < illuminance < 110e3
 
-    @pytest.mark.parametrize("zenith_deg, tolerance", [(0.0, 0.01), (30.0, 0.01), (60.0, 0.02),
-                                                       (80.0, 0.05)])
+    @pytest.mark.parametrize("zenith_deg, tolerance", [(0.0, 0.01), (30.0, 0.01), (60.0, 0.02), (80.0, 0.05)])
     def test_agrees_with_spectrl2_in_the_continuum(self, zenith_deg, tolerance):
         zenith = np.radians(zenith_deg)
         ours = ss.sun_spectral_irradiance(zenith, CONTINUUM_NM, 3.0)
-        spectrl2 = ss.sun_spectral_irradiance(zenith, CONTINUUM_NM, 3.0,
-                                              method="Bird-Riordan 1986")
+        spectrl2 = ss.sun_spectral_irradiance(zenith, CONTINUUM_NM, 3.0, method="Bird-Riordan 1986")
         np.testing.assert_allclose(ours, spectrl2, rtol=tolerance)
 
     def test_radiance_is_irradiance_over_solid_angle_and_distance_free(self):
@@ -119,22 +115,25 @@ class TestSunSpectrum:
         for index in np.ndindex(zenith.shape):
             for k, lam in enumerate(wavelength):
                 assert out[index + (k,)] == pytest.approx(
-                    ss.sun_spectral_radiance(zenith[index], lam, 4.0, method=method), rel=1e-12)
+                    ss.sun_spectral_radiance(zenith[index], lam, 4.0, method=method), rel=1e-12
+                )
         assert ss.sun_spectral_radiance(zenith, 500.0, 4.0, method=method).shape == (2, 3)
 
-    @pytest.mark.parametrize("call, name", [
-        (lambda: ss.sun_spectral_irradiance(1.6, 500.0, 3.0), "zenith_rad"),
-        (lambda: ss.sun_spectral_irradiance(-0.1, 500.0, 3.0), "zenith_rad"),
-        (lambda: ss.sun_spectral_irradiance(0.5, 250.0, 3.0), "wavelength_nm"),
-        (lambda: ss.sun_spectral_irradiance(0.5, [[500.0]], 3.0), "wavelength_nm"),
-        (lambda: ss.sun_spectral_irradiance(0.5, 500.0, 0.5), "turbidity"),
-        (lambda: ss.sun_spectral_irradiance(0.5, 500.0, np.nan), "turbidity"),
-        (lambda: ss.sun_spectral_irradiance(0.5, 500.0, 3.0, ozone_cm=-1.0), "ozone_cm"),
-        (lambda: ss.sun_spectral_irradiance(0.5, 500.0, 3.0, water_vapour_cm=20.0),
-         "water_vapour_cm"),
-        (lambda: ss.sun_spectral_irradiance(0.5, 500.0, 3.0, method="Hosek"), "method"),
-        (lambda: ss.sun_spectral_irradiance(0.5, 500.0, 3.0, day_of_year=0), "day_of_year"),
-    ])
+    @pytest.mark.parametrize(
+        "call, name",
+        [
+            (lambda: ss.sun_spectral_irradiance(1.6, 500.0, 3.0), "zenith_rad"),
+            (lambda: ss.sun_spectral_irradiance(-0.1, 500.0, 3.0), "zenith_rad"),
+            (lambda: ss.sun_spectral_irradiance(0.5, 250.0, 3.0), "wavelength_nm"),
+            (lambda: ss.sun_spectral_irradiance(0.5, [[500.0]], 3.0), "wavelength_nm"),
+            (lambda: ss.sun_spectral_irradiance(0.5, 500.0, 0.5), "turbidity"),
+            (lambda: ss.sun_spectral_irradiance(0.5, 500.0, np.nan), "turbidity"),
+            (lambda: ss.sun_spectral_irradiance(0.5, 500.0, 3.0, ozone_cm=-1.0), "ozone_cm"),
+            (lambda: ss.sun_spectral_irradiance(0.5, 500.0, 3.0, water_vapour_cm=20.0), "water_vapour_cm"),
+            (lambda: ss.sun_spectral_irradiance(0.5, 500.0, 3.0, method="Hosek"), "method"),
+            (lambda: ss.sun_spectral_irradiance(0.5, 500.0, 3.0, day_of_year=0), "day_of_year"),
+        ],
+    )
     def test_invalid_inputs_raise_parameter_error(self, call, name):
         with pytest.raises(ParameterError) as info:
             call()

@@ -1,10 +1,10 @@
 """Shared synthetic spatial models (small hemisphere, multinomial counts: fast and deterministic)."""
 
 import pytest
-
 import spatial_fakes
-from sandlight.spatial import Mesh, SpatialModel
 from spatial_fakes import RAYS, SLICES, STACKS
+
+from sandlight.spatial import Mesh, SpatialModel
 
 
 @pytest.fixture(scope="session")

@@ -16,8 +16,7 @@ import math
 
 import numpy as np
 
-from sandlight.gonio import CollectorHemisphere
-from sandlight.gonio import synthetic
+from sandlight.gonio import CollectorHemisphere, synthetic
 from sandlight.testing import chandrasekhar
 
 #: Hemisphere and trials of the shared synthetic measurements (multinomial draws per row: cheap).
@@ -67,8 +66,11 @@ def measured_nodes(mesh, rays, *, stacks=7, slices=8, seed=0, method="average"):
     out = []
     for i, params in enumerate(mesh.sample_dict(x) for x in mesh.nodes):
         counts = fake_measure(params, 550.0, rays=rays, seed=seed + i, stacks=stacks, slices=slices, threads=1)
-        out.append(MeasuredBRDF.from_counts(**counts, stacks=stacks, slices=slices, sample=params, wavelength_nm=550.0,
-                                            seed=seed + i, method=method))
+        out.append(
+            MeasuredBRDF.from_counts(
+                **counts, stacks=stacks, slices=slices, sample=params, wavelength_nm=550.0, seed=seed + i, method=method
+            )
+        )
     return out
 
 

@@ -45,14 +45,19 @@ def test_unsorted_one_dimensional_nodes():
     np.testing.assert_allclose(sorted(w[0]), [0.5, 0.5])
 
 
-@pytest.mark.parametrize("mesh", [
-    Mesh.beach(),
-    Mesh.grid(saturation=[0, 0.5, 1], hematite_ratio=[0, 1]),
-    Mesh.grid(saturation=[0, 0.5, 1], iron_oxide=[0, 0.01, 0.03], hematite_ratio=[0, 0.5, 1]),
-    Mesh(("saturation", "iron_oxide"),
-         np.vstack([[[0, 0], [1, 0], [0, 0.05], [1, 0.05]],
-                    np.random.default_rng(5).random((12, 2)) * [1, 0.05]])),
-], ids=["1d", "2d-grid", "3d-grid", "2d-scattered"])
+@pytest.mark.parametrize(
+    "mesh",
+    [
+        Mesh.beach(),
+        Mesh.grid(saturation=[0, 0.5, 1], hematite_ratio=[0, 1]),
+        Mesh.grid(saturation=[0, 0.5, 1], iron_oxide=[0, 0.01, 0.03], hematite_ratio=[0, 0.5, 1]),
+        Mesh(
+            ("saturation", "iron_oxide"),
+            np.vstack([[[0, 0], [1, 0], [0, 0.05], [1, 0.05]], np.random.default_rng(5).random((12, 2)) * [1, 0.05]]),
+        ),
+    ],
+    ids=["1d", "2d-grid", "3d-grid", "2d-scattered"],
+)
 def test_exact_at_nodes(mesh):
     idx, w = mesh.locate(mesh.nodes)
     for i in range(mesh.n_nodes):
@@ -60,17 +65,22 @@ def test_exact_at_nodes(mesh):
         assert idx[i, np.argmax(w[i])] == i
 
 
-@pytest.mark.parametrize("axes", [
-    {"saturation": [0, 0.5, 1], "hematite_ratio": [0, 1]},
-    {"saturation": [0, 0.5, 1], "iron_oxide": [0, 0.01, 0.03], "hematite_ratio": [0, 0.5, 1]},
-])
+@pytest.mark.parametrize(
+    "axes",
+    [
+        {"saturation": [0, 0.5, 1], "hematite_ratio": [0, 1]},
+        {"saturation": [0, 0.5, 1], "iron_oxide": [0, 0.01, 0.03], "hematite_ratio": [0, 0.5, 1]},
+    ],
+)
 def test_grid_weights_inside(axes):
     mesh = Mesh.grid(**axes)
     rng = np.random.default_rng(2)
     points = mesh.lower + rng.random((300, mesh.dimension)) * (mesh.upper - mesh.lower)
     check_weights(mesh, points)
     # Points on the boundary (faces, edges, corners) are inside.
-    check_weights(mesh, np.vstack([mesh.lower, mesh.upper, np.where(np.arange(mesh.dimension) == 0, mesh.lower, points[0])]))
+    check_weights(
+        mesh, np.vstack([mesh.lower, mesh.upper, np.where(np.arange(mesh.dimension) == 0, mesh.lower, points[0])])
+    )
 
 
 def test_scattered_weights_inside_hull():

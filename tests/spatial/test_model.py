@@ -6,9 +6,9 @@ import zipfile
 
 import numpy as np
 import pytest
-
 import spatial_fakes
 from spatial_fakes import RAYS, SLICES, STACKS
+
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
 from sandlight.gonio import CollectorHemisphere, EquivalenceClasses
 from sandlight.sample import SandSample
@@ -95,9 +95,10 @@ def test_fit_refuses_inconsistent_measurements(beach_nodes, beach_mesh):
 def test_outside_the_mesh(beach_model):
     with pytest.raises(ParameterError, match="saturation"):
         beach_model.predict([[1.2]])
-    narrow = SpatialModel().fit(spatial_fakes.measured_nodes(Mesh(("saturation",), [0.2, 0.4, 0.6]), RAYS,
-                                                              stacks=STACKS, slices=SLICES),
-                                Mesh(("saturation",), [0.2, 0.4, 0.6]))
+    narrow = SpatialModel().fit(
+        spatial_fakes.measured_nodes(Mesh(("saturation",), [0.2, 0.4, 0.6]), RAYS, stacks=STACKS, slices=SLICES),
+        Mesh(("saturation",), [0.2, 0.4, 0.6]),
+    )
     with pytest.raises(ParameterError, match=r"saturation = 0\.1"):
         narrow.brdf(SandSample(saturation=0.1))
 
@@ -129,8 +130,15 @@ def test_predicted_brdf_object(beach_model):
 def test_save_load_round_trip(beach_model, tmp_path):
     path = beach_model.save(tmp_path / "m.npz")
     again = SpatialModel.load(path)
-    for name in ("mean_", "components_", "scale_", "node_scores_", "node_normal_reflectance_", "explained_variance_ratio_",
-                 "signal_variance_ratio_"):
+    for name in (
+        "mean_",
+        "components_",
+        "scale_",
+        "node_scores_",
+        "node_normal_reflectance_",
+        "explained_variance_ratio_",
+        "signal_variance_ratio_",
+    ):
         np.testing.assert_array_equal(getattr(again, name), getattr(beach_model, name))
     assert again.mesh_ == beach_model.mesh_
     assert (again.stacks_, again.slices_, again.wavelength_nm_) == (STACKS, SLICES, 550.0)
@@ -155,11 +163,25 @@ def _meta(change):
         meta = json.loads(str(data["metadata"][()]))
         change(meta)
         data["metadata"] = np.array(json.dumps(meta))
+
     return edit
 
 
-@pytest.mark.parametrize("damage", ["truncated", "flipped", "text", "no-metadata", "foreign-format", "newer-version",
-                                    "missing-array", "nan", "wrong-shape", "bad-json"])
+@pytest.mark.parametrize(
+    "damage",
+    [
+        "truncated",
+        "flipped",
+        "text",
+        "no-metadata",
+        "foreign-format",
+        "newer-version",
+        "missing-array",
+        "nan",
+        "wrong-shape",
+        "bad-json",
+    ],
+)
 def test_corrupt_files_are_refused(beach_model, tmp_path, damage):
     good = beach_model.save(tmp_path / "good.npz")
     bad = tmp_path / "bad.npz"
@@ -187,8 +209,14 @@ def test_corrupt_files_are_refused(beach_model, tmp_path, damage):
     elif damage == "nan":
         _rewrite(good, bad, lambda d: d.__setitem__("mean", np.full_like(d["mean"], np.nan)))
     elif damage == "wrong-shape":
-        _rewrite(good, bad, lambda d: d.__setitem__("node_scores", d["node_scores"][:, :1].copy()
-                                                    if d["node_scores"].shape[1] > 1 else d["node_scores"][:-1]))
+        _rewrite(
+            good,
+            bad,
+            lambda d: d.__setitem__(
+                "node_scores",
+                d["node_scores"][:, :1].copy() if d["node_scores"].shape[1] > 1 else d["node_scores"][:-1],
+            ),
+        )
     elif damage == "bad-json":
         _rewrite(good, bad, lambda d: d.__setitem__("metadata", np.array("{not json")))
     with pytest.raises(ModelFileError):

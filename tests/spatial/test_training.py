@@ -4,9 +4,9 @@ import json
 
 import numpy as np
 import pytest
+import spatial_fakes
 import xarray as xr
 
-import spatial_fakes
 from sandlight.errors import ParameterError
 from sandlight.gonio import MeasuredBRDF
 from sandlight.jobs import InProcessExecutor, JobSettingsError
@@ -17,8 +17,19 @@ STACKS, SLICES = 5, 6
 
 
 def run(path, mesh, rays=10**6, **kw):
-    return measure_nodes(path, mesh, 550.0, rays, 7, InProcessExecutor(), stacks=STACKS, slices=SLICES,
-                         measure=spatial_fakes.fake_measure, progress=False, **kw)
+    return measure_nodes(
+        path,
+        mesh,
+        550.0,
+        rays,
+        7,
+        InProcessExecutor(),
+        stacks=STACKS,
+        slices=SLICES,
+        measure=spatial_fakes.fake_measure,
+        progress=False,
+        **kw,
+    )
 
 
 def test_node_dataset_layout(tmp_path):
@@ -55,9 +66,20 @@ def test_interrupted_job_resumes_to_the_same_dataset(tmp_path):
 
 def test_train_spatial_end_to_end(tmp_path):
     mesh = Mesh.beach(6)
-    result = train_spatial(tmp_path, mesh, 10**7, seed=1, holdout=[[0.5]], holdout_rays=10**8, stacks=STACKS,
-                           slices=SLICES, executor=InProcessExecutor(), measure=spatial_fakes.fake_measure,
-                           progress=False, model_params={"n_components": 2})
+    result = train_spatial(
+        tmp_path,
+        mesh,
+        10**7,
+        seed=1,
+        holdout=[[0.5]],
+        holdout_rays=10**8,
+        stacks=STACKS,
+        slices=SLICES,
+        executor=InProcessExecutor(),
+        measure=spatial_fakes.fake_measure,
+        progress=False,
+        model_params={"n_components": 2},
+    )
     assert result.complete and result.model.n_components_ == 2
     report = result.reports[0]
     assert report.point == {"saturation": 0.5}
@@ -70,24 +92,44 @@ def test_train_spatial_end_to_end(tmp_path):
     saved = json.loads((tmp_path / "holdout-report.json").read_text())
     assert saved[0]["n_values"] == report.n_values
     # fit_only refits the stored measurements without measuring again.
-    again = train_spatial(tmp_path, mesh, 10**7, seed=1, holdout=[[0.5]], holdout_rays=10**8, stacks=STACKS,
-                          slices=SLICES, measure=spatial_fakes.fake_measure, fit_only=True,
-                          model_params={"n_components": 3})
+    again = train_spatial(
+        tmp_path,
+        mesh,
+        10**7,
+        seed=1,
+        holdout=[[0.5]],
+        holdout_rays=10**8,
+        stacks=STACKS,
+        slices=SLICES,
+        measure=spatial_fakes.fake_measure,
+        fit_only=True,
+        model_params={"n_components": 3},
+    )
     assert again.model.n_components_ == 3
     np.testing.assert_array_equal(again.model.node_scores_[:, :2], result.model.node_scores_)
 
 
 def test_held_out_points_outside_the_mesh_are_refused_before_measuring(tmp_path):
     with pytest.raises(ParameterError, match="saturation"):
-        train_spatial(tmp_path, Mesh(("saturation",), [0.0, 0.5]), 10**6, holdout=[[0.8]], stacks=STACKS,
-                      slices=SLICES, executor=InProcessExecutor(), measure=spatial_fakes.fake_measure, progress=False)
+        train_spatial(
+            tmp_path,
+            Mesh(("saturation",), [0.0, 0.5]),
+            10**6,
+            holdout=[[0.8]],
+            stacks=STACKS,
+            slices=SLICES,
+            executor=InProcessExecutor(),
+            measure=spatial_fakes.fake_measure,
+            progress=False,
+        )
     assert not (tmp_path / "holdout").exists()
 
 
 def test_evaluate_scores_the_prediction_against_the_noise():
     mesh = Mesh.beach(6)
-    model = SpatialModel(n_components=2).fit(spatial_fakes.measured_nodes(mesh, 10**8, stacks=STACKS, slices=SLICES),
-                                             mesh)
+    model = SpatialModel(n_components=2).fit(
+        spatial_fakes.measured_nodes(mesh, 10**8, stacks=STACKS, slices=SLICES), mesh
+    )
     params = mesh.sample_dict([0.5])
     counts = spatial_fakes.fake_measure(params, 550.0, rays=10**8, seed=99, stacks=STACKS, slices=SLICES, threads=1)
     measured = MeasuredBRDF.from_counts(**counts, stacks=STACKS, slices=SLICES, sample=params, rays=10**8)
@@ -95,13 +137,22 @@ def test_evaluate_scores_the_prediction_against_the_noise():
     assert report.relative_rms >= report.noise_rms * 0.5
     assert report.model_error <= report.relative_rms
     # A wrong model is caught: scoring the measurement against the prediction at the other end.
-    far = MeasuredBRDF.from_counts(**spatial_fakes.fake_measure(mesh.sample_dict([1.0]), 550.0, rays=10**8, seed=98,
-                                                                 stacks=STACKS, slices=SLICES, threads=1),
-                                   stacks=STACKS, slices=SLICES, sample=params, rays=10**8)
+    far = MeasuredBRDF.from_counts(
+        **spatial_fakes.fake_measure(
+            mesh.sample_dict([1.0]), 550.0, rays=10**8, seed=98, stacks=STACKS, slices=SLICES, threads=1
+        ),
+        stacks=STACKS,
+        slices=SLICES,
+        sample=params,
+        rays=10**8,
+    )
     assert evaluate(model, far).relative_rms > 5 * report.relative_rms
-    few = MeasuredBRDF.from_counts(**spatial_fakes.fake_measure(params, 550.0, rays=1000, seed=1, stacks=STACKS,
-                                                                 slices=SLICES, threads=1),
-                                   stacks=STACKS, slices=SLICES, sample=params)
+    few = MeasuredBRDF.from_counts(
+        **spatial_fakes.fake_measure(params, 550.0, rays=1000, seed=1, stacks=STACKS, slices=SLICES, threads=1),
+        stacks=STACKS,
+        slices=SLICES,
+        sample=params,
+    )
     with pytest.raises(ParameterError, match="more trials"):
         evaluate(model, few)
 
@@ -109,12 +160,19 @@ def test_evaluate_scores_the_prediction_against_the_noise():
 def test_tiny_run_with_the_real_engine(tmp_path):
     # The whole chain with sandlight's transport engine: 3 nodes × 20 000 trials on 4 × 4 patches.
     mesh = Mesh.beach(3)
-    status = measure_nodes(tmp_path / "nodes", mesh, 550.0, 20_000, 3, InProcessExecutor(), stacks=4, slices=4,
-                           progress=False)
+    status = measure_nodes(
+        tmp_path / "nodes", mesh, 550.0, 20_000, 3, InProcessExecutor(), stacks=4, slices=4, progress=False
+    )
     brdfs = node_brdfs(status.dataset_path)
-    reference = engine_measure(mesh.sample_dict(mesh.nodes[1]), 550.0, rays=20_000,
-                               seed=int(xr.open_dataset(status.dataset_path)["seed"].values[1]), stacks=4, slices=4,
-                               threads=1)
+    reference = engine_measure(
+        mesh.sample_dict(mesh.nodes[1]),
+        550.0,
+        rays=20_000,
+        seed=int(xr.open_dataset(status.dataset_path)["seed"].values[1]),
+        stacks=4,
+        slices=4,
+        threads=1,
+    )
     np.testing.assert_array_equal(brdfs[1].counts, reference["counts"])  # the job is the engine, bit for bit
     # Saturated sand is darker than dry sand at 550 nm.
     assert brdfs[2].normal_reflectance < brdfs[0].normal_reflectance
@@ -132,8 +190,15 @@ def test_path_memory_is_the_engines_and_is_recorded(tmp_path):
         assert ds.attrs["memory"] == "cut"
         seed = int(ds["seed"].values[1])
     measured = node_brdfs(status.dataset_path)[1].counts
-    node = dict(params=mesh.sample_dict(mesh.nodes[1]), wavelength_nm=450.0, rays=20_000, seed=seed, stacks=4,
-                slices=4, threads=1)
+    node = dict(
+        params=mesh.sample_dict(mesh.nodes[1]),
+        wavelength_nm=450.0,
+        rays=20_000,
+        seed=seed,
+        stacks=4,
+        slices=4,
+        threads=1,
+    )
     np.testing.assert_array_equal(measured, engine_measure(**node, memory="cut")["counts"])
     assert not np.array_equal(measured, engine_measure(**node)["counts"])
     with pytest.raises(JobSettingsError, match="memory"):

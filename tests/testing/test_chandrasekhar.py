@@ -50,8 +50,10 @@ class TestHFunction:
         np.testing.assert_array_equal(h_function(mu, 0.0), 1.0)
         assert np.isnan(h_function(np.nan, 0.9))
 
-    @pytest.mark.parametrize("mu, omega, name", [(1.2, 0.5, "mu"), (-0.1, 0.5, "mu"), (0.5, 1.01, "omega"),
-                                                 (0.5, -0.1, "omega"), (0.5, "x", "omega")])
+    @pytest.mark.parametrize(
+        "mu, omega, name",
+        [(1.2, 0.5, "mu"), (-0.1, 0.5, "mu"), (0.5, 1.01, "omega"), (0.5, -0.1, "omega"), (0.5, "x", "omega")],
+    )
     def test_invalid_input(self, mu, omega, name):
         with pytest.raises(ParameterError, match=name):
             h_function(mu, omega)

@@ -2,5 +2,6 @@
 
 import typer
 
-app = typer.Typer(no_args_is_help=True, add_completion=False,
-                  help="sandlight: the appearance of sand from its mineralogy.")
+app = typer.Typer(
+    no_args_is_help=True, add_completion=False, help="sandlight: the appearance of sand from its mineralogy."
+)

@@ -14,8 +14,10 @@ from sandlight.errors import SandlightError
 err_console = Console(stderr=True)
 
 #: Help of the --memory and --geometry options of the commands that trace rays.
-MEMORY_HELP = ("Path memory of the fast engine: none (the classic model, default), channel, cut, or packed "
-               "(closest to the explicit reference; docs/geometry.md).")
+MEMORY_HELP = (
+    "Path memory of the fast engine: none (the classic model, default), channel, cut, or packed "
+    "(closest to the explicit reference; docs/geometry.md)."
+)
 GEOMETRY_HELP = "on-the-fly (fast, default) or explicit (the slow reference: a stored packing; docs/geometry.md)."
 
 
@@ -38,7 +40,9 @@ def load_sample(sample_file: Path | None, preset: str | None):
     from sandlight.sample import SandSample
 
     if sample_file is not None and preset is not None:
-        raise ParameterError("SAMPLE/--preset", f"{sample_file} and {preset}", "give a sample file or a preset, not both")
+        raise ParameterError(
+            "SAMPLE/--preset", f"{sample_file} and {preset}", "give a sample file or a preset, not both"
+        )
     if sample_file is not None:
         return SandSample.from_file(sample_file)
     return SandSample.preset(preset or "red-dune")
@@ -58,7 +62,9 @@ def parse_range(text: str, name: str) -> np.ndarray:
             return start + step * np.arange(n)
         return np.array([float(p) for p in text.split(",")])
     except ValueError:
-        raise ParameterError(name, text, "start:stop:step with step > 0 and stop ≥ start (e.g. 400:700:20), or a comma-separated list") from None
+        raise ParameterError(
+            name, text, "start:stop:step with step > 0 and stop ≥ start (e.g. 400:700:20), or a comma-separated list"
+        ) from None
 
 
 def parse_count(text: str, name: str) -> int:

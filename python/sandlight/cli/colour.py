@@ -6,9 +6,9 @@ or presets) exit with code 2 and a one-line message; a missing spectral model ex
 
 from __future__ import annotations
 
-from enum import Enum
+from enum import StrEnum
 from pathlib import Path
-from typing import Any, NoReturn, Optional
+from typing import Any, NoReturn
 
 import typer
 
@@ -18,12 +18,12 @@ from sandlight.errors import ParameterError, SandlightError
 _GRID_HELP = "NAME=start:stop:count (inclusive), e.g. iron_oxide=0.001:0.05:8"
 
 
-class Mode(str, Enum):
+class Mode(StrEnum):
     managed = "managed"
     paper = "paper"
 
 
-class PaperFigure(str, Enum):
+class PaperFigure(StrEnum):
     six = "6"
     seven = "7"
 
@@ -33,7 +33,7 @@ def _fail(message: str, code: int = 2) -> NoReturn:
     raise typer.Exit(code)
 
 
-def _parse_size(text: Optional[str], option: str) -> Optional[tuple[int, int]]:
+def _parse_size(text: str | None, option: str) -> tuple[int, int] | None:
     if text is None:
         return None
     parts = text.lower().split("x")
@@ -42,7 +42,7 @@ def _parse_size(text: Optional[str], option: str) -> Optional[tuple[int, int]]:
     return int(parts[0]), int(parts[1])
 
 
-def _load_sample(preset: Optional[str], sample_file: Optional[Path]) -> Any:
+def _load_sample(preset: str | None, sample_file: Path | None) -> Any:
     """The base sample: a preset, a TOML/JSON file, or ``SandSample()``."""
     if preset is not None and sample_file is not None:
         _fail("give --preset NAME or --sample FILE, not both")
@@ -57,11 +57,13 @@ def _load_sample(preset: Optional[str], sample_file: Optional[Path]) -> Any:
     return SandSample()
 
 
-_ENGINE_HELP = ("Compute the colours with the Monte Carlo engine at this many rays per wavelength "
-                "(e.g. 20000) instead of the shipped spectral predictor: slower, any sample.")
+_ENGINE_HELP = (
+    "Compute the colours with the Monte Carlo engine at this many rays per wavelength "
+    "(e.g. 20000) instead of the shipped spectral predictor: slower, any sample."
+)
 
 
-def _provider(engine_rays: Optional[int]):
+def _provider(engine_rays: int | None):
     """The reflectance provider the user chose: ``None`` (the predictor) or the engine."""
     if engine_rays is None:
         return None
@@ -72,12 +74,11 @@ def _provider(engine_rays: Optional[int]):
     return engine_reflectance_provider(engine_rays)
 
 
-def _grid_axes(x: Optional[str], y: Optional[str]):
+def _grid_axes(x: str | None, y: str | None):
     from sandlight.colour.swatches import parse_grid_spec
 
     if (x is None) != (y is None):
-        _fail("--x and --y go together: give both, e.g. --x iron_oxide=0.001:0.05:8 "
-              "--y hematite_ratio=0:1:6")
+        _fail("--x and --y go together: give both, e.g. --x iron_oxide=0.001:0.05:8 --y hematite_ratio=0:1:6")
     try:
         return parse_grid_spec(x), parse_grid_spec(y)
     except ParameterError as exc:
@@ -100,18 +101,20 @@ def _run(action):
 @app.command("swatches")
 def swatches_command(
     output: Path = typer.Option(..., "-o", "--output", help="PNG file to write."),
-    figure: Optional[PaperFigure] = typer.Option(
-        None, "--figure", help="The paper's Figure 6 (iron oxide × hematite ratio) or 7 "
-                               "(hematite ratio × saturation). Default 6 unless --x/--y."),
-    x: Optional[str] = typer.Option(None, "--x", help=f"Horizontal axis: {_GRID_HELP}."),
-    y: Optional[str] = typer.Option(None, "--y", help=f"Vertical axis (downward): {_GRID_HELP}."),
-    preset: Optional[str] = typer.Option(None, "--preset",
-                                         help="Base sample preset, e.g. red-dune."),
-    sample: Optional[Path] = typer.Option(None, "--sample", help="Base sample TOML/JSON file."),
+    figure: PaperFigure | None = typer.Option(
+        None,
+        "--figure",
+        help="The paper's Figure 6 (iron oxide × hematite ratio) or 7 "
+        "(hematite ratio × saturation). Default 6 unless --x/--y.",
+    ),
+    x: str | None = typer.Option(None, "--x", help=f"Horizontal axis: {_GRID_HELP}."),
+    y: str | None = typer.Option(None, "--y", help=f"Vertical axis (downward): {_GRID_HELP}."),
+    preset: str | None = typer.Option(None, "--preset", help="Base sample preset, e.g. red-dune."),
+    sample: Path | None = typer.Option(None, "--sample", help="Base sample TOML/JSON file."),
     mode: Mode = typer.Option(Mode.managed, "--mode", help="sRGB conversion."),
     lab: bool = typer.Option(False, "--lab/--no-lab", help="Print L*a*b* in each cell."),
-    size: Optional[str] = typer.Option(None, "--size", help="WIDTHxHEIGHT of the PNG in pixels."),
-    engine_rays: Optional[int] = typer.Option(None, "--engine-rays", help=_ENGINE_HELP),
+    size: str | None = typer.Option(None, "--size", help="WIDTHxHEIGHT of the PNG in pixels."),
+    engine_rays: int | None = typer.Option(None, "--engine-rays", help=_ENGINE_HELP),
 ) -> None:
     """Swatch grid of sand colours as two sample parameters vary (paper Figures 6 and 7)."""
     from sandlight.colour.swatches import figure6, figure7, swatch_grid
@@ -135,29 +138,35 @@ def swatches_command(
             grid, title = figure7(base, mode=mode.value, reflectance=provider), f"Figure 7 — sRGB ({mode.value})"
         grid.save_png(output, size_px=size_px, show_lab=lab, title=title)
         clipped = int(grid.out_of_gamut.sum())
-        typer.echo(f"wrote {output} ({grid.rgb.shape[1]}×{grid.rgb.shape[0]} swatches"
-                   + (f", {clipped} clipped to the sRGB gamut" if clipped else "") + ")")
+        typer.echo(
+            f"wrote {output} ({grid.rgb.shape[1]}×{grid.rgb.shape[0]} swatches"
+            + (f", {clipped} clipped to the sRGB gamut" if clipped else "")
+            + ")"
+        )
 
     _run(action)
 
 
 @app.command("colourise")
 def colourise_command(
-    image: Optional[Path] = typer.Argument(
-        None, help="Photo of sand (any format pillow reads). Default: the shipped texture."),
+    image: Path | None = typer.Argument(
+        None, help="Photo of sand (any format pillow reads). Default: the shipped texture."
+    ),
     output: Path = typer.Option(..., "-o", "--output", help="Image file to write."),
-    preset: Optional[str] = typer.Option(None, "--preset", help="Sample preset, e.g. red-dune."),
-    sample: Optional[Path] = typer.Option(None, "--sample", help="Sample TOML/JSON file."),
-    grid: bool = typer.Option(False, "--grid", help="Mosaic over --x/--y (base: --preset/--sample "
-                                                    "or the default sample)."),
-    x: Optional[str] = typer.Option(None, "--x", help=f"Grid horizontal axis: {_GRID_HELP}."),
-    y: Optional[str] = typer.Option(None, "--y", help=f"Grid vertical axis: {_GRID_HELP}."),
+    preset: str | None = typer.Option(None, "--preset", help="Sample preset, e.g. red-dune."),
+    sample: Path | None = typer.Option(None, "--sample", help="Sample TOML/JSON file."),
+    grid: bool = typer.Option(
+        False, "--grid", help="Mosaic over --x/--y (base: --preset/--sample or the default sample)."
+    ),
+    x: str | None = typer.Option(None, "--x", help=f"Grid horizontal axis: {_GRID_HELP}."),
+    y: str | None = typer.Option(None, "--y", help=f"Grid vertical axis: {_GRID_HELP}."),
     mode: Mode = typer.Option(Mode.managed, "--mode", help="sRGB conversion of the sample."),
-    linear: bool = typer.Option(False, "--linear/--encoded",
-                                help="Shift in linear light instead of encoded sRGB (paper)."),
-    tile: Optional[str] = typer.Option(None, "--tile", help="Grid tile WIDTHxHEIGHT in pixels."),
+    linear: bool = typer.Option(
+        False, "--linear/--encoded", help="Shift in linear light instead of encoded sRGB (paper)."
+    ),
+    tile: str | None = typer.Option(None, "--tile", help="Grid tile WIDTHxHEIGHT in pixels."),
     labels: bool = typer.Option(True, "--labels/--no-labels", help="Grid: axes with values."),
-    engine_rays: Optional[int] = typer.Option(None, "--engine-rays", help=_ENGINE_HELP),
+    engine_rays: int | None = typer.Option(None, "--engine-rays", help=_ENGINE_HELP),
 ) -> None:
     """Give a photo of sand the colour of a sample (paper §4.1.1), or a grid of colours."""
     from sandlight.colour.colourise import (
@@ -187,15 +196,14 @@ def colourise_command(
     def action():
         base = _load_sample(preset, sample)
         if not grid:
-            save_image(output, colourise(photo, base, mode=mode.value, linear=linear,
-                                         reflectance=provider))
+            save_image(output, colourise(photo, base, mode=mode.value, linear=linear, reflectance=provider))
             typer.echo(f"wrote {output} ({photo.shape[1]}×{photo.shape[0]})")
             return
-        result = colourise_grid(photo, base, axes[0], axes[1], tile_px=tile_px,
-                                mode=mode.value, linear=linear, reflectance=provider)
+        result = colourise_grid(
+            photo, base, axes[0], axes[1], tile_px=tile_px, mode=mode.value, linear=linear, reflectance=provider
+        )
         if labels and output.suffix.lower() != ".png":
-            _fail(f"--output {str(output)!r}: a labelled grid is written as .png "
-                  f"(or use --no-labels)")
+            _fail(f"--output {str(output)!r}: a labelled grid is written as .png (or use --no-labels)")
         result.save_png(output, labels=labels)
         typer.echo(f"wrote {output} ({len(axes[0].values)}×{len(axes[1].values)} tiles)")
 

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
 
 import typer
 from rich.console import Console
@@ -24,16 +23,16 @@ def version() -> None:
 
 @app.command()
 def reflectance(
-    sample_file: Optional[Path] = typer.Argument(None, help="Sample description (TOML or JSON)."),
-    preset: Optional[str] = typer.Option(None, "--preset", help="Named preset instead of a file (e.g. red-dune)."),
+    sample_file: Path | None = typer.Argument(None, help="Sample description (TOML or JSON)."),
+    preset: str | None = typer.Option(None, "--preset", help="Named preset instead of a file (e.g. red-dune)."),
     wavelengths: str = typer.Option("400:700:20", "--wavelengths", "-w", help="start:stop:step in nm, or a list."),
     rays: str = typer.Option("1e5", "--rays", "-n", help="Rays per wavelength."),
     incidence: float = typer.Option(0.0, "--incidence", help="Incidence zenith angle (degrees)."),
     seed: int = typer.Option(0, "--seed"),
-    threads: Optional[int] = typer.Option(None, "--threads", help="Worker threads (default: all cores)."),
-    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write .nc (NetCDF) or .csv."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Write a PNG plot of the spectrum."),
-    memory: Optional[str] = typer.Option(None, "--memory", help=MEMORY_HELP),
+    threads: int | None = typer.Option(None, "--threads", help="Worker threads (default: all cores)."),
+    output: Path | None = typer.Option(None, "-o", "--output", help="Write .nc (NetCDF) or .csv."),
+    plot: Path | None = typer.Option(None, "--plot", help="Write a PNG plot of the spectrum."),
+    memory: str | None = typer.Option(None, "--memory", help=MEMORY_HELP),
     geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
 ) -> None:
     """Monte Carlo directional-hemispherical reflectance of a sand sample."""
@@ -43,8 +42,9 @@ def reflectance(
         sample = load_sample(sample_file, preset)
         wl, n = parse_range(wavelengths, "--wavelengths"), parse_count(rays, "--rays")
         console.print(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
-        result = run(sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory,
-                     geometry=geometry)
+        result = run(
+            sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory, geometry=geometry
+        )
         _report(result, output, plot, title=str(sample_file or preset or "red-dune"))
 
 
@@ -53,8 +53,13 @@ def _report(result, output, plot, *, title):
 
     table = Table("λ (nm)", "reflectance", "± stderr", "events/ray", "capped")
     for i, wl in enumerate(result.wavelengths):
-        table.add_row(f"{wl:g}", f"{result.values[i]:.4f}", f"{result.stderr[i]:.4f}",
-                      f"{result.mean_events_per_ray[i]:.1f}", str(int(result.capped[i])))
+        table.add_row(
+            f"{wl:g}",
+            f"{result.values[i]:.4f}",
+            f"{result.stderr[i]:.4f}",
+            f"{result.mean_events_per_ray[i]:.1f}",
+            str(int(result.capped[i])),
+        )
     console.print(table)
     console.print(f"{result.rays:,} rays per wavelength in {result.elapsed_s:.1f} s")
     if output is not None:
@@ -81,6 +86,14 @@ def demo(
     with user_errors():
         sample = SandSample.preset("red-dune")
         console.print("[bold]sandlight demo[/]: red-dune sand, 400–2500 nm")
-        result = run(sample, parse_range("400:700:20", "wavelengths").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],
-                     rays=parse_count(rays, "--rays"))
-        _report(result, output_dir / "red-dune.nc", output_dir / "red-dune.png", title="red-dune sand (sandlight Monte Carlo)")
+        result = run(
+            sample,
+            parse_range("400:700:20", "wavelengths").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],
+            rays=parse_count(rays, "--rays"),
+        )
+        _report(
+            result,
+            output_dir / "red-dune.nc",
+            output_dir / "red-dune.png",
+            title="red-dune sand (sandlight Monte Carlo)",
+        )

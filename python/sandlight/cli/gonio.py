@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
 
 import typer
 from rich.console import Console
@@ -16,18 +15,18 @@ console = Console()
 
 @app.command()
 def brdf(
-    sample_file: Optional[Path] = typer.Argument(None, help="Sample description (TOML or JSON)."),
-    preset: Optional[str] = typer.Option(None, "--preset", help="Named preset instead of a file."),
+    sample_file: Path | None = typer.Argument(None, help="Sample description (TOML or JSON)."),
+    preset: str | None = typer.Option(None, "--preset", help="Named preset instead of a file."),
     wavelength: float = typer.Option(550.0, "--wavelength", "-w", help="Wavelength (nm)."),
     rays: str = typer.Option("1e6", "--rays", "-n", help="Trials (the paper uses 1e8)."),
     stacks: int = typer.Option(31, "--stacks"),
     slices: int = typer.Option(30, "--slices"),
     seed: int = typer.Option(0, "--seed"),
-    threads: Optional[int] = typer.Option(None, "--threads"),
+    threads: int | None = typer.Option(None, "--threads"),
     method: str = typer.Option("average", "--method", help="average (the paper) or pooled."),
     output: Path = typer.Option(Path("brdf.nc"), "-o", "--output", help="NetCDF output."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="PNG: polar map at 30° and principal-plane curves."),
-    memory: Optional[str] = typer.Option(None, "--memory", help=MEMORY_HELP),
+    plot: Path | None = typer.Option(None, "--plot", help="PNG: polar map at 30° and principal-plane curves."),
+    memory: str | None = typer.Option(None, "--memory", help=MEMORY_HELP),
     geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
 ) -> None:
     """Measure the BRDF of a sand sample with the virtual goniophotometer (paper §3.2.1).
@@ -39,9 +38,19 @@ def brdf(
 
     with user_errors():
         sample = load_sample(sample_file, preset)
-        result = measure(sample, wavelength, rays=parse_count(rays, "--rays"), stacks=stacks, slices=slices, seed=seed,
-                         threads=threads, method=method, checkpoint=output.with_name(output.name + ".checkpoint.npz"),
-                         memory=memory, geometry=geometry)
+        result = measure(
+            sample,
+            wavelength,
+            rays=parse_count(rays, "--rays"),
+            stacks=stacks,
+            slices=slices,
+            seed=seed,
+            threads=threads,
+            method=method,
+            checkpoint=output.with_name(output.name + ".checkpoint.npz"),
+            memory=memory,
+            geometry=geometry,
+        )
         to_netcdf(result, output)
         console.print(f"normal-incidence reflectance {result.normal_reflectance:.4f}; wrote {output}")
         if plot is not None:

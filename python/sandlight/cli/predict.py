@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import sys
 from pathlib import Path
-from typing import Optional
 
 import typer
 
@@ -22,26 +21,21 @@ def train_spectral_command(
     out: Path = typer.Option(..., "--out", help="Output directory (job stores, model, report)."),
     samples: int = typer.Option(3000, "--samples", help="Training samples (paper: 3000)."),
     rays: int = typer.Option(100_000, "--rays", help="Rays per sample and wavelength."),
-    wavelengths: str = typer.Option("400:700:20", "--wavelengths",
-                                    help="nm: 'start:stop:step' (stop included) or 'w1,w2,..'."),
+    wavelengths: str = typer.Option(
+        "400:700:20", "--wavelengths", help="nm: 'start:stop:step' (stop included) or 'w1,w2,..'."
+    ),
     seed: int = typer.Option(0, "--seed", help="Master seed (draws and engine seeds)."),
-    holdout: Optional[int] = typer.Option(None, "--holdout",
-                                          help="Hold-out samples (default: max(20, N/10))."),
-    holdout_rays: Optional[int] = typer.Option(None, "--holdout-rays",
-                                               help="Rays per hold-out sample (default: "
-                                                    "--rays)."),
-    workers: Optional[int] = typer.Option(None, "--workers",
-                                          help="Local worker processes (1: in-process) "
-                                               "(default: one per CPU)."),
-    dask_local: Optional[int] = typer.Option(None, "--dask-local",
-                                             help="Start a Dask LocalCluster of N workers."),
-    scheduler: Optional[str] = typer.Option(None, "--scheduler",
-                                            help="Dask scheduler address, tcp://HOST:PORT."),
-    fit_only: bool = typer.Option(False, "--fit-only",
-                                  help="Only refit from the complete datasets in --out."),
-    n_components: Optional[int] = typer.Option(None, "--components",
-                                               help="Principal components (default: by "
-                                                    "--variance)."),
+    holdout: int | None = typer.Option(None, "--holdout", help="Hold-out samples (default: max(20, N/10))."),
+    holdout_rays: int | None = typer.Option(None, "--holdout-rays", help="Rays per hold-out sample (default: --rays)."),
+    workers: int | None = typer.Option(
+        None, "--workers", help="Local worker processes (1: in-process) (default: one per CPU)."
+    ),
+    dask_local: int | None = typer.Option(None, "--dask-local", help="Start a Dask LocalCluster of N workers."),
+    scheduler: str | None = typer.Option(None, "--scheduler", help="Dask scheduler address, tcp://HOST:PORT."),
+    fit_only: bool = typer.Option(False, "--fit-only", help="Only refit from the complete datasets in --out."),
+    n_components: int | None = typer.Option(
+        None, "--components", help="Principal components (default: by --variance)."
+    ),
     variance: float = typer.Option(0.999, "--variance", help="Explained variance threshold."),
     ridge: float = typer.Option(0.0, "--ridge", help="Ridge penalty (0: least squares)."),
     degree: int = typer.Option(3, "--degree", help="Degree of the monomials (paper: 3)."),
@@ -58,30 +52,47 @@ def train_spectral_command(
     try:
         executor = None if fit_only else make_executor(workers, dask_local, scheduler)
         run = train_spectral(
-            out, samples, rays, wavelengths, seed, n_holdout=holdout, executor=executor,
-            fit_only=fit_only, progress=progress, holdout_rays=holdout_rays, memory=memory,
-            model_params={"n_components": n_components, "variance_threshold": variance,
-                          "ridge": ridge, "forms": forms, "degree": degree})
+            out,
+            samples,
+            rays,
+            wavelengths,
+            seed,
+            n_holdout=holdout,
+            executor=executor,
+            fit_only=fit_only,
+            progress=progress,
+            holdout_rays=holdout_rays,
+            memory=memory,
+            model_params={
+                "n_components": n_components,
+                "variance_threshold": variance,
+                "ridge": ridge,
+                "forms": forms,
+                "degree": degree,
+            },
+        )
     except Cancelled as exc:
         _fail(str(exc), 130)
     except SandlightError as exc:
         _fail(str(exc))
     model, report = run.model, run.report
     ratio = model.explained_variance_ratio_
-    typer.echo(f"training set: {run.training.dataset_path} ({run.training.n_total} samples, "
-               f"engine memory {model.memory_!r})")
-    typer.echo(f"principal components: k = {model.n_components_}, explained variance "
-               f"{ratio[:model.n_components_].sum():.5%} "
-               f"(per component: {', '.join(f'{r:.4%}' for r in ratio[:model.n_components_])})")
-    typer.echo(f"training RMS error {model.training_rms_:.5f} (PCA floor "
-               f"{model.reconstruction_rms_:.5f})")
+    typer.echo(
+        f"training set: {run.training.dataset_path} ({run.training.n_total} samples, engine memory {model.memory_!r})"
+    )
+    typer.echo(
+        f"principal components: k = {model.n_components_}, explained variance "
+        f"{ratio[: model.n_components_].sum():.5%} "
+        f"(per component: {', '.join(f'{r:.4%}' for r in ratio[: model.n_components_])})"
+    )
+    typer.echo(f"training RMS error {model.training_rms_:.5f} (PCA floor {model.reconstruction_rms_:.5f})")
     if report is not None:
         typer.echo(report.table())
     typer.echo(f"times: generation {run.generation_s:.1f} s (this run), fit {run.fit_s:.2f} s")
     typer.echo(f"model: {run.model_path}")
 
 
-def _load_sample(sample_file: Optional[Path], preset: Optional[str]):
+def _load_sample(sample_file: Path | None, preset: str | None):
     import tomllib
 
     from sandlight.sample import SandSample
@@ -102,14 +113,12 @@ def _load_sample(sample_file: Optional[Path], preset: Optional[str]):
 
 @app.command()
 def predict(
-    sample_file: Optional[Path] = typer.Argument(None, help="Sample parameters (TOML)."),
-    preset: Optional[str] = typer.Option(None, "--preset", help="A named SandSample preset."),
-    model_path: Optional[Path] = typer.Option(None, "--model",
-                                              help="Model file (default: the shipped model)."),
-    output: Optional[Path] = typer.Option(None, "-o", "--output", help="Write a CSV file."),
-    plot: Optional[Path] = typer.Option(None, "--plot", help="Save a plot (PNG, PDF, SVG)."),
-    extrapolate: bool = typer.Option(False, "--extrapolate",
-                                     help="Allow samples outside the training domain."),
+    sample_file: Path | None = typer.Argument(None, help="Sample parameters (TOML)."),
+    preset: str | None = typer.Option(None, "--preset", help="A named SandSample preset."),
+    model_path: Path | None = typer.Option(None, "--model", help="Model file (default: the shipped model)."),
+    output: Path | None = typer.Option(None, "-o", "--output", help="Write a CSV file."),
+    plot: Path | None = typer.Option(None, "--plot", help="Save a plot (PNG, PDF, SVG)."),
+    extrapolate: bool = typer.Option(False, "--extrapolate", help="Allow samples outside the training domain."),
 ) -> None:
     """Predict the spectral reflectance of a sand sample in microseconds.
 
@@ -121,22 +130,21 @@ def predict(
     from sandlight.predictor.spectral import SpectralModel
 
     try:
-        bank = default_model() if model_path is None else ModelBank(
-            [SpectralModel.load(model_path)])
+        bank = default_model() if model_path is None else ModelBank([SpectralModel.load(model_path)])
         sample, label = _load_sample(sample_file, preset)
         values, used = bank.predict([sample], extrapolate=extrapolate, return_models=True)
     except SandlightError as exc:
         _fail(str(exc))
     reflectance, model = values[0], bank.model(str(used[0]))
     outside = bank.select([sample])[0] < 0  # no model covers it: the fallback extrapolated
-    typer.echo(f"model {bank.describe(model.name_)}"
-               + (" [extrapolated: the sample is outside its domain]" if outside else ""))
+    typer.echo(
+        f"model {bank.describe(model.name_)}" + (" [extrapolated: the sample is outside its domain]" if outside else "")
+    )
     wavelengths = model.wavelengths_
     if output is not None:
         from sandlight.io import write_atomically
 
-        lines = ["wavelength_nm,reflectance"] + [f"{w:g},{r:.6f}"
-                                                 for w, r in zip(wavelengths, reflectance)]
+        lines = ["wavelength_nm,reflectance"] + [f"{w:g},{r:.6f}" for w, r in zip(wavelengths, reflectance)]
         text = "\n".join(lines) + "\n"
         write_atomically(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
     else:
@@ -157,8 +165,12 @@ def predict(
 
         fig, ax = plt.subplots(figsize=(6, 4))
         ax.plot(wavelengths, reflectance, marker="o")
-        ax.set(xlabel="wavelength (nm)", ylabel="directional-hemispherical reflectance",
-               title=f"{label} (spectral predictor)", ylim=(0, max(1e-3, reflectance.max()) * 1.1))
+        ax.set(
+            xlabel="wavelength (nm)",
+            ylabel="directional-hemispherical reflectance",
+            title=f"{label} (spectral predictor)",
+            ylim=(0, max(1e-3, reflectance.max()) * 1.1),
+        )
         ax.grid(alpha=0.3)
         fig.tight_layout()
         fig.savefig(plot)

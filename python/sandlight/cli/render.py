@@ -8,7 +8,6 @@ with code 2 and a one-line message naming the key; Ctrl-C exits with 130 keeping
 from __future__ import annotations
 
 from pathlib import Path
-from typing import Optional
 
 import typer
 
@@ -20,14 +19,18 @@ from sandlight.cli._common import user_errors
 def render(
     scene: str = typer.Argument(..., help="A shipped scene (desert-day, beach-drying) or a scene TOML file."),
     output: Path = typer.Option(..., "--output", "-o", help="Folder for the frames (PNG and linear NetCDF)."),
-    video: Optional[Path] = typer.Option(None, "--video", help="Also encode the frames as this MP4 file."),
-    width: Optional[int] = typer.Option(None, help="Image width in pixels (overrides output.width)."),
-    height: Optional[int] = typer.Option(None, help="Image height in pixels (overrides output.height)."),
-    frames: Optional[int] = typer.Option(None, help="Number of frames (overrides output.frames)."),
-    spp: Optional[int] = typer.Option(None, help="Samples per pixel (overrides render.spp)."),
-    seed: Optional[int] = typer.Option(None, help="Random seed (overrides render.seed)."),
-    threads: Optional[int] = typer.Option(None, help="Worker threads (default: all cores); images do not depend on it."),
-    linear: Optional[str] = typer.Option(None, "--linear", help="Per-frame NetCDF: 'spectral' (radiance and XYZ), 'xyz' or 'none' (overrides output.linear)."),
+    video: Path | None = typer.Option(None, "--video", help="Also encode the frames as this MP4 file."),
+    width: int | None = typer.Option(None, help="Image width in pixels (overrides output.width)."),
+    height: int | None = typer.Option(None, help="Image height in pixels (overrides output.height)."),
+    frames: int | None = typer.Option(None, help="Number of frames (overrides output.frames)."),
+    spp: int | None = typer.Option(None, help="Samples per pixel (overrides render.spp)."),
+    seed: int | None = typer.Option(None, help="Random seed (overrides render.seed)."),
+    threads: int | None = typer.Option(None, help="Worker threads (default: all cores); images do not depend on it."),
+    linear: str | None = typer.Option(
+        None,
+        "--linear",
+        help="Per-frame NetCDF: 'spectral' (radiance and XYZ), 'xyz' or 'none' (overrides output.linear).",
+    ),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
 ) -> None:
     """Render an animation of a sandy landscape under the sun and sky (paper §4.2): frames as
@@ -37,15 +40,19 @@ def render(
     from sandlight.render.scene import Scene
 
     with user_errors():
-        parsed = Scene.load(scene).with_overrides(width=width, height=height, frames=frames, spp=spp, seed=seed,
-                                                  threads=threads, write_linear=linear)
+        parsed = Scene.load(scene).with_overrides(
+            width=width, height=height, frames=frames, spp=spp, seed=seed, threads=threads, write_linear=linear
+        )
         try:
             run = render_scene(parsed, output, video=video, progress=progress, log=typer.echo)
         except KeyboardInterrupt:
             kept = len(list(Path(output).glob("frame_*.png")))
-            typer.echo(f"interrupted: the {kept} finished frame(s) in {output} are complete; no video was written",
-                       err=True)
+            typer.echo(
+                f"interrupted: the {kept} finished frame(s) in {output} are complete; no video was written", err=True
+            )
             raise typer.Exit(130) from None
         total = sum(run.render_seconds)
-        typer.echo(f"{len(run.pngs)} frame(s) in {output} ({total:.1f} s rendering, {run.elapsed_s:.1f} s in all)"
-                   + (f"; video {run.video}" if run.video else ""))
+        typer.echo(
+            f"{len(run.pngs)} frame(s) in {output} ({total:.1f} s rendering, {run.elapsed_s:.1f} s in all)"
+            + (f"; video {run.video}" if run.video else "")
+        )

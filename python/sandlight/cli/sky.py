@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Optional
 
 import typer
 
@@ -15,30 +14,36 @@ def _parse_times(text: str) -> list[float]:
     try:
         return [float(item) for item in text.split(",") if item.strip()]
     except ValueError:
-        raise typer.BadParameter(f"{text!r} is not a comma-separated list of hours, "
-                                 "e.g. 6,8,10,12", param_hint="--times") from None
+        raise typer.BadParameter(
+            f"{text!r} is not a comma-separated list of hours, e.g. 6,8,10,12", param_hint="--times"
+        ) from None
 
 
 @app.command()
 def sky(
     latitude: float = typer.Option(..., help="Latitude in degrees, north positive, [-90, 90]."),
     day: int = typer.Option(..., help="Day of the year, 1 (1 January) to 366."),
-    time: Optional[float] = typer.Option(
-        None, help="Time of day in hours [0, 24]: solar time, or clock time if --longitude and "
-                   "--utc-offset are given. Draws one dome."),
-    times: Optional[str] = typer.Option(
-        None, help="Comma-separated times of day (e.g. 6,8,10,12,14,16,18): draws a strip of "
-                   "domes over the day instead of one."),
-    turbidity: float = typer.Option(3.0, help="Turbidity T in [1.7, 10] (2 very clear, 3 clear, "
-                                              "6 moist, 10 hazy)."),
-    longitude: Optional[float] = typer.Option(
-        None, help="Longitude in degrees, east positive, [-180, 180]; with --utc-offset."),
-    utc_offset: Optional[float] = typer.Option(
-        None, help="Time-zone offset from UTC in hours, [-12, 14]; with --longitude."),
+    time: float | None = typer.Option(
+        None,
+        help="Time of day in hours [0, 24]: solar time, or clock time if --longitude and "
+        "--utc-offset are given. Draws one dome.",
+    ),
+    times: str | None = typer.Option(
+        None,
+        help="Comma-separated times of day (e.g. 6,8,10,12,14,16,18): draws a strip of "
+        "domes over the day instead of one.",
+    ),
+    turbidity: float = typer.Option(3.0, help="Turbidity T in [1.7, 10] (2 very clear, 3 clear, 6 moist, 10 hazy)."),
+    longitude: float | None = typer.Option(
+        None, help="Longitude in degrees, east positive, [-180, 180]; with --utc-offset."
+    ),
+    utc_offset: float | None = typer.Option(
+        None, help="Time-zone offset from UTC in hours, [-12, 14]; with --longitude."
+    ),
     size: int = typer.Option(512, help="Dome diameter in pixels [16, 4096] (per dome)."),
-    exposure: Optional[float] = typer.Option(
-        None, help="Luminance shown as white, kcd/m^2 (default: twice the median sky "
-                   "luminance)."),
+    exposure: float | None = typer.Option(
+        None, help="Luminance shown as white, kcd/m^2 (default: twice the median sky luminance)."
+    ),
     output: Path = typer.Option(..., "--output", "-o", help="Output PNG file."),
 ) -> None:
     """Draw the Preetham et al. (1999) clear sky as an equidistant fisheye PNG (looking up:
@@ -48,35 +53,55 @@ def sky(
     from sandlight.sky.plots import plot_sky_day, plot_sky_dome
 
     if (time is None) == (times is None):
-        raise typer.BadParameter("give exactly one of --time (one dome) or --times (a strip)",
-                                 param_hint="--time/--times")
+        raise typer.BadParameter(
+            "give exactly one of --time (one dome) or --times (a strip)", param_hint="--time/--times"
+        )
     exposure_cd_m2 = None if exposure is None else exposure * 1000.0
     if exposure is not None and not exposure > 0.0:
-        raise typer.BadParameter(f"{exposure} is not allowed: a luminance > 0 in kcd/m^2",
-                                 param_hint="--exposure")
+        raise typer.BadParameter(f"{exposure} is not allowed: a luminance > 0 in kcd/m^2", param_hint="--exposure")
     try:
         if time is not None:
-            zenith, azimuth = sun_position(latitude, day, time, longitude_deg=longitude,
-                                           utc_offset_h=utc_offset)
+            zenith, azimuth = sun_position(latitude, day, time, longitude_deg=longitude, utc_offset_h=utc_offset)
             elevation = 90.0 - math.degrees(float(zenith))
             if elevation <= 0.0:
                 raise typer.BadParameter(
                     f"the sun is {-elevation:.1f}° below the horizon at {time} h on day {day} "
-                    f"at latitude {latitude}°: choose a daytime hour", param_hint="--time")
-            model = PreethamSky.from_location(turbidity, latitude, day, time,
-                                              longitude_deg=longitude, utc_offset_h=utc_offset)
+                    f"at latitude {latitude}°: choose a daytime hour",
+                    param_hint="--time",
+                )
+            model = PreethamSky.from_location(
+                turbidity, latitude, day, time, longitude_deg=longitude, utc_offset_h=utc_offset
+            )
             path = plot_sky_dome(model, output, size=size, exposure_cd_m2=exposure_cd_m2)
-            typer.echo(f"sun elevation {elevation:.2f}°, azimuth "
-                       f"{math.degrees(float(azimuth)):.2f}° (from north, "
-                       f"clockwise); zenith luminance {model.zenith_luminance_kcd_m2:.3f} kcd/m²")
+            typer.echo(
+                f"sun elevation {elevation:.2f}°, azimuth "
+                f"{math.degrees(float(azimuth)):.2f}° (from north, "
+                f"clockwise); zenith luminance {model.zenith_luminance_kcd_m2:.3f} kcd/m²"
+            )
         else:
-            path = plot_sky_day(latitude, day, _parse_times(times), output, turbidity=turbidity,
-                                longitude_deg=longitude, utc_offset_h=utc_offset, size=size,
-                                exposure_cd_m2=exposure_cd_m2)
+            path = plot_sky_day(
+                latitude,
+                day,
+                _parse_times(times),
+                output,
+                turbidity=turbidity,
+                longitude_deg=longitude,
+                utc_offset_h=utc_offset,
+                size=size,
+                exposure_cd_m2=exposure_cd_m2,
+            )
     except ParameterError as error:
-        option = {"latitude_deg": "--latitude", "day_of_year": "--day", "time_h": "--time",
-                  "standard_time_h": "--time", "times_h": "--times", "turbidity": "--turbidity",
-                  "longitude_deg": "--longitude", "utc_offset_h": "--utc-offset",
-                  "size": "--size", "exposure_cd_m2": "--exposure"}.get(error.name)
+        option = {
+            "latitude_deg": "--latitude",
+            "day_of_year": "--day",
+            "time_h": "--time",
+            "standard_time_h": "--time",
+            "times_h": "--times",
+            "turbidity": "--turbidity",
+            "longitude_deg": "--longitude",
+            "utc_offset_h": "--utc-offset",
+            "size": "--size",
+            "exposure_cd_m2": "--exposure",
+        }.get(error.name)
         raise typer.BadParameter(str(error), param_hint=option) from None
     typer.echo(f"wrote {path}")

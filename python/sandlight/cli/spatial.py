@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, Optional
 
 import numpy as np
 import typer
@@ -52,39 +51,51 @@ def _nodes_file(path: Path):
             header = [h.strip() for h in fh.readline().split(",")]
         values = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
     except (OSError, ValueError) as exc:
-        raise ParameterError("--nodes", str(path), f"a readable CSV file with a header of parameter names ({exc})") from None
+        raise ParameterError(
+            "--nodes", str(path), f"a readable CSV file with a header of parameter names ({exc})"
+        ) from None
     return tuple(header), values
 
 
 @app.command("train-spatial")
 def train_spatial_command(
-    sample_file: Optional[Path] = typer.Argument(None, help="Base sample (TOML/JSON) giving the parameters the mesh "
-                                                 "does not vary (default: SandSample())."),
-    preset: Optional[str] = typer.Option(None, "--preset", help="Base sample: a named preset."),
+    sample_file: Path | None = typer.Argument(
+        None, help="Base sample (TOML/JSON) giving the parameters the mesh does not vary (default: SandSample())."
+    ),
+    preset: str | None = typer.Option(None, "--preset", help="Base sample: a named preset."),
     out: Path = typer.Option(..., "--out", help="Output directory (job stores, model, report)."),
-    axis: List[str] = typer.Option(None, "--axis", help="Grid axis NAME=start:stop:count or NAME=v1,v2,... "
-                                   "(repeatable; default saturation=0:1:16, the paper's beach scene)."),
-    nodes: Optional[Path] = typer.Option(None, "--nodes", help="Scattered nodes: CSV with a header of parameter "
-                                         "names (instead of --axis)."),
+    axis: list[str] = typer.Option(
+        None,
+        "--axis",
+        help="Grid axis NAME=start:stop:count or NAME=v1,v2,... "
+        "(repeatable; default saturation=0:1:16, the paper's beach scene).",
+    ),
+    nodes: Path | None = typer.Option(
+        None, "--nodes", help="Scattered nodes: CSV with a header of parameter names (instead of --axis)."
+    ),
     rays: str = typer.Option("1e7", "--rays", "-n", help="Goniophotometer trials per node."),
     wavelength: float = typer.Option(550.0, "--wavelength", "-w", help="Wavelength of the measurements (nm)."),
     seed: int = typer.Option(0, "--seed", help="Master seed."),
-    holdout: List[str] = typer.Option(None, "--holdout", help="Held-out point NAME=VALUE[,NAME=VALUE] measured and "
-                                      "compared with the prediction (repeatable)."),
-    holdout_rays: Optional[str] = typer.Option(None, "--holdout-rays", help="Trials per held-out point "
-                                               "(default --rays)."),
+    holdout: list[str] = typer.Option(
+        None,
+        "--holdout",
+        help="Held-out point NAME=VALUE[,NAME=VALUE] measured and compared with the prediction (repeatable).",
+    ),
+    holdout_rays: str | None = typer.Option(None, "--holdout-rays", help="Trials per held-out point (default --rays)."),
     stacks: int = typer.Option(31, "--stacks"),
     slices: int = typer.Option(30, "--slices"),
     method: str = typer.Option("average", "--method", help="Reduction: average (the paper) or pooled."),
     threads: int = typer.Option(1, "--threads", help="Engine threads per node."),
-    workers: Optional[int] = typer.Option(None, "--workers", help="Local worker processes (1: in-process)."),
-    dask_local: Optional[int] = typer.Option(None, "--dask-local", help="Start a Dask LocalCluster of N workers."),
-    scheduler: Optional[str] = typer.Option(None, "--scheduler", help="Dask scheduler address, tcp://HOST:PORT."),
-    components: Optional[int] = typer.Option(None, "--components", help="Principal components ℓ (default: by "
-                                             "--variance)."),
+    workers: int | None = typer.Option(None, "--workers", help="Local worker processes (1: in-process)."),
+    dask_local: int | None = typer.Option(None, "--dask-local", help="Start a Dask LocalCluster of N workers."),
+    scheduler: str | None = typer.Option(None, "--scheduler", help="Dask scheduler address, tcp://HOST:PORT."),
+    components: int | None = typer.Option(
+        None, "--components", help="Principal components ℓ (default: by --variance)."
+    ),
     variance: float = typer.Option(0.999, "--variance", help="Signal-variance threshold for ℓ."),
-    scaling: str = typer.Option("relative", "--scaling", help="Scaling of the values before the PCA: relative, "
-                                "none (the paper) or noise."),
+    scaling: str = typer.Option(
+        "relative", "--scaling", help="Scaling of the values before the PCA: relative, none (the paper) or noise."
+    ),
     fit_only: bool = typer.Option(False, "--fit-only", help="Only refit from the complete datasets in --out."),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
     memory: str = typer.Option("none", "--memory", help=MEMORY_HELP),
@@ -115,12 +126,25 @@ def train_spatial_command(
             raise ParameterError("--holdout", missing[0], f"a value for each mesh parameter {mesh.parameters}")
         executor = None if fit_only else make_executor(workers, dask_local, scheduler)
         n = parse_count(rays, "--rays")
-        run = train_spatial(out, mesh, n, wavelength, seed, holdout=[[p[k] for k in mesh.parameters] for p in points],
-                            holdout_rays=None if holdout_rays is None else parse_count(holdout_rays, "--holdout-rays"),
-                            stacks=stacks, slices=slices, method=method, executor=executor, threads=threads,
-                            checkpoint=scheduler is None, fit_only=fit_only, progress=progress, memory=memory,
-                            model_params={"n_components": components, "variance_threshold": variance,
-                                          "scaling": scaling})
+        run = train_spatial(
+            out,
+            mesh,
+            n,
+            wavelength,
+            seed,
+            holdout=[[p[k] for k in mesh.parameters] for p in points],
+            holdout_rays=None if holdout_rays is None else parse_count(holdout_rays, "--holdout-rays"),
+            stacks=stacks,
+            slices=slices,
+            method=method,
+            executor=executor,
+            threads=threads,
+            checkpoint=scheduler is None,
+            fit_only=fit_only,
+            progress=progress,
+            memory=memory,
+            model_params={"n_components": components, "variance_threshold": variance, "scaling": scaling},
+        )
     if not run.complete:
         console.print(f"stopped with {run.nodes.n_done}/{run.nodes.n_total} nodes: run again to continue")
         raise typer.Exit(1)
@@ -130,8 +154,10 @@ def train_spatial_command(
     ell = model.n_components_
     console.print(f"mesh: {mesh}")
     console.print(f"engine memory {model.memory_!r}")
-    console.print(f"principal components: ℓ = {ell}; explained variance {ratio[:ell].sum():.5%}"
-                  + ("" if signal is None else f", signal variance {signal[:ell].sum():.5%}"))
+    console.print(
+        f"principal components: ℓ = {ell}; explained variance {ratio[:ell].sum():.5%}"
+        + ("" if signal is None else f", signal variance {signal[:ell].sum():.5%}")
+    )
     noise = "" if model.node_noise_rms_ is None else f" (node noise RMS {model.node_noise_rms_:.4g} sr⁻¹)"
     console.print(f"reconstruction RMS {model.reconstruction_rms_:.4g} sr⁻¹{noise}")
     for report in run.reports:
@@ -142,18 +168,22 @@ def train_spatial_command(
 
 @app.command()
 def appearance(
-    sample_file: Optional[Path] = typer.Argument(None, help="Sample description (TOML or JSON)."),
-    preset: Optional[str] = typer.Option(None, "--preset", help="Named preset instead of a file."),
-    table: Optional[Path] = typer.Option(None, "--table", help="Write the BRDF table (NetCDF, "
-                                         "format sandlight-brdf-table)."),
+    sample_file: Path | None = typer.Argument(None, help="Sample description (TOML or JSON)."),
+    preset: str | None = typer.Option(None, "--preset", help="Named preset instead of a file."),
+    table: Path | None = typer.Option(
+        None, "--table", help="Write the BRDF table (NetCDF, format sandlight-brdf-table)."
+    ),
     n_mu: int = typer.Option(32, "--n-mu", help="Table points in cos θ_i and cos θ_o (uniform on [0, 1])."),
     n_dphi: int = typer.Option(32, "--n-dphi", help="Table points in Δφ (uniform on [0, π])."),
-    spectral_model: Optional[Path] = typer.Option(None, "--spectral-model", help="Spectral model file (default: "
-                                                  "the shipped one)."),
-    spatial_model: Optional[Path] = typer.Option(None, "--spatial-model", help="Spatial model file (default: the "
-                                                 "shipped beach model)."),
-    combination: str = typer.Option("energy", "--combination", help="energy (default) or product (the paper's "
-                                    "formula, may exceed unit albedo)."),
+    spectral_model: Path | None = typer.Option(
+        None, "--spectral-model", help="Spectral model file (default: the shipped one)."
+    ),
+    spatial_model: Path | None = typer.Option(
+        None, "--spatial-model", help="Spatial model file (default: the shipped beach model)."
+    ),
+    combination: str = typer.Option(
+        "energy", "--combination", help="energy (default) or product (the paper's formula, may exceed unit albedo)."
+    ),
 ) -> None:
     """The explicit spectral BRDF of a sample (paper §3.3): albedo summary and NetCDF table export."""
     import warnings

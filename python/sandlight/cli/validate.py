@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 from pathlib import Path
-from typing import List, Optional
 
 import typer
 from rich.console import Console
@@ -19,8 +18,10 @@ def validate(
     rays: str = typer.Option("1e5", "--rays", "-n", help="Rays per wavelength for the validation runs."),
     output: Path = typer.Option(Path("docs/validation.md"), "-o", "--output", help="The Markdown report."),
     figures: Path = typer.Option(Path("docs/img"), "--figures", help="Folder for the PNG plots."),
-    sample: Optional[List[str]] = typer.Option(None, "--sample", help="Validate only this sample (repeatable)."),
-    variant_rays: Optional[str] = typer.Option(None, "--variant-rays", help="Rays per wavelength for the diagnostic variants and Figure 3 (default: rays / 5)."),
+    sample: list[str] | None = typer.Option(None, "--sample", help="Validate only this sample (repeatable)."),
+    variant_rays: str | None = typer.Option(
+        None, "--variant-rays", help="Rays per wavelength for the diagnostic variants and Figure 3 (default: rays / 5)."
+    ),
     no_variants: bool = typer.Option(False, "--no-variants", help="Skip the diagnostic variants and Figure 3."),
     seed: int = typer.Option(0, "--seed"),
 ) -> None:
@@ -41,8 +42,10 @@ def validate(
             r.plot(p)
             fig_paths.append(p)
             for e in r.errors.values():
-                console.print(f"{r.sample.name:32s} {e.band:12s} RMS {e.rms:.4f} ± {e.rms_mc:.4f} "
-                              f"(target ≤ {e.target_rms:g}: {e.verdict}), max |error| {e.max_abs:.4f} at {e.max_at_nm:g} nm")
+                console.print(
+                    f"{r.sample.name:32s} {e.band:12s} RMS {e.rms:.4f} ± {e.rms_mc:.4f} "
+                    f"(target ≤ {e.target_rms:g}: {e.verdict}), max |error| {e.max_abs:.4f} at {e.max_at_nm:g} nm"
+                )
         variants = spectra = f3 = None
         if not no_variants:
             names = {r.sample.name for r in results}
@@ -58,6 +61,13 @@ def validate(
         args += ["--no-variants"] if no_variants else (["--variant-rays", variant_rays] if variant_rays else [])
         args += ["--seed", str(seed)] if seed else []
         command = "sandlight validate " + " ".join(shlex.quote(a) for a in args)
-        v.write_report(output, results, figure_paths=fig_paths, command=command, variants=variants,
-                       figure3_path=f3, figure3=spectra)
+        v.write_report(
+            output,
+            results,
+            figure_paths=fig_paths,
+            command=command,
+            variants=variants,
+            figure3_path=f3,
+            figure3=spectra,
+        )
         console.print(f"wrote {output} and {len(fig_paths) + (f3 is not None)} figures in {figures}")

@@ -24,17 +24,17 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import colour
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from sandlight.io import write_atomically
+import colour
 from sandlight.colour.provider import ReflectanceProvider
 from sandlight.colour.sample_colour import sample_rgb
 from sandlight.colour.spectrum import DEFAULT_ILLUMINANT, DEFAULT_OBSERVER, PREDICTOR_WAVELENGTHS_NM
 from sandlight.colour.srgb import srgb_to_uint8
 from sandlight.colour.swatches import GridAxis, framed_size_px, grid_samples, save_grid_png
 from sandlight.errors import ParameterError, SandlightError
+from sandlight.io import write_atomically
 
 __all__ = [
     "default_texture_path",
@@ -115,8 +115,9 @@ def save_image(path: str | os.PathLike, rgb: ArrayLike) -> Path:
     p = Path(path)
     fmt = Image.registered_extensions().get(p.suffix.lower())
     if fmt is None or fmt not in Image.SAVE:
-        raise ParameterError("output", str(p), "a file name ending in .png, .jpg, .tif or "
-                                               "another extension pillow can write")
+        raise ParameterError(
+            "output", str(p), "a file name ending in .png, .jpg, .tif or another extension pillow can write"
+        )
     arr = np.asarray(rgb)
     if arr.ndim != 3 or arr.shape[-1] != 3:
         raise ParameterError("rgb", f"array of shape {arr.shape}", "shape (H, W, 3)")
@@ -127,14 +128,16 @@ def save_image(path: str | os.PathLike, rgb: ArrayLike) -> Path:
 def _validated_image(image: ArrayLike) -> NDArray[np.float64]:
     arr = np.asarray(image)
     if arr.ndim != 3 or arr.shape[-1] != 3 or arr.shape[0] == 0 or arr.shape[1] == 0:
-        raise ParameterError("image", f"array of shape {arr.shape}",
-                             "shape (H, W, 3), encoded sRGB floats in [0, 1] or uint8")
+        raise ParameterError(
+            "image", f"array of shape {arr.shape}", "shape (H, W, 3), encoded sRGB floats in [0, 1] or uint8"
+        )
     if arr.dtype == np.uint8:
         return arr.astype(float) / 255.0
     arr = arr.astype(float)
     if not np.all(np.isfinite(arr)) or arr.min() < 0.0 or arr.max() > 1.0:
-        raise ParameterError("image", "an array with values outside [0, 1] or NaN",
-                             "encoded sRGB floats in [0, 1] (or a uint8 array)")
+        raise ParameterError(
+            "image", "an array with values outside [0, 1] or NaN", "encoded sRGB floats in [0, 1] (or a uint8 array)"
+        )
     return arr
 
 
@@ -146,8 +149,7 @@ def _target_rgb(sample_or_rgb: Any, **colour_kwargs: Any) -> NDArray[np.float64]
         except (TypeError, ValueError):
             rgb = None
         if rgb is None or rgb.shape != (3,) or not np.all((rgb >= 0.0) & (rgb <= 1.0)):
-            raise ParameterError("sample_or_rgb", sample_or_rgb,
-                                 "a sand sample, or an encoded sRGB triple in [0, 1]")
+            raise ParameterError("sample_or_rgb", sample_or_rgb, "a sand sample, or an encoded sRGB triple in [0, 1]")
         return rgb
     return sample_rgb(sample_or_rgb, **colour_kwargs)
 
@@ -163,11 +165,17 @@ def _shift(image: NDArray, target: NDArray, linear: bool) -> NDArray:
         return np.asarray(colour.models.eotf_inverse_sRGB(shifted), dtype=float)
 
 
-def colourise(image: ArrayLike, sample_or_rgb: Any, *, linear: bool = False,
-              mode: str = "managed", reflectance: ReflectanceProvider | None = None,
-              wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
-              illuminant: str = DEFAULT_ILLUMINANT,
-              observer: str = DEFAULT_OBSERVER) -> NDArray[np.float64]:
+def colourise(
+    image: ArrayLike,
+    sample_or_rgb: Any,
+    *,
+    linear: bool = False,
+    mode: str = "managed",
+    reflectance: ReflectanceProvider | None = None,
+    wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
+    illuminant: str = DEFAULT_ILLUMINANT,
+    observer: str = DEFAULT_OBSERVER,
+) -> NDArray[np.float64]:
     """Give a photo of sand the colour of a sample (paper §4.1.1).
 
     Parameters
@@ -188,8 +196,14 @@ def colourise(image: ArrayLike, sample_or_rgb: Any, *, linear: bool = False,
         Encoded sRGB in [0, 1]. Its mean equals the target colour wherever no pixel was clipped.
     """
     img = _validated_image(image)
-    target = _target_rgb(sample_or_rgb, mode=mode, reflectance=reflectance,
-                         wavelengths_nm=wavelengths_nm, illuminant=illuminant, observer=observer)
+    target = _target_rgb(
+        sample_or_rgb,
+        mode=mode,
+        reflectance=reflectance,
+        wavelengths_nm=wavelengths_nm,
+        illuminant=illuminant,
+        observer=observer,
+    )
     return _shift(img, target, linear)
 
 
@@ -205,9 +219,15 @@ def _resized(image: NDArray, tile_px: tuple[int, int] | None) -> NDArray:
     if not (1 <= width <= 4096 and 1 <= height <= 4096):
         raise ParameterError("tile_px", tile_px, "width and height in 1–4096 pixels")
     # Per-channel float resampling keeps the values exact enough for the mean shift.
-    channels = [np.asarray(Image.fromarray(image[..., c].astype(np.float32), mode="F")
-                           .resize((width, height), Image.Resampling.LANCZOS), dtype=float)
-                for c in range(3)]
+    channels = [
+        np.asarray(
+            Image.fromarray(image[..., c].astype(np.float32), mode="F").resize(
+                (width, height), Image.Resampling.LANCZOS
+            ),
+            dtype=float,
+        )
+        for c in range(3)
+    ]
     return np.clip(np.stack(channels, axis=-1), 0.0, 1.0)
 
 
@@ -230,8 +250,14 @@ class ColourisedGrid:
     rgb: NDArray[np.float64]
     mosaic: NDArray[np.float64]
 
-    def save_png(self, path: str | os.PathLike, *, labels: bool = True,
-                 size_px: tuple[int, int] | None = None, title: str | None = None) -> Path:
+    def save_png(
+        self,
+        path: str | os.PathLike,
+        *,
+        labels: bool = True,
+        size_px: tuple[int, int] | None = None,
+        title: str | None = None,
+    ) -> Path:
         """Write the mosaic: with ``labels``, framed by axes with parameter names and values
         (default size shows the mosaic at 1:1 plus margins); without, the bare mosaic."""
         if not labels:
@@ -241,13 +267,21 @@ class ColourisedGrid:
         return save_grid_png(path, self.mosaic, self.x, self.y, size_px=size_px, title=title)
 
 
-def colourise_grid(image: ArrayLike, base_sample: Any, x: Any, y: Any, *,
-                   tile_px: tuple[int, int] | None = None, gap_px: int = 4,
-                   linear: bool = False, mode: str = "managed",
-                   reflectance: ReflectanceProvider | None = None,
-                   wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
-                   illuminant: str = DEFAULT_ILLUMINANT,
-                   observer: str = DEFAULT_OBSERVER) -> ColourisedGrid:
+def colourise_grid(
+    image: ArrayLike,
+    base_sample: Any,
+    x: Any,
+    y: Any,
+    *,
+    tile_px: tuple[int, int] | None = None,
+    gap_px: int = 4,
+    linear: bool = False,
+    mode: str = "managed",
+    reflectance: ReflectanceProvider | None = None,
+    wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
+    illuminant: str = DEFAULT_ILLUMINANT,
+    observer: str = DEFAULT_OBSERVER,
+) -> ColourisedGrid:
     """One photo colourised over a grid of two parameters (paper Figures 6 and 7).
 
     Parameters
@@ -276,12 +310,18 @@ def colourise_grid(image: ArrayLike, base_sample: Any, x: Any, y: Any, *,
         raise ParameterError("gap_px", gap_px, "an integer in 0–64")
     x_axis, y_axis, samples = grid_samples(base_sample, x, y)
     n_x, n_y = len(x_axis.values), len(y_axis.values)
-    rgb = sample_rgb(samples, mode=mode, reflectance=reflectance, wavelengths_nm=wavelengths_nm,
-                     illuminant=illuminant, observer=observer).reshape(n_y, n_x, 3)
+    rgb = sample_rgb(
+        samples,
+        mode=mode,
+        reflectance=reflectance,
+        wavelengths_nm=wavelengths_nm,
+        illuminant=illuminant,
+        observer=observer,
+    ).reshape(n_y, n_x, 3)
     h, w = img.shape[:2]
     mosaic = np.ones((n_y * h + (n_y - 1) * gap_px, n_x * w + (n_x - 1) * gap_px, 3))
     for j in range(n_y):
         for i in range(n_x):
             top, left = j * (h + gap_px), i * (w + gap_px)
-            mosaic[top:top + h, left:left + w] = _shift(img, rgb[j, i], linear)
+            mosaic[top : top + h, left : left + w] = _shift(img, rgb[j, i], linear)
     return ColourisedGrid(x_axis, y_axis, rgb, mosaic)

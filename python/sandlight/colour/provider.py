@@ -24,14 +24,14 @@ from numpy.typing import NDArray
 
 from sandlight.errors import SandlightError
 
-__all__ = ["ReflectanceProvider", "default_reflectance_provider", "engine_reflectance_provider",
-           "reflectance_of"]
+__all__ = ["ReflectanceProvider", "default_reflectance_provider", "engine_reflectance_provider", "reflectance_of"]
 
 ReflectanceProvider = Callable[[Sequence[Any], NDArray[np.float64]], NDArray[np.float64]]
 
 _HOW_TO_INJECT = (
     "Pass reflectance=provider, a callable (samples, wavelengths_nm) -> array of shape "
-    "(n_samples, n_wavelengths), e.g. one that runs the Monte Carlo engine on each sample.")
+    "(n_samples, n_wavelengths), e.g. one that runs the Monte Carlo engine on each sample."
+)
 
 
 def default_reflectance_provider() -> ReflectanceProvider:
@@ -53,7 +53,8 @@ def default_reflectance_provider() -> ReflectanceProvider:
     except ImportError as exc:
         raise SandlightError(
             f"No spectral model is available (importing sandlight.predictor.default_model "
-            f"failed: {exc}). {_HOW_TO_INJECT}") from exc
+            f"failed: {exc}). {_HOW_TO_INJECT}"
+        ) from exc
     model = default_model()
 
     def predictor_reflectance(samples: Sequence[Any], wavelengths_nm: NDArray) -> NDArray:
@@ -63,14 +64,14 @@ def default_reflectance_provider() -> ReflectanceProvider:
             raise SandlightError(
                 f"The default spectral model predicts at wavelengths {model_wl.tolist()} nm, "
                 f"not at the requested {requested.tolist()} nm. Request the model's wavelengths "
-                f"or pass reflectance=.")
+                f"or pass reflectance=."
+            )
         return np.asarray(model.predict(list(samples)), dtype=float)
 
     return predictor_reflectance
 
 
-def engine_reflectance_provider(rays: int, *, seed: int = 0,
-                                threads: int | None = None) -> ReflectanceProvider:
+def engine_reflectance_provider(rays: int, *, seed: int = 0, threads: int | None = None) -> ReflectanceProvider:
     """A provider that computes each sample's reflectance with the Monte Carlo engine.
 
     Slower than the predictor (about ``rays`` × 16 ray paths per sample), but valid for any
@@ -97,14 +98,16 @@ def engine_reflectance_provider(rays: int, *, seed: int = 0,
     from sandlight.engine import reflectance
 
     def engine_reflectance(samples: Sequence[Any], wavelengths_nm: NDArray) -> NDArray:
-        return np.array([reflectance(s, wavelengths_nm, rays=rays, seed=seed, threads=threads).values
-                         for s in samples], dtype=float).reshape(len(samples), -1)
+        return np.array(
+            [reflectance(s, wavelengths_nm, rays=rays, seed=seed, threads=threads).values for s in samples], dtype=float
+        ).reshape(len(samples), -1)
 
     return engine_reflectance
 
 
-def reflectance_of(samples: Sequence[Any], wavelengths_nm: NDArray[np.float64],
-                   reflectance: ReflectanceProvider | None = None) -> NDArray[np.float64]:
+def reflectance_of(
+    samples: Sequence[Any], wavelengths_nm: NDArray[np.float64], reflectance: ReflectanceProvider | None = None
+) -> NDArray[np.float64]:
     """Reflectance of samples from a provider, checked for shape and finiteness.
 
     Parameters
@@ -133,8 +136,8 @@ def reflectance_of(samples: Sequence[Any], wavelengths_nm: NDArray[np.float64],
     if values.shape != expected:
         raise SandlightError(
             f"The reflectance provider {provider!r} returned an array of shape {values.shape}; "
-            f"expected (n_samples, n_wavelengths) = {expected}.")
+            f"expected (n_samples, n_wavelengths) = {expected}."
+        )
     if not np.all(np.isfinite(values)):
-        raise SandlightError(
-            f"The reflectance provider {provider!r} returned NaN or inf values.")
+        raise SandlightError(f"The reflectance provider {provider!r} returned NaN or inf values.")
     return values

@@ -37,11 +37,14 @@ def _as_list(samples: Any) -> tuple[list[Any], bool]:
     return [samples], True
 
 
-def sample_xyz(samples: Any | Sequence[Any], *,
-               reflectance: ReflectanceProvider | None = None,
-               wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
-               illuminant: str = DEFAULT_ILLUMINANT,
-               observer: str = DEFAULT_OBSERVER) -> NDArray[np.float64]:
+def sample_xyz(
+    samples: Any | Sequence[Any],
+    *,
+    reflectance: ReflectanceProvider | None = None,
+    wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
+    illuminant: str = DEFAULT_ILLUMINANT,
+    observer: str = DEFAULT_OBSERVER,
+) -> NDArray[np.float64]:
     """CIE XYZ of sand samples (Y = 1 for the perfect reflector).
 
     Parameters
@@ -67,11 +70,16 @@ def sample_xyz(samples: Any | Sequence[Any], *,
     return xyz[0] if single else xyz
 
 
-def sample_rgb(samples: Any | Sequence[Any], *, mode: str = "managed",
-               reflectance: ReflectanceProvider | None = None,
-               wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
-               illuminant: str = DEFAULT_ILLUMINANT, observer: str = DEFAULT_OBSERVER,
-               return_out_of_gamut: bool = False):
+def sample_rgb(
+    samples: Any | Sequence[Any],
+    *,
+    mode: str = "managed",
+    reflectance: ReflectanceProvider | None = None,
+    wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
+    illuminant: str = DEFAULT_ILLUMINANT,
+    observer: str = DEFAULT_OBSERVER,
+    return_out_of_gamut: bool = False,
+):
     """Encoded sRGB in [0, 1] of sand samples (paper §4.1.1).
 
     Parameters
@@ -91,17 +99,20 @@ def sample_rgb(samples: Any | Sequence[Any], *, mode: str = "managed",
         Shape (3,) for one sample, (n, 3) for a list; with ``return_out_of_gamut`` a tuple
         ``(rgb, out_of_gamut)``.
     """
-    xyz = sample_xyz(samples, reflectance=reflectance, wavelengths_nm=wavelengths_nm,
-                     illuminant=illuminant, observer=observer)
-    return xyz_to_srgb(xyz, mode, illuminant=illuminant, observer=observer,
-                       return_out_of_gamut=return_out_of_gamut)
+    xyz = sample_xyz(
+        samples, reflectance=reflectance, wavelengths_nm=wavelengths_nm, illuminant=illuminant, observer=observer
+    )
+    return xyz_to_srgb(xyz, mode, illuminant=illuminant, observer=observer, return_out_of_gamut=return_out_of_gamut)
 
 
-def sample_lab(samples: Any | Sequence[Any], *,
-               reflectance: ReflectanceProvider | None = None,
-               wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
-               illuminant: str = DEFAULT_ILLUMINANT,
-               observer: str = DEFAULT_OBSERVER) -> NDArray[np.float64]:
+def sample_lab(
+    samples: Any | Sequence[Any],
+    *,
+    reflectance: ReflectanceProvider | None = None,
+    wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
+    illuminant: str = DEFAULT_ILLUMINANT,
+    observer: str = DEFAULT_OBSERVER,
+) -> NDArray[np.float64]:
     """CIELAB of sand samples relative to the perfect reflector (D50/10° by default).
 
     Parameters
@@ -114,6 +125,7 @@ def sample_lab(samples: Any | Sequence[Any], *,
     numpy.ndarray
         L*, a*, b*: shape (3,) for one sample, (n, 3) for a list.
     """
-    xyz = sample_xyz(samples, reflectance=reflectance, wavelengths_nm=wavelengths_nm,
-                     illuminant=illuminant, observer=observer)
+    xyz = sample_xyz(
+        samples, reflectance=reflectance, wavelengths_nm=wavelengths_nm, illuminant=illuminant, observer=observer
+    )
     return xyz_to_lab(xyz, illuminant=illuminant, observer=observer)

@@ -69,11 +69,11 @@ from __future__ import annotations
 
 import functools
 
-import colour
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.interpolate import PchipInterpolator
 
+import colour
 from sandlight.errors import ParameterError
 
 __all__ = [
@@ -103,7 +103,7 @@ _PERCENT_GUARD = 1.5
 
 def _observer_names() -> list[str]:
     # Only the XYZ colour-matching functions qualify; the RGB CMFs and cone fundamentals do not.
-    return [name for name in colour.MSDS_CMFS.keys() if "Standard Observer" in name]
+    return [name for name in colour.MSDS_CMFS if "Standard Observer" in name]
 
 
 def _integration_weights(illuminant: str, observer: str) -> tuple[NDArray, NDArray]:
@@ -113,9 +113,11 @@ def _integration_weights(illuminant: str, observer: str) -> tuple[NDArray, NDArr
         raise ParameterError("observer", observer, f"one of {_observer_names()}")
     if not isinstance(illuminant, str) or illuminant not in colour.SDS_ILLUMINANTS:
         raise ParameterError(
-            "illuminant", illuminant,
+            "illuminant",
+            illuminant,
             f"a CIE illuminant name known to colour-science, e.g. 'D50', 'D65', 'A' "
-            f"(all: {sorted(colour.SDS_ILLUMINANTS.keys())})")
+            f"(all: {sorted(colour.SDS_ILLUMINANTS.keys())})",
+        )
     return _cached_weights(illuminant, observer)
 
 
@@ -133,8 +135,7 @@ def _cached_weights(illuminant: str, observer: str) -> tuple[NDArray, NDArray]:
     return grid, weights
 
 
-def white_point_xyz(illuminant: str = DEFAULT_ILLUMINANT,
-                    observer: str = DEFAULT_OBSERVER) -> NDArray[np.float64]:
+def white_point_xyz(illuminant: str = DEFAULT_ILLUMINANT, observer: str = DEFAULT_OBSERVER) -> NDArray[np.float64]:
     """Tristimulus values of the perfect reflecting diffuser (R(λ) = 1).
 
     Parameters
@@ -158,11 +159,9 @@ def _validated_wavelengths(wavelengths_nm: ArrayLike) -> NDArray[np.float64]:
     try:
         wl = np.asarray(wavelengths_nm, dtype=float)
     except (TypeError, ValueError):
-        raise ParameterError("wavelengths_nm", wavelengths_nm,
-                             "a 1-D array of numbers in nm") from None
+        raise ParameterError("wavelengths_nm", wavelengths_nm, "a 1-D array of numbers in nm") from None
     lo, hi = REQUIRED_COVERAGE_NM
-    allowed = (f"a 1-D, finite, strictly increasing array in nm covering at least "
-               f"{lo:g}–{hi:g} nm")
+    allowed = f"a 1-D, finite, strictly increasing array in nm covering at least {lo:g}–{hi:g} nm"
     if wl.ndim != 1 or wl.size < 2:
         raise ParameterError("wavelengths_nm", f"an array of shape {wl.shape}", allowed)
     # Describe the array briefly: a 2000-value spectrum must not flood the message.
@@ -171,8 +170,7 @@ def _validated_wavelengths(wavelengths_nm: ArrayLike) -> NDArray[np.float64]:
         raise ParameterError("wavelengths_nm", f"{summary}, some NaN or inf", allowed)
     if np.any(np.diff(wl) <= 0):
         first = int(np.argmax(np.diff(wl) <= 0))
-        raise ParameterError("wavelengths_nm", f"{summary}, not increasing after "
-                             f"{wl[first]:g} nm", allowed)
+        raise ParameterError("wavelengths_nm", f"{summary}, not increasing after {wl[first]:g} nm", allowed)
     if wl[0] > lo or wl[-1] < hi:
         raise ParameterError("wavelengths_nm", summary, allowed)
     return wl
@@ -184,20 +182,31 @@ def _validated_reflectance(reflectance: ArrayLike, n_wavelengths: int) -> NDArra
     except (TypeError, ValueError):
         raise ParameterError("reflectance", reflectance, "an array of numbers") from None
     if r.ndim == 0 or r.shape[-1] != n_wavelengths:
-        raise ParameterError("reflectance", f"array of shape {r.shape}",
-                             f"shape (..., {n_wavelengths}): last axis matching wavelengths_nm")
+        raise ParameterError(
+            "reflectance",
+            f"array of shape {r.shape}",
+            f"shape (..., {n_wavelengths}): last axis matching wavelengths_nm",
+        )
     if not np.all(np.isfinite(r)):
-        raise ParameterError("reflectance", "an array containing NaN or inf",
-                             "finite values (drop deleted channels before converting)")
+        raise ParameterError(
+            "reflectance", "an array containing NaN or inf", "finite values (drop deleted channels before converting)"
+        )
     if r.size and r.max() > _PERCENT_GUARD:
-        raise ParameterError("reflectance", f"an array with maximum {r.max():g}",
-                             "a fraction in [0, 1]; percent values must be divided by 100")
+        raise ParameterError(
+            "reflectance",
+            f"an array with maximum {r.max():g}",
+            "a fraction in [0, 1]; percent values must be divided by 100",
+        )
     return r
 
 
-def spectrum_to_xyz(wavelengths_nm: ArrayLike, reflectance: ArrayLike, *,
-                    illuminant: str = DEFAULT_ILLUMINANT,
-                    observer: str = DEFAULT_OBSERVER) -> NDArray[np.float64]:
+def spectrum_to_xyz(
+    wavelengths_nm: ArrayLike,
+    reflectance: ArrayLike,
+    *,
+    illuminant: str = DEFAULT_ILLUMINANT,
+    observer: str = DEFAULT_OBSERVER,
+) -> NDArray[np.float64]:
     """CIE XYZ tristimulus values of reflectance spectra (paper §4.1.1).
 
     Parameters

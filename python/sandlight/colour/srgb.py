@@ -48,10 +48,10 @@ References
 
 from __future__ import annotations
 
-import colour
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+import colour
 from sandlight.colour.spectrum import DEFAULT_ILLUMINANT, DEFAULT_OBSERVER, white_point_xyz
 from sandlight.errors import ParameterError
 
@@ -72,11 +72,13 @@ MODES = ("managed", "paper")
 GAMUT_TOLERANCE = 1e-6
 
 # Paper §4.1.1, the XYZ → (R', G', B') matrix exactly as printed.
-PAPER_XYZ_TO_LINEAR_RGB: NDArray[np.float64] = np.array([
-    [3.2410, -1.5374, -0.4986],
-    [-0.9692, 1.8760, 0.0416],
-    [0.0556, -0.2040, 1.0570],
-])
+PAPER_XYZ_TO_LINEAR_RGB: NDArray[np.float64] = np.array(
+    [
+        [3.2410, -1.5374, -0.4986],
+        [-0.9692, 1.8760, 0.0416],
+        [0.0556, -0.2040, 1.0570],
+    ]
+)
 PAPER_XYZ_TO_LINEAR_RGB.setflags(write=False)
 
 _SRGB = colour.RGB_COLOURSPACES["sRGB"]
@@ -84,8 +86,7 @@ _SRGB_WHITE_XYZ = colour.xy_to_XYZ(_SRGB.whitepoint)
 # IEC 61966-2-1 defines sRGB by its primaries and D65 white; its printed matrices (which
 # colour-science ships) are 4-decimal roundings that send white to (0.99984, 1.0001, 1.00007).
 # The matrix derived from the primaries sends white to (1, 1, 1) to rounding error.
-_XYZ_TO_LINEAR_SRGB = np.linalg.inv(
-    colour.models.normalised_primary_matrix(_SRGB.primaries, _SRGB.whitepoint))
+_XYZ_TO_LINEAR_SRGB = np.linalg.inv(colour.models.normalised_primary_matrix(_SRGB.primaries, _SRGB.whitepoint))
 
 
 def _validated_xyz(xyz: ArrayLike) -> NDArray[np.float64]:
@@ -130,13 +131,19 @@ def _linear_rgb(xyz: NDArray, mode: str, illuminant: str, observer: str) -> NDAr
     source_white = white_point_xyz(illuminant, observer)
     with colour.utilities.domain_range_scale("reference"):
         adapted = colour.adaptation.chromatic_adaptation_VonKries(
-            xyz, source_white, _SRGB_WHITE_XYZ, transform="Bradford")
+            xyz, source_white, _SRGB_WHITE_XYZ, transform="Bradford"
+        )
     return adapted @ _XYZ_TO_LINEAR_SRGB.T
 
 
-def xyz_to_srgb(xyz: ArrayLike, mode: str = "managed", *,
-                illuminant: str = DEFAULT_ILLUMINANT, observer: str = DEFAULT_OBSERVER,
-                return_out_of_gamut: bool = False):
+def xyz_to_srgb(
+    xyz: ArrayLike,
+    mode: str = "managed",
+    *,
+    illuminant: str = DEFAULT_ILLUMINANT,
+    observer: str = DEFAULT_OBSERVER,
+    return_out_of_gamut: bool = False,
+):
     """Encoded sRGB of tristimulus values.
 
     Parameters
@@ -180,8 +187,7 @@ def xyz_to_srgb(xyz: ArrayLike, mode: str = "managed", *,
     arr = _validated_xyz(xyz)
     mode = _validated_mode(mode)
     linear = _linear_rgb(arr, mode, illuminant, observer)
-    out_of_gamut = np.any((linear < -GAMUT_TOLERANCE) | (linear > 1.0 + GAMUT_TOLERANCE),
-                          axis=-1)
+    out_of_gamut = np.any((linear < -GAMUT_TOLERANCE) | (linear > 1.0 + GAMUT_TOLERANCE), axis=-1)
     linear = np.clip(linear, 0.0, 1.0)
     if mode == "paper":
         # Clamp of the *encoded* value: the printed curve is negative below R' ≈ 8.3e-4.
@@ -194,8 +200,9 @@ def xyz_to_srgb(xyz: ArrayLike, mode: str = "managed", *,
     return rgb
 
 
-def xyz_to_lab(xyz: ArrayLike, *, illuminant: str = DEFAULT_ILLUMINANT,
-               observer: str = DEFAULT_OBSERVER) -> NDArray[np.float64]:
+def xyz_to_lab(
+    xyz: ArrayLike, *, illuminant: str = DEFAULT_ILLUMINANT, observer: str = DEFAULT_OBSERVER
+) -> NDArray[np.float64]:
     """CIELAB (CIE 1976 L*a*b*) relative to the perfect reflector under the same illuminant.
 
     Parameters

@@ -25,12 +25,12 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from sandlight.io import write_atomically
 from sandlight.colour.provider import ReflectanceProvider
 from sandlight.colour.sample_colour import sample_xyz
 from sandlight.colour.spectrum import DEFAULT_ILLUMINANT, DEFAULT_OBSERVER, PREDICTOR_WAVELENGTHS_NM
 from sandlight.colour.srgb import xyz_to_lab, xyz_to_srgb
 from sandlight.errors import ParameterError, SandlightError
+from sandlight.io import write_atomically
 
 __all__ = [
     "GridAxis",
@@ -49,8 +49,10 @@ __all__ = [
 # More cells than this per axis cannot be told apart in a figure and only cost predictor calls.
 MAX_AXIS_COUNT = 64
 
-_SPEC_SYNTAX = ("NAME=start:stop:count with count an integer in 1–"
-                f"{MAX_AXIS_COUNT} (inclusive endpoints), e.g. iron_oxide=0.001:0.05:8")
+_SPEC_SYNTAX = (
+    "NAME=start:stop:count with count an integer in 1–"
+    f"{MAX_AXIS_COUNT} (inclusive endpoints), e.g. iron_oxide=0.001:0.05:8"
+)
 _SPEC_RE = re.compile(r"^\s*([A-Za-z_][A-Za-z0-9_]*)\s*=\s*([^:]+):([^:]+):([^:]+?)\s*$")
 
 # Layout of a labelled grid, in pixels at 100 dpi: room for tick labels and axis labels.
@@ -93,8 +95,7 @@ def parse_grid_spec(text: str) -> GridAxis:
     try:
         start, stop = float(start_text), float(stop_text)
     except ValueError:
-        raise ParameterError("grid spec", text,
-                             f"numeric start and stop; {_SPEC_SYNTAX}") from None
+        raise ParameterError("grid spec", text, f"numeric start and stop; {_SPEC_SYNTAX}") from None
     try:
         count = int(count_text)
     except ValueError:
@@ -111,21 +112,26 @@ def parse_grid_spec(text: str) -> GridAxis:
 def _as_axis(axis: GridAxis | tuple[str, ArrayLike] | str, which: str) -> GridAxis:
     if isinstance(axis, str):
         return parse_grid_spec(axis)
-    allowed = (f"a (name, values) pair with 1–{MAX_AXIS_COUNT} finite values, "
-               f"or a spec string {_SPEC_SYNTAX}")
+    allowed = f"a (name, values) pair with 1–{MAX_AXIS_COUNT} finite values, or a spec string {_SPEC_SYNTAX}"
     try:
         name, values = axis
         arr = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError(which, axis, allowed) from None
-    if (not isinstance(name, str) or not name.isidentifier() or arr.ndim != 1
-            or not 1 <= arr.size <= MAX_AXIS_COUNT or not np.all(np.isfinite(arr))):
+    if (
+        not isinstance(name, str)
+        or not name.isidentifier()
+        or arr.ndim != 1
+        or not 1 <= arr.size <= MAX_AXIS_COUNT
+        or not np.all(np.isfinite(arr))
+    ):
         raise ParameterError(which, axis, allowed)
     return GridAxis(name, arr)
 
 
-def grid_samples(base_sample: Any, x: GridAxis | tuple[str, ArrayLike] | str,
-                 y: GridAxis | tuple[str, ArrayLike] | str) -> tuple[GridAxis, GridAxis, list[Any]]:
+def grid_samples(
+    base_sample: Any, x: GridAxis | tuple[str, ArrayLike] | str, y: GridAxis | tuple[str, ArrayLike] | str
+) -> tuple[GridAxis, GridAxis, list[Any]]:
     """The samples of a grid: ``base_sample.replace(x=x_i, y=y_j)`` row by row.
 
     Parameters
@@ -145,17 +151,18 @@ def grid_samples(base_sample: Any, x: GridAxis | tuple[str, ArrayLike] | str,
     if x_axis.name == y_axis.name:
         raise ParameterError("y", y_axis.name, f"a parameter other than x ({x_axis.name})")
     if not callable(getattr(base_sample, "replace", None)):
-        raise ParameterError("base_sample", base_sample,
-                             "a sample with a replace(**changes) method, e.g. a SandSample")
-    samples = [base_sample.replace(**{x_axis.name: float(xv), y_axis.name: float(yv)})
-               for yv in y_axis.values for xv in x_axis.values]
+        raise ParameterError("base_sample", base_sample, "a sample with a replace(**changes) method, e.g. a SandSample")
+    samples = [
+        base_sample.replace(**{x_axis.name: float(xv), y_axis.name: float(yv)})
+        for yv in y_axis.values
+        for xv in x_axis.values
+    ]
     return x_axis, y_axis, samples
 
 
 def framed_size_px(width_px: int, height_px: int) -> tuple[int, int]:
     """Size of a labelled grid PNG that shows ``width_px × height_px`` of content at 1:1."""
-    return (width_px + _MARGIN_LEFT_PX + _MARGIN_RIGHT_PX,
-            height_px + _MARGIN_BOTTOM_PX + _MARGIN_TOP_PX)
+    return (width_px + _MARGIN_LEFT_PX + _MARGIN_RIGHT_PX, height_px + _MARGIN_BOTTOM_PX + _MARGIN_TOP_PX)
 
 
 def _validated_size(size_px: tuple[int, int], n_x: int, n_y: int) -> tuple[int, int]:
@@ -166,16 +173,22 @@ def _validated_size(size_px: tuple[int, int], n_x: int, n_y: int) -> tuple[int, 
     except (TypeError, ValueError):
         raise ParameterError("size_px", size_px, "a (width, height) pair of integers") from None
     if width < min_w or height < min_h or width > 20000 or height > 20000:
-        raise ParameterError("size_px", size_px,
-                             f"width {min_w}–20000 and height {min_h}–20000 pixels for a "
-                             f"{n_x}×{n_y} grid")
+        raise ParameterError(
+            "size_px", size_px, f"width {min_w}–20000 and height {min_h}–20000 pixels for a {n_x}×{n_y} grid"
+        )
     return width, height
 
 
-def save_grid_png(path: str | os.PathLike, image: ArrayLike, x: GridAxis, y: GridAxis, *,
-                  size_px: tuple[int, int] | None = None,
-                  cell_text: Sequence[Sequence[str]] | None = None,
-                  title: str | None = None) -> Path:
+def save_grid_png(
+    path: str | os.PathLike,
+    image: ArrayLike,
+    x: GridAxis,
+    y: GridAxis,
+    *,
+    size_px: tuple[int, int] | None = None,
+    cell_text: Sequence[Sequence[str]] | None = None,
+    title: str | None = None,
+) -> Path:
     """Write a labelled grid image as PNG: ticks at cell centres, parameter names on the axes.
 
     Parameters
@@ -210,13 +223,12 @@ def save_grid_png(path: str | os.PathLike, image: ArrayLike, x: GridAxis, y: Gri
     fig = Figure(figsize=(width / _DPI, height / _DPI), dpi=_DPI)
     grid_w = width - _MARGIN_LEFT_PX - _MARGIN_RIGHT_PX
     grid_h = height - _MARGIN_BOTTOM_PX - _MARGIN_TOP_PX
-    ax = fig.add_axes((_MARGIN_LEFT_PX / width, _MARGIN_BOTTOM_PX / height,
-                       grid_w / width, grid_h / height))
+    ax = fig.add_axes((_MARGIN_LEFT_PX / width, _MARGIN_BOTTOM_PX / height, grid_w / width, grid_h / height))
     # extent puts cell (j, i) centred on (i, j); origin "upper" puts row 0 (first y) at the top.
-    ax.imshow(img, interpolation="nearest", aspect="auto", origin="upper",
-              extent=(-0.5, n_x - 0.5, n_y - 0.5, -0.5))
-    ax.set_xticks(range(n_x), [f"{v:.4g}" for v in x.values],
-                  rotation=45 if n_x > 8 else 0, ha="right" if n_x > 8 else "center")
+    ax.imshow(img, interpolation="nearest", aspect="auto", origin="upper", extent=(-0.5, n_x - 0.5, n_y - 0.5, -0.5))
+    ax.set_xticks(
+        range(n_x), [f"{v:.4g}" for v in x.values], rotation=45 if n_x > 8 else 0, ha="right" if n_x > 8 else "center"
+    )
     ax.set_yticks(range(n_y), [f"{v:.4g}" for v in y.values])
     ax.set_xlabel(x.name)
     ax.set_ylabel(y.name)
@@ -230,8 +242,15 @@ def save_grid_png(path: str | os.PathLike, image: ArrayLike, x: GridAxis, y: Gri
             for i in range(n_x):
                 cy, cx = (int((j + 0.5) * img.shape[0] / n_y), int((i + 0.5) * img.shape[1] / n_x))
                 luminance = float(np.mean(img[cy, cx]))
-                ax.text(i, j, cell_text[j][i], ha="center", va="center", fontsize=fontsize,
-                        color="black" if luminance > 0.5 else "white")
+                ax.text(
+                    i,
+                    j,
+                    cell_text[j][i],
+                    ha="center",
+                    va="center",
+                    fontsize=fontsize,
+                    color="black" if luminance > 0.5 else "white",
+                )
     return write_atomically(path, lambda tmp: fig.savefig(tmp, format="png", dpi=_DPI), make_dirs=False)
 
 
@@ -259,8 +278,14 @@ class SwatchGrid:
     lab: NDArray[np.float64]
     out_of_gamut: NDArray[np.bool_]
 
-    def save_png(self, path: str | os.PathLike, *, size_px: tuple[int, int] | None = None,
-                 show_lab: bool = False, title: str | None = None) -> Path:
+    def save_png(
+        self,
+        path: str | os.PathLike,
+        *,
+        size_px: tuple[int, int] | None = None,
+        show_lab: bool = False,
+        title: str | None = None,
+    ) -> Path:
         """Render the grid to a PNG with labelled axes and tick values.
 
         Parameters
@@ -277,16 +302,20 @@ class SwatchGrid:
         text = None
         if show_lab:
             text = [[f"L* {L:.1f}\na* {a:.1f}\nb* {b:.1f}" for L, a, b in row] for row in self.lab]
-        return save_grid_png(path, self.rgb, self.x, self.y, size_px=size_px, cell_text=text,
-                             title=title)
+        return save_grid_png(path, self.rgb, self.x, self.y, size_px=size_px, cell_text=text, title=title)
 
 
-def swatch_grid(base_sample: Any, x: GridAxis | tuple[str, ArrayLike] | str,
-                y: GridAxis | tuple[str, ArrayLike] | str, *, mode: str = "managed",
-                reflectance: ReflectanceProvider | None = None,
-                wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
-                illuminant: str = DEFAULT_ILLUMINANT,
-                observer: str = DEFAULT_OBSERVER) -> SwatchGrid:
+def swatch_grid(
+    base_sample: Any,
+    x: GridAxis | tuple[str, ArrayLike] | str,
+    y: GridAxis | tuple[str, ArrayLike] | str,
+    *,
+    mode: str = "managed",
+    reflectance: ReflectanceProvider | None = None,
+    wavelengths_nm: ArrayLike = PREDICTOR_WAVELENGTHS_NM,
+    illuminant: str = DEFAULT_ILLUMINANT,
+    observer: str = DEFAULT_OBSERVER,
+) -> SwatchGrid:
     """Colours of ``base_sample`` as two of its parameters vary over a grid.
 
     Parameters
@@ -314,13 +343,14 @@ def swatch_grid(base_sample: Any, x: GridAxis | tuple[str, ArrayLike] | str,
     """
     x_axis, y_axis, samples = grid_samples(base_sample, x, y)
     shape = (len(y_axis.values), len(x_axis.values), 3)
-    xyz = sample_xyz(samples, reflectance=reflectance, wavelengths_nm=wavelengths_nm,
-                     illuminant=illuminant, observer=observer)
-    rgb, gamut = xyz_to_srgb(xyz, mode, illuminant=illuminant, observer=observer,
-                             return_out_of_gamut=True)
+    xyz = sample_xyz(
+        samples, reflectance=reflectance, wavelengths_nm=wavelengths_nm, illuminant=illuminant, observer=observer
+    )
+    rgb, gamut = xyz_to_srgb(xyz, mode, illuminant=illuminant, observer=observer, return_out_of_gamut=True)
     lab = xyz_to_lab(xyz, illuminant=illuminant, observer=observer)
-    return SwatchGrid(x_axis, y_axis, mode, xyz.reshape(shape), rgb.reshape(shape),
-                      lab.reshape(shape), gamut.reshape(shape[:2]))
+    return SwatchGrid(
+        x_axis, y_axis, mode, xyz.reshape(shape), rgb.reshape(shape), lab.reshape(shape), gamut.reshape(shape[:2])
+    )
 
 
 def default_sample() -> Any:
@@ -334,13 +364,13 @@ def default_sample() -> Any:
     try:
         from sandlight.sample import SandSample
     except ImportError as exc:
-        raise SandlightError(f"sandlight.sample.SandSample is not available ({exc}); "
-                             f"pass a base sample explicitly.") from exc
+        raise SandlightError(
+            f"sandlight.sample.SandSample is not available ({exc}); pass a base sample explicitly."
+        ) from exc
     return SandSample()
 
 
-def figure6(base_sample: Any = None, *, n_x: int = 8, n_y: int = 6,
-            **kwargs: Any) -> SwatchGrid:
+def figure6(base_sample: Any = None, *, n_x: int = 8, n_y: int = 6, **kwargs: Any) -> SwatchGrid:
     """Paper Figure 6: iron oxide 0.001 → 0.05 (right) × hematite ratio 0 → 1 (downward).
 
     Parameters
@@ -353,12 +383,12 @@ def figure6(base_sample: Any = None, *, n_x: int = 8, n_y: int = 6,
         Passed to :func:`swatch_grid` (``mode``, ``reflectance``, ...).
     """
     base = default_sample() if base_sample is None else base_sample
-    return swatch_grid(base, ("iron_oxide", np.linspace(0.001, 0.05, n_x)),
-                       ("hematite_ratio", np.linspace(0.0, 1.0, n_y)), **kwargs)
+    return swatch_grid(
+        base, ("iron_oxide", np.linspace(0.001, 0.05, n_x)), ("hematite_ratio", np.linspace(0.0, 1.0, n_y)), **kwargs
+    )
 
 
-def figure7(base_sample: Any = None, *, n_x: int = 6, n_y: int = 5,
-            **kwargs: Any) -> SwatchGrid:
+def figure7(base_sample: Any = None, *, n_x: int = 6, n_y: int = 5, **kwargs: Any) -> SwatchGrid:
     """Paper Figure 7: hematite ratio 0 → 1 (right) × degree of saturation 0 → 1 (downward).
 
     Parameters
@@ -371,5 +401,6 @@ def figure7(base_sample: Any = None, *, n_x: int = 6, n_y: int = 5,
         Passed to :func:`swatch_grid` (``mode``, ``reflectance``, ...).
     """
     base = default_sample() if base_sample is None else base_sample
-    return swatch_grid(base, ("hematite_ratio", np.linspace(0.0, 1.0, n_x)),
-                       ("saturation", np.linspace(0.0, 1.0, n_y)), **kwargs)
+    return swatch_grid(
+        base, ("hematite_ratio", np.linspace(0.0, 1.0, n_x)), ("saturation", np.linspace(0.0, 1.0, n_y)), **kwargs
+    )

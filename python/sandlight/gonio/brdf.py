@@ -100,9 +100,21 @@ class MeasuredBRDF:
     reduction_method: str = "average"
 
     @classmethod
-    def from_counts(cls, counts, absorbed, launched, lost=None, *, stacks: int = 31, slices: int = 30,
-                    sample: dict | None = None, wavelength_nm: float | None = None, rays: int | None = None,
-                    seed: int | None = None, method: str = "average") -> "MeasuredBRDF":
+    def from_counts(
+        cls,
+        counts,
+        absorbed,
+        launched,
+        lost=None,
+        *,
+        stacks: int = 31,
+        slices: int = 30,
+        sample: dict | None = None,
+        wavelength_nm: float | None = None,
+        rays: int | None = None,
+        seed: int | None = None,
+        method: str = "average",
+    ) -> MeasuredBRDF:
         """Reduce raw goniophotometer counts (paper §3.2.1) into a `MeasuredBRDF`.
 
         Parameters
@@ -155,10 +167,20 @@ class MeasuredBRDF:
             raise ParameterError("seed", seed, "must be an integer or None")
         for a in (counts, absorbed, launched, lost):
             a.setflags(write=False)
-        return cls(stacks=h.stacks, slices=h.slices, counts=counts, absorbed=absorbed, launched=launched, lost=lost,
-                   reduced=reduce_counts(h, counts, absorbed, launched, lost, method=method), sample=sample,
-                   wavelength_nm=wavelength_nm, rays=int(rays), seed=None if seed is None else int(seed),
-                   reduction_method=method)
+        return cls(
+            stacks=h.stacks,
+            slices=h.slices,
+            counts=counts,
+            absorbed=absorbed,
+            launched=launched,
+            lost=lost,
+            reduced=reduce_counts(h, counts, absorbed, launched, lost, method=method),
+            sample=sample,
+            wavelength_nm=wavelength_nm,
+            rays=int(rays),
+            seed=None if seed is None else int(seed),
+            reduction_method=method,
+        )
 
     # Geometry and the full arrays -------------------------------------------------------------
 
@@ -258,8 +280,10 @@ class MeasuredBRDF:
 
     def __repr__(self) -> str:
         wl = "None" if self.wavelength_nm is None else f"{self.wavelength_nm:g}"
-        return (f"MeasuredBRDF(stacks={self.stacks}, slices={self.slices}, rays={self.rays}, "
-                f"wavelength_nm={wl}, normal_reflectance={self.normal_reflectance:.4g})")
+        return (
+            f"MeasuredBRDF(stacks={self.stacks}, slices={self.slices}, rays={self.rays}, "
+            f"wavelength_nm={wl}, normal_reflectance={self.normal_reflectance:.4g})"
+        )
 
 
 def band_grid(hemisphere: CollectorHemisphere, unique_values) -> np.ndarray:
@@ -353,8 +377,13 @@ def band_grid_f(hemisphere: CollectorHemisphere, unique_values, wi, wo) -> np.nd
     wi = np.broadcast_to(wi, shape + (3,)).reshape(-1, 3)
     wo = np.broadcast_to(wo, shape + (3,)).reshape(-1, 3)
     dphi = np.arctan2(wo[:, 1], wo[:, 0]) - np.arctan2(wi[:, 1], wi[:, 0])
-    value = interpolate_band_grid(band_grid(hemisphere, unique_values), hemisphere.band_cos_theta,
-                                  np.nan_to_num(wi[:, 2]), np.nan_to_num(wo[:, 2]), dphi)
+    value = interpolate_band_grid(
+        band_grid(hemisphere, unique_values),
+        hemisphere.band_cos_theta,
+        np.nan_to_num(wi[:, 2]),
+        np.nan_to_num(wo[:, 2]),
+        dphi,
+    )
     above = (wi[:, 2] > 0) & (wo[:, 2] > 0)
     value = np.where(above, value, 0.0)
     nan = np.isnan(wi).any(axis=1) | np.isnan(wo).any(axis=1)

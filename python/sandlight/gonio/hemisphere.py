@@ -148,7 +148,9 @@ class CollectorHemisphere:
             raise ParameterError("dirs", flat[bad][0].tolist(), "directions must be finite and non-zero")
         below = flat[:, 2] < -_HORIZON_TOLERANCE * norm
         if below.any():
-            raise ParameterError("dirs", flat[below][0].tolist(), "directions must point into the upper hemisphere (z ≥ 0)")
+            raise ParameterError(
+                "dirs", flat[below][0].tolist(), "directions must point into the upper hemisphere (z ≥ 0)"
+            )
         return _native.hemisphere_patch_index(self.stacks, self.slices, flat).reshape(d.shape[:-1])
 
     def __eq__(self, other) -> bool:

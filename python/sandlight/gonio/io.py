@@ -80,14 +80,22 @@ def _dataset(brdf: MeasuredBRDF):
         "brdf": var(pair, brdf.values, "sr-1", "reduced BRDF normalised to unit reflectance at normal incidence"),
         "unique_brdf": var("unique", red.unique_values, "sr-1", "unique values of the normalised BRDF"),
         "unique_brdf_stderr": var("unique", red.unique_stderr, "sr-1", "standard error of unique_brdf"),
-        "unique_brdf_absolute": var("unique", red.unique_absolute, "sr-1", "unique values of the BRDF before normalisation"),
-        "unique_brdf_absolute_stderr": var("unique", red.unique_absolute_stderr, "sr-1", "standard error of unique_brdf_absolute"),
+        "unique_brdf_absolute": var(
+            "unique", red.unique_absolute, "sr-1", "unique values of the BRDF before normalisation"
+        ),
+        "unique_brdf_absolute_stderr": var(
+            "unique", red.unique_absolute_stderr, "sr-1", "standard error of unique_brdf_absolute"
+        ),
         "unique_members": var("unique", red.members, "1", "entries averaged into each unique value"),
         "unique_band_in": var("unique", classes.band_in, "1", "incoming band of the class (0 = cap)"),
         "unique_band_out": var("unique", classes.band_out, "1", "outgoing band of the class (0 = cap)"),
         "unique_delta": var("unique", classes.delta, "1", "slice difference (outgoing - incoming) mod slices"),
-        "normal_reflectance": var((), red.normal_reflectance, "1", "directional-hemispherical reflectance at normal incidence"),
-        "normal_reflectance_stderr": var((), red.normal_reflectance_stderr, "1", "standard error of normal_reflectance"),
+        "normal_reflectance": var(
+            (), red.normal_reflectance, "1", "directional-hemispherical reflectance at normal incidence"
+        ),
+        "normal_reflectance_stderr": var(
+            (), red.normal_reflectance_stderr, "1", "standard error of normal_reflectance"
+        ),
         "centroid": var(("patch", "xyz"), h.centroids, "1", "unit vector of the patch centroid"),
         "cos_theta_min": var("patch", h.bounds[:, 0], "1", "lower patch bound in cos(zenith)"),
         "cos_theta_max": var("patch", h.bounds[:, 1], "1", "upper patch bound in cos(zenith)"),
@@ -173,13 +181,16 @@ def read_netcdf(path: str | PathLike) -> MeasuredBRDF:
 
     fmt = ds.attrs.get("format")
     if fmt != FORMAT_NAME:
-        raise ModelFileError(f"{path}: not a sandlight BRDF file (global attribute format = {fmt!r}, "
-                             f"expected {FORMAT_NAME!r})")
+        raise ModelFileError(
+            f"{path}: not a sandlight BRDF file (global attribute format = {fmt!r}, expected {FORMAT_NAME!r})"
+        )
     version = ds.attrs.get("format_version")
     version = version.item() if isinstance(version, np.generic) else version
     if not (isinstance(version, (int, np.integer)) and version == FORMAT_VERSION):
-        raise ModelFileError(f"{path}: {FORMAT_NAME} format version {version!r} is not supported "
-                             f"(this sandlight reads version {FORMAT_VERSION})")
+        raise ModelFileError(
+            f"{path}: {FORMAT_NAME} format version {version!r} is not supported "
+            f"(this sandlight reads version {FORMAT_VERSION})"
+        )
     try:
         return _from_dataset(ds)
     except (KeyError, ValueError, TypeError) as exc:  # ParameterError is a ValueError
@@ -190,7 +201,8 @@ def _from_dataset(ds) -> MeasuredBRDF:
     attrs = ds.attrs
     h = CollectorHemisphere(int(attrs["stacks"]), int(attrs["slices"]))
     counts, absorbed, launched, lost = check_counts(
-        h, ds["counts"].values, ds["absorbed"].values, ds["launched"].values, ds["lost"].values)
+        h, ds["counts"].values, ds["absorbed"].values, ds["launched"].values, ds["lost"].values
+    )
     m = EquivalenceClasses(h).n_classes
 
     def unique(name: str) -> np.ndarray:
@@ -213,9 +225,17 @@ def _from_dataset(ds) -> MeasuredBRDF:
     for a in (counts, absorbed, launched, lost):
         a.setflags(write=False)
     return MeasuredBRDF(
-        stacks=h.stacks, slices=h.slices, counts=counts, absorbed=absorbed, launched=launched, lost=lost,
-        reduced=reduced, sample=json.loads(attrs["sample"]),
+        stacks=h.stacks,
+        slices=h.slices,
+        counts=counts,
+        absorbed=absorbed,
+        launched=launched,
+        lost=lost,
+        reduced=reduced,
+        sample=json.loads(attrs["sample"]),
         wavelength_nm=float(attrs["wavelength_nm"]) if "wavelength_nm" in attrs else None,
-        rays=int(attrs["rays"]), seed=int(attrs["seed"]) if "seed" in attrs else None,
-        sandlight_version=str(attrs["sandlight_version"]), reduction_method=str(attrs["reduction_method"]),
+        rays=int(attrs["rays"]),
+        seed=int(attrs["seed"]) if "seed" in attrs else None,
+        sandlight_version=str(attrs["sandlight_version"]),
+        reduction_method=str(attrs["reduction_method"]),
     )

@@ -20,8 +20,15 @@ import numpy as np
 
 from sandlight import _native
 from sandlight._runner import run_in_batches
-from sandlight.engine import (DEFAULT_MAX_EVENTS, MAX_INTERNAL_REFLECTIONS, _check_incidence, _check_rays, _check_seed,
-                              _check_threads, _check_wavelengths)
+from sandlight.engine import (
+    DEFAULT_MAX_EVENTS,
+    MAX_INTERNAL_REFLECTIONS,
+    _check_incidence,
+    _check_rays,
+    _check_seed,
+    _check_threads,
+    _check_wavelengths,
+)
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
@@ -67,7 +74,9 @@ def _resolve(sample, wavelength_nm, *, geometry="on-the-fly", memory=None, packi
 
     if isinstance(sample, (IsotropicScatterers, LambertianSurface)):
         if geometry != "on-the-fly" or memory not in (None, "none") or packing is not None:
-            raise ParameterError("geometry", geometry, "'on-the-fly' (with no memory or packing) for a reference medium")
+            raise ParameterError(
+                "geometry", geometry, "'on-the-fly' (with no memory or packing) for a reference medium"
+            )
         return sample.medium(wavelength_nm), sample.to_dict()
     if isinstance(sample, str):
         sample = SandSample.preset(sample)
@@ -91,8 +100,10 @@ def _load_checkpoint(path: Path, key: str, arrays: dict) -> int:
     try:
         with np.load(path, allow_pickle=False) as z:
             if str(z["key"]) != key:
-                raise ModelFileError(f"{path}: checkpoint of a different run (other sample, wavelength, seed, rays or "
-                                     "geometry); delete it or choose another output")
+                raise ModelFileError(
+                    f"{path}: checkpoint of a different run (other sample, wavelength, seed, rays or "
+                    "geometry); delete it or choose another output"
+                )
             for name in arrays:
                 arrays[name][...] = z[name]
             return int(z["done"])
@@ -101,15 +112,27 @@ def _load_checkpoint(path: Path, key: str, arrays: dict) -> int:
 
 
 def _save_checkpoint(path: Path, key: str, done: int, arrays: dict) -> None:
-    with atomic_path(path) as tmp:
-        with open(tmp, "wb") as f:
-            np.savez(f, key=np.array(key), done=np.array(done), **arrays)
+    with atomic_path(path) as tmp, open(tmp, "wb") as f:
+        np.savez(f, key=np.array(key), done=np.array(done), **arrays)
 
 
-def brdf(sample, wavelength_nm: float = 550.0, *, rays, stacks: int = 31, slices: int = 30, seed: int = 0,
-         threads: int | None = None, method: str = "average", max_events: int = DEFAULT_MAX_EVENTS,
-         checkpoint=None, progress: bool = True, geometry: str = "on-the-fly", memory: str | None = None,
-         packing=None) -> MeasuredBRDF:
+def brdf(
+    sample,
+    wavelength_nm: float = 550.0,
+    *,
+    rays,
+    stacks: int = 31,
+    slices: int = 30,
+    seed: int = 0,
+    threads: int | None = None,
+    method: str = "average",
+    max_events: int = DEFAULT_MAX_EVENTS,
+    checkpoint=None,
+    progress: bool = True,
+    geometry: str = "on-the-fly",
+    memory: str | None = None,
+    packing=None,
+) -> MeasuredBRDF:
     """Measures the BRDF of a sample with uniform incidence (paper §3.2.1).
 
     Parameters
@@ -145,23 +168,48 @@ def brdf(sample, wavelength_nm: float = 550.0, *, rays, stacks: int = 31, slices
     hemi = CollectorHemisphere(stacks, slices)  # validates stacks and slices
     medium, meta = _resolve(sample, wl, geometry=geometry, memory=memory, packing=packing, seed=seed)
     r = hemi.n_patches
-    arrays = {"counts": np.zeros((r, r), np.uint64), "absorbed": np.zeros(r, np.uint64),
-              "launched": np.zeros(r, np.uint64), "lost": np.zeros(r, np.uint64)}
-    key = _checkpoint_key({"sample": meta, "wavelength_nm": wl, "rays": rays, "seed": seed, "stacks": stacks,
-                           "slices": slices, "max_events": int(max_events)})
+    arrays = {
+        "counts": np.zeros((r, r), np.uint64),
+        "absorbed": np.zeros(r, np.uint64),
+        "launched": np.zeros(r, np.uint64),
+        "lost": np.zeros(r, np.uint64),
+    }
+    key = _checkpoint_key(
+        {
+            "sample": meta,
+            "wavelength_nm": wl,
+            "rays": rays,
+            "seed": seed,
+            "stacks": stacks,
+            "slices": slices,
+            "max_events": int(max_events),
+        }
+    )
     checkpoint = Path(checkpoint) if checkpoint is not None else None
     done = _load_checkpoint(checkpoint, key, arrays) if checkpoint is not None else 0
 
     def batch(first, n):
-        parts = medium.brdf_counts(stacks, slices, seed, 0, first, n, int(max_events), MAX_INTERNAL_REFLECTIONS, threads)
+        parts = medium.brdf_counts(
+            stacks, slices, seed, 0, first, n, int(max_events), MAX_INTERNAL_REFLECTIONS, threads
+        )
         for name, part in zip(arrays, parts):
             arrays[name] += part
 
     save = (lambda d: _save_checkpoint(checkpoint, key, d, arrays)) if checkpoint is not None else None
     run_in_batches(batch, rays, label=f"BRDF at {wl:g} nm", progress=progress, start_at=done, on_checkpoint=save)
-    result = MeasuredBRDF.from_counts(arrays["counts"], arrays["absorbed"], arrays["launched"], arrays["lost"],
-                                      stacks=stacks, slices=slices, sample=meta, wavelength_nm=wl, rays=rays, seed=seed,
-                                      method=method)
+    result = MeasuredBRDF.from_counts(
+        arrays["counts"],
+        arrays["absorbed"],
+        arrays["launched"],
+        arrays["lost"],
+        stacks=stacks,
+        slices=slices,
+        sample=meta,
+        wavelength_nm=wl,
+        rays=rays,
+        seed=seed,
+        method=method,
+    )
     if checkpoint is not None and checkpoint.exists():
         os.remove(checkpoint)
     return result
@@ -187,10 +235,23 @@ class FixedIncidenceBRDF:
         return float(self.counts.sum()) / self.launched
 
 
-def fixed_incidence(sample, wavelength_nm: float = 550.0, *, incidence_deg: float, azimuth_deg: float = 0.0, rays,
-                    stacks: int = 31, slices: int = 30, seed: int = 0, threads: int | None = None,
-                    max_events: int = DEFAULT_MAX_EVENTS, progress: bool = True, geometry: str = "on-the-fly",
-                    memory: str | None = None, packing=None) -> FixedIncidenceBRDF:
+def fixed_incidence(
+    sample,
+    wavelength_nm: float = 550.0,
+    *,
+    incidence_deg: float,
+    azimuth_deg: float = 0.0,
+    rays,
+    stacks: int = 31,
+    slices: int = 30,
+    seed: int = 0,
+    threads: int | None = None,
+    max_events: int = DEFAULT_MAX_EVENTS,
+    progress: bool = True,
+    geometry: str = "on-the-fly",
+    memory: str | None = None,
+    packing=None,
+) -> FixedIncidenceBRDF:
     """The classic goniophotometer: f_j = n_j / (ω_p(j) N) for light from (θᵢ, φᵢ).
 
     ``geometry``, ``memory`` and ``packing`` as in :func:`sandlight.reflectance`.
@@ -206,11 +267,24 @@ def fixed_incidence(sample, wavelength_nm: float = 550.0, *, incidence_deg: floa
     totals = np.zeros(3, np.uint64)
 
     def batch(first, n):
-        c, a, l_, lost = medium.fixed_counts(stacks, slices, theta, float(azimuth_deg), seed, 0, first, n,
-                                             int(max_events), MAX_INTERNAL_REFLECTIONS, threads)
+        c, a, l_, lost = medium.fixed_counts(
+            stacks,
+            slices,
+            theta,
+            float(azimuth_deg),
+            seed,
+            0,
+            first,
+            n,
+            int(max_events),
+            MAX_INTERNAL_REFLECTIONS,
+            threads,
+        )
         counts[:] += c
         totals[:] += np.array([a, l_, lost], np.uint64)
 
     run_in_batches(batch, rays, label=f"fixed incidence {theta:g}°", progress=progress)
     f, se = reduce_fixed_incidence(hemi, counts, int(totals[0]), int(totals[1]), int(totals[2]))
-    return FixedIncidenceBRDF(hemi, theta, float(azimuth_deg), counts, int(totals[0]), int(totals[1]), int(totals[2]), f, se)
+    return FixedIncidenceBRDF(
+        hemi, theta, float(azimuth_deg), counts, int(totals[0]), int(totals[1]), int(totals[2]), f, se
+    )

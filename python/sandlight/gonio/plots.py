@@ -50,8 +50,9 @@ def _label(normalised: bool) -> str:
     return "normalised BRDF f̂ (sr⁻¹)" if normalised else "BRDF f (sr⁻¹)"
 
 
-def plot_outgoing_polar(brdf: MeasuredBRDF, zenith_deg: float, *, normalised: bool = False, ax=None,
-                        resolution: int = 90):
+def plot_outgoing_polar(
+    brdf: MeasuredBRDF, zenith_deg: float, *, normalised: bool = False, ax=None, resolution: int = 90
+):
     """Polar heat map of f(ω_i, ω_o) over the outgoing hemisphere for one incidence.
 
     Parameters
@@ -92,8 +93,9 @@ def plot_outgoing_polar(brdf: MeasuredBRDF, zenith_deg: float, *, normalised: bo
     return ax
 
 
-def plot_principal_plane(brdf: MeasuredBRDF, zenith_deg=(0.0, 30.0, 60.0), *, normalised: bool = False, ax=None,
-                         samples: int = 181):
+def plot_principal_plane(
+    brdf: MeasuredBRDF, zenith_deg=(0.0, 30.0, 60.0), *, normalised: bool = False, ax=None, samples: int = 181
+):
     """BRDF along the principal plane for several incident zenith angles.
 
     Parameters
@@ -131,8 +133,15 @@ def plot_principal_plane(brdf: MeasuredBRDF, zenith_deg=(0.0, 30.0, 60.0), *, no
     return ax
 
 
-def save_overview_png(brdf: MeasuredBRDF, path: str | PathLike, *, zenith_deg: float = 30.0,
-                      principal_zenith_deg=(0.0, 30.0, 60.0), normalised: bool = False, dpi: int = 120) -> Path:
+def save_overview_png(
+    brdf: MeasuredBRDF,
+    path: str | PathLike,
+    *,
+    zenith_deg: float = 30.0,
+    principal_zenith_deg=(0.0, 30.0, 60.0),
+    normalised: bool = False,
+    dpi: int = 120,
+) -> Path:
     """Write the polar heat map and the principal-plane curves side by side as a PNG.
 
     Parameters

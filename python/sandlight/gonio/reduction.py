@@ -97,12 +97,19 @@ class ReducedBRDF:
     normal_reflectance: float
     normal_reflectance_stderr: float
 
-    def equals(self, other: "ReducedBRDF") -> bool:
+    def equals(self, other: ReducedBRDF) -> bool:
         """True if every array and number is identical (NaN equal to NaN)."""
         if not isinstance(other, ReducedBRDF):
             return False
-        names = ("unique_values", "unique_stderr", "unique_absolute", "unique_absolute_stderr", "members",
-                 "normal_reflectance", "normal_reflectance_stderr")
+        names = (
+            "unique_values",
+            "unique_stderr",
+            "unique_absolute",
+            "unique_absolute_stderr",
+            "members",
+            "normal_reflectance",
+            "normal_reflectance_stderr",
+        )
         return all(np.array_equal(getattr(self, a), getattr(other, a), equal_nan=True) for a in names)
 
 
@@ -141,7 +148,8 @@ def check_counts(hemisphere: CollectorHemisphere, counts, absorbed, launched, lo
     if not np.array_equal(balance, launched):
         i = int(np.flatnonzero(balance != launched)[0])
         raise ParameterError(
-            "launched", f"{int(launched[i])} for incoming patch {i}",
+            "launched",
+            f"{int(launched[i])} for incoming patch {i}",
             f"must equal escaped + absorbed + lost = {int(balance[i])} for every incoming patch",
         )
     return counts, absorbed, launched, lost
@@ -150,8 +158,9 @@ def check_counts(hemisphere: CollectorHemisphere, counts, absorbed, launched, lo
 REDUCTION_METHODS = ("average", "pooled")
 
 
-def reduce_counts(hemisphere: CollectorHemisphere, counts, absorbed, launched, lost, *,
-                  method: str = "average") -> ReducedBRDF:
+def reduce_counts(
+    hemisphere: CollectorHemisphere, counts, absorbed, launched, lost, *, method: str = "average"
+) -> ReducedBRDF:
     """Estimate, symmetrise, normalise and compress the BRDF from uniform-incidence counts.
 
     See the module docstring for the method and the error model.
@@ -265,11 +274,15 @@ def reduce_fixed_incidence(hemisphere: CollectorHemisphere, counts, absorbed: in
     """
     r = hemisphere.n_patches
     counts = _as_counts("counts", counts, (r,))
-    absorbed, launched, lost = (int(_as_counts(k, v, ())) for k, v in
-                                (("absorbed", absorbed), ("launched", launched), ("lost", lost)))
+    absorbed, launched, lost = (
+        int(_as_counts(k, v, ())) for k, v in (("absorbed", absorbed), ("launched", launched), ("lost", lost))
+    )
     if launched != counts.sum() + absorbed + lost or launched == 0:
-        raise ParameterError("launched", launched,
-                             f"must be positive and equal escaped + absorbed + lost = {int(counts.sum()) + absorbed + lost}")
+        raise ParameterError(
+            "launched",
+            launched,
+            f"must be positive and equal escaped + absorbed + lost = {int(counts.sum()) + absorbed + lost}",
+        )
     wp = hemisphere.projected_solid_angles
     p = counts / launched
     return p / wp, np.sqrt(launched * p * (1.0 - p)) / (wp * launched)

@@ -201,7 +201,8 @@ class EquivalenceClasses:
         if off.any():
             i, j = np.argwhere(off)[0]
             raise ParameterError(
-                "full", f"entry [{i}, {j}] = {a[i, j]!r} in a class of value {values[self.class_of[i, j]]!r}",
+                "full",
+                f"entry [{i}, {j}] = {a[i, j]!r} in a class of value {values[self.class_of[i, j]]!r}",
                 f"must be constant on every class of isotropy and reciprocity (rtol = {rtol})",
             )
         return values.copy()

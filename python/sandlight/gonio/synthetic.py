@@ -52,7 +52,9 @@ def _check_fraction(name: str, value, *, low_open: bool = False) -> float:
     except (TypeError, ValueError):
         raise ParameterError(name, value, "must be a real number in [0, 1]") from None
     if not (0.0 < v <= 1.0 if low_open else 0.0 <= v <= 1.0):
-        raise ParameterError(name, value, "must be a real number in (0, 1]" if low_open else "must be a real number in [0, 1]")
+        raise ParameterError(
+            name, value, "must be a real number in (0, 1]" if low_open else "must be a real number in [0, 1]"
+        )
     return v
 
 
@@ -122,8 +124,9 @@ def expected_brdf(hemisphere: CollectorHemisphere, probabilities) -> np.ndarray:
     return np.asarray(probabilities, dtype=float) / hemisphere.projected_solid_angles[None, :]
 
 
-def sample_counts(hemisphere: CollectorHemisphere, probabilities, rays: int, *, seed: int = 0,
-                  lost_probability: float = 0.0) -> dict[str, np.ndarray]:
+def sample_counts(
+    hemisphere: CollectorHemisphere, probabilities, rays: int, *, seed: int = 0, lost_probability: float = 0.0
+) -> dict[str, np.ndarray]:
     """Counts of a simulated uniform-incidence run.
 
     Each of ``rays`` trials picks its incoming patch uniformly (uniform incidence over patches of

@@ -13,11 +13,21 @@ JobError, JobSettingsError
 """
 
 from sandlight.jobs.errors import JobError, JobSettingsError
-from sandlight.jobs.executors import (DaskExecutor, Executor, InProcessExecutor, LocalExecutor,
-                                      make_executor)
+from sandlight.jobs.executors import DaskExecutor, Executor, InProcessExecutor, LocalExecutor, make_executor
 from sandlight.jobs.runner import Job, JobStatus, Task
 from sandlight.jobs.seeds import derive_seed, task_seed
 
-__all__ = ["Job", "Task", "JobStatus", "Executor", "LocalExecutor", "InProcessExecutor",
-           "DaskExecutor", "make_executor", "derive_seed", "task_seed", "JobError",
-           "JobSettingsError"]
+__all__ = [
+    "Job",
+    "Task",
+    "JobStatus",
+    "Executor",
+    "LocalExecutor",
+    "InProcessExecutor",
+    "DaskExecutor",
+    "make_executor",
+    "derive_seed",
+    "task_seed",
+    "JobError",
+    "JobSettingsError",
+]

@@ -133,8 +133,8 @@ class LocalExecutor(Executor):
 
     def _start(self):
         self._pool = cf.ProcessPoolExecutor(
-            max_workers=self.workers, mp_context=multiprocessing.get_context("spawn"),
-            initializer=_init_worker)
+            max_workers=self.workers, mp_context=multiprocessing.get_context("spawn"), initializer=_init_worker
+        )
 
     def submit(self, fn, *args):
         if self._pool is None:
@@ -206,8 +206,14 @@ class DaskExecutor(Executor):
 
     capacity = None  # let the scheduler queue everything: adaptive clusters grow with the queue
 
-    def __init__(self, scheduler: str | None = None, n_workers: int | None = None,
-                 threads_per_worker: int = 1, processes: bool = True, client=None):
+    def __init__(
+        self,
+        scheduler: str | None = None,
+        n_workers: int | None = None,
+        threads_per_worker: int = 1,
+        processes: bool = True,
+        client=None,
+    ):
         given = [x is not None for x in (scheduler, n_workers, client)]
         if sum(given) > 1:
             raise ValueError("give at most one of scheduler, n_workers and client")
@@ -229,8 +235,11 @@ class DaskExecutor(Executor):
             else:
                 self._cluster = LocalCluster(
                     n_workers=self.n_workers or _cpu_count(),
-                    threads_per_worker=self.threads_per_worker, processes=self.processes,
-                    dashboard_address=":0", silence_logs=logging.ERROR)
+                    threads_per_worker=self.threads_per_worker,
+                    processes=self.processes,
+                    dashboard_address=":0",
+                    silence_logs=logging.ERROR,
+                )
                 self._client = Client(self._cluster)
         return self._client
 
@@ -270,8 +279,7 @@ class DaskExecutor(Executor):
         return "dask cluster"
 
 
-def make_executor(workers: int | None = None, dask_local: int | None = None,
-                  scheduler: str | None = None) -> Executor:
+def make_executor(workers: int | None = None, dask_local: int | None = None, scheduler: str | None = None) -> Executor:
     """Executor from command-line style options (at most one of them may be given).
 
     Parameters
@@ -287,8 +295,7 @@ def make_executor(workers: int | None = None, dask_local: int | None = None,
     options = {"workers": workers, "dask_local": dask_local, "scheduler": scheduler}
     chosen = {k: v for k, v in options.items() if v is not None}
     if len(chosen) > 1:
-        raise ParameterError(" and ".join(chosen), tuple(chosen.values()),
-                             "choose one executor option")
+        raise ParameterError(" and ".join(chosen), tuple(chosen.values()), "choose one executor option")
     if scheduler is not None:
         return DaskExecutor(scheduler=scheduler)
     if dask_local is not None:

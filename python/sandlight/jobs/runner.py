@@ -20,9 +20,9 @@ import hashlib
 import signal
 import threading
 from collections import deque
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Callable, Mapping, Sequence
 
 import numpy as np
 
@@ -73,8 +73,9 @@ def run_task(fn: Callable, task: Task) -> tuple[int, dict]:
     """Run one task in a worker and return ``(index, results)`` with results as numpy arrays."""
     results = fn(dict(task.payload), task.seed)
     if not isinstance(results, Mapping):
-        raise TypeError(f"task function returned {type(results).__name__}, expected a mapping "
-                        f"of result names to arrays")
+        raise TypeError(
+            f"task function returned {type(results).__name__}, expected a mapping of result names to arrays"
+        )
     return task.index, {str(k): np.asarray(v) for k, v in results.items()}
 
 
@@ -100,12 +101,24 @@ def _progress_bar(enabled: bool, description: str, total: int, completed: int, u
     if not enabled:
         yield lambda n: None
         return
-    from rich.progress import (BarColumn, MofNCompleteColumn, Progress, TextColumn,
-                               TimeElapsedColumn, TimeRemainingColumn)
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
 
-    columns = (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(),
-               _rate_column(unit), TimeElapsedColumn(), TextColumn("ETA"),
-               TimeRemainingColumn())
+    columns = (
+        TextColumn("{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        _rate_column(unit),
+        TimeElapsedColumn(),
+        TextColumn("ETA"),
+        TimeRemainingColumn(),
+    )
     with Progress(*columns, transient=False) as progress:
         task_id = progress.add_task(description, total=total, completed=completed)
         yield lambda n: progress.update(task_id, advance=n)
@@ -143,8 +156,10 @@ def _value_array(name: str, values: list):
         return np.asarray(values, dtype=np.float64)
     if kinds <= {str, np.str_}:
         return np.asarray(values, dtype=str)
-    raise JobError(f"payload entry {name!r} mixes or uses unsupported types "
-                   f"{sorted(k.__name__ for k in kinds)}; use float, int, bool or str")
+    raise JobError(
+        f"payload entry {name!r} mixes or uses unsupported types "
+        f"{sorted(k.__name__ for k in kinds)}; use float, int, bool or str"
+    )
 
 
 class Job:
@@ -185,10 +200,20 @@ class Job:
     True
     """
 
-    def __init__(self, path, fn: Callable, payloads: Sequence[Mapping], *, seed: int,
-                 settings: Mapping | None = None, dims: Mapping | None = None,
-                 coords: Mapping | None = None, var_attrs: Mapping | None = None,
-                 attrs: Mapping | None = None, task_dim: str = "task"):
+    def __init__(
+        self,
+        path,
+        fn: Callable,
+        payloads: Sequence[Mapping],
+        *,
+        seed: int,
+        settings: Mapping | None = None,
+        dims: Mapping | None = None,
+        coords: Mapping | None = None,
+        var_attrs: Mapping | None = None,
+        attrs: Mapping | None = None,
+        task_dim: str = "task",
+    ):
         self.path = Path(path)
         self.fn = fn
         self.payloads = list(payloads)
@@ -217,9 +242,14 @@ class Job:
             raise ParameterError("seed", self.seed, "an integer >= 0")
         # Payloads are hashed rather than stored: they can be long, and any change must be seen.
         digest = hashlib.sha256(dumps(self.payloads).encode("utf-8")).hexdigest()
-        return {**to_json_value(self.user_settings), "n_tasks": self.n_tasks,
-                "master_seed": self.seed, "payloads_sha256": digest, "task_dim": self.task_dim,
-                "result_dims": {k: list(v) for k, v in sorted(self.dims.items())}}
+        return {
+            **to_json_value(self.user_settings),
+            "n_tasks": self.n_tasks,
+            "master_seed": self.seed,
+            "payloads_sha256": digest,
+            "task_dim": self.task_dim,
+            "result_dims": {k: list(v) for k, v in sorted(self.dims.items())},
+        }
 
     def _result_dims(self, name: str, ndim: int) -> tuple:
         dims = self.dims.get(name, tuple(f"{name}_dim{i}" for i in range(ndim)))
@@ -245,15 +275,24 @@ class Job:
 
         status = self.status()
         if status.dataset_path is None:
-            raise JobError(f"job {self.path} is not complete ({status.n_done} of "
-                           f"{status.n_total} tasks done); run it again to finish it")
+            raise JobError(
+                f"job {self.path} is not complete ({status.n_done} of "
+                f"{status.n_total} tasks done); run it again to finish it"
+            )
         with xr.open_dataset(status.dataset_path) as ds:
             return ds.load()
 
     # ---- running -----------------------------------------------------------------------------
-    def run(self, executor: Executor | None = None, *, max_tasks: int | None = None,
-            max_retries: int = 2, progress: bool = True, description: str = "tasks",
-            unit: str = "task") -> JobStatus:
+    def run(
+        self,
+        executor: Executor | None = None,
+        *,
+        max_tasks: int | None = None,
+        max_retries: int = 2,
+        progress: bool = True,
+        description: str = "tasks",
+        unit: str = "task",
+    ) -> JobStatus:
         """Run the tasks not yet stored, then consolidate the dataset if all are done.
 
         Parameters
@@ -295,8 +334,11 @@ class Job:
             todo = todo[:max_tasks]
         if todo:
             executor = make_executor() if executor is None else executor
-            with _stop_requests() as stop, executor, _progress_bar(
-                    progress, description, self.n_tasks, len(done), unit) as advance:
+            with (
+                _stop_requests() as stop,
+                executor,
+                _progress_bar(progress, description, self.n_tasks, len(done), unit) as advance,
+            ):
                 self._run_tasks(store, executor, todo, done, max_retries, advance, stop)
         if len(done) == self.n_tasks and not store.dataset_path.exists():
             self._consolidate(store, columns)
@@ -341,26 +383,28 @@ class Job:
             executor.abort(list(in_flight))
             raise Cancelled(
                 f"stopped after {len(done)} of {self.n_tasks} tasks; the job store {self.path} "
-                f"is consistent: run the same command again to resume") from None
+                f"is consistent: run the same command again to resume"
+            ) from None
         if failures:
             index, exc = min(failures.items())
             raise JobError(
                 f"{len(failures)} task(s) failed after {max_retries + 1} attempts (indices "
                 f"{sorted(failures)[:10]}{' ...' if len(failures) > 10 else ''}); task {index}: "
                 f"{type(exc).__name__}: {exc}. The {len(done)} finished tasks are stored; run "
-                f"the job again to retry the others") from exc
+                f"the job again to retry the others"
+            ) from exc
 
     @staticmethod
     def _check_schema(index, result, schema):
         got = {k: (v.dtype.kind, v.shape) for k, v in result.items()}
         for name, (kind, _) in got.items():
             if kind not in "biuf":
-                raise JobError(f"task {index} returned {name!r} of dtype kind {kind!r}; "
-                               f"results must be numeric arrays")
-        if schema is not None and {k: s for k, (_, s) in got.items()} != {
-                k: s for k, (_, s) in schema.items()}:
-            raise JobError(f"task {index} returned results {got}, but earlier tasks returned "
-                           f"{schema}; a task function must return the same names and shapes")
+                raise JobError(f"task {index} returned {name!r} of dtype kind {kind!r}; results must be numeric arrays")
+        if schema is not None and {k: s for k, (_, s) in got.items()} != {k: s for k, (_, s) in schema.items()}:
+            raise JobError(
+                f"task {index} returned results {got}, but earlier tasks returned "
+                f"{schema}; a task function must return the same names and shapes"
+            )
         return got if schema is None else schema
 
     def _write(self, store, batch: dict[int, dict]):
@@ -376,8 +420,10 @@ class Job:
         keys = list(self.payloads[0])
         for i, p in enumerate(self.payloads):
             if list(p) != keys:
-                raise JobError(f"payload {i} has keys {sorted(p)}, payload 0 has {sorted(keys)}; "
-                               f"every task must have the same payload keys")
+                raise JobError(
+                    f"payload {i} has keys {sorted(p)}, payload 0 has {sorted(keys)}; "
+                    f"every task must have the same payload keys"
+                )
         return {k: _value_array(k, [p[k] for p in self.payloads]) for k in keys}
 
     def _consolidate(self, store: ShardStore, columns: dict[str, np.ndarray]):
@@ -388,16 +434,14 @@ class Job:
             missing = sorted(set(range(self.n_tasks)) - set(index.tolist()))[:10]
             raise JobError(f"cannot consolidate {self.path}: tasks {missing} are missing")
         data = {k: (self.task_dim, v) for k, v in columns.items()}
-        data["seed"] = (self.task_dim, np.array(
-            [task_seed(self.seed, i) for i in range(self.n_tasks)], dtype=np.int64))
+        data["seed"] = (self.task_dim, np.array([task_seed(self.seed, i) for i in range(self.n_tasks)], dtype=np.int64))
         for name, values in results.items():
             data[name] = ((self.task_dim,) + self._result_dims(name, values.ndim - 1), values)
         coords = {self.task_dim: np.arange(self.n_tasks, dtype=np.int64), **self.coords}
         attrs = {}
         for key, value in {**self.attrs, "job_settings": self.settings()}.items():
             value = to_json_value(value)
-            attrs[key] = dumps(value) if isinstance(value, (dict, list, bool)) or value is None \
-                else value
+            attrs[key] = dumps(value) if isinstance(value, (dict, list, bool)) or value is None else value
         ds = xr.Dataset(data, coords=coords, attrs=attrs)
         ds["seed"].attrs["description"] = "seed of the task (derived from the job's master seed)"
         for name, var_attrs in self.var_attrs.items():

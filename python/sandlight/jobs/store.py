@@ -16,15 +16,15 @@ consolidated dataset and removing its shards) is read once.
 from __future__ import annotations
 
 import json
-import os
 import math
+import os
 import re
 from pathlib import Path
 
 import numpy as np
 
-from sandlight.jobs.errors import JobError, JobSettingsError
 from sandlight.io import TEMPORARY_SUFFIX, write_atomically
+from sandlight.jobs.errors import JobError, JobSettingsError
 
 STORE_FORMAT = "sandlight-job-store"
 STORE_FORMAT_VERSION = 1
@@ -88,8 +88,8 @@ def _first_difference(stored, requested, prefix=""):
                 return diff
         return None
     same = stored == requested or (
-        isinstance(stored, float) and isinstance(requested, float)
-        and math.isnan(stored) and math.isnan(requested))
+        isinstance(stored, float) and isinstance(requested, float) and math.isnan(stored) and math.isnan(requested)
+    )
     return None if same else (prefix or "value", stored, requested)
 
 
@@ -106,7 +106,7 @@ class ShardStore:
 
     # ---- creation and validation -------------------------------------------------------------
     @classmethod
-    def open(cls, path, settings: dict) -> "ShardStore":
+    def open(cls, path, settings: dict) -> ShardStore:
         """Create the store at ``path`` or reopen it, checking that its settings equal ``settings``.
 
         Raises
@@ -127,18 +127,17 @@ class ShardStore:
             if header.get("format") != STORE_FORMAT:
                 raise JobError(f"{path} is not a sandlight job store (format {header.get('format')!r})")
             if header.get("format_version") != STORE_FORMAT_VERSION:
-                raise JobSettingsError(path, "format_version", header.get("format_version"),
-                                       STORE_FORMAT_VERSION)
+                raise JobSettingsError(path, "format_version", header.get("format_version"), STORE_FORMAT_VERSION)
             diff = _first_difference(header.get("settings"), requested)
             if diff:
                 raise JobSettingsError(path, *diff)
         else:
             if path.exists() and any(p.name != SHARD_DIR for p in path.iterdir()):
-                raise JobError(f"{path} exists, is not empty and is not a sandlight job store; "
-                               f"choose another output directory")
+                raise JobError(
+                    f"{path} exists, is not empty and is not a sandlight job store; choose another output directory"
+                )
             path.mkdir(parents=True, exist_ok=True)
-            header = {"format": STORE_FORMAT, "format_version": STORE_FORMAT_VERSION,
-                      "settings": requested}
+            header = {"format": STORE_FORMAT, "format_version": STORE_FORMAT_VERSION, "settings": requested}
             text = json.dumps(header, indent=1, sort_keys=True) + "\n"
             write_atomically(settings_file, lambda tmp: tmp.write_text(text, encoding="utf-8"))
         store = cls(path, requested)
@@ -177,8 +176,9 @@ class ShardStore:
                 keys = list(ds.data_vars) if names is None else names
                 return {k: ds[k].values for k in keys}
         except Exception as exc:  # any reader failure means the file cannot be trusted
-            raise JobError(f"cannot read job file {path} ({exc}); delete it and run the job again "
-                           f"(its tasks will be recomputed)") from exc
+            raise JobError(
+                f"cannot read job file {path} ({exc}); delete it and run the job again (its tasks will be recomputed)"
+            ) from exc
 
     def done_indices(self) -> set[int]:
         """Indices of the tasks whose results are stored."""

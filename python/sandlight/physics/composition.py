@@ -113,13 +113,17 @@ def compose(sample) -> Composition:
     m_host = 1.0 - m_fe - m_mag - m_coat_kaolinite
     if m_host <= 0.0:
         raise ParameterError(
-            "coating_iron_share", sample.coating_iron_share,
+            "coating_iron_share",
+            sample.coating_iron_share,
             f"too small for iron_oxide = {sample.iron_oxide} and magnetite = {sample.magnetite}: the kaolinite "
             f"coating would outweigh the solids; need coating_iron_share > "
-            f"{v_fe * rho['kaolinite'] / (1 - m_fe - m_mag + v_fe * rho['kaolinite']):.4g}")
+            f"{v_fe * rho['kaolinite'] / (1 - m_fe - m_mag + v_fe * rho['kaolinite']):.4g}",
+        )
 
     eps = sample.aspect_ratio
-    sand_sizes = SizeDistribution("lognormal", *SAND_RANGE_MM, median_mm=sample.grain_size, spread=sample.grain_size_spread)
+    sand_sizes = SizeDistribution(
+        "lognormal", *SAND_RANGE_MM, median_mm=sample.grain_size, spread=sample.grain_size_spread
+    )
     silt_sizes = SizeDistribution("loguniform", *SILT_RANGE_MM)
     clay_sizes = SizeDistribution("loguniform", *CLAY_RANGE_MM)
 
@@ -150,7 +154,9 @@ def compose(sample) -> Composition:
 
     def add(name, volume, sizes, aspect, core, coat=None, t=0.0):
         if volume > 0:
-            pops.append(Population(name, volume, sizes, aspect, core, coat or {}, t, _surface_per_volume(sizes, aspect)))
+            pops.append(
+                Population(name, volume, sizes, aspect, core, coat or {}, t, _surface_per_volume(sizes, aspect))
+            )
 
     add("quartz sand", v_sand, sand_sizes, eps, quartz_core, coating, t_coat)
     add("quartz silt", v_silt, silt_sizes, eps, quartz_core, coating, t_coat)
@@ -163,8 +169,19 @@ def compose(sample) -> Composition:
         add("goethite particles", v_goe, pigment, 1.0, {"goethite": 1.0})
 
     v_total = sum(p.volume_fraction for p in pops)
-    pops = [Population(p.name, p.volume_fraction / v_total, p.sizes, p.aspect_ratio, p.core, p.coating,
-                       p.coating_thickness_mm, p.surface_per_volume_per_mm) for p in pops]
+    pops = [
+        Population(
+            p.name,
+            p.volume_fraction / v_total,
+            p.sizes,
+            p.aspect_ratio,
+            p.core,
+            p.coating,
+            p.coating_thickness_mm,
+            p.surface_per_volume_per_mm,
+        )
+        for p in pops
+    ]
     surface = sum(p.volume_fraction * p.surface_per_volume_per_mm for p in pops)
     phi = sample.porosity
     ell = 4.0 * phi / ((1.0 - phi) * surface)

@@ -24,7 +24,7 @@ def _mix(materials: dict, wavelength_nm: float) -> complex:
     return sum(v * complex(complex_index(m, wavelength_nm)) for m, v in materials.items())
 
 
-def native_medium(comp: Composition, wavelength_nm: float, memory: str = "none") -> "_native.Medium":
+def native_medium(comp: Composition, wavelength_nm: float, memory: str = "none") -> _native.Medium:
     """The native medium of composition ``comp`` at ``wavelength_nm`` (nm, vacuum).
 
     ``memory`` is the on-the-fly engine's near-surface path memory, 'none' (the classic model),
@@ -50,6 +50,20 @@ def native_medium(comp: Composition, wavelength_nm: float, memory: str = "none")
             coat_t.append(0.0)
     water = complex(complex_index("water", wavelength_nm))
     return _native.Medium.particulate(
-        probs, quantiles, aspect, core_n, core_k, core_a, coat_n, coat_a, coat_t,
-        comp.mean_free_path_mm, water.real, absorption_per_mm(water.imag, wavelength_nm),
-        comp.film_thickness_mm, comp.water_filled_probability, comp.depth_mm, memory=memory)
+        probs,
+        quantiles,
+        aspect,
+        core_n,
+        core_k,
+        core_a,
+        coat_n,
+        coat_a,
+        coat_t,
+        comp.mean_free_path_mm,
+        water.real,
+        absorption_per_mm(water.imag, wavelength_nm),
+        comp.film_thickness_mm,
+        comp.water_filled_probability,
+        comp.depth_mm,
+        memory=memory,
+    )

@@ -50,13 +50,24 @@ def reference_grain_mm(comp, fines_below_mm: float = FINES_BELOW_MM) -> float:
     medians = [float(np.median(p.sizes.encounter_quantiles())) for p in comp.populations]
     packed = [m for m in medians if m >= fines_below_mm]
     if not packed:
-        raise ParameterError("fines_below_mm", fines_below_mm, f"at most the largest median grain size ({max(medians):.4g} mm)")
+        raise ParameterError(
+            "fines_below_mm", fines_below_mm, f"at most the largest median grain size ({max(medians):.4g} mm)"
+        )
     return max(packed)
 
 
-def generate_packing(medium, *, reference_mm: float, lateral_mm=None, depth_mm=None, seed: int = 0,
-                     fines_below_mm: float = FINES_BELOW_MM, overlap_tolerance: float = 1e-3, surface: str = "cut",
-                     settled_layers: float = SETTLED_LAYERS) -> "_native.Packing":
+def generate_packing(
+    medium,
+    *,
+    reference_mm: float,
+    lateral_mm=None,
+    depth_mm=None,
+    seed: int = 0,
+    fines_below_mm: float = FINES_BELOW_MM,
+    overlap_tolerance: float = 1e-3,
+    surface: str = "cut",
+    settled_layers: float = SETTLED_LAYERS,
+) -> _native.Packing:
     """Packs the grains of a native sand ``medium`` (any wavelength).
 
     Parameters
@@ -103,15 +114,24 @@ def generate_packing(medium, *, reference_mm: float, lateral_mm=None, depth_mm=N
         raise ParameterError("surface", surface, "'cut' or 'settled'")
     layers = _positive("settled_layers", settled_layers)
     if surface == "settled" and layers * ref > depth:
-        raise ParameterError("settled_layers", settled_layers, f"at most the box depth in reference grains ({depth / ref:.4g})")
+        raise ParameterError(
+            "settled_layers", settled_layers, f"at most the box depth in reference grains ({depth / ref:.4g})"
+        )
     fines = _positive("fines_below_mm", fines_below_mm)
     tolerance = _positive("overlap_tolerance", overlap_tolerance)
     grow = lateral_mm is None and depth_mm is None
     for attempt in range(BOX_GROWTHS + 1):
         try:
-            return _native.Packing.generate(medium, lateral, depth, int(seed), fines, overlap_tolerance=tolerance,
-                                            surface=surface,
-                                            settled_thickness_mm=layers * ref if surface == "settled" else None)
+            return _native.Packing.generate(
+                medium,
+                lateral,
+                depth,
+                int(seed),
+                fines,
+                overlap_tolerance=tolerance,
+                surface=surface,
+                settled_thickness_mm=layers * ref if surface == "settled" else None,
+            )
         except ParameterError as e:
             # The box check comes before the packing is relaxed, so a retry costs little.
             if not (grow and e.name == "lateral_mm/depth_mm" and attempt < BOX_GROWTHS):
@@ -119,8 +139,16 @@ def generate_packing(medium, *, reference_mm: float, lateral_mm=None, depth_mm=N
             lateral, depth = 1.5 * lateral, 1.5 * depth
 
 
-def grain_medium(size_quantiles_mm, *, aspect_ratio: float = 1.0, n: float = 1.544, alpha_per_mm: float = 0.0,
-                 porosity: float = 0.40, memory: str = "none", depth_mm: float = math.inf) -> "_native.Medium":
+def grain_medium(
+    size_quantiles_mm,
+    *,
+    aspect_ratio: float = 1.0,
+    n: float = 1.544,
+    alpha_per_mm: float = 0.0,
+    porosity: float = 0.40,
+    memory: str = "none",
+    depth_mm: float = math.inf,
+) -> _native.Medium:
     """A dry medium of one grain population with given optics (the test media of issue 9).
 
     Parameters
@@ -153,12 +181,34 @@ def grain_medium(size_quantiles_mm, *, aspect_ratio: float = 1.0, n: float = 1.5
     s_over_v = 6.0 * spheroid_surface_factor(aspect_ratio) / mean_d
     ell = 4.0 * phi / ((1.0 - phi) * s_over_v)
     return _native.Medium.particulate(
-        [1.0], [q.tolist()], [float(aspect_ratio)], [float(n)], [0.0], [float(alpha_per_mm)], [1.0], [0.0], [0.0],
-        ell, 1.333, 0.0, 0.0, 0.0, depth, memory=memory)
+        [1.0],
+        [q.tolist()],
+        [float(aspect_ratio)],
+        [float(n)],
+        [0.0],
+        [float(alpha_per_mm)],
+        [1.0],
+        [0.0],
+        [0.0],
+        ell,
+        1.333,
+        0.0,
+        0.0,
+        0.0,
+        depth,
+        memory=memory,
+    )
 
 
-def grains_with_fines(*, n: float = 1.544, alpha_per_mm: float = 0.0, fines_alpha_per_mm: float = 0.0,
-                      diameter_mm: float = 0.25, porosity: float = 0.40, memory: str = "none") -> "_native.Medium":
+def grains_with_fines(
+    *,
+    n: float = 1.544,
+    alpha_per_mm: float = 0.0,
+    fines_alpha_per_mm: float = 0.0,
+    diameter_mm: float = 0.25,
+    porosity: float = 0.40,
+    memory: str = "none",
+) -> _native.Medium:
     """Monodisperse grains with 2 µm fines (n = 1.55, dry) that make 90 % of the encounters: light
     is scattered many times inside each pore before it meets a grain (docs/geometry.md, the test
     medium of the pore-wall memory).
@@ -176,10 +226,32 @@ def grains_with_fines(*, n: float = 1.544, alpha_per_mm: float = 0.0, fines_alph
         Near-surface path memory of the on-the-fly engine.
     """
     ell = 2.0 / 3.0 * diameter_mm * porosity / (1 - porosity) * 0.1
-    return _native.Medium.particulate([0.1, 0.9], [[diameter_mm], [0.002]], [1.0, 1.0], [float(n), 1.55], [0.0, 0.0],
-                                      [float(alpha_per_mm), float(fines_alpha_per_mm)], [1.0, 1.0], [0.0, 0.0],
-                                      [0.0, 0.0], ell, 1.333, 0.0, 0.0, 0.0, math.inf, memory=memory)
+    return _native.Medium.particulate(
+        [0.1, 0.9],
+        [[diameter_mm], [0.002]],
+        [1.0, 1.0],
+        [float(n), 1.55],
+        [0.0, 0.0],
+        [float(alpha_per_mm), float(fines_alpha_per_mm)],
+        [1.0, 1.0],
+        [0.0, 0.0],
+        [0.0, 0.0],
+        ell,
+        1.333,
+        0.0,
+        0.0,
+        0.0,
+        math.inf,
+        memory=memory,
+    )
 
 
-__all__ = ["FINES_BELOW_MM", "SETTLED_LAYERS", "SURFACES", "generate_packing", "grain_medium", "grains_with_fines",
-           "reference_grain_mm"]
+__all__ = [
+    "FINES_BELOW_MM",
+    "SETTLED_LAYERS",
+    "SURFACES",
+    "generate_packing",
+    "grain_medium",
+    "grains_with_fines",
+    "reference_grain_mm",
+]

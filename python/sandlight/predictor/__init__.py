@@ -16,12 +16,20 @@ generate_training_set, fit_training_set, train_spectral
 
 from sandlight.predictor.bank import ModelBank, default_model
 from sandlight.predictor.domain import Dimension, Domain
-from sandlight.predictor.spectral import (HoldoutReport, ModelVersionWarning, SpectralModel,
-                                          evaluate)
-from sandlight.predictor.training import (fit_training_set, generate_training_set,
-                                          train_spectral, wavelength_grid)
+from sandlight.predictor.spectral import HoldoutReport, ModelVersionWarning, SpectralModel, evaluate
+from sandlight.predictor.training import fit_training_set, generate_training_set, train_spectral, wavelength_grid
 
-__all__ = ["SpectralModel", "evaluate", "HoldoutReport", "ModelVersionWarning", "ModelBank",
-           "default_model",
-           "Domain", "Dimension", "generate_training_set", "fit_training_set", "train_spectral",
-           "wavelength_grid"]
+__all__ = [
+    "SpectralModel",
+    "evaluate",
+    "HoldoutReport",
+    "ModelVersionWarning",
+    "ModelBank",
+    "default_model",
+    "Domain",
+    "Dimension",
+    "generate_training_set",
+    "fit_training_set",
+    "train_spectral",
+    "wavelength_grid",
+]

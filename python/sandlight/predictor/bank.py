@@ -19,8 +19,8 @@ default_model, default_model_dir
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Sequence
 
 import numpy as np
 
@@ -75,19 +75,24 @@ class ModelBank:
         wl = np.asarray(models[0].wavelengths_)
         for m in models[1:]:
             if m.wavelengths_.shape != wl.shape or not np.allclose(m.wavelengths_, wl):
-                raise ParameterError(f"wavelengths of model {m.name_!r}", m.wavelengths_.tolist(),
-                                     f"those of the other models of the bank, {wl.tolist()} nm")
+                raise ParameterError(
+                    f"wavelengths of model {m.name_!r}",
+                    m.wavelengths_.tolist(),
+                    f"those of the other models of the bank, {wl.tolist()} nm",
+                )
         names = [m.name_ for m in models]
         if len(set(names)) != len(names):
             raise ParameterError("model names", names, "distinct names (name_) in one bank")
         # A bank answers each sample with one of its models: they must share the engine's physics.
         memories = {m.name_: m.memory_ for m in models}
         if len(set(memories.values())) > 1:
-            raise ParameterError("engine memory of the models", memories,
-                                 "one path memory for the whole bank (train them with the same memory)")
+            raise ParameterError(
+                "engine memory of the models",
+                memories,
+                "one path memory for the whole bank (train them with the same memory)",
+            )
         self.memory_ = models[0].memory_
-        self.models = tuple(sorted(models, key=lambda m: (holdout_rms(m),
-                                                          len(m.parameter_names_))))
+        self.models = tuple(sorted(models, key=lambda m: (holdout_rms(m), len(m.parameter_names_))))
         self.wavelengths_ = wl
         self.fallback = max(self.models, key=lambda m: len(m.parameter_names_))
 
@@ -95,7 +100,7 @@ class ModelBank:
         return f"ModelBank({', '.join(m.name_ for m in self.models)})"
 
     @classmethod
-    def load(cls, paths) -> "ModelBank":
+    def load(cls, paths) -> ModelBank:
         """A bank of the model files ``paths`` (see :meth:`SpectralModel.load` for errors)."""
         return cls([SpectralModel.load(p) for p in paths])
 
@@ -110,9 +115,13 @@ class ModelBank:
         """One line on a model (given by name or rank): its name, domain size and hold-out error."""
         m = self.models[which] if isinstance(which, (int, np.integer)) else self.model(which)
         scores = m.holdout_scores_ or {}
-        error = (f"hold-out RMS error {holdout_rms(m):.4f} over "
-                 f"{m.wavelengths_[0]:g}–{m.wavelengths_[-1]:g} nm "
-                 f"({scores.get('n_samples', '?')} samples)" if scores else "no hold-out score")
+        error = (
+            f"hold-out RMS error {holdout_rms(m):.4f} over "
+            f"{m.wavelengths_[0]:g}–{m.wavelengths_[-1]:g} nm "
+            f"({scores.get('n_samples', '?')} samples)"
+            if scores
+            else "no hold-out score"
+        )
         forms = f"{len(m.forms_)} forms" if len(m.forms_) > 1 else f"form {m.forms_[0]}"
         text = f"{m.name_}: {len(m.parameter_names_)} parameters, {forms}; {error}"
         if m.memory_ != "none":
@@ -123,22 +132,23 @@ class ModelBank:
     def _named_columns(self, samples) -> tuple[dict, np.ndarray, np.ndarray]:
         """Columns by name, the distinct form names and each sample's index into them."""
         if isinstance(samples, np.ndarray) and samples.dtype.names is None:
-            raise ParameterError("samples", f"a plain array of shape {samples.shape}",
-                                 "named parameters (SandSample(s), dicts, a structured array, a "
-                                 "DataFrame or an xarray.Dataset): the models of a bank take "
-                                 "different parameters; use bank.model(name).predict for arrays")
+            raise ParameterError(
+                "samples",
+                f"a plain array of shape {samples.shape}",
+                "named parameters (SandSample(s), dicts, a structured array, a "
+                "DataFrame or an xarray.Dataset): the models of a bank take "
+                "different parameters; use bank.model(name).predict for arrays",
+            )
         columns = _columns(samples)
         if FORM_PARAMETER not in columns:
             raise ParameterError(FORM_PARAMETER, None, "the iron-oxide form of every sample")
-        names, index = np.unique(np.asarray(columns[FORM_PARAMETER]).astype(str),
-                                 return_inverse=True)
+        names, index = np.unique(np.asarray(columns[FORM_PARAMETER]).astype(str), return_inverse=True)
         return columns, names, index.reshape(-1)
 
     @staticmethod
     def _codes(model: SpectralModel, names: np.ndarray, index: np.ndarray) -> np.ndarray:
         """Each sample's form code in ``model.forms_`` (−1: a form the model does not know)."""
-        lookup = np.array([model.forms_.index(f) if f in model.forms_ else -1 for f in names],
-                          dtype=np.intp)
+        lookup = np.array([model.forms_.index(f) if f in model.forms_ else -1 for f in names], dtype=np.intp)
         return lookup[index]
 
     def select(self, samples) -> np.ndarray:
@@ -201,24 +211,25 @@ class ModelBank:
         for rank, m in enumerate(self.models):
             rows = np.flatnonzero(choice == rank)
             if rows.size:
-                values = np.column_stack([np.asarray(columns[n], dtype=float)[rows]
-                                          for n in m.parameter_names_])
+                values = np.column_stack([np.asarray(columns[n], dtype=float)[rows] for n in m.parameter_names_])
                 out[rows] = m.predict(values, forms=self._codes(m, names, index)[rows])
         if not return_models:
             return out
         names = np.array([m.name_ for m in self.models] + [self.fallback.name_])
         return out, names[np.where(choice < 0, len(self.models), choice)]
 
-
     def _raise_uncovered(self, row: dict):
         """Raise a ParameterError naming why the first of ``row``'s samples is not covered."""
         names = [m.name_ for m in self.models]
-        hint = (f"no model of the bank {names} covers this sample (pass extrapolate=True to use "
-                f"{self.fallback.name_!r} outside its domain)")
+        hint = (
+            f"no model of the bank {names} covers this sample (pass extrapolate=True to use "
+            f"{self.fallback.name_!r} outside its domain)"
+        )
         for name, value in self.fallback.domain_.fixed.items():
             if name not in row:
-                raise ParameterError(name, None, f"a value ({self.fallback.name_!r} is trained "
-                                     f"at {name} = {value:g}); {hint}")
+                raise ParameterError(
+                    name, None, f"a value ({self.fallback.name_!r} is trained at {name} = {value:g}); {hint}"
+                )
         try:
             # The broadest model names the parameter out of its range (or a missing one, NaN).
             self.fallback.predict(row)
@@ -250,10 +261,12 @@ def default_model() -> ModelBank:
     """
     paths = sorted(default_model_dir().glob(SHIPPED_PATTERN))
     if not paths:
-        raise ModelFileError(f"no spectral model is installed (expected {SHIPPED_PATTERN} in "
-                             f"{default_model_dir()}); train them with "
-                             f"scripts/train_default_spectral.py, or pass a model file "
-                             f"(sandlight predict --model PATH)")
+        raise ModelFileError(
+            f"no spectral model is installed (expected {SHIPPED_PATTERN} in "
+            f"{default_model_dir()}); train them with "
+            f"scripts/train_default_spectral.py, or pass a model file "
+            f"(sandlight predict --model PATH)"
+        )
     try:
         return ModelBank.load(paths)
     except SandlightError as exc:

@@ -68,8 +68,8 @@ cubic has few monomials and fits the engine much more closely.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
-from typing import Mapping
 
 import numpy as np
 
@@ -89,8 +89,7 @@ SCALES = ("linear", "log", "sqrt")
 CONCENTRATION_OFFSET = 1e-4
 #: The reference sand of the narrow domains: SandSample's defaults (docs/sample.md), semi-infinite;
 #: every float parameter but the derived ones.
-REFERENCE_SAND = {p.name: p.default for p in PARAMETERS
-                  if p.kind == "float" and p.name not in DERIVED}
+REFERENCE_SAND = {p.name: p.default for p in PARAMETERS if p.kind == "float" and p.name not in DERIVED}
 
 
 @dataclass(frozen=True)
@@ -126,17 +125,19 @@ class Dimension:
         if self.scale not in SCALES:
             raise ParameterError(f"{self.name}.scale", self.scale, f"one of {SCALES}")
         if not (math.isfinite(self.low) and math.isfinite(self.high) and self.low < self.high):
-            raise ParameterError(self.name, (self.low, self.high),
-                                 "a finite range (low, high) with low < high")
+            raise ParameterError(self.name, (self.low, self.high), "a finite range (low, high) with low < high")
         if not (math.isfinite(self.offset) and self.offset >= 0):
             raise ParameterError(f"{self.name}.offset", self.offset, "a finite number >= 0")
         if self.offset and self.scale != "log":
-            raise ParameterError(f"{self.name}.offset", self.offset,
-                                 "0 unless the scale is 'log'")
+            raise ParameterError(f"{self.name}.offset", self.offset, "0 unless the scale is 'log'")
         if self.scale == "log" and self.low + self.offset <= 0:
-            raise ParameterError(self.name, (self.low, self.high),
-                                 f"low + offset > 0 on a log scale (offset {self.offset:g})"
-                                 if self.offset else "low > 0 on a log scale")
+            raise ParameterError(
+                self.name,
+                (self.low, self.high),
+                f"low + offset > 0 on a log scale (offset {self.offset:g})"
+                if self.offset
+                else "low > 0 on a log scale",
+            )
         if self.scale == "sqrt" and self.low < 0:
             raise ParameterError(self.name, (self.low, self.high), "low >= 0 on a sqrt scale")
 
@@ -162,8 +163,14 @@ class Dimension:
         return np.clip(self.inverse(t0 + np.asarray(u) * (t1 - t0)), self.low, self.high)
 
     def to_dict(self) -> dict:
-        return {"name": self.name, "low": self.low, "high": self.high, "scale": self.scale,
-                "unit": self.unit, "offset": self.offset}
+        return {
+            "name": self.name,
+            "low": self.low,
+            "high": self.high,
+            "scale": self.scale,
+            "unit": self.unit,
+            "offset": self.offset,
+        }
 
 
 def _default_dimensions() -> tuple[Dimension, ...]:
@@ -214,39 +221,45 @@ class Domain:
         if len(set(names)) != len(names) or set(names) & set(self.fixed):
             raise ParameterError("dimensions", names, "distinct names, none of them also fixed")
         if set(names + list(self.fixed)) & set(DERIVED + (FORM_PARAMETER,)):
-            raise ParameterError("dimensions", names,
-                                 f"no {DERIVED + (FORM_PARAMETER,)} (derived or categorical)")
-        if not self.forms or len(set(self.forms)) != len(self.forms) or not set(
-                self.forms) <= set(FORMS):
+            raise ParameterError("dimensions", names, f"no {DERIVED + (FORM_PARAMETER,)} (derived or categorical)")
+        if not self.forms or len(set(self.forms)) != len(self.forms) or not set(self.forms) <= set(FORMS):
             raise ParameterError("forms", self.forms, f"a non-empty subset of {FORMS}")
         if not 0 < self.texture_limit <= SAND_CLASS_LIMIT:
-            raise ParameterError("texture_limit", self.texture_limit,
-                                 f"(0, {SAND_CLASS_LIMIT}] (silt + 1.5·clay inside the sand class)")
+            raise ParameterError(
+                "texture_limit", self.texture_limit, f"(0, {SAND_CLASS_LIMIT}] (silt + 1.5·clay inside the sand class)"
+            )
         varied = [n for n in ("silt", "clay") if n in names]
         fixed = [n for n in ("silt", "clay") if n in self.fixed]
         if sorted(varied) != ["clay", "silt"] and sorted(fixed) != ["clay", "silt"]:
-            raise ParameterError("silt, clay", {"varied": varied, "fixed": fixed},
-                                 "both varied or both fixed (sand = 1 − silt − clay is derived)")
+            raise ParameterError(
+                "silt, clay",
+                {"varied": varied, "fixed": fixed},
+                "both varied or both fixed (sand = 1 − silt − clay is derived)",
+            )
         if self._texture_drawn:
             silt, clay = self.dimension("silt"), self.dimension("clay")
             expected = ((0.0, self.texture_limit), (0.0, self.texture_limit / CLAY_WEIGHT))
             if ((silt.low, silt.high), (clay.low, clay.high)) != expected:
-                raise ParameterError("silt, clay", ((silt.low, silt.high), (clay.low, clay.high)),
-                                     f"{expected}: the ranges follow texture_limit")
+                raise ParameterError(
+                    "silt, clay",
+                    ((silt.low, silt.high), (clay.low, clay.high)),
+                    f"{expected}: the ranges follow texture_limit",
+                )
         else:
             s, c = self.fixed["silt"], self.fixed["clay"]
             if min(s, c) < 0 or s + CLAY_WEIGHT * c > self.texture_limit + 1e-12:
-                raise ParameterError("silt + 1.5·clay", s + CLAY_WEIGHT * c,
-                                     f"<= {self.texture_limit} with silt, clay >= 0")
+                raise ParameterError(
+                    "silt + 1.5·clay", s + CLAY_WEIGHT * c, f"<= {self.texture_limit} with silt, clay >= 0"
+                )
 
     # ---- construction ------------------------------------------------------------------------
     @classmethod
-    def default(cls) -> "Domain":
+    def default(cls) -> Domain:
         """The default domain: every float parameter of SandSample over its full range."""
         return cls()
 
     @classmethod
-    def reference(cls, dimensions, forms=FORMS, reference: Mapping | None = None) -> "Domain":
+    def reference(cls, dimensions, forms=FORMS, reference: Mapping | None = None) -> Domain:
         """A narrow domain: ``dimensions`` vary, every other parameter is fixed at the
         reference sand.
 
@@ -273,7 +286,7 @@ class Domain:
         fixed = {k: float(v) for k, v in reference.items() if k not in varied}
         return cls(dimensions, tuple(forms), fixed, SAND_CLASS_LIMIT)
 
-    def restrict(self, *, forms=None, texture_limit=None, **changes) -> "Domain":
+    def restrict(self, *, forms=None, texture_limit=None, **changes) -> Domain:
         """A smaller domain.
 
         Parameters
@@ -296,8 +309,9 @@ class Domain:
         dims, fixed = [], dict(self.fixed)
         unknown = set(changes) - set(self.names)
         if unknown:
-            raise ParameterError(sorted(unknown)[0], changes[sorted(unknown)[0]],
-                                 f"a dimension of this domain: {self.names}")
+            raise ParameterError(
+                sorted(unknown)[0], changes[sorted(unknown)[0]], f"a dimension of this domain: {self.names}"
+            )
         limit = self.texture_limit if texture_limit is None else float(texture_limit)
         for d in self.dimensions:
             change = changes.get(d.name)
@@ -314,15 +328,12 @@ class Domain:
                 fixed[d.name] = value
             else:
                 if d.name in ("silt", "clay"):
-                    raise ParameterError(d.name, change, "a single value (to fix it); its range "
-                                         "follows texture_limit")
+                    raise ParameterError(d.name, change, "a single value (to fix it); its range follows texture_limit")
                 low, high = map(float, change)
                 if not d.low <= low < high <= d.high:
-                    raise ParameterError(d.name, change,
-                                         f"a range inside [{d.low}, {d.high}] {d.unit}")
+                    raise ParameterError(d.name, change, f"a range inside [{d.low}, {d.high}] {d.unit}")
                 dims.append(replace(d, low=low, high=high))
-        return Domain(tuple(dims), tuple(forms) if forms is not None else self.forms, fixed,
-                      limit)
+        return Domain(tuple(dims), tuple(forms) if forms is not None else self.forms, fixed, limit)
 
     # ---- properties --------------------------------------------------------------------------
     @property
@@ -351,14 +362,21 @@ class Domain:
     # ---- serialisation -----------------------------------------------------------------------
     def to_dict(self) -> dict:
         """Plain-JSON description (``inf`` stays a float; Python's json writes ``Infinity``)."""
-        return {"dimensions": [d.to_dict() for d in self.dimensions],
-                "forms": list(self.forms), "fixed": dict(self.fixed),
-                "texture_limit": self.texture_limit}
+        return {
+            "dimensions": [d.to_dict() for d in self.dimensions],
+            "forms": list(self.forms),
+            "fixed": dict(self.fixed),
+            "texture_limit": self.texture_limit,
+        }
 
     @classmethod
-    def from_dict(cls, d: Mapping) -> "Domain":
-        return cls(tuple(Dimension(**x) for x in d["dimensions"]), tuple(d["forms"]),
-                   {k: float(v) for k, v in d["fixed"].items()}, float(d["texture_limit"]))
+    def from_dict(cls, d: Mapping) -> Domain:
+        return cls(
+            tuple(Dimension(**x) for x in d["dimensions"]),
+            tuple(d["forms"]),
+            {k: float(v) for k, v in d["fixed"].items()},
+            float(d["texture_limit"]),
+        )
 
     def check_covers(self, parameters) -> None:
         """Check this domain against SandSample's parameter table.
@@ -373,16 +391,20 @@ class Domain:
         for p in parameters:
             if p.name == FORM_PARAMETER:
                 if not set(self.forms) <= set(p.choices):
-                    raise SandlightError(f"domain forms {self.forms} are not all choices of "
-                                         f"{p.name}: {tuple(p.choices)}")
+                    raise SandlightError(
+                        f"domain forms {self.forms} are not all choices of {p.name}: {tuple(p.choices)}"
+                    )
             elif p.name in self.names:
                 d = self.dimension(p.name)
                 if d.low < p.low or d.high > p.high:
-                    raise SandlightError(f"domain range of {p.name} [{d.low}, {d.high}] leaves "
-                                         f"the parameter's domain [{p.low}, {p.high}]")
+                    raise SandlightError(
+                        f"domain range of {p.name} [{d.low}, {d.high}] leaves "
+                        f"the parameter's domain [{p.low}, {p.high}]"
+                    )
             elif p.name not in self.fixed and p.name not in DERIVED:
-                raise SandlightError(f"SandSample parameter {p.name} is neither a dimension, "
-                                     f"fixed nor derived in this domain")
+                raise SandlightError(
+                    f"SandSample parameter {p.name} is neither a dimension, fixed nor derived in this domain"
+                )
 
     # ---- drawing -----------------------------------------------------------------------------
     def draw(self, n: int, seed: int, design: str = "lhs") -> list[dict]:
@@ -406,8 +428,11 @@ class Domain:
             ``iron_oxide_form``, as plain Python floats and str (SandSample keyword arguments).
         """
         values, codes = self.draw_arrays(n, seed, design)
-        silt, clay = ((values[:, self.names.index("silt")], values[:, self.names.index("clay")])
-                      if self._texture_drawn else (self.fixed["silt"], self.fixed["clay"]))
+        silt, clay = (
+            (values[:, self.names.index("silt")], values[:, self.names.index("clay")])
+            if self._texture_drawn
+            else (self.fixed["silt"], self.fixed["clay"])
+        )
         sand = np.broadcast_to(1.0 - silt - clay, codes.shape)
         fixed = {k: float(v) for k, v in self.fixed.items()}
         samples = []
@@ -475,31 +500,36 @@ class Domain:
         for j, dim in enumerate(self.dimensions):
             column = values[:, j]
             if extrapolate:
-                bad = column + dim.offset <= 0 if dim.scale == "log" else (
-                    column < 0 if dim.scale == "sqrt" else None)
+                bad = column + dim.offset <= 0 if dim.scale == "log" else (column < 0 if dim.scale == "sqrt" else None)
                 if bad is not None and bad.any():
-                    raise ParameterError(dim.name, float(column[np.argmax(bad)]),
-                                         f"> {0.0 - dim.offset:g}" if dim.scale == "log" else ">= 0")
+                    raise ParameterError(
+                        dim.name,
+                        float(column[np.argmax(bad)]),
+                        f"> {0.0 - dim.offset:g}" if dim.scale == "log" else ">= 0",
+                    )
                 continue
             bad = ~_inside(dim, column)
             if bad.any():
                 raise ParameterError(
-                    dim.name, float(column[np.argmax(bad)]),
+                    dim.name,
+                    float(column[np.argmax(bad)]),
                     f"[{dim.low:g}, {dim.high:g}] {dim.unit}, the training domain of this "
-                    f"predictor (pass extrapolate=True to evaluate outside it)")
+                    f"predictor (pass extrapolate=True to evaluate outside it)",
+                )
         if self._texture_drawn and not extrapolate:
             load = self._texture_load(values)
             bad = load > self.texture_limit * (1 + 1e-9)
             if bad.any():
                 raise ParameterError(
-                    "silt + 1.5·clay", float(load[np.argmax(bad)]),
+                    "silt + 1.5·clay",
+                    float(load[np.argmax(bad)]),
                     f"<= {self.texture_limit:g} (sand texture class of the training domain; pass "
-                    f"extrapolate=True to evaluate outside it)")
+                    f"extrapolate=True to evaluate outside it)",
+                )
 
     def _texture_load(self, values: np.ndarray) -> np.ndarray:
         """silt + 1.5·clay of each row (texture dimensions only)."""
-        return (values[:, self.names.index("silt")]
-                + CLAY_WEIGHT * values[:, self.names.index("clay")])
+        return values[:, self.names.index("silt")] + CLAY_WEIGHT * values[:, self.names.index("clay")]
 
     def contains(self, columns: Mapping, forms=None) -> np.ndarray:
         """Which samples lie inside this domain (the test of :meth:`check`, without raising).
@@ -520,8 +550,7 @@ class Domain:
             NaN is outside.
         """
         n = len(next(iter(columns.values()))) if columns else len(forms)
-        inside = (np.ones(n, dtype=bool) if forms is None
-                  else np.isin(np.asarray(forms).astype(str), self.forms))
+        inside = np.ones(n, dtype=bool) if forms is None else np.isin(np.asarray(forms).astype(str), self.forms)
         if self.fixed:
             # All fixed parameters in one comparison: a bank tests a sample against many domains.
             target = np.array(list(self.fixed.values()), dtype=float)

@@ -36,22 +36,30 @@ import inspect
 import json
 import math
 import warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping, Sequence
 
 import numpy as np
 
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
-from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
 from sandlight.io import read_model_npz, write_model_npz
+from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
 
 MODEL_FORMAT = "sandlight-spectral-model"
 #: 2: log scales take an offset (Dimension.offset); models carry a name and a description.
 #: Format-1 files (sqrt-scaled concentrations, no name) still load.
 MODEL_FORMAT_VERSION = 2
-_ARRAYS = ("wavelengths_nm", "mean", "components", "explained_variance_ratio", "scale_center",
-           "scale_halfwidth", "powers", "W")
+_ARRAYS = (
+    "wavelengths_nm",
+    "mean",
+    "components",
+    "explained_variance_ratio",
+    "scale_center",
+    "scale_halfwidth",
+    "powers",
+    "W",
+)
 #: Samples per block of the fast evaluator: the block's monomials (m × block doubles, 4.5 MB
 #: for the 560 cubic monomials of 13 parameters) stay in cache between the products and the
 #: matrix product that consumes them.
@@ -88,13 +96,15 @@ def _columns(X) -> dict:
     if isinstance(X, Sequence) and not isinstance(X, (str, bytes)):
         rows = [x.to_dict() if hasattr(x, "to_dict") else x for x in X]
         if not rows or not all(isinstance(r, Mapping) for r in rows):
-            raise ParameterError("samples", type(X).__name__, "a non-empty list of SandSample "
-                                 "or of parameter dicts")
+            raise ParameterError("samples", type(X).__name__, "a non-empty list of SandSample or of parameter dicts")
         keys = set().union(*rows)
         return {k: np.asarray([r.get(k, np.nan) for r in rows]) for k in keys}
-    raise ParameterError("samples", type(X).__name__,
-                         "SandSample(s), dict(s) of parameters, a structured array, a DataFrame, "
-                         "an xarray.Dataset, or an (n, n_parameters) float array with form codes")
+    raise ParameterError(
+        "samples",
+        type(X).__name__,
+        "SandSample(s), dict(s) of parameters, a structured array, a DataFrame, "
+        "an xarray.Dataset, or an (n, n_parameters) float array with form codes",
+    )
 
 
 def _form_codes(forms, n: int, known: tuple) -> np.ndarray:
@@ -102,8 +112,11 @@ def _form_codes(forms, n: int, known: tuple) -> np.ndarray:
     if forms is None:
         if len(known) == 1:
             return np.zeros(n, dtype=np.intp)
-        raise ParameterError("forms", None, f"the iron-oxide form of each row, as names or "
-                             f"codes into {known} (this model covers several forms)")
+        raise ParameterError(
+            "forms",
+            None,
+            f"the iron-oxide form of each row, as names or codes into {known} (this model covers several forms)",
+        )
     forms = np.asarray(forms)
     if forms.ndim == 0:
         forms = np.full(n, forms[()])
@@ -112,15 +125,15 @@ def _form_codes(forms, n: int, known: tuple) -> np.ndarray:
     if forms.dtype.kind in "iu":
         bad = (forms < 0) | (forms >= len(known))
         if bad.any():
-            raise ParameterError(FORM_PARAMETER, int(forms[np.argmax(bad)]),
-                                 f"a code in 0..{len(known) - 1} for {known}")
+            raise ParameterError(
+                FORM_PARAMETER, int(forms[np.argmax(bad)]), f"a code in 0..{len(known) - 1} for {known}"
+            )
         return forms.astype(np.intp)
     names, inverse = np.unique(forms.astype(str), return_inverse=True)
     codes = np.empty(len(names), dtype=np.intp)
     for i, name in enumerate(names):
         if name not in known:
-            raise ParameterError(FORM_PARAMETER, str(name),
-                                 f"one of {known}, the forms this model was trained on")
+            raise ParameterError(FORM_PARAMETER, str(name), f"one of {known}, the forms this model was trained on")
         codes[i] = known.index(name)
     return codes[inverse]
 
@@ -161,13 +174,11 @@ def _monomial_plan(powers: np.ndarray) -> tuple:
         j = i + 1
         for pstep, vstep in ((1, 0), (0, 1)):
             j = i + 1
-            while (j < len(links) and links[j][1] == parent + (j - i) * pstep
-                   and links[j][2] == v + (j - i) * vstep):
+            while j < len(links) and links[j][1] == parent + (j - i) * pstep and links[j][2] == v + (j - i) * vstep:
                 j += 1
             if j - i > 1:
                 break
-        runs.append((f, f + (j - i), parent, pstep if j - i > 1 else 0, v,
-                     vstep if j - i > 1 else 0))
+        runs.append((f, f + (j - i), parent, pstep if j - i > 1 else 0, v, vstep if j - i > 1 else 0))
         i = j
     return tuple(runs)
 
@@ -179,8 +190,8 @@ def _monomials(XT: np.ndarray, plan: tuple, m: int, out: np.ndarray) -> np.ndarr
     F[0] = 1.0
     for start, stop, parent, pstep, var, vstep in plan:
         n = stop - start
-        left = F[parent:parent + n] if pstep else F[parent:parent + 1]
-        right = XT[var:var + n] if vstep else XT[var:var + 1]
+        left = F[parent : parent + n] if pstep else F[parent : parent + 1]
+        right = XT[var : var + n] if vstep else XT[var : var + 1]
         np.multiply(left, right, out=F[start:stop])
     return F
 
@@ -259,8 +270,7 @@ class SpectralModel:
     array([[0.21, 0.22, ...]])
     """
 
-    def __init__(self, n_components=None, variance_threshold=0.999, degree=3, ridge=0.0,
-                 forms="separate"):
+    def __init__(self, n_components=None, variance_threshold=0.999, degree=3, ridge=0.0, forms="separate"):
         self.n_components = n_components
         self.variance_threshold = variance_threshold
         self.degree = degree
@@ -272,7 +282,7 @@ class SpectralModel:
         names = [p for p in inspect.signature(type(self).__init__).parameters if p != "self"]
         return {n: getattr(self, n) for n in names}
 
-    def set_params(self, **params) -> "SpectralModel":
+    def set_params(self, **params) -> SpectralModel:
         valid = self.get_params()
         for k, v in params.items():
             if k not in valid:
@@ -282,13 +292,11 @@ class SpectralModel:
 
     def __repr__(self):
         defaults = type(self)().get_params()
-        changed = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items()
-                            if v != defaults[k])
+        changed = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items() if v != defaults[k])
         return f"{type(self).__name__}({changed})"
 
     def _validate_params(self):
-        k, t, g, lam, forms = (self.n_components, self.variance_threshold, self.degree,
-                               self.ridge, self.forms)
+        k, t, g, lam, forms = (self.n_components, self.variance_threshold, self.degree, self.ridge, self.forms)
         if k is not None and not (isinstance(k, (int, np.integer)) and k >= 1):
             raise ParameterError("n_components", k, "None or an integer >= 1")
         if not (isinstance(t, (int, float)) and 0 < t <= 1):
@@ -302,8 +310,7 @@ class SpectralModel:
 
     def _check_is_fitted(self):
         if not hasattr(self, "W_"):
-            raise SandlightError(f"this {type(self).__name__} is not fitted yet: call fit() "
-                                 f"or SpectralModel.load()")
+            raise SandlightError(f"this {type(self).__name__} is not fitted yet: call fit() or SpectralModel.load()")
 
     # -- inputs -------------------------------------------------------------------------------
     def _inputs(self, X, forms, domain: Domain, known_forms: tuple, extrapolate: bool):
@@ -314,21 +321,17 @@ class SpectralModel:
             if values.ndim == 1:
                 values = values[None, :]
             if values.ndim != 2 or values.shape[1] != len(names):
-                raise ParameterError("X", values.shape,
-                                     f"(n, {len(names)}) with columns {names}")
+                raise ParameterError("X", values.shape, f"(n, {len(names)}) with columns {names}")
             codes = _form_codes(forms, values.shape[0], known_forms)
         else:
             columns = _columns(X)
             missing = [n for n in names if n not in columns]
             if missing:
-                raise ParameterError(missing[0], None, f"a value for every input parameter "
-                                     f"{names}")
+                raise ParameterError(missing[0], None, f"a value for every input parameter {names}")
             values = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])
             if FORM_PARAMETER in columns and forms is not None:
-                raise ParameterError("forms", forms, f"None when the samples give "
-                                     f"{FORM_PARAMETER}")
-            codes = _form_codes(columns.get(FORM_PARAMETER, forms), values.shape[0],
-                                known_forms)
+                raise ParameterError("forms", forms, f"None when the samples give {FORM_PARAMETER}")
+            codes = _form_codes(columns.get(FORM_PARAMETER, forms), values.shape[0], known_forms)
             if not extrapolate:
                 for name, fixed in domain.fixed.items():
                     if name in columns:
@@ -336,9 +339,11 @@ class SpectralModel:
                         bad = ~at_fixed_value(col, fixed)
                         if bad.any():
                             raise ParameterError(
-                                name, float(col[np.argmax(bad)]),
+                                name,
+                                float(col[np.argmax(bad)]),
                                 f"{fixed:g}, the value it was fixed at in the training domain "
-                                f"(pass extrapolate=True to ignore it)")
+                                f"(pass extrapolate=True to ignore it)",
+                            )
         domain.check(values, extrapolate=extrapolate)
         return values, codes
 
@@ -351,9 +356,19 @@ class SpectralModel:
         return Xs
 
     # -- fitting ------------------------------------------------------------------------------
-    def fit(self, X, R=None, *, stderr=None, wavelengths_nm=None, domain: Domain | None = None,
-            forms=None, training_set: Mapping | None = None, name: str = "spectral",
-            description: str = "") -> "SpectralModel":
+    def fit(
+        self,
+        X,
+        R=None,
+        *,
+        stderr=None,
+        wavelengths_nm=None,
+        domain: Domain | None = None,
+        forms=None,
+        training_set: Mapping | None = None,
+        name: str = "spectral",
+        description: str = "",
+    ) -> SpectralModel:
         """Fit the PCA basis and the regression.
 
         Parameters
@@ -394,29 +409,28 @@ class SpectralModel:
                 wavelengths_nm = X["wavelength"].values
             if domain is None and "domain" in X.attrs:
                 domain = Domain.from_dict(json.loads(X.attrs["domain"]))
-            info = {k: _plain(X.attrs[k]) for k in ("n_samples", "seed", "rays", "design",
-                                                     "sandlight_version", "simulator")
-                    if k in X.attrs}
+            info = {
+                k: _plain(X.attrs[k])
+                for k in ("n_samples", "seed", "rays", "design", "sandlight_version", "simulator")
+                if k in X.attrs
+            }
             if "engine" in X.attrs:
                 info["engine"] = json.loads(X.attrs["engine"])
         domain = Domain.default() if domain is None else domain
         if R is None:
-            raise ParameterError("R", None, "the reflectance of each training sample, "
-                                 "shape (n, n_wavelengths)")
+            raise ParameterError("R", None, "the reflectance of each training sample, shape (n, n_wavelengths)")
         R = np.asarray(R, dtype=float)
         if R.ndim != 2 or not np.isfinite(R).all():
             raise ParameterError("R", R.shape, "a finite (n, n_wavelengths) array")
         if stderr is not None:
             stderr = np.asarray(stderr, dtype=float)
             if stderr.shape != R.shape or not (np.isfinite(stderr) & (stderr >= 0)).all():
-                raise ParameterError("stderr", stderr.shape, f"finite values >= 0 of the shape "
-                                     f"of R {R.shape}")
+                raise ParameterError("stderr", stderr.shape, f"finite values >= 0 of the shape of R {R.shape}")
         if wavelengths_nm is None:
             raise ParameterError("wavelengths_nm", None, f"{R.shape[1]} wavelengths in nm")
         wavelengths = np.asarray(wavelengths_nm, dtype=float)
         if wavelengths.shape != (R.shape[1],):
-            raise ParameterError("wavelengths_nm", wavelengths.shape, f"({R.shape[1]},), one "
-                                 f"per column of R")
+            raise ParameterError("wavelengths_nm", wavelengths.shape, f"({R.shape[1]},), one per column of R")
         known = domain.forms
         values, codes = self._inputs(X, forms, domain, known, extrapolate=False)
         n = values.shape[0]
@@ -441,8 +455,7 @@ class SpectralModel:
         else:
             k = int(self.n_components)
             if k > len(ratio):
-                raise ParameterError("n_components", k, f"<= min(n_samples, n_wavelengths) = "
-                                     f"{len(ratio)}")
+                raise ParameterError("n_components", k, f"<= min(n_samples, n_wavelengths) = {len(ratio)}")
         components = vt[:k]
         scores = (R - mean) @ components.T  # principal components r̃ of each sample (eq. 2)
 
@@ -457,13 +470,17 @@ class SpectralModel:
             rows = slice(None) if g is None else codes == g
             n_rows = n if g is None else int(rows.sum())
             if n_rows == 0:
-                raise SandlightError(f"no training sample has {FORM_PARAMETER} = {known[g]!r}; "
-                                     f"restrict the domain's forms or add samples")
+                raise SandlightError(
+                    f"no training sample has {FORM_PARAMETER} = {known[g]!r}; "
+                    f"restrict the domain's forms or add samples"
+                )
             if n_rows < m and self.ridge == 0:
-                warnings.warn(f"{n_rows} training samples for {m} monomial features"
-                              f"{'' if g is None else f' (form {known[g]})'}: the least-squares "
-                              f"problem is underdetermined; add samples or set ridge > 0",
-                              stacklevel=2)
+                warnings.warn(
+                    f"{n_rows} training samples for {m} monomial features"
+                    f"{'' if g is None else f' (form {known[g]})'}: the least-squares "
+                    f"problem is underdetermined; add samples or set ridge > 0",
+                    stacklevel=2,
+                )
             W[0 if g is None else g] = _least_squares(Phi[rows], scores[rows], self.ridge)
 
         self.wavelengths_ = wavelengths
@@ -543,9 +560,9 @@ class SpectralModel:
                 stop = min(start + _BLOCK, hi)
                 XT = np.ascontiguousarray(Xs[start:stop].T)
                 F = _monomials(XT, self._plan, m, buffer)
-                T = np.matmul(F.T, W, out=scores[:stop - start])  # r̃ = Wᵀ φ(x)   (eq. 3)
+                T = np.matmul(F.T, W, out=scores[: stop - start])  # r̃ = Wᵀ φ(x)   (eq. 3)
                 block = result[start:stop]
-                np.matmul(T, self.components_, out=block)          # U_k r̃        (eq. 2)
+                np.matmul(T, self.components_, out=block)  # U_k r̃        (eq. 2)
                 block += self.mean_
         if order is not None:
             out[order] = result
@@ -557,15 +574,23 @@ class SpectralModel:
 
     # -- persistence --------------------------------------------------------------------------
     def _metadata(self) -> dict:
-        return {"format": MODEL_FORMAT, "format_version": MODEL_FORMAT_VERSION,
-                "sandlight_version": _sandlight_version(), "name": self.name_,
-                "description": self.description_, "params": self.get_params(),
-                "parameter_names": list(self.parameter_names_), "forms": list(self.forms_),
-                "n_components": self.n_components_, "domain": self.domain_.to_dict(),
-                "training_set": self.training_set_, "holdout_scores": self.holdout_scores_,
-                "training_rms": self.training_rms_,
-                "reconstruction_rms": self.reconstruction_rms_,
-                "units": {"wavelengths_nm": "nm", "reflectance": "1 (fraction)"}}
+        return {
+            "format": MODEL_FORMAT,
+            "format_version": MODEL_FORMAT_VERSION,
+            "sandlight_version": _sandlight_version(),
+            "name": self.name_,
+            "description": self.description_,
+            "params": self.get_params(),
+            "parameter_names": list(self.parameter_names_),
+            "forms": list(self.forms_),
+            "n_components": self.n_components_,
+            "domain": self.domain_.to_dict(),
+            "training_set": self.training_set_,
+            "holdout_scores": self.holdout_scores_,
+            "training_rms": self.training_rms_,
+            "reconstruction_rms": self.reconstruction_rms_,
+            "units": {"wavelengths_nm": "nm", "reflectance": "1 (fraction)"},
+        }
 
     def save(self, path) -> Path:
         """Write the model as plain arrays + JSON metadata in an ``.npz`` file (never pickle).
@@ -574,15 +599,20 @@ class SpectralModel:
         """
         self._check_is_fitted()
         path = Path(path)
-        arrays = {"wavelengths_nm": self.wavelengths_, "mean": self.mean_,
-                  "components": self.components_,
-                  "explained_variance_ratio": self.explained_variance_ratio_,
-                  "scale_center": self.scale_center_, "scale_halfwidth": self.scale_halfwidth_,
-                  "powers": self.powers_, "W": self.W_}
+        arrays = {
+            "wavelengths_nm": self.wavelengths_,
+            "mean": self.mean_,
+            "components": self.components_,
+            "explained_variance_ratio": self.explained_variance_ratio_,
+            "scale_center": self.scale_center_,
+            "scale_halfwidth": self.scale_halfwidth_,
+            "powers": self.powers_,
+            "W": self.W_,
+        }
         return write_model_npz(path, _plain(self._metadata()), arrays)
 
     @classmethod
-    def load(cls, path) -> "SpectralModel":
+    def load(cls, path) -> SpectralModel:
         """Read a model written by :meth:`save`.
 
         Raises
@@ -597,20 +627,25 @@ class SpectralModel:
             The file was written by another sandlight version.
         """
         path = Path(path)
-        meta, data = read_model_npz(path, kind="spectral model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION)
+        meta, data = read_model_npz(
+            path, kind="spectral model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION
+        )
         try:
             model = cls._from_parts(meta, data, default_name=path.stem)
         except (KeyError, TypeError, ValueError) as exc:
-            raise ModelFileError(f"{path} is an incomplete or inconsistent spectral model "
-                                 f"file: {exc}") from exc
+            raise ModelFileError(f"{path} is an incomplete or inconsistent spectral model file: {exc}") from exc
         if meta.get("sandlight_version") != _sandlight_version():
-            warnings.warn(f"{path} was written by sandlight {meta.get('sandlight_version')}, "
-                          f"this is sandlight {_sandlight_version()}: predictions follow the "
-                          f"engine that trained the model", ModelVersionWarning, stacklevel=2)
+            warnings.warn(
+                f"{path} was written by sandlight {meta.get('sandlight_version')}, "
+                f"this is sandlight {_sandlight_version()}: predictions follow the "
+                f"engine that trained the model",
+                ModelVersionWarning,
+                stacklevel=2,
+            )
         return model
 
     @classmethod
-    def _from_parts(cls, meta: dict, data: dict, default_name: str) -> "SpectralModel":
+    def _from_parts(cls, meta: dict, data: dict, default_name: str) -> SpectralModel:
         missing = [a for a in _ARRAYS if a not in data]
         if missing:
             raise KeyError(f"missing arrays {missing}")
@@ -623,9 +658,15 @@ class SpectralModel:
         n_forms = len(meta["forms"])
         n_inputs = d + (n_forms - 1 if model.forms == "onehot" and n_forms > 1 else 0)
         n_groups = n_forms if model.forms == "separate" else 1
-        expected = {"wavelengths_nm": (n_wl,), "mean": (n_wl,), "components": (k, n_wl),
-                    "scale_center": (d,), "scale_halfwidth": (d,),
-                    "powers": (powers.shape[0], n_inputs), "W": (n_groups, powers.shape[0], k)}
+        expected = {
+            "wavelengths_nm": (n_wl,),
+            "mean": (n_wl,),
+            "components": (k, n_wl),
+            "scale_center": (d,),
+            "scale_halfwidth": (d,),
+            "powers": (powers.shape[0], n_inputs),
+            "W": (n_groups, powers.shape[0], k),
+        }
         for name, shape in expected.items():
             if data[name].shape != shape:
                 raise ValueError(f"array {name!r} has shape {data[name].shape}, expected {shape}")
@@ -736,21 +777,33 @@ class HoldoutReport:
         return np.sqrt(np.maximum(self.rms_error**2 - self.mc_noise_rms**2, 0.0))
 
     def to_dict(self) -> dict:
-        return {"n_samples": self.n_samples, "wavelengths_nm": self.wavelengths_nm.tolist(),
-                "rms_error": self.rms_error.tolist(), "max_error": self.max_error.tolist(),
-                "mean_error": self.mean_error.tolist(),
-                "mc_noise_rms": self.mc_noise_rms.tolist(),
-                "rms_error_overall": self.rms_error_overall,
-                "max_error_overall": self.max_error_overall}
+        return {
+            "n_samples": self.n_samples,
+            "wavelengths_nm": self.wavelengths_nm.tolist(),
+            "rms_error": self.rms_error.tolist(),
+            "max_error": self.max_error.tolist(),
+            "mean_error": self.mean_error.tolist(),
+            "mc_noise_rms": self.mc_noise_rms.tolist(),
+            "rms_error_overall": self.rms_error_overall,
+            "max_error_overall": self.max_error_overall,
+        }
 
     def table(self) -> str:
         """Plain-text table, one row per wavelength."""
-        lines = [f"hold-out: {self.n_samples} samples; RMS error {self.rms_error_overall:.5f}, "
-                 f"max error {self.max_error_overall:.5f}",
-                 f"{'wavelength nm':>13} {'RMS error':>10} {'max error':>10} {'bias':>10} "
-                 f"{'MC noise':>10} {'model err.':>10}"]
-        for row in zip(self.wavelengths_nm, self.rms_error, self.max_error, self.mean_error,
-                       self.mc_noise_rms, self.model_error_estimate):
+        lines = [
+            f"hold-out: {self.n_samples} samples; RMS error {self.rms_error_overall:.5f}, "
+            f"max error {self.max_error_overall:.5f}",
+            f"{'wavelength nm':>13} {'RMS error':>10} {'max error':>10} {'bias':>10} "
+            f"{'MC noise':>10} {'model err.':>10}",
+        ]
+        for row in zip(
+            self.wavelengths_nm,
+            self.rms_error,
+            self.max_error,
+            self.mean_error,
+            self.mc_noise_rms,
+            self.model_error_estimate,
+        ):
             lines.append(f"{row[0]:13.1f} " + " ".join(f"{v:10.5f}" for v in row[1:]))
         return "\n".join(lines)
 
@@ -778,15 +831,19 @@ def evaluate(model: SpectralModel, holdout, *, attach: bool = False) -> HoldoutR
             holdout = ds.load()
     wl = holdout["wavelength"].values
     if wl.shape != model.wavelengths_.shape or not np.allclose(wl, model.wavelengths_):
-        raise ParameterError("holdout wavelengths", wl.tolist(),
-                             f"the model's wavelengths {model.wavelengths_.tolist()}")
+        raise ParameterError(
+            "holdout wavelengths", wl.tolist(), f"the model's wavelengths {model.wavelengths_.tolist()}"
+        )
     reference = holdout["reflectance"].values
     error = model.predict(holdout) - reference
     report = HoldoutReport(
-        wavelengths_nm=wl, rms_error=np.sqrt(np.mean(error**2, axis=0)),
-        max_error=np.abs(error).max(axis=0), mean_error=error.mean(axis=0),
+        wavelengths_nm=wl,
+        rms_error=np.sqrt(np.mean(error**2, axis=0)),
+        max_error=np.abs(error).max(axis=0),
+        mean_error=error.mean(axis=0),
         mc_noise_rms=np.sqrt(np.mean(holdout["stderr"].values ** 2, axis=0)),
-        n_samples=int(reference.shape[0]))
+        n_samples=int(reference.shape[0]),
+    )
     if attach:
         model.holdout_scores_ = report.to_dict()
     return report

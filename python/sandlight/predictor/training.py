@@ -36,9 +36,9 @@ from pathlib import Path
 import numpy as np
 
 from sandlight.errors import ParameterError
+from sandlight.io import write_atomically
 from sandlight.jobs import Job, JobStatus, derive_seed
 from sandlight.jobs.executors import resolve_executor
-from sandlight.io import write_atomically
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
 from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
 
@@ -63,8 +63,7 @@ def wavelength_grid(spec) -> np.ndarray:
         try:
             start, stop, step = (float(x) for x in spec.split(":"))
         except ValueError:
-            raise ParameterError("wavelengths", spec, "'start:stop:step' in nm, e.g. "
-                                 "'400:700:20'") from None
+            raise ParameterError("wavelengths", spec, "'start:stop:step' in nm, e.g. '400:700:20'") from None
         if step <= 0 or stop < start:
             raise ParameterError("wavelengths", spec, "start <= stop and step > 0")
         # stop is included: half a step of slack against round-off
@@ -73,16 +72,13 @@ def wavelength_grid(spec) -> np.ndarray:
         try:
             grid = np.array([float(x) for x in spec.split(",")])
         except ValueError:
-            raise ParameterError("wavelengths", spec, "'start:stop:step' or a comma-separated "
-                                 "list in nm") from None
-    if grid.ndim != 1 or grid.size == 0 or not np.all(np.isfinite(grid)) or np.any(
-            np.diff(grid) <= 0) or grid[0] <= 0:
+            raise ParameterError("wavelengths", spec, "'start:stop:step' or a comma-separated list in nm") from None
+    if grid.ndim != 1 or grid.size == 0 or not np.all(np.isfinite(grid)) or np.any(np.diff(grid) <= 0) or grid[0] <= 0:
         raise ParameterError("wavelengths", spec, "increasing positive wavelengths in nm")
     return grid
 
 
-def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed: int,
-                    memory: str = "none"):
+def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed: int, memory: str = "none"):
     """Run sandlight's Monte Carlo engine on one sample at normal incidence.
 
     Parameters
@@ -103,12 +99,12 @@ def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed
     import sandlight
     from sandlight.sample import SandSample
 
-    return sandlight.reflectance(SandSample(**params), wavelengths_nm, rays=rays, seed=seed,
-                                 memory=memory, **ENGINE_SETTINGS)
+    return sandlight.reflectance(
+        SandSample(**params), wavelengths_nm, rays=rays, seed=seed, memory=memory, **ENGINE_SETTINGS
+    )
 
 
-def reflectance_task(payload: dict, seed: int, *, wavelengths_nm, rays: int, simulate=None,
-                     memory: str = "none"):
+def reflectance_task(payload: dict, seed: int, *, wavelengths_nm, rays: int, simulate=None, memory: str = "none"):
     """Job task: reflectance and standard error of one sample (runs on a worker)."""
     wavelengths = np.asarray(wavelengths_nm, dtype=float)
     if simulate is None:
@@ -118,8 +114,7 @@ def reflectance_task(payload: dict, seed: int, *, wavelengths_nm, rays: int, sim
     values, stderr = (result.values, result.stderr) if hasattr(result, "values") else result
     values, stderr = np.asarray(values, dtype=float), np.asarray(stderr, dtype=float)
     if values.shape != wavelengths.shape or stderr.shape != wavelengths.shape:
-        raise ValueError(f"simulate returned shapes {values.shape}, {stderr.shape} for "
-                         f"{wavelengths.size} wavelengths")
+        raise ValueError(f"simulate returned shapes {values.shape}, {stderr.shape} for {wavelengths.size} wavelengths")
     return {"reflectance": values, "stderr": stderr}
 
 
@@ -143,9 +138,13 @@ def check_engine_memory(memory, custom=None, custom_name: str = "simulate") -> s
     ``custom`` function (named ``custom_name``) standing in for the engine."""
     if custom is not None:
         if memory != "none":
-            raise ParameterError("memory", memory, f"'none' with a {custom_name} function (path "
-                                 f"memory is a setting of sandlight's engine: give it to your "
-                                 f"{custom_name})")
+            raise ParameterError(
+                "memory",
+                memory,
+                f"'none' with a {custom_name} function (path "
+                f"memory is a setting of sandlight's engine: give it to your "
+                f"{custom_name})",
+            )
         return memory
     from sandlight.engine import MEMORIES, _check_choice
 
@@ -159,9 +158,18 @@ def engine_memory_record(memory: str) -> dict:
     return {"memory": memory} if memory != "none" else {}
 
 
-def training_job(path, n_samples: int, wavelengths_nm, rays: int, seed: int, *,
-                 domain: Domain | None = None, design: str = "lhs", simulate=None,
-                 memory: str = "none") -> Job:
+def training_job(
+    path,
+    n_samples: int,
+    wavelengths_nm,
+    rays: int,
+    seed: int,
+    *,
+    domain: Domain | None = None,
+    design: str = "lhs",
+    simulate=None,
+    memory: str = "none",
+) -> Job:
     """The job behind :func:`generate_training_set` (same arguments), without running it."""
     from sandlight import __version__
 
@@ -174,34 +182,71 @@ def training_job(path, n_samples: int, wavelengths_nm, rays: int, seed: int, *,
         _check_domain_against_sample(domain)
     payloads = domain.draw(n_samples, seed, design)
     engine = {**ENGINE_SETTINGS, "rays": int(rays), **engine_memory_record(memory)}
-    settings = {"kind": TRAINING_SET_FORMAT, "wavelengths_nm": wavelengths, "rays": int(rays),
-                "design": design, "domain": domain.to_dict(), "engine": engine,
-                "simulator": _simulator_name(simulate), "sandlight_version": __version__}
-    fn = functools.partial(reflectance_task, wavelengths_nm=tuple(wavelengths.tolist()),
-                           rays=int(rays), simulate=simulate, memory=memory)
+    settings = {
+        "kind": TRAINING_SET_FORMAT,
+        "wavelengths_nm": wavelengths,
+        "rays": int(rays),
+        "design": design,
+        "domain": domain.to_dict(),
+        "engine": engine,
+        "simulator": _simulator_name(simulate),
+        "sandlight_version": __version__,
+    }
+    fn = functools.partial(
+        reflectance_task, wavelengths_nm=tuple(wavelengths.tolist()), rays=int(rays), simulate=simulate, memory=memory
+    )
     units = {d.name: {"units": d.unit} for d in domain.dimensions}
-    units.update({"sand": {"units": "1"}, "depth_mm": {"units": "mm"},
-                  FORM_PARAMETER: {"description": "form of the iron oxide"}})
-    var_attrs = {**units,
-                 "reflectance": {"units": "1", "long_name": "directional-hemispherical "
-                                 "reflectance at normal incidence"},
-                 "stderr": {"units": "1", "long_name": "Monte Carlo standard error of "
-                            "reflectance"},
-                 "wavelength": {"units": "nm"}}
-    attrs = {"format": TRAINING_SET_FORMAT, "format_version": TRAINING_SET_FORMAT_VERSION,
-             "n_samples": int(n_samples), "seed": int(seed), "rays": int(rays), "design": design,
-             "domain": domain.to_dict(), "engine": engine,
-             "simulator": settings["simulator"], "sandlight_version": __version__}
-    return Job(path, fn, payloads, seed=seed, settings=settings,
-               dims={"reflectance": ("wavelength",), "stderr": ("wavelength",)},
-               coords={"wavelength": wavelengths}, var_attrs=var_attrs, attrs=attrs,
-               task_dim="sample")
+    units.update(
+        {"sand": {"units": "1"}, "depth_mm": {"units": "mm"}, FORM_PARAMETER: {"description": "form of the iron oxide"}}
+    )
+    var_attrs = {
+        **units,
+        "reflectance": {"units": "1", "long_name": "directional-hemispherical reflectance at normal incidence"},
+        "stderr": {"units": "1", "long_name": "Monte Carlo standard error of reflectance"},
+        "wavelength": {"units": "nm"},
+    }
+    attrs = {
+        "format": TRAINING_SET_FORMAT,
+        "format_version": TRAINING_SET_FORMAT_VERSION,
+        "n_samples": int(n_samples),
+        "seed": int(seed),
+        "rays": int(rays),
+        "design": design,
+        "domain": domain.to_dict(),
+        "engine": engine,
+        "simulator": settings["simulator"],
+        "sandlight_version": __version__,
+    }
+    return Job(
+        path,
+        fn,
+        payloads,
+        seed=seed,
+        settings=settings,
+        dims={"reflectance": ("wavelength",), "stderr": ("wavelength",)},
+        coords={"wavelength": wavelengths},
+        var_attrs=var_attrs,
+        attrs=attrs,
+        task_dim="sample",
+    )
 
 
-def generate_training_set(path, n_samples: int, wavelengths_nm, rays: int, seed: int,
-                          executor=None, *, domain: Domain | None = None, design: str = "lhs",
-                          simulate=None, progress: bool = True, max_tasks: int | None = None,
-                          max_retries: int = 2, memory: str = "none") -> JobStatus:
+def generate_training_set(
+    path,
+    n_samples: int,
+    wavelengths_nm,
+    rays: int,
+    seed: int,
+    executor=None,
+    *,
+    domain: Domain | None = None,
+    design: str = "lhs",
+    simulate=None,
+    progress: bool = True,
+    max_tasks: int | None = None,
+    max_retries: int = 2,
+    memory: str = "none",
+) -> JobStatus:
     """Draw samples, run the engine on each, store the training set (resumable).
 
     Parameters
@@ -242,10 +287,17 @@ def generate_training_set(path, n_samples: int, wavelengths_nm, rays: int, seed:
     JobStatus
         ``.dataset_path`` is the dataset once every sample is done.
     """
-    job = training_job(path, n_samples, wavelengths_nm, rays, seed, domain=domain,
-                       design=design, simulate=simulate, memory=memory)
-    return job.run(resolve_executor(executor), max_tasks=max_tasks, max_retries=max_retries,
-                   progress=progress, description=f"{Path(path).name}", unit="sample")
+    job = training_job(
+        path, n_samples, wavelengths_nm, rays, seed, domain=domain, design=design, simulate=simulate, memory=memory
+    )
+    return job.run(
+        resolve_executor(executor),
+        max_tasks=max_tasks,
+        max_retries=max_retries,
+        progress=progress,
+        description=f"{Path(path).name}",
+        unit="sample",
+    )
 
 
 def file_sha256(path) -> str:
@@ -261,14 +313,19 @@ def _samples_inside(ds, domain: Domain):
     columns = {n: ds[n].values for n in (*domain.names, *domain.fixed)}
     keep = np.flatnonzero(domain.contains(columns, ds[FORM_PARAMETER].values.astype(str)))
     if keep.size == 0:
-        raise ParameterError("fit_domain", domain.to_dict(), "a domain holding some of the "
-                             "dataset's samples")
+        raise ParameterError("fit_domain", domain.to_dict(), "a domain holding some of the dataset's samples")
     return ds.isel(sample=keep)
 
 
-def fit_training_set(path, holdout=None, *, name: str = "spectral", description: str = "",
-                     fit_domain: Domain | None = None,
-                     **model_params) -> tuple[SpectralModel, HoldoutReport | None]:
+def fit_training_set(
+    path,
+    holdout=None,
+    *,
+    name: str = "spectral",
+    description: str = "",
+    fit_domain: Domain | None = None,
+    **model_params,
+) -> tuple[SpectralModel, HoldoutReport | None]:
     """Fit a SpectralModel on a training-set dataset and score it on a hold-out dataset.
 
     Parameters
@@ -295,8 +352,9 @@ def fit_training_set(path, holdout=None, *, name: str = "spectral", description:
     if fit_domain is not None:
         ds = _samples_inside(ds, fit_domain)
         reference["n_used"] = int(ds.sizes["sample"])
-    model = SpectralModel(**model_params).fit(ds, domain=fit_domain, training_set=reference,
-                                              name=name, description=description)
+    model = SpectralModel(**model_params).fit(
+        ds, domain=fit_domain, training_set=reference, name=name, description=description
+    )
     report = None
     if holdout is not None:
         holdout = _dataset_file(holdout)
@@ -315,8 +373,9 @@ def _dataset_file(path) -> Path:
     if path.is_dir():
         path = path / "dataset.nc"
     if not path.is_file():
-        raise ParameterError("training set", str(path), "a complete training-set dataset "
-                             "(run the generation to completion first)")
+        raise ParameterError(
+            "training set", str(path), "a complete training-set dataset (run the generation to completion first)"
+        )
     return path
 
 
@@ -337,13 +396,27 @@ class TrainingRun:
         return self.model is not None
 
 
-def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:20",
-                   seed: int = 0, *, n_holdout: int | None = None, executor=None,
-                   domain: Domain | None = None, fit_only: bool = False, simulate=None,
-                   progress: bool = True, max_tasks: int | None = None,
-                   model_params: dict | None = None, holdout_rays: int | None = None,
-                   name: str = "spectral", description: str = "",
-                   fit_domain: Domain | None = None, memory: str = "none") -> TrainingRun:
+def train_spectral(
+    out_dir,
+    n_samples: int,
+    rays: int,
+    wavelengths_nm="400:700:20",
+    seed: int = 0,
+    *,
+    n_holdout: int | None = None,
+    executor=None,
+    domain: Domain | None = None,
+    fit_only: bool = False,
+    simulate=None,
+    progress: bool = True,
+    max_tasks: int | None = None,
+    model_params: dict | None = None,
+    holdout_rays: int | None = None,
+    name: str = "spectral",
+    description: str = "",
+    fit_domain: Domain | None = None,
+    memory: str = "none",
+) -> TrainingRun:
     """Generate the training and hold-out sets, fit, evaluate and save a spectral model.
 
     Layout of ``out_dir``: ``training/`` and ``holdout/`` (job stores, each with its
@@ -371,35 +444,63 @@ def train_spectral(out_dir, n_samples: int, rays: int, wavelengths_nm="400:700:2
     """
     out = Path(out_dir)
     n_holdout = max(20, int(n_samples) // 10) if n_holdout is None else int(n_holdout)
-    jobs = [training_job(out / "training", n_samples, wavelengths_nm, rays, seed, domain=domain,
-                         design="lhs", simulate=simulate, memory=memory)]
+    jobs = [
+        training_job(
+            out / "training",
+            n_samples,
+            wavelengths_nm,
+            rays,
+            seed,
+            domain=domain,
+            design="lhs",
+            simulate=simulate,
+            memory=memory,
+        )
+    ]
     if n_holdout > 0:
-        jobs.append(training_job(out / "holdout", n_holdout, wavelengths_nm,
-                                 rays if holdout_rays is None else holdout_rays,
-                                 derive_seed(seed, "holdout"), domain=domain, design="random",
-                                 simulate=simulate, memory=memory))
+        jobs.append(
+            training_job(
+                out / "holdout",
+                n_holdout,
+                wavelengths_nm,
+                rays if holdout_rays is None else holdout_rays,
+                derive_seed(seed, "holdout"),
+                domain=domain,
+                design="random",
+                simulate=simulate,
+                memory=memory,
+            )
+        )
     start = time.perf_counter()
     executor = resolve_executor(executor) if not fit_only else None
-    statuses = [job.status() if fit_only else job.run(
-        executor, max_tasks=max_tasks, progress=progress, description=job.path.name,
-        unit="sample") for job in jobs]
+    statuses = [
+        job.status()
+        if fit_only
+        else job.run(executor, max_tasks=max_tasks, progress=progress, description=job.path.name, unit="sample")
+        for job in jobs
+    ]
     generation_s = time.perf_counter() - start
     holdout_status = statuses[1] if len(statuses) > 1 else None
     if not all(s.complete for s in statuses):
         if fit_only:
-            incomplete = [f"{s.store} ({s.n_done}/{s.n_total})" for s in statuses
-                          if not s.complete]
-            raise ParameterError("fit_only", True, f"complete datasets; incomplete: "
-                                 f"{', '.join(incomplete)} (run without --fit-only to finish)")
+            incomplete = [f"{s.store} ({s.n_done}/{s.n_total})" for s in statuses if not s.complete]
+            raise ParameterError(
+                "fit_only",
+                True,
+                f"complete datasets; incomplete: {', '.join(incomplete)} (run without --fit-only to finish)",
+            )
         return TrainingRun(None, None, None, statuses[0], holdout_status, generation_s, 0.0)
     start = time.perf_counter()
-    model, report = fit_training_set(statuses[0].dataset_path,
-                                     holdout_status.dataset_path if holdout_status else None,
-                                     name=name, description=description,
-                                     fit_domain=fit_domain, **(model_params or {}))
+    model, report = fit_training_set(
+        statuses[0].dataset_path,
+        holdout_status.dataset_path if holdout_status else None,
+        name=name,
+        description=description,
+        fit_domain=fit_domain,
+        **(model_params or {}),
+    )
     fit_s = time.perf_counter() - start
     model_path = model.save(out / "spectral-model.npz")
     text = json.dumps(report.to_dict() if report else None, indent=1) + "\n"
     write_atomically(out / "holdout-report.json", lambda tmp: tmp.write_text(text, encoding="utf-8"))
-    return TrainingRun(model, report, model_path, statuses[0], holdout_status, generation_s,
-                       fit_s)
+    return TrainingRun(model, report, model_path, statuses[0], holdout_status, generation_s, fit_s)

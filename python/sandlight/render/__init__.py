@@ -30,10 +30,30 @@ from sandlight.render.light import Lighting
 from sandlight.render.maps import MaterialMap, Waterlines
 from sandlight.render.scene import Scene, shipped_scenes
 from sandlight.render.tables import BrdfTable
-from sandlight.render.terrain import HeightfieldTerrain, PlaneTerrain, dune_field, heightfield_from_array, heightfield_from_image
+from sandlight.render.terrain import (
+    HeightfieldTerrain,
+    PlaneTerrain,
+    dune_field,
+    heightfield_from_array,
+    heightfield_from_image,
+)
 
 __all__ = [
-    "BrdfTable", "Camera", "HeightfieldTerrain", "Lighting", "MaterialMap", "PlaneTerrain", "RenderSettings",
-    "RenderedImage", "Scene", "SceneRun", "Waterlines", "dune_field", "heightfield_from_array",
-    "heightfield_from_image", "render_image", "render_scene", "shipped_scenes",
+    "BrdfTable",
+    "Camera",
+    "HeightfieldTerrain",
+    "Lighting",
+    "MaterialMap",
+    "PlaneTerrain",
+    "RenderSettings",
+    "RenderedImage",
+    "Scene",
+    "SceneRun",
+    "Waterlines",
+    "dune_field",
+    "heightfield_from_array",
+    "heightfield_from_image",
+    "render_image",
+    "render_scene",
+    "shipped_scenes",
 ]

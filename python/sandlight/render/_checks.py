@@ -52,8 +52,16 @@ class Table:
         self.used.add(key)
         return Table(self.data.get(key), self.name(key), self.source)
 
-    def number(self, key: str, default: float | None = None, lo: float | None = None,
-               hi: float | None = None, *, lo_open: bool = False, hi_open: bool = False) -> float:
+    def number(
+        self,
+        key: str,
+        default: float | None = None,
+        lo: float | None = None,
+        hi: float | None = None,
+        *,
+        lo_open: bool = False,
+        hi_open: bool = False,
+    ) -> float:
         value = self.raw(key, default)
         allowed = "a number" + _interval(lo, hi, lo_open, hi_open)
         if value is None:
@@ -61,13 +69,13 @@ class Table:
         if not _is_number(value) or not math.isfinite(float(value)):
             raise self.error(self.name(key), value, "a finite number" + _interval(lo, hi, lo_open, hi_open))
         v = float(value)
-        if (lo is not None and (v < lo or (lo_open and v == lo))) or \
-                (hi is not None and (v > hi or (hi_open and v == hi))):
+        if (lo is not None and (v < lo or (lo_open and v == lo))) or (
+            hi is not None and (v > hi or (hi_open and v == hi))
+        ):
             raise self.error(self.name(key), value, allowed)
         return v
 
-    def integer(self, key: str, default: int | None = None, lo: int | None = None,
-                hi: int | None = None) -> int:
+    def integer(self, key: str, default: int | None = None, lo: int | None = None, hi: int | None = None) -> int:
         value = self.raw(key, default)
         allowed = "a whole number" + _interval(lo, hi, False, False)
         if value is None:
@@ -94,19 +102,31 @@ class Table:
     def choice(self, key: str, options: Sequence[str], default: str | None = None) -> str:
         value = self.raw(key, default)
         if value not in options:
-            raise self.error(self.name(key), value if value is not None else "missing",
-                             "one of " + ", ".join(repr(o) for o in options))
+            raise self.error(
+                self.name(key),
+                value if value is not None else "missing",
+                "one of " + ", ".join(repr(o) for o in options),
+            )
         return value
 
-    def vector(self, key: str, length: int | Sequence[int], default: Sequence[float] | None = None,
-               lo: float | None = None, hi: float | None = None) -> np.ndarray:
+    def vector(
+        self,
+        key: str,
+        length: int | Sequence[int],
+        default: Sequence[float] | None = None,
+        lo: float | None = None,
+        hi: float | None = None,
+    ) -> np.ndarray:
         value = self.raw(key, default)
         lengths = (length,) if isinstance(length, int) else tuple(length)
         allowed = f"a list of {' or '.join(map(str, lengths))} finite numbers" + _interval(lo, hi, False, False)
         if value is None:
             raise self.error(self.name(key), "missing", allowed)
-        if not isinstance(value, (list, tuple)) or len(value) not in lengths or \
-                not all(_is_number(v) and math.isfinite(float(v)) for v in value):
+        if (
+            not isinstance(value, (list, tuple))
+            or len(value) not in lengths
+            or not all(_is_number(v) and math.isfinite(float(v)) for v in value)
+        ):
             raise self.error(self.name(key), value, allowed)
         array = np.array([float(v) for v in value])
         if (lo is not None and (array < lo).any()) or (hi is not None and (array > hi).any()):
@@ -118,8 +138,11 @@ class Table:
         unknown = sorted(set(self.data) - self.used)
         if unknown:
             allowed = ", ".join(sorted(self.used)) or "no keys"
-            raise self.error(self.name(unknown[0]), self.data[unknown[0]],
-                             f"a known key; unknown key {unknown[0]!r} (allowed here: {allowed})")
+            raise self.error(
+                self.name(unknown[0]),
+                self.data[unknown[0]],
+                f"a known key; unknown key {unknown[0]!r} (allowed here: {allowed})",
+            )
 
 
 def _interval(lo, hi, lo_open, hi_open) -> str:

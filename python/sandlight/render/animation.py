@@ -47,7 +47,11 @@ def _texture(scene: Scene, height: int, width: int) -> np.ndarray | None:
         m = load_image(t["ground_mask"])
         mask = (m.mean(axis=-1) if m.ndim == 3 else m) > 0.5
         if mask.shape != photo.shape[:2]:
-            raise ParameterError("post.texture.ground_mask", t["ground_mask"], f"an image of the photo's size {photo.shape[1]}×{photo.shape[0]}")
+            raise ParameterError(
+                "post.texture.ground_mask",
+                t["ground_mask"],
+                f"an image of the photo's size {photo.shape[1]}×{photo.shape[0]}",
+            )
     q = post.texture_quotient(photo, blur_px=t["blur_px"], ground_mask=mask)
     if t["scale"] != 1.0:
         q = post.fit_to(q, max(1, round(q.shape[0] * t["scale"])), max(1, round(q.shape[1] * t["scale"])), "stretch")
@@ -88,8 +92,13 @@ def render_scene(scene: Scene, out_dir, *, video=None, progress: bool = True, lo
     quotient = _texture(scene, scene.height, scene.width)
     grain = None
     if scene.grain is not None:
-        grain = post.grain_field(scene.height, scene.width, amount=scene.grain["amount"],
-                                 size_px=scene.grain["size_px"], seed=scene.grain["seed"])
+        grain = post.grain_field(
+            scene.height,
+            scene.width,
+            amount=scene.grain["amount"],
+            size_px=scene.grain["size_px"],
+            seed=scene.grain["seed"],
+        )
     fixed_white = None
     if scene.exposure == "auto-sequence":
         fixed_white = max(post.white_level("auto", scene.build_lighting(t), wl) for t in scene.times_h())
@@ -101,13 +110,21 @@ def render_scene(scene: Scene, out_dir, *, video=None, progress: bool = True, lo
     if progress:
         from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
-        bar = Progress(TextColumn("{task.description}"), BarColumn(), TextColumn("{task.percentage:>3.0f}%"),
-                       TimeElapsedColumn(), TimeRemainingColumn(), transient=True)
+        bar = Progress(
+            TextColumn("{task.description}"),
+            BarColumn(),
+            TextColumn("{task.percentage:>3.0f}%"),
+            TimeElapsedColumn(),
+            TimeRemainingColumn(),
+            transient=True,
+        )
         bar.start()
         task = bar.add_task(scene.name, total=scene.frames * scene.height)
     try:
         with _interrupt_requests() as interrupted:
-            _render_frames(scene, out, run, camera, terrain, table, quotient, grain, fixed_white, bar, task, interrupted, log)
+            _render_frames(
+                scene, out, run, camera, terrain, table, quotient, grain, fixed_white, bar, task, interrupted, log
+            )
     finally:
         if bar is not None:
             bar.stop()
@@ -126,10 +143,21 @@ def _render_frames(scene, out, run, camera, terrain, table, quotient, grain, fix
         lighting = scene.build_lighting(t)
         material = scene.build_material(float(frac))
         if bar is not None:
-            bar.update(task, description=f"{scene.name}: frame {k + 1}/{scene.frames}, {int(t):02d}:{int(round(t % 1 * 60)) % 60:02d}, "
-                                         f"sun {lighting.sun_elevation_deg:.1f}°")
-        image = render_image(camera, terrain, table, lighting, material, scene.settings, frame=k,
-                             on_rows=(lambda n: bar.advance(task, n)) if bar is not None else None)
+            bar.update(
+                task,
+                description=f"{scene.name}: frame {k + 1}/{scene.frames}, "
+                f"{int(t):02d}:{int(round(t % 1 * 60)) % 60:02d}, sun {lighting.sun_elevation_deg:.1f}°",
+            )
+        image = render_image(
+            camera,
+            terrain,
+            table,
+            lighting,
+            material,
+            scene.settings,
+            frame=k,
+            on_rows=(lambda n: bar.advance(task, n)) if bar is not None else None,
+        )
         xyz = post.spectral_to_xyz(image.radiance, wl)
         shown = xyz
         if quotient is not None:
@@ -137,19 +165,30 @@ def _render_frames(scene, out, run, camera, terrain, table, quotient, grain, fix
         if grain is not None:
             shown = post.apply_quotient(shown, grain, image.coverage)
         white = fixed_white if fixed_white is not None else post.white_level("auto", lighting, wl)
-        rgb = post.to_srgb(shown, white, exposure_ev=scene.exposure_ev, mode=scene.colour_mode,
-                           highlights=scene.highlights)
+        rgb = post.to_srgb(
+            shown, white, exposure_ev=scene.exposure_ev, mode=scene.colour_mode, highlights=scene.highlights
+        )
         png = post.write_png(out / f"frame_{k:04d}.png", rgb)
         run.pngs.append(png)
         if scene.write_linear != "none":
-            attrs = {"scene": scene.name, "time_h": float(t), "day_fraction": float(frac),
-                     "sun_direction": str(np.round(lighting.sun_direction, 6).tolist()),
-                     "white_Y": float(white), "exposure_ev": scene.exposure_ev}
-            run.netcdfs.append(post.write_netcdf(out / f"frame_{k:04d}.nc", image, xyz, attrs,
-                                                 spectral=scene.write_linear == "spectral"))
+            attrs = {
+                "scene": scene.name,
+                "time_h": float(t),
+                "day_fraction": float(frac),
+                "sun_direction": str(np.round(lighting.sun_direction, 6).tolist()),
+                "white_Y": float(white),
+                "exposure_ev": scene.exposure_ev,
+            }
+            run.netcdfs.append(
+                post.write_netcdf(
+                    out / f"frame_{k:04d}.nc", image, xyz, attrs, spectral=scene.write_linear == "spectral"
+                )
+            )
         run.render_seconds.append(image.elapsed_s)
         if log is not None:
-            log(f"frame {k + 1}/{scene.frames}: {t:5.2f} h, sun {lighting.sun_elevation_deg:5.1f}°, "
-                f"{image.elapsed_s:.1f} s → {png}")
+            log(
+                f"frame {k + 1}/{scene.frames}: {t:5.2f} h, sun {lighting.sun_elevation_deg:5.1f}°, "
+                f"{image.elapsed_s:.1f} s → {png}"
+            )
     if interrupted[0]:
         raise KeyboardInterrupt

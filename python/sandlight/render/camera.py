@@ -44,8 +44,11 @@ class Camera:
             raise ParameterError("camera.forward", self.forward, "a finite non-zero direction")
         f = f / np.linalg.norm(f)
         if np.hypot(f[0], f[1]) < 1e-6:
-            raise ParameterError("camera.forward", self.forward, "a direction that is not straight up or down "
-                                 "(the image's up is taken from the vertical)")
+            raise ParameterError(
+                "camera.forward",
+                self.forward,
+                "a direction that is not straight up or down (the image's up is taken from the vertical)",
+            )
         if not (0.0 < float(self.fov_deg) < 170.0):
             raise ParameterError("camera.fov_deg", self.fov_deg, "a horizontal field of view in (0, 170) degrees")
         for name in ("width", "height"):
@@ -82,8 +85,14 @@ class Camera:
 
     def native_args(self) -> dict:
         f, r, u = self.basis()
-        return {"camera_origin": self.position.tolist(), "camera_forward": f.tolist(), "camera_right": r.tolist(),
-                "camera_up": u.tolist(), "width": int(self.width), "height": int(self.height)}
+        return {
+            "camera_origin": self.position.tolist(),
+            "camera_forward": f.tolist(),
+            "camera_right": r.tolist(),
+            "camera_up": u.tolist(),
+            "width": int(self.width),
+            "height": int(self.height),
+        }
 
     def directions(self) -> np.ndarray:
         """Unit directions through pixel centres, shape (height, width, 3)."""

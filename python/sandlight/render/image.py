@@ -104,9 +104,14 @@ class RenderedImage:
     metadata: dict = field(default_factory=dict)
 
 
-def native_scene(camera: Camera, terrain: PlaneTerrain | HeightfieldTerrain, table: BrdfTable,
-                 lighting: Lighting, material: MaterialMap | None = None,
-                 settings: RenderSettings = RenderSettings()):
+def native_scene(
+    camera: Camera,
+    terrain: PlaneTerrain | HeightfieldTerrain,
+    table: BrdfTable,
+    lighting: Lighting,
+    material: MaterialMap | None = None,
+    settings: RenderSettings = RenderSettings(),
+):
     """The native ``RenderScene`` for these objects (validated, arrays converted)."""
     from sandlight._native import RenderScene
 
@@ -121,12 +126,22 @@ def native_scene(camera: Camera, terrain: PlaneTerrain | HeightfieldTerrain, tab
     wl = lighting.wavelength_nm
     if wl.size > 32:
         raise ParameterError("wavelength_nm", f"{wl.size} bands", "at most 32 render bands")
-    args = {**camera.native_args(), **terrain.native_args(),
-            "sky_radiance": lighting.sky_radiance, "sun_direction": lighting.sun_direction.tolist(),
-            "sun_solid_angle_sr": lighting.sun_solid_angle_sr, "sun_radiance": lighting.sun_radiance.tolist(),
-            "brdf": table.native_f(wl), "mu_i": table.mu_i.tolist(), "mu_o": table.mu_o.tolist(),
-            "dphi": table.dphi.tolist(), "estimator": settings.estimator, "sampling": settings.sampling,
-            "heuristic": settings.heuristic, "max_bounces": settings.max_bounces}
+    args = {
+        **camera.native_args(),
+        **terrain.native_args(),
+        "sky_radiance": lighting.sky_radiance,
+        "sun_direction": lighting.sun_direction.tolist(),
+        "sun_solid_angle_sr": lighting.sun_solid_angle_sr,
+        "sun_radiance": lighting.sun_radiance.tolist(),
+        "brdf": table.native_f(wl),
+        "mu_i": table.mu_i.tolist(),
+        "mu_o": table.mu_o.tolist(),
+        "dphi": table.dphi.tolist(),
+        "estimator": settings.estimator,
+        "sampling": settings.sampling,
+        "heuristic": settings.heuristic,
+        "max_bounces": settings.max_bounces,
+    }
     if material is not None:
         if not isinstance(material, MaterialMap):
             raise ParameterError("material", material, "a sandlight.render.MaterialMap or None")
@@ -159,9 +174,18 @@ def _interrupt_requests() -> Iterator[list[bool]]:
         signal.signal(signal.SIGINT, previous)
 
 
-def render_image(camera: Camera, terrain, table: BrdfTable, lighting: Lighting, material: MaterialMap | None = None,
-                 settings: RenderSettings = RenderSettings(), *, frame: int = 0,
-                 on_rows: Callable[[int], None] | None = None, progress: bool = False) -> RenderedImage:
+def render_image(
+    camera: Camera,
+    terrain,
+    table: BrdfTable,
+    lighting: Lighting,
+    material: MaterialMap | None = None,
+    settings: RenderSettings = RenderSettings(),
+    *,
+    frame: int = 0,
+    on_rows: Callable[[int], None] | None = None,
+    progress: bool = False,
+) -> RenderedImage:
     """Render one spectral image.
 
     Parameters
@@ -191,8 +215,14 @@ def render_image(camera: Camera, terrain, table: BrdfTable, lighting: Lighting, 
     if progress:
         from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
 
-        bar = Progress(TextColumn("rendering"), BarColumn(), MofNCompleteColumn(), TextColumn("rows"),
-                       TimeRemainingColumn(), transient=True)
+        bar = Progress(
+            TextColumn("rendering"),
+            BarColumn(),
+            MofNCompleteColumn(),
+            TextColumn("rows"),
+            TimeRemainingColumn(),
+            transient=True,
+        )
         bar.start()
         task = bar.add_task("rows", total=h)
     start = time.perf_counter()
@@ -205,8 +235,8 @@ def render_image(camera: Camera, terrain, table: BrdfTable, lighting: Lighting, 
                 n = min(batch, h - row)
                 t0 = time.perf_counter()
                 rad, cov = scene.render_rows(row, n, settings.spp, settings.seed, frame, settings.threads)
-                radiance[row:row + n] = rad
-                coverage[row:row + n] = cov
+                radiance[row : row + n] = rad
+                coverage[row : row + n] = cov
                 row += n
                 dt = time.perf_counter() - t0
                 # Aim for a fixed wall time per call (Ctrl-C latency), growing at most 4× at a time.
@@ -220,8 +250,19 @@ def render_image(camera: Camera, terrain, table: BrdfTable, lighting: Lighting, 
     finally:
         if bar is not None:
             bar.stop()
-    return RenderedImage(radiance, coverage, lighting.wavelength_nm.copy(), settings.spp,
-                         time.perf_counter() - start,
-                         {"sun_elevation_deg": lighting.sun_elevation_deg, "brdf_source": table.source,
-                          "estimator": settings.estimator, "sampling": settings.sampling,
-                          "max_bounces": settings.max_bounces, "seed": settings.seed, "frame": int(frame)})
+    return RenderedImage(
+        radiance,
+        coverage,
+        lighting.wavelength_nm.copy(),
+        settings.spp,
+        time.perf_counter() - start,
+        {
+            "sun_elevation_deg": lighting.sun_elevation_deg,
+            "brdf_source": table.source,
+            "estimator": settings.estimator,
+            "sampling": settings.sampling,
+            "max_bounces": settings.max_bounces,
+            "seed": settings.seed,
+            "frame": int(frame),
+        },
+    )

@@ -55,8 +55,11 @@ class Lighting:
         wl = np.atleast_1d(np.asarray(self.wavelength_nm, dtype=float))
         sky = np.ascontiguousarray(self.sky_radiance, dtype=np.float32)
         if sky.ndim != 3 or sky.shape[2] != wl.size or sky.shape[0] < 2 or sky.shape[1] < 4:
-            raise ParameterError("sky_radiance", f"array of shape {np.shape(self.sky_radiance)}",
-                                 f"shape (n_theta ≥ 2, n_phi ≥ 4, {wl.size})")
+            raise ParameterError(
+                "sky_radiance",
+                f"array of shape {np.shape(self.sky_radiance)}",
+                f"shape (n_theta ≥ 2, n_phi ≥ 4, {wl.size})",
+            )
         if not np.isfinite(sky).all() or (sky < 0).any():
             raise ParameterError("sky_radiance", "negative or non-finite values", "finite radiances ≥ 0")
         sun = np.asarray(self.sun_direction, dtype=float)
@@ -74,8 +77,9 @@ class Lighting:
         object.__setattr__(self, "sun_solid_angle_sr", float(self.sun_solid_angle_sr))
 
     @classmethod
-    def preetham(cls, turbidity: float, sun_direction, wavelength_nm, *,
-                 resolution: tuple[int, int] = DEFAULT_SKY_RESOLUTION) -> Lighting:
+    def preetham(
+        cls, turbidity: float, sun_direction, wavelength_nm, *, resolution: tuple[int, int] = DEFAULT_SKY_RESOLUTION
+    ) -> Lighting:
         """Preetham et al. (1999) sky and sun for a turbidity and a sun direction (above the horizon)."""
         from sandlight.sky import PreethamSky
 
@@ -86,8 +90,16 @@ class Lighting:
         return cls(wl, radiance, sky.sun_direction, sky.sun_radiance(wl), sky.sun_solid_angle)
 
     @classmethod
-    def uniform(cls, sky_radiance, wavelength_nm, *, sun_direction=(0.0, 0.0, 1.0), sun_irradiance=0.0,
-                sun_solid_angle_sr: float | None = None, resolution: tuple[int, int] = (8, 16)) -> Lighting:
+    def uniform(
+        cls,
+        sky_radiance,
+        wavelength_nm,
+        *,
+        sun_direction=(0.0, 0.0, 1.0),
+        sun_irradiance=0.0,
+        sun_solid_angle_sr: float | None = None,
+        resolution: tuple[int, int] = (8, 16),
+    ) -> Lighting:
         """A sky of the same radiance in every direction (per band), and optionally a sun of given
         normal irradiance E☉ (W m⁻² nm⁻¹), i.e. radiance E☉/Ω☉. For tests and studio lighting."""
         from sandlight.sky import SUN_SOLID_ANGLE_SR
@@ -97,7 +109,9 @@ class Lighting:
         sky = np.broadcast_to(np.asarray(sky_radiance, dtype=float), wl.shape)
         omega = SUN_SOLID_ANGLE_SR if sun_solid_angle_sr is None else float(sun_solid_angle_sr)
         sun = np.broadcast_to(np.asarray(sun_irradiance, dtype=float), wl.shape) / omega
-        return cls(wl, np.broadcast_to(sky, (n_theta, n_phi, wl.size)), np.asarray(sun_direction, dtype=float), sun, omega)
+        return cls(
+            wl, np.broadcast_to(sky, (n_theta, n_phi, wl.size)), np.asarray(sun_direction, dtype=float), sun, omega
+        )
 
     @property
     def sun_elevation_deg(self) -> float:

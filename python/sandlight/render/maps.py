@@ -61,8 +61,9 @@ class MaterialMap:
         return cls(np.array([[float(value)]]))
 
     @classmethod
-    def from_image(cls, path: str | os.PathLike, *, extent_m: tuple[float, float, float, float],
-                   value_range: tuple[float, float]) -> MaterialMap:
+    def from_image(
+        cls, path: str | os.PathLike, *, extent_m: tuple[float, float, float, float], value_range: tuple[float, float]
+    ) -> MaterialMap:
         """A grayscale image (black → value_range[0], white → value_range[1]) spread over
         ``extent_m`` = (x_min, y_min, x_max, y_max); the top image row is the north edge."""
         from sandlight.render.grayscale import read_grayscale
@@ -97,8 +98,12 @@ class MaterialMap:
     def native_args(self, table) -> dict:
         """Arguments of the native scene: level coordinates of ``table`` (a BrdfTable)."""
         level = table.level_coordinate(self.values, name="material map").astype(np.float32)
-        return {"material": np.ascontiguousarray(level), "material_origin": list(self.origin_m),
-                "material_spacing": list(self.spacing_m), "material_wrap": bool(self.wrap)}
+        return {
+            "material": np.ascontiguousarray(level),
+            "material_origin": list(self.origin_m),
+            "material_spacing": list(self.spacing_m),
+            "material_wrap": bool(self.wrap),
+        }
 
 
 def brownian_curve(n: int, step_sd: float, rng: np.random.Generator) -> np.ndarray:
@@ -145,8 +150,12 @@ class Waterlines:
         x0, y0, x1, y1 = (float(v) for v in self.extent_m)
         if not (x1 > x0 and y1 > y0 and np.isfinite([x0, y0, x1, y1]).all()):
             raise ParameterError("extent_m", self.extent_m, "(x_min, y_min, x_max, y_max) with max > min")
-        if not (self.resolution_m > 0 and (x1 - x0) / self.resolution_m <= 8192 and (y1 - y0) / self.resolution_m <= 8192):
-            raise ParameterError("resolution_m", self.resolution_m, "a spacing > 0 m giving at most 8192 nodes per side")
+        if not (
+            self.resolution_m > 0 and (x1 - x0) / self.resolution_m <= 8192 and (y1 - y0) / self.resolution_m <= 8192
+        ):
+            raise ParameterError(
+                "resolution_m", self.resolution_m, "a spacing > 0 m giving at most 8192 nodes per side"
+            )
         a, b = (float(v) for v in self.offsets_m)
         if not a < b:
             raise ParameterError("offsets_m", self.offsets_m, "(y_1, y_2) with y_1 < y_2 (the first line is seaward)")
@@ -157,7 +166,9 @@ class Waterlines:
         for name in ("start", "end"):
             v = np.asarray(getattr(self, name), dtype=float)
             if v.shape != (3,) or not np.isfinite(v).all() or (v < 0).any() or (v > 1).any():
-                raise ParameterError(name, getattr(self, name), "three degrees of saturation in [0, 1] (sea, middle, land)")
+                raise ParameterError(
+                    name, getattr(self, name), "three degrees of saturation in [0, 1] (sea, middle, land)"
+                )
 
     def curves(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """x nodes and the y of both waterlines there (fixed by the seed, the same every frame)."""
@@ -165,7 +176,11 @@ class Waterlines:
         x = np.arange(x0, x1 + 0.5 * self.resolution_m, self.resolution_m)
         rng = np.random.default_rng(self.seed)
         step = self.roughness_m_per_sqrt_m * np.sqrt(self.resolution_m)
-        return x, self.offsets_m[0] + brownian_curve(x.size, step, rng), self.offsets_m[1] + brownian_curve(x.size, step, rng)
+        return (
+            x,
+            self.offsets_m[0] + brownian_curve(x.size, step, rng),
+            self.offsets_m[1] + brownian_curve(x.size, step, rng),
+        )
 
     def map(self, day_fraction: float) -> MaterialMap:
         """Saturation map at ``day_fraction`` ∈ [0, 1] of the drying (0 = first frame)."""
@@ -179,7 +194,9 @@ class Waterlines:
         past1 = 0.5 * (1.0 + np.tanh((y[:, None] - line1[None, :]) / (0.5 * self.edge_m)))
         past2 = 0.5 * (1.0 + np.tanh((y[:, None] - line2[None, :]) / (0.5 * self.edge_m)))
         values = s[0] + (s[1] - s[0]) * past1 + (s[2] - s[1]) * past2
-        return MaterialMap(np.clip(values, 0.0, 1.0), (float(x[0]), float(y[0])), (self.resolution_m, self.resolution_m))
+        return MaterialMap(
+            np.clip(values, 0.0, 1.0), (float(x[0]), float(y[0])), (self.resolution_m, self.resolution_m)
+        )
 
 
 def waterline_map(day_fraction: float, **kwargs) -> MaterialMap:

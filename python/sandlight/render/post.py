@@ -40,8 +40,19 @@ import numpy as np
 
 from sandlight.errors import ModelFileError, ParameterError
 
-__all__ = ["xyz_matrix", "spectral_to_xyz", "white_level", "to_srgb", "texture_quotient", "apply_quotient",
-           "grain_field", "write_png", "write_netcdf", "write_video", "COLOUR_OBSERVER"]
+__all__ = [
+    "xyz_matrix",
+    "spectral_to_xyz",
+    "white_level",
+    "to_srgb",
+    "texture_quotient",
+    "apply_quotient",
+    "grain_field",
+    "write_png",
+    "write_netcdf",
+    "write_video",
+    "COLOUR_OBSERVER",
+]
 
 #: The observer of the paper's colour pipeline (§4.1.1).
 COLOUR_OBSERVER = "CIE 1964 10 Degree Standard Observer"
@@ -103,8 +114,9 @@ def soft_highlights(y: np.ndarray, knee: float = SOFT_KNEE) -> np.ndarray:
     return np.where(y <= knee, y, knee + (1.0 - knee) * (1.0 - np.exp(-over / (1.0 - knee))))
 
 
-def to_srgb(xyz, white_y: float, *, exposure_ev: float = 0.0, mode: str = "managed",
-            highlights: str = "soft") -> np.ndarray:
+def to_srgb(
+    xyz, white_y: float, *, exposure_ev: float = 0.0, mode: str = "managed", highlights: str = "soft"
+) -> np.ndarray:
     """Encoded sRGB in [0, 1] of XYZ scaled so that Y = ``white_y`` is display white.
 
     With ``highlights="soft"`` luminances above 0.8 of white are compressed towards white
@@ -130,7 +142,9 @@ def _gaussian(image: np.ndarray, sigma: float) -> np.ndarray:
     return gaussian_filter(image, sigma, mode="reflect")
 
 
-def texture_quotient(photo, *, blur_px: float = 25.0, ground_mask=None, limits: tuple[float, float] = (0.25, 4.0)) -> np.ndarray:
+def texture_quotient(
+    photo, *, blur_px: float = 25.0, ground_mask=None, limits: tuple[float, float] = (0.25, 4.0)
+) -> np.ndarray:
     """Quotient image of §4.2.1: photo luminance over its heavily blurred copy.
 
     Parameters
@@ -213,8 +227,9 @@ def write_png(path: str | os.PathLike, rgb: np.ndarray) -> Path:
     return write_atomically(path, lambda tmp: Image.fromarray(data, "RGB").save(tmp, format="PNG"))
 
 
-def write_netcdf(path: str | os.PathLike, image, xyz: np.ndarray | None = None, attrs: dict | None = None, *,
-                 spectral: bool = True) -> Path:
+def write_netcdf(
+    path: str | os.PathLike, image, xyz: np.ndarray | None = None, attrs: dict | None = None, *, spectral: bool = True
+) -> Path:
     """Write a :class:`~sandlight.render.image.RenderedImage` as compressed NetCDF, atomically:
     ground coverage, the linear spectral radiance (unless ``spectral=False``) and XYZ if given."""
     if not spectral and xyz is None:
@@ -226,19 +241,26 @@ def write_netcdf(path: str | os.PathLike, image, xyz: np.ndarray | None = None, 
     h, w, _ = image.radiance.shape
     data = {"coverage": (("y", "x"), image.coverage, {"long_name": "fraction of samples that saw the ground"})}
     if spectral:
-        data["radiance"] = (("y", "x", "wavelength"), image.radiance,
-                            {"units": "W m-2 sr-1 nm-1", "long_name": "mean spectral radiance (row 0 = top of the image)"})
+        data["radiance"] = (
+            ("y", "x", "wavelength"),
+            image.radiance,
+            {"units": "W m-2 sr-1 nm-1", "long_name": "mean spectral radiance (row 0 = top of the image)"},
+        )
     if xyz is not None:
-        data["XYZ"] = (("y", "x", "channel"), xyz.astype(np.float32),
-                       {"long_name": "CIE XYZ (1964 10 deg observer, Y = 1 for a flat unit spectrum), before exposure"})
-    meta = {k: (v if isinstance(v, (int, float, str)) else str(v)) for k, v in {**image.metadata, **(attrs or {})}.items()}
+        data["XYZ"] = (
+            ("y", "x", "channel"),
+            xyz.astype(np.float32),
+            {"long_name": "CIE XYZ (1964 10 deg observer, Y = 1 for a flat unit spectrum), before exposure"},
+        )
+    meta = {
+        k: (v if isinstance(v, (int, float, str)) else str(v)) for k, v in {**image.metadata, **(attrs or {})}.items()
+    }
     coords = {"y": np.arange(h), "x": np.arange(w)}
     if spectral:
         coords["wavelength"] = ("wavelength", image.wavelength_nm, {"units": "nm"})
     if xyz is not None:
         coords["channel"] = ["X", "Y", "Z"]
-    ds = xr.Dataset(data, coords=coords,
-                    attrs={"creator": "sandlight.render", "spp": image.spp, **meta})
+    ds = xr.Dataset(data, coords=coords, attrs={"creator": "sandlight.render", "spp": image.spp, **meta})
     encoding = {name: {"compression": "gzip", "compression_opts": 4} for name in data}
     return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding))
 
@@ -265,14 +287,23 @@ def write_video(path: str | os.PathLike, frames: list[Path], fps: float) -> Path
         # libx264 with yuv420p needs even sizes: pad by repeating the last row/column.
         pad = ((0, h % 2), (0, w % 2), (0, 0))
         # The temporary name does not end in .mp4, so the container is named for ffmpeg.
-        writer = imageio_ffmpeg.write_frames(str(tmp), (w + w % 2, h + h % 2), fps=fps, codec="libx264",
-                                             pix_fmt_out="yuv420p", macro_block_size=1, ffmpeg_log_level="error",
-                                             output_params=["-f", "mp4"])
+        writer = imageio_ffmpeg.write_frames(
+            str(tmp),
+            (w + w % 2, h + h % 2),
+            fps=fps,
+            codec="libx264",
+            pix_fmt_out="yuv420p",
+            macro_block_size=1,
+            ffmpeg_log_level="error",
+            output_params=["-f", "mp4"],
+        )
         try:
             writer.send(None)  # start ffmpeg
             for img in images:
                 if img.shape[:2] != (h, w):
-                    raise ParameterError("frames", f"an image of {img.shape[1]}×{img.shape[0]} px", f"frames of one size ({w}×{h})")
+                    raise ParameterError(
+                        "frames", f"an image of {img.shape[1]}×{img.shape[0]} px", f"frames of one size ({w}×{h})"
+                    )
                 writer.send(np.ascontiguousarray(np.pad(img, pad, mode="edge")))
             writer.close()
         except (OSError, RuntimeError) as exc:

@@ -64,14 +64,18 @@ def scene_path(name_or_path: str | os.PathLike) -> Path:
     path = Path(text)
     if path.is_file():
         return path
-    raise FileNotFoundError(f"no scene {text!r}: give a TOML file or one of the shipped scenes "
-                            f"({', '.join(shipped_scenes())})")
+    raise FileNotFoundError(
+        f"no scene {text!r}: give a TOML file or one of the shipped scenes ({', '.join(shipped_scenes())})"
+    )
 
 
 def _bands(t: Table) -> np.ndarray:
     value = t.raw("bands", "400:700:20")
     name = t.name("bands")
-    allowed = "'start:stop:step' in nm (e.g. '400:700:20') or a list of wavelengths, 1–32 bands within [380, 780] nm, covering 400–700"
+    allowed = (
+        "'start:stop:step' in nm (e.g. '400:700:20') or a list of wavelengths, "
+        "1–32 bands within [380, 780] nm, covering 400–700"
+    )
     if isinstance(value, str):
         try:
             start, stop, step = (float(v) for v in value.split(":"))
@@ -84,7 +88,14 @@ def _bands(t: Table) -> np.ndarray:
         wl = np.array(value, dtype=float)
     else:
         raise t.error(name, value, allowed)
-    if not (1 <= wl.size <= 32) or (np.diff(wl) <= 0).any() or wl[0] < 380 or wl[-1] > 780 or wl[0] > 400 or wl[-1] < 700:
+    if (
+        not (1 <= wl.size <= 32)
+        or (np.diff(wl) <= 0).any()
+        or wl[0] < 380
+        or wl[-1] > 780
+        or wl[0] > 400
+        or wl[-1] < 700
+    ):
         raise t.error(name, value, allowed)
     return wl
 
@@ -207,34 +218,52 @@ class Scene:
             start_h=sun_t.number("start_h", None, 0.0, 24.0),
             end_h=sun_t.number("end_h", None, 0.0, 24.0),
             turbidity=sun_t.number("turbidity", 3.0, 1.7, 10.0),
-            longitude_deg=sun_t.number("longitude_deg", None, -180.0, 180.0) if sun_t.has("longitude_deg") else sun_t.raw("longitude_deg"),
-            utc_offset_h=sun_t.number("utc_offset_h", None, -12.0, 14.0) if sun_t.has("utc_offset_h") else sun_t.raw("utc_offset_h"),
+            longitude_deg=sun_t.number("longitude_deg", None, -180.0, 180.0)
+            if sun_t.has("longitude_deg")
+            else sun_t.raw("longitude_deg"),
+            utc_offset_h=sun_t.number("utc_offset_h", None, -12.0, 14.0)
+            if sun_t.has("utc_offset_h")
+            else sun_t.raw("utc_offset_h"),
             min_elevation_deg=sun_t.number("min_elevation_deg", 1.0, 0.0, 89.0, lo_open=True),
         )
         if (sun.longitude_deg is None) != (sun.utc_offset_h is None):
-            raise sun_t.error("sun.longitude_deg", sun.longitude_deg, "given together with sun.utc_offset_h (clock time), or both omitted (solar time)")
+            raise sun_t.error(
+                "sun.longitude_deg",
+                sun.longitude_deg,
+                "given together with sun.utc_offset_h (clock time), or both omitted (solar time)",
+            )
         if frames > 1 and not sun.end_h > sun.start_h:
             raise sun_t.error("sun.end_h", sun.end_h, f"a time after sun.start_h = {sun.start_h:g} h for an animation")
         sun_t.finish()
         times = np.linspace(sun.start_h, sun.end_h, frames) if frames > 1 else np.array([sun.start_h])
-        zenith, _ = sun_position(sun.latitude_deg, sun.day_of_year, times, longitude_deg=sun.longitude_deg,
-                                 utc_offset_h=sun.utc_offset_h)
+        zenith, _ = sun_position(
+            sun.latitude_deg, sun.day_of_year, times, longitude_deg=sun.longitude_deg, utc_offset_h=sun.utc_offset_h
+        )
         elevation = 90.0 - np.degrees(np.atleast_1d(zenith))
         if (elevation < sun.min_elevation_deg).any():
             k = int(np.argmin(elevation))
             key = "sun.start_h" if k < frames / 2 else "sun.end_h"
-            raise sun_t.error(key, float(times[k]), f"times when the sun is at least {sun.min_elevation_deg:g}° above the "
-                              f"horizon (it is at {elevation[k]:.1f}° at {times[k]:.2f} h on day {sun.day_of_year} at latitude "
-                              f"{sun.latitude_deg:g}°)")
+            raise sun_t.error(
+                key,
+                float(times[k]),
+                f"times when the sun is at least {sun.min_elevation_deg:g}° above the "
+                f"horizon (it is at {elevation[k]:.1f}° at {times[k]:.2f} h on day {sun.day_of_year} at latitude "
+                f"{sun.latitude_deg:g}°)",
+            )
 
         cam = root.table("camera")
         position = cam.vector("position", (2, 3), [0.0, 0.0])
-        camera = {"position": position, "height_m": cam.number("height_m", 1.7, 0.0, None, lo_open=True),
-                  "fov_deg": cam.number("fov_deg", 60.0, 0.0, 170.0, lo_open=True, hi_open=True)}
+        camera = {
+            "position": position,
+            "height_m": cam.number("height_m", 1.7, 0.0, None, lo_open=True),
+            "fov_deg": cam.number("fov_deg", 60.0, 0.0, 170.0, lo_open=True, hi_open=True),
+        }
         if cam.has("look_at"):
             camera["look_at"] = cam.vector("look_at", 3)
             if cam.has("heading_deg") or cam.has("pitch_deg"):
-                raise cam.error("camera.look_at", camera["look_at"].tolist(), "either look_at or heading_deg/pitch_deg, not both")
+                raise cam.error(
+                    "camera.look_at", camera["look_at"].tolist(), "either look_at or heading_deg/pitch_deg, not both"
+                )
         else:
             camera["heading_deg"] = cam.number("heading_deg", 0.0, -360.0, 360.0)
             camera["pitch_deg"] = cam.number("pitch_deg", -10.0, -89.0, 89.0)
@@ -244,7 +273,9 @@ class Scene:
 
         sand = root.table("sand")
         if sand.has("sample_file") and sand.has("preset"):
-            raise sand.error("sand.sample_file", sand.raw("sample_file"), "either sand.preset or sand.sample_file, not both")
+            raise sand.error(
+                "sand.sample_file", sand.raw("sample_file"), "either sand.preset or sand.sample_file, not both"
+            )
         if sand.has("sample_file"):
             preset = None
             sample = SandSample.from_file(_resolve(sand.string("sample_file"), base_dir))
@@ -283,15 +314,19 @@ class Scene:
                     raise sand.error("sand.levels", float(v), f"values of {vary}: {exc.allowed}") from None
         else:
             levels = np.array([0.0])
-        standin_rays = sand.integer("standin_rays", 5000, 100, 10 ** 8)
+        standin_rays = sand.integer("standin_rays", 5000, 100, 10**8)
         material = _parse_map(sand.table("map"), vary, levels, Path(base_dir))
         sand.finish()
 
         ren = root.table("render")
         settings = RenderSettings(
-            spp=ren.integer("spp", 16, 1, 1 << 20), seed=ren.integer("seed", 0, 0, (1 << 63) - 1),
-            estimator=ren.choice("estimator", ESTIMATORS, "mis"), sampling=ren.choice("sampling", SAMPLINGS, "table"),
-            heuristic=ren.choice("heuristic", HEURISTICS, "power"), max_bounces=ren.integer("max_bounces", 1, 1, 64))
+            spp=ren.integer("spp", 16, 1, 1 << 20),
+            seed=ren.integer("seed", 0, 0, (1 << 63) - 1),
+            estimator=ren.choice("estimator", ESTIMATORS, "mis"),
+            sampling=ren.choice("sampling", SAMPLINGS, "table"),
+            heuristic=ren.choice("heuristic", HEURISTICS, "power"),
+            max_bounces=ren.integer("max_bounces", 1, 1, 64),
+        )
         wavelength_nm = _bands(ren)
         sky_res = ren.vector("sky_resolution", 2, list(DEFAULT_SKY_RESOLUTION), 2, 4096)
         if sky_res[1] < 4 or (sky_res != np.round(sky_res)).any():
@@ -303,25 +338,53 @@ class Scene:
         grain_t = post.table("grain")
         grain = None
         if grain_t.data:
-            grain = {"amount": grain_t.number("amount", 0.06, 0.0, 1.0), "size_px": grain_t.number("size_px", 0.7, 0.0, 20.0),
-                     "seed": grain_t.integer("seed", 0, 0, (1 << 63) - 1)}
+            grain = {
+                "amount": grain_t.number("amount", 0.06, 0.0, 1.0),
+                "size_px": grain_t.number("size_px", 0.7, 0.0, 20.0),
+                "seed": grain_t.integer("seed", 0, 0, (1 << 63) - 1),
+            }
         grain_t.finish()
         post.finish()
         root.finish()
-        return cls(name=name, description=description, source=source, width=width, height=height, frames=frames,
-                   fps=fps, exposure=exposure, exposure_ev=exposure_ev, colour_mode=colour_mode, highlights=highlights,
-                   write_linear=write_linear, sun=sun, camera=camera, terrain=terrain, sample=sample, preset=preset,
-                   brdf=brdf, vary=vary, levels=levels, standin_rays=standin_rays, material=material,
-                   settings=settings, wavelength_nm=wavelength_nm,
-                   sky_resolution=(int(sky_res[0]), int(sky_res[1])), texture=texture, grain=grain,
-                   base_dir=Path(base_dir))
+        return cls(
+            name=name,
+            description=description,
+            source=source,
+            width=width,
+            height=height,
+            frames=frames,
+            fps=fps,
+            exposure=exposure,
+            exposure_ev=exposure_ev,
+            colour_mode=colour_mode,
+            highlights=highlights,
+            write_linear=write_linear,
+            sun=sun,
+            camera=camera,
+            terrain=terrain,
+            sample=sample,
+            preset=preset,
+            brdf=brdf,
+            vary=vary,
+            levels=levels,
+            standin_rays=standin_rays,
+            material=material,
+            settings=settings,
+            wavelength_nm=wavelength_nm,
+            sky_resolution=(int(sky_res[0]), int(sky_res[1])),
+            texture=texture,
+            grain=grain,
+            base_dir=Path(base_dir),
+        )
 
     def with_overrides(self, **changes) -> Scene:
         """A copy with command-line overrides applied (width, height, frames, spp, seed, threads,
         write_linear); values are validated like the file's."""
         changes = {k: v for k, v in changes.items() if v is not None}
         settings_keys = {"spp", "seed", "threads"}
-        settings = dataclasses.replace(self.settings, **{k: changes.pop(k) for k in list(changes) if k in settings_keys})
+        settings = dataclasses.replace(
+            self.settings, **{k: changes.pop(k) for k in list(changes) if k in settings_keys}
+        )
         for key, lo, hi in (("width", 1, 16384), ("height", 1, 16384), ("frames", 1, 100000)):
             if key in changes:
                 v = changes[key]
@@ -331,7 +394,9 @@ class Scene:
             raise ParameterError("linear", changes["write_linear"], "one of " + ", ".join(LINEAR_OUTPUTS))
         unknown = set(changes) - {"width", "height", "frames", "write_linear"}
         if unknown:
-            raise ParameterError("override", sorted(unknown)[0], "one of width, height, frames, spp, seed, threads, write_linear")
+            raise ParameterError(
+                "override", sorted(unknown)[0], "one of width, height, frames, spp, seed, threads, write_linear"
+            )
         scene = dataclasses.replace(self, settings=settings, **changes)
         if scene.frames > 1 and not scene.sun.end_h > scene.sun.start_h:
             raise ParameterError("frames", scene.frames, "1, since the scene's sun.end_h is not after sun.start_h")
@@ -371,14 +436,26 @@ class Scene:
         if self.brdf == "standin":
             from sandlight.render.standin import standin_table
 
-            return standin_table(self.sample, self.wavelength_nm, preset=self.preset, vary=self.vary,
-                                 level_values=self.levels, rays=self.standin_rays, progress=progress)
+            return standin_table(
+                self.sample,
+                self.wavelength_nm,
+                preset=self.preset,
+                vary=self.vary,
+                level_values=self.levels,
+                rays=self.standin_rays,
+                progress=progress,
+            )
         if self.brdf == "appearance":
             return _appearance_table(self.sample, self.vary, self.levels, self.wavelength_nm)
         table = BrdfTable.from_netcdf(_resolve(self.brdf, self.base_dir))
-        if self.vary is not None and (table.n_levels != self.levels.size or not np.allclose(table.level_values, self.levels)):
-            raise ParameterError("sand.levels", self.levels.tolist(),
-                                 f"the levels of the table {self.brdf} ({table.level_name} = {table.level_values.tolist()})")
+        if self.vary is not None and (
+            table.n_levels != self.levels.size or not np.allclose(table.level_values, self.levels)
+        ):
+            raise ParameterError(
+                "sand.levels",
+                self.levels.tolist(),
+                f"the levels of the table {self.brdf} ({table.level_name} = {table.level_values.tolist()})",
+            )
         return table
 
     def build_material(self, day_fraction: float) -> MaterialMap | None:
@@ -394,12 +471,18 @@ class Scene:
     def sun_direction(self, time_h: float) -> np.ndarray:
         from sandlight.sky import sun_direction
 
-        return sun_direction(self.sun.latitude_deg, self.sun.day_of_year, float(time_h),
-                             longitude_deg=self.sun.longitude_deg, utc_offset_h=self.sun.utc_offset_h)
+        return sun_direction(
+            self.sun.latitude_deg,
+            self.sun.day_of_year,
+            float(time_h),
+            longitude_deg=self.sun.longitude_deg,
+            utc_offset_h=self.sun.utc_offset_h,
+        )
 
     def build_lighting(self, time_h: float) -> Lighting:
-        return Lighting.preetham(self.sun.turbidity, self.sun_direction(time_h), self.wavelength_nm,
-                                 resolution=self.sky_resolution)
+        return Lighting.preetham(
+            self.sun.turbidity, self.sun_direction(time_h), self.wavelength_nm, resolution=self.sky_resolution
+        )
 
 
 def _resolve(path: str, base_dir) -> Path:
@@ -415,17 +498,30 @@ def _parse_terrain(t: Table, base_dir: Path) -> TerrainSpec:
         cells = t.integer("cells", 1024, 16, 4096)
         if cells & (cells - 1):
             raise t.error("terrain.cells", cells, "a power of two in [16, 4096]")
-        spec = TerrainSpec(kind, {
-            "size_m": t.number("size_m", 204.8, 0.0, None, lo_open=True), "cells": cells,
-            "dune_height_m": t.number("dune_height_m", 6.0, 0.0), "dune_wavelength_m": t.number("dune_wavelength_m", 60.0, 0.0, None, lo_open=True),
-            "wind_azimuth_deg": t.number("wind_azimuth_deg", 80.0, -360.0, 360.0), "lee_fraction": t.number("lee_fraction", 0.25, 0.1, 0.5),
-            "sinuosity_m": t.number("sinuosity_m", 6.0, 0.0), "ripple_wavelength_m": t.number("ripple_wavelength_m", 0.8, 0.0, None, lo_open=True),
-            "ripple_height_m": t.number("ripple_height_m", 0.03, 0.0), "roughness_m": t.number("roughness_m", 0.4, 0.0),
-            "seed": t.integer("seed", 0, 0, (1 << 63) - 1), "far_m": t.number("far_m", 2000.0, 0.0, None, lo_open=True)})
+        spec = TerrainSpec(
+            kind,
+            {
+                "size_m": t.number("size_m", 204.8, 0.0, None, lo_open=True),
+                "cells": cells,
+                "dune_height_m": t.number("dune_height_m", 6.0, 0.0),
+                "dune_wavelength_m": t.number("dune_wavelength_m", 60.0, 0.0, None, lo_open=True),
+                "wind_azimuth_deg": t.number("wind_azimuth_deg", 80.0, -360.0, 360.0),
+                "lee_fraction": t.number("lee_fraction", 0.25, 0.1, 0.5),
+                "sinuosity_m": t.number("sinuosity_m", 6.0, 0.0),
+                "ripple_wavelength_m": t.number("ripple_wavelength_m", 0.8, 0.0, None, lo_open=True),
+                "ripple_height_m": t.number("ripple_height_m", 0.03, 0.0),
+                "roughness_m": t.number("roughness_m", 0.4, 0.0),
+                "seed": t.integer("seed", 0, 0, (1 << 63) - 1),
+                "far_m": t.number("far_m", 2000.0, 0.0, None, lo_open=True),
+            },
+        )
         spacing = spec.params["size_m"] / cells
         if spec.params["ripple_height_m"] > 0 and spec.params["ripple_wavelength_m"] < 3 * spacing:
-            raise t.error("terrain.ripple_wavelength_m", spec.params["ripple_wavelength_m"],
-                          f"at least 3 grid cells ({3 * spacing:g} m for size_m/cells); raise cells or set ripple_height_m = 0")
+            raise t.error(
+                "terrain.ripple_wavelength_m",
+                spec.params["ripple_wavelength_m"],
+                f"at least 3 grid cells ({3 * spacing:g} m for size_m/cells); raise cells or set ripple_height_m = 0",
+            )
     else:
         path = _resolve(t.string("path"), base_dir)
         if not path.is_file():
@@ -436,11 +532,18 @@ def _parse_terrain(t: Table, base_dir: Path) -> TerrainSpec:
         size = t.vector("size_m", 2, None, 0.0)
         if (size <= 0).any():
             raise t.error("terrain.size_m", size.tolist(), "(width, depth) > 0 m")
-        spec = TerrainSpec(kind, {"path": path, "size_m": tuple(size), "height_range_m": tuple(hr),
-                                  "origin_m": tuple(t.vector("origin_m", 2)) if t.has("origin_m") else None,
-                                  "wrap": t.boolean("wrap", False),
-                                  "outside_m": t.number("outside_m") if t.has("outside_m") else None,
-                                  "far_m": t.number("far_m", 2000.0, 0.0, None, lo_open=True)})
+        spec = TerrainSpec(
+            kind,
+            {
+                "path": path,
+                "size_m": tuple(size),
+                "height_range_m": tuple(hr),
+                "origin_m": tuple(t.vector("origin_m", 2)) if t.has("origin_m") else None,
+                "wrap": t.boolean("wrap", False),
+                "outside_m": t.number("outside_m") if t.has("outside_m") else None,
+                "far_m": t.number("far_m", 2000.0, 0.0, None, lo_open=True),
+            },
+        )
     t.finish()
     return spec
 
@@ -461,18 +564,31 @@ def _parse_map(t: Table, vary: str | None, levels: np.ndarray, base_dir: Path) -
         extent = t.vector("extent_m", 4)
         if not (extent[2] > extent[0] and extent[3] > extent[1]):
             raise t.error("sand.map.extent_m", extent.tolist(), "(x_min, y_min, x_max, y_max) with max > min")
-        spec = MapSpec(kind, {"path": path, "extent_m": tuple(extent), "value_range": tuple(t.vector("value_range", 2, [lo, hi], lo, hi))})
+        spec = MapSpec(
+            kind,
+            {
+                "path": path,
+                "extent_m": tuple(extent),
+                "value_range": tuple(t.vector("value_range", 2, [lo, hi], lo, hi)),
+            },
+        )
     else:
         if vary != "saturation":
-            raise t.error("sand.map.type", kind, "'uniform' or 'image' (waterlines map the degree of saturation: set sand.vary = 'saturation')")
-        params = {"extent_m": tuple(t.vector("extent_m", 4, [-60.0, -30.0, 60.0, 40.0])),
-                  "resolution_m": t.number("resolution_m", 0.1, 0.0, None, lo_open=True),
-                  "offsets_m": tuple(t.vector("offsets_m", 2, [2.0, 9.0])),
-                  "roughness_m_per_sqrt_m": t.number("roughness_m_per_sqrt_m", 0.25, 0.0),
-                  "edge_m": t.number("edge_m", 0.6, 0.0, None, lo_open=True),
-                  "start": tuple(t.vector("start", 3, [1.0, 0.8, 0.35], lo, hi)),
-                  "end": tuple(t.vector("end", 3, [0.9, 0.25, 0.02], lo, hi)),
-                  "seed": t.integer("seed", 0, 0, (1 << 63) - 1)}
+            raise t.error(
+                "sand.map.type",
+                kind,
+                "'uniform' or 'image' (waterlines map the degree of saturation: set sand.vary = 'saturation')",
+            )
+        params = {
+            "extent_m": tuple(t.vector("extent_m", 4, [-60.0, -30.0, 60.0, 40.0])),
+            "resolution_m": t.number("resolution_m", 0.1, 0.0, None, lo_open=True),
+            "offsets_m": tuple(t.vector("offsets_m", 2, [2.0, 9.0])),
+            "roughness_m_per_sqrt_m": t.number("roughness_m_per_sqrt_m", 0.25, 0.0),
+            "edge_m": t.number("edge_m", 0.6, 0.0, None, lo_open=True),
+            "start": tuple(t.vector("start", 3, [1.0, 0.8, 0.35], lo, hi)),
+            "end": tuple(t.vector("end", 3, [0.9, 0.25, 0.02], lo, hi)),
+            "seed": t.integer("seed", 0, 0, (1 << 63) - 1),
+        }
         try:
             Waterlines(**params)
         except ParameterError as exc:
@@ -497,9 +613,14 @@ def _parse_texture(t: Table, base_dir: Path) -> dict | None:
         if not mpath.is_file():
             raise t.error("post.texture.ground_mask", mask, "an existing black/white image (white = ground)")
         mask = str(mpath)
-    spec = {"photo": photo, "ground_mask": mask, "blur_px": t.number("blur_px", 25.0, 0.0, 10000.0, lo_open=True),
-            "strength": t.number("strength", 1.0, 0.0, 4.0), "fit": t.choice("fit", ("tile", "stretch"), "tile"),
-            "scale": t.number("scale", 1.0, 0.01, 100.0)}
+    spec = {
+        "photo": photo,
+        "ground_mask": mask,
+        "blur_px": t.number("blur_px", 25.0, 0.0, 10000.0, lo_open=True),
+        "strength": t.number("strength", 1.0, 0.0, 4.0),
+        "fit": t.choice("fit", ("tile", "stretch"), "tile"),
+        "scale": t.number("scale", 1.0, 0.01, 100.0),
+    }
     t.finish()
     return spec
 

@@ -52,8 +52,17 @@ def _read_csv() -> dict[tuple[str, str, float], np.ndarray]:
     return {(r[0], r[1], round(float(r[2]), 6)): np.array([float(v) for v in r[3:]]) for r in body}
 
 
-def standin_reflectance(sample, preset: str | None, vary: str | None, level_values, wavelength_nm, *,
-                        rays: int = 5000, seed: int = SHIPPED_SEED, progress: bool = False) -> np.ndarray:
+def standin_reflectance(
+    sample,
+    preset: str | None,
+    vary: str | None,
+    level_values,
+    wavelength_nm,
+    *,
+    rays: int = 5000,
+    seed: int = SHIPPED_SEED,
+    progress: bool = False,
+) -> np.ndarray:
     """Normal-incidence reflectance (n_levels, n_wavelengths) of ``sample`` with ``vary`` set to
     each level value: from the shipped CSV when it holds exactly this preset, parameter, levels
     and wavelengths, else computed with the engine (common random numbers across levels)."""
@@ -79,17 +88,29 @@ def standin_reflectance(sample, preset: str | None, vary: str | None, level_valu
     return np.array(out)
 
 
-def standin_table(sample, wavelength_nm, *, preset: str | None = None, vary: str | None = None,
-                  level_values=(0.0,), rays: int = 5000, progress: bool = False) -> BrdfTable:
+def standin_table(
+    sample,
+    wavelength_nm,
+    *,
+    preset: str | None = None,
+    vary: str | None = None,
+    level_values=(0.0,),
+    rays: int = 5000,
+    progress: bool = False,
+) -> BrdfTable:
     """The STAND-IN Lambertian table (module docstring): f = R(λ)/π per level."""
     levels = np.atleast_1d(np.asarray(level_values, dtype=float))
     if vary is None and levels.size != 1:
         raise ParameterError("levels", levels.tolist(), "a single level when no parameter varies")
     r = standin_reflectance(sample, preset, vary, levels, wavelength_nm, rays=rays, progress=progress)
-    return BrdfTable.lambertian(np.clip(r, 0.0, 1.0), wavelength_nm, level_values=levels if vary else [0.0],
-                                level_name=vary or "level",
-                                source="STAND-IN: Lambertian f = R/pi, R from sandlight.reflectance at normal "
-                                       "incidence (replace by SandAppearance.to_table, issue 6)")
+    return BrdfTable.lambertian(
+        np.clip(r, 0.0, 1.0),
+        wavelength_nm,
+        level_values=levels if vary else [0.0],
+        level_name=vary or "level",
+        source="STAND-IN: Lambertian f = R/pi, R from sandlight.reflectance at normal "
+        "incidence (replace by SandAppearance.to_table, issue 6)",
+    )
 
 
 def generate(path=None) -> str:
@@ -110,8 +131,9 @@ def generate(path=None) -> str:
     for preset, vary, values in SHIPPED:
         base = SandSample.preset(preset)
         for v in values:
-            r = sandlight.reflectance(base.replace(**{vary: float(v)}), WAVELENGTHS_NM, rays=SHIPPED_RAYS,
-                                      seed=SHIPPED_SEED, progress=False).values
+            r = sandlight.reflectance(
+                base.replace(**{vary: float(v)}), WAVELENGTHS_NM, rays=SHIPPED_RAYS, seed=SHIPPED_SEED, progress=False
+            ).values
             lines.append(f"{preset},{vary},{v:g}," + ",".join(f"{x:.5f}" for x in r))
             print(f"{preset} {vary}={v:g}: " + " ".join(f"{x:.3f}" for x in r), file=sys.stderr)
     text = "\n".join(lines) + "\n"

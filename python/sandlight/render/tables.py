@@ -87,7 +87,9 @@ class BrdfTable:
     def __post_init__(self):
         wl = np.asarray(self.wavelength_nm, dtype=float)
         if wl.ndim != 1 or wl.size < 1 or not np.isfinite(wl).all() or (np.diff(wl) <= 0).any():
-            raise ParameterError("wavelength_nm", self.wavelength_nm, "a strictly ascending 1-D array of wavelengths in nm")
+            raise ParameterError(
+                "wavelength_nm", self.wavelength_nm, "a strictly ascending 1-D array of wavelengths in nm"
+            )
         object.__setattr__(self, "wavelength_nm", wl)
         object.__setattr__(self, "mu_i", _axis("mu_i", self.mu_i, 0.0, 1.0))
         object.__setattr__(self, "mu_o", _axis("mu_o", self.mu_o, 0.0, 1.0))
@@ -97,16 +99,20 @@ class BrdfTable:
             f = f[np.newaxis]
         shape = (wl.size, self.mu_i.size, self.mu_o.size, self.dphi.size)
         if f.ndim != 5 or f.shape[1:] != shape:
-            raise ParameterError("f", f"array of shape {np.shape(self.f)}",
-                                 f"shape (levels, {', '.join(map(str, shape))}) = (levels, wavelength, mu_i, mu_o, dphi)")
+            raise ParameterError(
+                "f",
+                f"array of shape {np.shape(self.f)}",
+                f"shape (levels, {', '.join(map(str, shape))}) = (levels, wavelength, mu_i, mu_o, dphi)",
+            )
         if not np.isfinite(f).all():
             raise ParameterError("f", "an array containing NaN or inf", "finite BRDF values in sr⁻¹")
         if (f < 0).any():
             raise ParameterError("f", float(f.min()), "BRDF values ≥ 0 sr⁻¹")
         levels = np.atleast_1d(np.asarray(self.level_values, dtype=float))
         if levels.shape != (f.shape[0],) or not np.isfinite(levels).all() or (np.diff(levels) <= 0).any():
-            raise ParameterError("level_values", self.level_values,
-                                 f"{f.shape[0]} strictly ascending finite values, one per level")
+            raise ParameterError(
+                "level_values", self.level_values, f"{f.shape[0]} strictly ascending finite values, one per level"
+            )
         object.__setattr__(self, "f", f)
         object.__setattr__(self, "level_values", levels)
         for a in (self.f, self.wavelength_nm, self.mu_i, self.mu_o, self.dphi, self.level_values):
@@ -119,8 +125,9 @@ class BrdfTable:
     # --- constructors --------------------------------------------------------------------------
 
     @classmethod
-    def lambertian(cls, albedo, wavelength_nm, *, level_values=None, level_name: str = "level",
-                   source: str = "Lambertian") -> BrdfTable:
+    def lambertian(
+        cls, albedo, wavelength_nm, *, level_values=None, level_name: str = "level", source: str = "Lambertian"
+    ) -> BrdfTable:
         """f = a(λ)/π at every angle.
 
         Parameters
@@ -146,8 +153,9 @@ class BrdfTable:
         return cls(f, wl, mu, mu, dphi, levels, level_name, source)
 
     @classmethod
-    def oren_nayar(cls, albedo, sigma_deg: float, wavelength_nm, *, mu=DEFAULT_MU, dphi=DEFAULT_DPHI,
-                   max_theta_deg: float = 89.0) -> BrdfTable:
+    def oren_nayar(
+        cls, albedo, sigma_deg: float, wavelength_nm, *, mu=DEFAULT_MU, dphi=DEFAULT_DPHI, max_theta_deg: float = 89.0
+    ) -> BrdfTable:
         """The qualitative Oren–Nayar (1994) model of a rough diffuse surface, tabulated.
 
         f = a/π · (A + B · max(0, cos Δφ) · sin α · tan β), α = max(θ_i, θ_o), β = min(θ_i, θ_o),
@@ -182,8 +190,9 @@ class BrdfTable:
         return cls(f, wl, mu, mu, dp, [0.0], "level", f"Oren-Nayar sigma={float(sigma_deg):g} deg")
 
     @classmethod
-    def from_function(cls, brdf: Callable, wavelength_nm, *, mu=DEFAULT_MU, dphi=DEFAULT_DPHI,
-                      source: str = "", min_mu: float = 1e-3) -> BrdfTable:
+    def from_function(
+        cls, brdf: Callable, wavelength_nm, *, mu=DEFAULT_MU, dphi=DEFAULT_DPHI, source: str = "", min_mu: float = 1e-3
+    ) -> BrdfTable:
         """Tabulate ``brdf(wi, wo, wavelengths_nm) -> (..., n_wavelengths)`` (directions in the
         local frame, z the normal, wi towards the light) on the grid. Nodes at μ = 0 are evaluated
         at μ = ``min_mu`` (a model may refuse exactly horizontal directions)."""
@@ -197,14 +206,20 @@ class BrdfTable:
         wo = np.stack([s[mo] * np.cos(dp[pp]), s[mo] * np.sin(dp[pp]), m[mo]], axis=-1)
         values = np.asarray(brdf(wi.reshape(-1, 3), wo.reshape(-1, 3), wl), dtype=float)
         if values.shape != (wi.size // 3, wl.size):
-            raise ParameterError("brdf", f"a function returning shape {values.shape}",
-                                 f"a function returning shape ({wi.size // 3}, {wl.size})")
+            raise ParameterError(
+                "brdf",
+                f"a function returning shape {values.shape}",
+                f"a function returning shape ({wi.size // 3}, {wl.size})",
+            )
         f = np.moveaxis(values.reshape(mu.size, mu.size, dp.size, wl.size), -1, 0)
-        return cls(np.maximum(f, 0.0), wl, mu, mu, dp, [0.0], "level", source or getattr(brdf, "__qualname__", "function"))
+        return cls(
+            np.maximum(f, 0.0), wl, mu, mu, dp, [0.0], "level", source or getattr(brdf, "__qualname__", "function")
+        )
 
     @classmethod
-    def from_appearance(cls, appearance, wavelength_nm, *, level_value: float = 0.0,
-                        level_name: str = "level") -> BrdfTable:
+    def from_appearance(
+        cls, appearance, wavelength_nm, *, level_value: float = 0.0, level_name: str = "level"
+    ) -> BrdfTable:
         """Tabulate a `sandlight.SandAppearance` exactly, on the nodes of its own interpolant.
 
         `SandAppearance.brdf` is trilinear in (μ_i, μ_o, Δφ) between its spatial model's nodes
@@ -231,10 +246,24 @@ class BrdfTable:
         mu = np.unique(np.r_[0.0, nodes, 1.0])
         dphi = 2.0 * np.pi * np.arange(slices // 2 + 1) / slices
         dphi = np.r_[dphi[dphi < np.pi - 1e-9], np.pi]
-        table = cls.from_function(appearance.brdf, wavelength_nm, mu=mu, dphi=dphi, min_mu=0.5 * float(nodes.min()),
-                                  source=f"SandAppearance ({appearance.combination}), tabulated on its own nodes")
-        return cls(table.f, table.wavelength_nm, table.mu_i, table.mu_o, table.dphi, [float(level_value)], level_name,
-                   table.source)
+        table = cls.from_function(
+            appearance.brdf,
+            wavelength_nm,
+            mu=mu,
+            dphi=dphi,
+            min_mu=0.5 * float(nodes.min()),
+            source=f"SandAppearance ({appearance.combination}), tabulated on its own nodes",
+        )
+        return cls(
+            table.f,
+            table.wavelength_nm,
+            table.mu_i,
+            table.mu_o,
+            table.dphi,
+            [float(level_value)],
+            level_name,
+            table.source,
+        )
 
     @classmethod
     def stack(cls, tables: Sequence[BrdfTable], level_values, level_name: str) -> BrdfTable:
@@ -251,8 +280,16 @@ class BrdfTable:
                 if a.shape != b.shape or not np.allclose(a, b):
                     raise ParameterError(f"tables[{k}].{axis}", a.tolist(), f"the same {axis} grid as tables[0]")
         f = np.concatenate([t.f for t in tables], axis=0)
-        return cls(f, first.wavelength_nm, first.mu_i, first.mu_o, first.dphi, level_values, level_name,
-                   "; ".join(dict.fromkeys(t.source for t in tables)))
+        return cls(
+            f,
+            first.wavelength_nm,
+            first.mu_i,
+            first.mu_o,
+            first.dphi,
+            level_values,
+            level_name,
+            "; ".join(dict.fromkeys(t.source for t in tables)),
+        )
 
     @classmethod
     def from_netcdf(cls, path: str | os.PathLike) -> BrdfTable:
@@ -280,17 +317,30 @@ class BrdfTable:
         f = ds["f"]
         core = ("wavelength", "mu_i", "mu_o", "dphi")
         if tuple(f.dims[-4:]) != core or f.ndim not in (4, 5):
-            raise ModelFileError(f"{path}: variable f has dimensions {f.dims}; expected "
-                                 f"(wavelength, mu_i, mu_o, dphi), optionally after one level dimension")
+            raise ModelFileError(
+                f"{path}: variable f has dimensions {f.dims}; expected "
+                f"(wavelength, mu_i, mu_o, dphi), optionally after one level dimension"
+            )
         try:
             if f.ndim == 5:
                 level_name = f.dims[0]
-                levels = np.asarray(ds[level_name].values, dtype=float) if level_name in ds.coords else np.arange(f.shape[0], dtype=float)
+                levels = (
+                    np.asarray(ds[level_name].values, dtype=float)
+                    if level_name in ds.coords
+                    else np.arange(f.shape[0], dtype=float)
+                )
             else:
                 level_name, levels = "level", np.array([0.0])
-            return cls(np.asarray(f.values, dtype=float), ds["wavelength"].values, ds["mu_i"].values,
-                       ds["mu_o"].values, ds["dphi"].values, levels, str(level_name),
-                       str(ds.attrs.get("source", path.name)))
+            return cls(
+                np.asarray(f.values, dtype=float),
+                ds["wavelength"].values,
+                ds["mu_i"].values,
+                ds["mu_o"].values,
+                ds["dphi"].values,
+                levels,
+                str(level_name),
+                str(ds.attrs.get("source", path.name)),
+            )
         except (KeyError, ParameterError) as exc:
             raise ModelFileError(f"{path}: malformed BRDF table: {exc}") from exc
 
@@ -303,12 +353,26 @@ class BrdfTable:
         from sandlight.io import write_atomically
 
         ds = xr.Dataset(
-            {"f": ((self.level_name, "wavelength", "mu_i", "mu_o", "dphi"), self.f, {"units": "sr-1", "long_name": "BRDF"})},
-            coords={self.level_name: self.level_values, "wavelength": ("wavelength", self.wavelength_nm, {"units": "nm"}),
-                    "mu_i": ("mu_i", self.mu_i, {"long_name": "cosine of the light's zenith angle"}),
-                    "mu_o": ("mu_o", self.mu_o, {"long_name": "cosine of the viewer's zenith angle"}),
-                    "dphi": ("dphi", self.dphi, {"units": "rad", "long_name": "phi_o - phi_i folded into [0, pi]; 0 = backscatter"})},
-            attrs={"source": self.source, "creator": "sandlight.render.BrdfTable"})
+            {
+                "f": (
+                    (self.level_name, "wavelength", "mu_i", "mu_o", "dphi"),
+                    self.f,
+                    {"units": "sr-1", "long_name": "BRDF"},
+                )
+            },
+            coords={
+                self.level_name: self.level_values,
+                "wavelength": ("wavelength", self.wavelength_nm, {"units": "nm"}),
+                "mu_i": ("mu_i", self.mu_i, {"long_name": "cosine of the light's zenith angle"}),
+                "mu_o": ("mu_o", self.mu_o, {"long_name": "cosine of the viewer's zenith angle"}),
+                "dphi": (
+                    "dphi",
+                    self.dphi,
+                    {"units": "rad", "long_name": "phi_o - phi_i folded into [0, pi]; 0 = backscatter"},
+                ),
+            },
+            attrs={"source": self.source, "creator": "sandlight.render.BrdfTable"},
+        )
         return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))
 
     def level_coordinate(self, values, name: str = "values") -> np.ndarray:
@@ -323,7 +387,9 @@ class BrdfTable:
         lo, hi = self.level_values[0], self.level_values[-1]
         if not np.isfinite(v).all() or (v < lo - 1e-9).any() or (v > hi + 1e-9).any():
             bad = v[~(np.isfinite(v) & (v >= lo - 1e-9) & (v <= hi + 1e-9))].ravel()[0]
-            raise ParameterError(name, float(bad), f"{self.level_name} values within the levels' range [{lo:g}, {hi:g}]")
+            raise ParameterError(
+                name, float(bad), f"{self.level_name} values within the levels' range [{lo:g}, {hi:g}]"
+            )
         if self.n_levels == 1:
             return np.zeros(v.shape)
         return np.interp(v, self.level_values, np.arange(self.n_levels, dtype=float))
@@ -339,13 +405,20 @@ class BrdfTable:
         wl = np.asarray(wavelength_nm, dtype=float)
         lo, hi = self.wavelength_nm[0], self.wavelength_nm[-1]
         if (wl < lo - 1e-6).any() or (wl > hi + 1e-6).any():
-            raise ParameterError("wavelength_nm", wl.tolist(), f"render wavelengths within the BRDF table's range [{lo:g}, {hi:g}] nm")
+            raise ParameterError(
+                "wavelength_nm", wl.tolist(), f"render wavelengths within the BRDF table's range [{lo:g}, {hi:g}] nm"
+            )
         if self.wavelength_nm.size == 1:
             f = np.repeat(self.f, wl.size, axis=1)
         else:
             idx = np.clip(np.searchsorted(self.wavelength_nm, wl, side="right") - 1, 0, self.wavelength_nm.size - 2)
-            t = np.clip((wl - self.wavelength_nm[idx]) / (self.wavelength_nm[idx + 1] - self.wavelength_nm[idx]), 0.0, 1.0)
-            f = self.f[:, idx] * (1.0 - t)[None, :, None, None, None] + self.f[:, idx + 1] * t[None, :, None, None, None]
+            t = np.clip(
+                (wl - self.wavelength_nm[idx]) / (self.wavelength_nm[idx + 1] - self.wavelength_nm[idx]), 0.0, 1.0
+            )
+            f = (
+                self.f[:, idx] * (1.0 - t)[None, :, None, None, None]
+                + self.f[:, idx + 1] * t[None, :, None, None, None]
+            )
         return np.ascontiguousarray(np.moveaxis(f, 1, -1), dtype=np.float32)
 
     def albedo(self, mu_i: float, level: int = 0) -> np.ndarray:

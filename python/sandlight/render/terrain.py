@@ -66,7 +66,9 @@ class HeightfieldTerrain:
     def __post_init__(self):
         h = np.ascontiguousarray(self.heights_m, dtype=np.float32)
         if h.ndim != 2 or min(h.shape) < 2:
-            raise ParameterError("heights_m", f"array of shape {np.shape(self.heights_m)}", "a 2-D array of at least 2 × 2 heights")
+            raise ParameterError(
+                "heights_m", f"array of shape {np.shape(self.heights_m)}", "a 2-D array of at least 2 × 2 heights"
+            )
         if not np.isfinite(h).all():
             raise ParameterError("heights_m", "an array containing NaN or inf", "finite heights in metres")
         origin = tuple(float(v) for v in self.origin_m)
@@ -106,13 +108,20 @@ class HeightfieldTerrain:
             inside = (ii >= 0) & (ii < nx) & (jj >= 0) & (jj < ny)
             return np.where(inside, h[np.clip(jj, 0, ny - 1), np.clip(ii, 0, nx - 1)], self.outside_m)
 
-        return ((1 - v) * ((1 - u) * node(i, j) + u * node(i + 1, j))
-                + v * ((1 - u) * node(i, j + 1) + u * node(i + 1, j + 1)))
+        return (1 - v) * ((1 - u) * node(i, j) + u * node(i + 1, j)) + v * (
+            (1 - u) * node(i, j + 1) + u * node(i + 1, j + 1)
+        )
 
     def native_args(self) -> dict:
-        return {"terrain": "heightfield", "heights": self.heights_m, "origin": list(self.origin_m),
-                "spacing": list(self.spacing_m), "wrap": bool(self.wrap), "outside": float(self.outside_m),
-                "far_m": float(self.far_m)}
+        return {
+            "terrain": "heightfield",
+            "heights": self.heights_m,
+            "origin": list(self.origin_m),
+            "spacing": list(self.spacing_m),
+            "wrap": bool(self.wrap),
+            "outside": float(self.outside_m),
+            "far_m": float(self.far_m),
+        }
 
 
 def _periodic_wave(n_cycles_x: int, n_cycles_y: int, x: np.ndarray, y: np.ndarray, size: float) -> np.ndarray:
@@ -138,15 +147,26 @@ def _periodic_noise(shape: tuple[int, int], correlation_cells: float, rng: np.ra
     kx = np.fft.fftfreq(nx)[None, :]
     ky = np.fft.fftfreq(ny)[:, None]
     # Gaussian filter of standard deviation `correlation_cells`: exp(−2π²σ²k²).
-    spectrum = np.fft.fft2(white) * np.exp(-2.0 * np.pi ** 2 * correlation_cells ** 2 * (kx ** 2 + ky ** 2))
+    spectrum = np.fft.fft2(white) * np.exp(-2.0 * np.pi**2 * correlation_cells**2 * (kx**2 + ky**2))
     field = np.real(np.fft.ifft2(spectrum))
     return (field - field.mean()) / max(field.std(), 1e-12)
 
 
-def dune_field(*, size_m: float = 204.8, cells: int = 1024, dune_height_m: float = 6.0,
-               dune_wavelength_m: float = 60.0, wind_azimuth_deg: float = 80.0, lee_fraction: float = 0.25,
-               sinuosity_m: float = 6.0, ripple_wavelength_m: float = 0.8, ripple_height_m: float = 0.03,
-               roughness_m: float = 0.4, seed: int = 0, far_m: float = 2000.0) -> HeightfieldTerrain:
+def dune_field(
+    *,
+    size_m: float = 204.8,
+    cells: int = 1024,
+    dune_height_m: float = 6.0,
+    dune_wavelength_m: float = 60.0,
+    wind_azimuth_deg: float = 80.0,
+    lee_fraction: float = 0.25,
+    sinuosity_m: float = 6.0,
+    ripple_wavelength_m: float = 0.8,
+    ripple_height_m: float = 0.03,
+    roughness_m: float = 0.4,
+    seed: int = 0,
+    far_m: float = 2000.0,
+) -> HeightfieldTerrain:
     """A periodic field of transverse dunes with wind ripples (procedural).
 
     Dune profile along the wind: a sin² rise over the stoss (windward) side and a cos² fall over
@@ -181,12 +201,19 @@ def dune_field(*, size_m: float = 204.8, cells: int = 1024, dune_height_m: float
     HeightfieldTerrain
         Periodic (``wrap=True``), lowest point at z = 0.
     """
-    for name, value, lo in (("size_m", size_m, 0.0), ("dune_wavelength_m", dune_wavelength_m, 0.0),
-                            ("ripple_wavelength_m", ripple_wavelength_m, 0.0)):
+    for name, value, lo in (
+        ("size_m", size_m, 0.0),
+        ("dune_wavelength_m", dune_wavelength_m, 0.0),
+        ("ripple_wavelength_m", ripple_wavelength_m, 0.0),
+    ):
         if not (np.isfinite(value) and value > lo):
             raise ParameterError(name, value, "a length > 0 m")
-    for name, value in (("dune_height_m", dune_height_m), ("sinuosity_m", sinuosity_m),
-                        ("ripple_height_m", ripple_height_m), ("roughness_m", roughness_m)):
+    for name, value in (
+        ("dune_height_m", dune_height_m),
+        ("sinuosity_m", sinuosity_m),
+        ("ripple_height_m", ripple_height_m),
+        ("roughness_m", roughness_m),
+    ):
         if not (np.isfinite(value) and value >= 0):
             raise ParameterError(name, value, "a length ≥ 0 m")
     if not (isinstance(cells, (int, np.integer)) and 16 <= cells <= 4096 and cells & (cells - 1) == 0):
@@ -195,9 +222,12 @@ def dune_field(*, size_m: float = 204.8, cells: int = 1024, dune_height_m: float
         raise ParameterError("lee_fraction", lee_fraction, "a fraction in [0.1, 0.5]")
     spacing = size_m / cells
     if ripple_height_m > 0 and ripple_wavelength_m < 3.0 * spacing:
-        raise ParameterError("ripple_wavelength_m", ripple_wavelength_m,
-                             f"at least 3 grid cells ({3 * spacing:g} m at size_m/cells = {spacing:g} m); "
-                             f"increase cells or set ripple_height_m = 0")
+        raise ParameterError(
+            "ripple_wavelength_m",
+            ripple_wavelength_m,
+            f"at least 3 grid cells ({3 * spacing:g} m at size_m/cells = {spacing:g} m); "
+            f"increase cells or set ripple_height_m = 0",
+        )
     rng = np.random.default_rng(seed)
     coords = np.arange(cells) * spacing
     x, y = np.meshgrid(coords, coords)
@@ -206,8 +236,9 @@ def dune_field(*, size_m: float = 204.8, cells: int = 1024, dune_height_m: float
         # One cycle per unit phase: sin² rise over the stoss side, cos² fall over the lee side.
         t = np.mod(phase, 1.0)
         stoss = 1.0 - lee_fraction
-        return np.where(t < stoss, np.sin(0.5 * np.pi * t / stoss) ** 2,
-                        np.cos(0.5 * np.pi * (t - stoss) / lee_fraction) ** 2)
+        return np.where(
+            t < stoss, np.sin(0.5 * np.pi * t / stoss) ** 2, np.cos(0.5 * np.pi * (t - stoss) / lee_fraction) ** 2
+        )
 
     m, n = _wave_numbers(dune_wavelength_m, wind_azimuth_deg, size_m)
     # Crest meander: a wave along the crest (perpendicular wave vector, about three dune
@@ -235,9 +266,16 @@ def dune_field(*, size_m: float = 204.8, cells: int = 1024, dune_height_m: float
     return HeightfieldTerrain(h, (0.0, 0.0), (spacing, spacing), wrap=True, outside_m=0.0, far_m=far_m)
 
 
-def heightfield_from_image(path: str | os.PathLike, *, size_m: tuple[float, float],
-                           height_range_m: tuple[float, float], origin_m: tuple[float, float] | None = None,
-                           wrap: bool = False, outside_m: float | None = None, far_m: float = 2000.0) -> HeightfieldTerrain:
+def heightfield_from_image(
+    path: str | os.PathLike,
+    *,
+    size_m: tuple[float, float],
+    height_range_m: tuple[float, float],
+    origin_m: tuple[float, float] | None = None,
+    wrap: bool = False,
+    outside_m: float | None = None,
+    far_m: float = 2000.0,
+) -> HeightfieldTerrain:
     """Heightfield from a grayscale image (black = lowest, white = highest; 8 or 16 bit).
 
     Parameters
@@ -258,13 +296,27 @@ def heightfield_from_image(path: str | os.PathLike, *, size_m: tuple[float, floa
     from sandlight.render.grayscale import read_grayscale
 
     a = read_grayscale(path, "heightfield image")
-    return heightfield_from_array(np.flipud(a), size_m=size_m, height_range_m=height_range_m,
-                                  origin_m=origin_m, wrap=wrap, outside_m=outside_m, far_m=far_m)
+    return heightfield_from_array(
+        np.flipud(a),
+        size_m=size_m,
+        height_range_m=height_range_m,
+        origin_m=origin_m,
+        wrap=wrap,
+        outside_m=outside_m,
+        far_m=far_m,
+    )
 
 
-def heightfield_from_array(values, *, size_m: tuple[float, float], height_range_m: tuple[float, float],
-                           origin_m: tuple[float, float] | None = None, wrap: bool = False,
-                           outside_m: float | None = None, far_m: float = 2000.0) -> HeightfieldTerrain:
+def heightfield_from_array(
+    values,
+    *,
+    size_m: tuple[float, float],
+    height_range_m: tuple[float, float],
+    origin_m: tuple[float, float] | None = None,
+    wrap: bool = False,
+    outside_m: float | None = None,
+    far_m: float = 2000.0,
+) -> HeightfieldTerrain:
     """Heightfield from an array of values in [0, 1] (row 0 = south edge), scaled to
     ``height_range_m``; see :func:`heightfield_from_image` for the other parameters."""
     a = np.asarray(values, dtype=float)

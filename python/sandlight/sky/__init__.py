@@ -9,13 +9,23 @@ Modules: :mod:`~sandlight.sky.sun` (position), :mod:`~sandlight.sky.sun_spectrum
 :mod:`~sandlight.sky.preetham` (sky model), :mod:`~sandlight.sky.plots` (fisheye pictures).
 """
 
-from sandlight.sky.preetham import (LUMINOUS_EFFICACY_LM_W, SKY_WAVELENGTH_RANGE_NM,
-                                    TURBIDITY_RANGE, PreethamSky)
-from sandlight.sky.sun import (angles_from_direction, day_of_year, direction_from_angles,
-                               solar_declination, solar_time, sun_direction, sun_position)
-from sandlight.sky.sun_spectrum import (SUN_SOLID_ANGLE_SR, extraterrestrial_spectral_irradiance,
-                                        sun_spectral_irradiance, sun_spectral_radiance,
-                                        sun_transmittance)
+from sandlight.sky.preetham import LUMINOUS_EFFICACY_LM_W, SKY_WAVELENGTH_RANGE_NM, TURBIDITY_RANGE, PreethamSky
+from sandlight.sky.sun import (
+    angles_from_direction,
+    day_of_year,
+    direction_from_angles,
+    solar_declination,
+    solar_time,
+    sun_direction,
+    sun_position,
+)
+from sandlight.sky.sun_spectrum import (
+    SUN_SOLID_ANGLE_SR,
+    extraterrestrial_spectral_irradiance,
+    sun_spectral_irradiance,
+    sun_spectral_radiance,
+    sun_transmittance,
+)
 
 __all__ = [
     "PreethamSky",

@@ -13,8 +13,15 @@ import numpy as np
 from sandlight.errors import ParameterError
 
 
-def real_array(name: str, value, low: float | None = None, high: float | None = None, *,
-               low_open: bool = False, high_open: bool = False) -> np.ndarray:
+def real_array(
+    name: str,
+    value,
+    low: float | None = None,
+    high: float | None = None,
+    *,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> np.ndarray:
     """Return ``value`` as a float64 array, checking that every element is finite and in range.
 
     Parameters
@@ -55,8 +62,15 @@ def real_array(name: str, value, low: float | None = None, high: float | None = 
     return array
 
 
-def real_scalar(name: str, value, low: float | None = None, high: float | None = None, *,
-                low_open: bool = False, high_open: bool = False) -> float:
+def real_scalar(
+    name: str,
+    value,
+    low: float | None = None,
+    high: float | None = None,
+    *,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> float:
     """Like :func:`real_array` but requires a single number and returns a Python float."""
     array = real_array(name, value, low, high, low_open=low_open, high_open=high_open)
     if array.ndim != 0:
@@ -77,15 +91,16 @@ def unit_vectors(name: str, value) -> np.ndarray:
     except (TypeError, ValueError):
         raise ParameterError(name, value, "an array of shape (..., 3) of real numbers") from None
     if array.ndim == 0 or array.shape[-1] != 3:
-        raise ParameterError(name, f"array of shape {array.shape}",
-                             "an array of shape (..., 3): direction vectors (x east, y north, z up)")
+        raise ParameterError(
+            name,
+            f"array of shape {array.shape}",
+            "an array of shape (..., 3): direction vectors (x east, y north, z up)",
+        )
     if not np.isfinite(array).all():
-        raise ParameterError(name, "an array containing NaN or infinity",
-                             "finite direction vectors")
+        raise ParameterError(name, "an array containing NaN or infinity", "finite direction vectors")
     norm = np.linalg.norm(array, axis=-1, keepdims=True)
     if (norm <= 1e-12).any():
-        raise ParameterError(name, "an array containing a zero-length vector",
-                             "non-zero direction vectors")
+        raise ParameterError(name, "an array containing a zero-length vector", "non-zero direction vectors")
     return array / norm
 
 

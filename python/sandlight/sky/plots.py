@@ -31,13 +31,12 @@ from pathlib import Path
 import numpy as np
 
 from sandlight.errors import ParameterError
-from sandlight.sky import sun as _sun
-from sandlight.sky.preetham import LUMINOUS_EFFICACY_LM_W, TURBIDITY_RANGE, PreethamSky
-from sandlight.sky._checks import real_array, real_scalar
 from sandlight.io import write_atomically
+from sandlight.sky import sun as _sun
+from sandlight.sky._checks import real_array, real_scalar
+from sandlight.sky.preetham import LUMINOUS_EFFICACY_LM_W, TURBIDITY_RANGE, PreethamSky
 
-__all__ = ["fisheye_directions", "sky_dome_xyz", "xyz_to_display_srgb", "plot_sky_dome",
-           "plot_sky_day"]
+__all__ = ["fisheye_directions", "sky_dome_xyz", "xyz_to_display_srgb", "plot_sky_dome", "plot_sky_day"]
 
 # 380–780 nm at 5 nm: the visible range at the CMF table resolution used for the picture.
 _PLOT_WAVELENGTHS_NM = np.arange(380.0, 781.0, 5.0)
@@ -75,8 +74,7 @@ def fisheye_directions(size: int) -> tuple[np.ndarray, np.ndarray]:
     theta = np.where(inside, radius, 0.0) * (np.pi / 2.0)  # equidistant: r ∝ θ
     safe_radius = np.maximum(radius, 1e-12)
     # Looking up with north at the top puts east on the left: x_east = −u, y_north = v.
-    directions = np.stack([np.sin(theta) * -u / safe_radius, np.sin(theta) * v / safe_radius,
-                           np.cos(theta)], axis=-1)
+    directions = np.stack([np.sin(theta) * -u / safe_radius, np.sin(theta) * v / safe_radius, np.cos(theta)], axis=-1)
     return directions, inside
 
 
@@ -85,8 +83,7 @@ def _cmfs(wavelengths_nm: np.ndarray) -> np.ndarray:
     import colour
 
     cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
-    return np.stack([np.interp(wavelengths_nm, cmfs.wavelengths, cmfs.values[:, i])
-                     for i in range(3)], axis=-1)
+    return np.stack([np.interp(wavelengths_nm, cmfs.wavelengths, cmfs.values[:, i]) for i in range(3)], axis=-1)
 
 
 def sky_dome_xyz(sky: PreethamSky, size: int = 512) -> tuple[np.ndarray, np.ndarray]:
@@ -136,9 +133,12 @@ def xyz_to_display_srgb(xyz, exposure_cd_m2) -> np.ndarray:
     import colour
 
     exposure = real_scalar("exposure_cd_m2", exposure_cd_m2, 0.0, None, low_open=True)
-    linear = colour.XYZ_to_RGB(np.asarray(xyz, dtype=np.float64) / exposure,
-                               colour.RGB_COLOURSPACES["sRGB"],
-                               chromatic_adaptation_transform=None, apply_cctf_encoding=False)
+    linear = colour.XYZ_to_RGB(
+        np.asarray(xyz, dtype=np.float64) / exposure,
+        colour.RGB_COLOURSPACES["sRGB"],
+        chromatic_adaptation_transform=None,
+        apply_cctf_encoding=False,
+    )
     return colour.cctf_encoding(np.clip(linear, 0.0, 1.0), function="sRGB")
 
 
@@ -157,8 +157,8 @@ def _sun_marker_position(sky: PreethamSky, size: int) -> tuple[float, float]:
     """Pixel (column, row) of the sun in the fisheye image (continuous coordinates)."""
     zenith, azimuth = _sun.angles_from_direction(sky.sun_direction)
     radius = float(zenith) / (np.pi / 2.0)
-    u = -radius * np.sin(float(azimuth))   # east on the left
-    v = radius * np.cos(float(azimuth))    # north up
+    u = -radius * np.sin(float(azimuth))  # east on the left
+    v = radius * np.cos(float(azimuth))  # north up
     return (u + 1.0) / 2.0 * size - 0.5, (1.0 - v) / 2.0 * size - 0.5
 
 
@@ -166,19 +166,19 @@ def _draw_dome(axes, image: np.ndarray, sky: PreethamSky | None, size: int, titl
     from matplotlib.patches import Circle
 
     axes.imshow(image, interpolation="nearest")
-    axes.add_patch(Circle((size / 2 - 0.5, size / 2 - 0.5), size / 2, fill=False,
-                          edgecolor="0.5", linewidth=0.8))
+    axes.add_patch(Circle((size / 2 - 0.5, size / 2 - 0.5), size / 2, fill=False, edgecolor="0.5", linewidth=0.8))
     offset = size * 0.035
-    for label, (column, row) in {"N": (size / 2, -offset), "S": (size / 2, size + offset),
-                                 "E": (-offset, size / 2), "W": (size + offset, size / 2)}.items():
-        axes.text(column - 0.5, row - 0.5, label, ha="center", va="center", fontsize=8,
-                  color="0.2")
+    for label, (column, row) in {
+        "N": (size / 2, -offset),
+        "S": (size / 2, size + offset),
+        "E": (-offset, size / 2),
+        "W": (size + offset, size / 2),
+    }.items():
+        axes.text(column - 0.5, row - 0.5, label, ha="center", va="center", fontsize=8, color="0.2")
     if sky is not None:
         column, row = _sun_marker_position(sky, size)
-        axes.add_patch(Circle((column, row), size * 0.025, fill=False, edgecolor="yellow",
-                              linewidth=1.5))
-        axes.add_patch(Circle((column, row), size * 0.035, fill=False, edgecolor="black",
-                              linewidth=0.8))
+        axes.add_patch(Circle((column, row), size * 0.025, fill=False, edgecolor="yellow", linewidth=1.5))
+        axes.add_patch(Circle((column, row), size * 0.035, fill=False, edgecolor="black", linewidth=0.8))
     axes.set_title(title, fontsize=9)
     axes.set_xlim(-offset * 2, size + offset * 2)
     axes.set_ylim(size + offset * 2, -offset * 2)
@@ -187,12 +187,15 @@ def _draw_dome(axes, image: np.ndarray, sky: PreethamSky | None, size: int, titl
 
 def _sky_title(sky: PreethamSky) -> str:
     zenith, azimuth = _sun.angles_from_direction(sky.sun_direction)
-    return (f"T = {sky.turbidity:g}, sun elevation {90.0 - np.degrees(float(zenith)):.1f}°, "
-            f"azimuth {np.degrees(float(azimuth)):.1f}°")
+    return (
+        f"T = {sky.turbidity:g}, sun elevation {90.0 - np.degrees(float(zenith)):.1f}°, "
+        f"azimuth {np.degrees(float(azimuth)):.1f}°"
+    )
 
 
-def plot_sky_dome(sky: PreethamSky, path, *, size: int = 512,
-                  exposure_cd_m2: float | None = None, title: str | None = None) -> Path:
+def plot_sky_dome(
+    sky: PreethamSky, path, *, size: int = 512, exposure_cd_m2: float | None = None, title: str | None = None
+) -> Path:
     """Save a fisheye picture of the sky dome as a PNG.
 
     Equidistant projection seen from below (north up, east left); sun marked by a ring.
@@ -231,18 +234,32 @@ def plot_sky_dome(sky: PreethamSky, path, *, size: int = 512,
     figure = plt.figure(figsize=(inches, inches * 1.08), dpi=100)
     try:
         axes = figure.add_axes((0.0, 0.0, 1.0, 0.93))
-        _draw_dome(axes, image, sky, size,
-                   (title if title is not None else _sky_title(sky))
-                   + f"\nexposure: white = {exposure / 1000.0:.3g} kcd/m²")
+        _draw_dome(
+            axes,
+            image,
+            sky,
+            size,
+            (title if title is not None else _sky_title(sky)) + f"\nexposure: white = {exposure / 1000.0:.3g} kcd/m²",
+        )
         _save_figure_atomically(figure, path)
     finally:
         plt.close(figure)
     return path
 
 
-def plot_sky_day(latitude_deg, day_of_year, times_h, path, *, turbidity: float = 3.0,
-                 longitude_deg=None, utc_offset_h=None, size: int = 256,
-                 exposure_cd_m2: float | None = None, columns: int = 6) -> Path:
+def plot_sky_day(
+    latitude_deg,
+    day_of_year,
+    times_h,
+    path,
+    *,
+    turbidity: float = 3.0,
+    longitude_deg=None,
+    utc_offset_h=None,
+    size: int = 256,
+    exposure_cd_m2: float | None = None,
+    columns: int = 6,
+) -> Path:
     """Save a strip of fisheye sky domes over a day as one PNG.
 
     All domes share one exposure, so the dimming of the sky towards dawn and dusk shows. Times at
@@ -287,8 +304,9 @@ def plot_sky_day(latitude_deg, day_of_year, times_h, path, *, turbidity: float =
         raise ParameterError("columns", columns, "a positive integer")
     latitude = real_scalar("latitude_deg", latitude_deg, -90.0, 90.0)
     turbidity = real_scalar("turbidity", turbidity, *TURBIDITY_RANGE)
-    directions = _sun.sun_direction(latitude, day_of_year, times, longitude_deg=longitude_deg,
-                                    utc_offset_h=utc_offset_h)
+    directions = _sun.sun_direction(
+        latitude, day_of_year, times, longitude_deg=longitude_deg, utc_offset_h=utc_offset_h
+    )
     if directions.shape != (times.size, 3):
         raise ParameterError("day_of_year", day_of_year, "a single day for the strip")
     skies = [PreethamSky(turbidity, d) if d[2] > 0.0 else None for d in directions]
@@ -306,8 +324,14 @@ def plot_sky_day(latitude_deg, day_of_year, times_h, path, *, turbidity: float =
     columns = min(int(columns), times.size)
     rows = -(-times.size // columns)
     panel = max(size / 100.0, 2.0)
-    figure, axes_grid = plt.subplots(rows, columns, dpi=100, squeeze=False, layout="constrained",
-                                     figsize=(panel * columns, panel * rows * 1.15 + 0.3))
+    figure, axes_grid = plt.subplots(
+        rows,
+        columns,
+        dpi=100,
+        squeeze=False,
+        layout="constrained",
+        figsize=(panel * columns, panel * rows * 1.15 + 0.3),
+    )
     try:
         kind = "solar time" if longitude_deg is None else f"UTC{float(utc_offset_h):+g} h"
         for index, axes in enumerate(axes_grid.reshape(-1)):
@@ -332,9 +356,12 @@ def plot_sky_day(latitude_deg, day_of_year, times_h, path, *, turbidity: float =
             image = np.concatenate([rgb, inside[..., np.newaxis].astype(np.float64)], axis=-1)
             elevation = 90.0 - np.degrees(sky.sun_zenith_rad)
             _draw_dome(axes, image, sky, size, f"{label}\nsun elevation {elevation:.1f}°")
-        figure.suptitle(f"Preetham sky, T = {float(turbidity):g}, latitude {latitude:g}°, "
-                        f"day {_sun._day_array(day_of_year).item():g} ({kind}); "
-                        f"white = {exposure / 1000.0:.3g} kcd/m²", fontsize=10)
+        figure.suptitle(
+            f"Preetham sky, T = {float(turbidity):g}, latitude {latitude:g}°, "
+            f"day {_sun._day_array(day_of_year).item():g} ({kind}); "
+            f"white = {exposure / 1000.0:.3g} kcd/m²",
+            fontsize=10,
+        )
         _save_figure_atomically(figure, Path(path))
     finally:
         plt.close(figure)

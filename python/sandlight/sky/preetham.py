@@ -74,8 +74,7 @@ from sandlight.sky import sun as _sun
 from sandlight.sky import sun_spectrum as _sun_spectrum
 from sandlight.sky._checks import real_array, real_scalar, unit_vectors
 
-__all__ = ["PreethamSky", "TURBIDITY_RANGE", "LUMINOUS_EFFICACY_LM_W",
-           "SKY_WAVELENGTH_RANGE_NM"]
+__all__ = ["PreethamSky", "TURBIDITY_RANGE", "LUMINOUS_EFFICACY_LM_W", "SKY_WAVELENGTH_RANGE_NM"]
 
 #: Admissible turbidity of the sky model (see module docstring, "Validity").
 TURBIDITY_RANGE = (1.7, 10.0)
@@ -87,22 +86,21 @@ SKY_WAVELENGTH_RANGE_NM = (300.0, 830.0)
 
 # Perez coefficients, Preetham et al. (1999), appendix: _PEREZ[q, k] = (slope, intercept) of
 # coefficient k ∈ (A, B, C, D, E) for quantity q ∈ (Y, x, y), value = slope·T + intercept.
-_PEREZ = np.array([
-    [[0.1787, -1.4630], [-0.3554, 0.4275], [-0.0227, 5.3251], [0.1206, -2.5771],
-     [-0.0670, 0.3703]],                                                          # Y
-    [[-0.0193, -0.2592], [-0.0665, 0.0008], [-0.0004, 0.2125], [-0.0641, -0.8989],
-     [-0.0033, 0.0452]],                                                          # x
-    [[-0.0167, -0.2608], [-0.0950, 0.0092], [-0.0079, 0.2102], [-0.0441, -1.6537],
-     [-0.0109, 0.0529]],                                                          # y
-])
+_PEREZ = np.array(
+    [
+        [[0.1787, -1.4630], [-0.3554, 0.4275], [-0.0227, 5.3251], [0.1206, -2.5771], [-0.0670, 0.3703]],  # Y
+        [[-0.0193, -0.2592], [-0.0665, 0.0008], [-0.0004, 0.2125], [-0.0641, -0.8989], [-0.0033, 0.0452]],  # x
+        [[-0.0167, -0.2608], [-0.0950, 0.0092], [-0.0079, 0.2102], [-0.0441, -1.6537], [-0.0109, 0.0529]],  # y
+    ]
+)
 
 # Zenith chromaticity, Preetham appendix: rows multiply (T², T, 1), columns (θs³, θs², θs, 1).
-_ZENITH_X = np.array([[0.00166, -0.00375, 0.00209, 0.0],
-                      [-0.02903, 0.06377, -0.03202, 0.00394],
-                      [0.11693, -0.21196, 0.06052, 0.25886]])
-_ZENITH_Y = np.array([[0.00275, -0.00610, 0.00317, 0.0],
-                      [-0.04214, 0.08970, -0.04153, 0.00516],
-                      [0.15346, -0.26756, 0.06670, 0.26688]])
+_ZENITH_X = np.array(
+    [[0.00166, -0.00375, 0.00209, 0.0], [-0.02903, 0.06377, -0.03202, 0.00394], [0.11693, -0.21196, 0.06052, 0.25886]]
+)
+_ZENITH_Y = np.array(
+    [[0.00275, -0.00610, 0.00317, 0.0], [-0.04214, 0.08970, -0.04153, 0.00516], [0.15346, -0.26756, 0.06670, 0.26688]]
+)
 
 # exp(B / cos θ) at the horizon: B < 0 for every admitted T, so the limit cos θ → 0⁺ is 0. The
 # floor keeps the division finite; B / 1e-300 is a huge negative number whose exp is exactly 0.
@@ -126,16 +124,14 @@ def _daylight_basis():
 
     sds = colour.colorimetry.SDS_BASIS_FUNCTIONS_CIE_ILLUMINANT_D_SERIES
     wavelengths = np.asarray(sds["S0"].wavelengths, dtype=np.float64)
-    basis = np.stack([np.asarray(sds[key].values, dtype=np.float64)
-                      for key in ("S0", "S1", "S2")])
+    basis = np.stack([np.asarray(sds[key].values, dtype=np.float64) for key in ("S0", "S1", "S2")])
     cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
     cmf_wavelengths = np.asarray(cmfs.wavelengths, dtype=np.float64)
     ybar = np.asarray(cmfs.values, dtype=np.float64)[:, 1]
     step = np.diff(cmf_wavelengths)
     if not np.allclose(step, step[0]):
         raise RuntimeError("colour-science CIE 1931 CMFs are expected on a regular grid")
-    y_integrals = np.array([
-        np.sum(np.interp(cmf_wavelengths, wavelengths, s) * ybar) * step[0] for s in basis])
+    y_integrals = np.array([np.sum(np.interp(cmf_wavelengths, wavelengths, s) * ybar) * step[0] for s in basis])
     for array in (wavelengths, basis, y_integrals):
         array.setflags(write=False)
     return wavelengths, basis, y_integrals
@@ -145,7 +141,7 @@ def _perez(coefficients, cos_theta, gamma, cos_gamma):
     """Perez et al. (1993) distribution F(θ, γ); ``coefficients`` is (A, B, C, D, E)."""
     a, b, c, d, e = coefficients
     gradation = 1.0 + a * np.exp(b / np.maximum(cos_theta, _COS_FLOOR))
-    indicatrix = 1.0 + c * np.exp(d * gamma) + e * cos_gamma ** 2
+    indicatrix = 1.0 + c * np.exp(d * gamma) + e * cos_gamma**2
     return gradation * indicatrix
 
 
@@ -214,14 +210,16 @@ class PreethamSky:
         self.turbidity = real_scalar("turbidity", turbidity, *TURBIDITY_RANGE)
         direction = unit_vectors("sun_direction", sun_direction)
         if direction.shape != (3,):
-            raise ParameterError("sun_direction", f"array of shape {direction.shape}",
-                                 "a single 3-vector (x east, y north, z up)")
+            raise ParameterError(
+                "sun_direction", f"array of shape {direction.shape}", "a single 3-vector (x east, y north, z up)"
+            )
         if not direction[2] > 0.0:
             elevation = float(np.degrees(np.arcsin(np.clip(direction[2], -1.0, 1.0))))
-            raise ParameterError("sun_direction", f"{direction.tolist()} "
-                                 f"(elevation {elevation:.2f}°)",
-                                 "a direction above the horizon (z > 0): the model is a daytime "
-                                 "sky")
+            raise ParameterError(
+                "sun_direction",
+                f"{direction.tolist()} (elevation {elevation:.2f}°)",
+                "a direction above the horizon (z > 0): the model is a daytime sky",
+            )
         self.sun_direction = direction
         self.sun_direction.setflags(write=False)
         theta_s = float(np.arccos(np.clip(direction[2], -1.0, 1.0)))
@@ -231,22 +229,18 @@ class PreethamSky:
         self.perez_coefficients.setflags(write=False)
         # Zenith luminance, Preetham appendix (kcd m⁻²).
         chi = (4.0 / 9.0 - t / 120.0) * (np.pi - 2.0 * theta_s)
-        self.zenith_luminance_kcd_m2 = float((4.0453 * t - 4.9710) * np.tan(chi)
-                                             - 0.2155 * t + 2.4192)
+        self.zenith_luminance_kcd_m2 = float((4.0453 * t - 4.9710) * np.tan(chi) - 0.2155 * t + 2.4192)
         t_vec = np.array([t * t, t, 1.0])
-        s_vec = np.array([theta_s ** 3, theta_s ** 2, theta_s, 1.0])
-        self.zenith_chromaticity = (float(t_vec @ _ZENITH_X @ s_vec),
-                                    float(t_vec @ _ZENITH_Y @ s_vec))
+        s_vec = np.array([theta_s**3, theta_s**2, theta_s, 1.0])
+        self.zenith_chromaticity = (float(t_vec @ _ZENITH_X @ s_vec), float(t_vec @ _ZENITH_Y @ s_vec))
         # Normalisation F(0, θs): the zenith is at angle θs from the sun.
-        self._zenith_perez = np.array([
-            _perez(coefficients, 1.0, theta_s, np.cos(theta_s))
-            for coefficients in self.perez_coefficients])
-        self._zenith_values = np.array([self.zenith_luminance_kcd_m2,
-                                        *self.zenith_chromaticity])
+        self._zenith_perez = np.array(
+            [_perez(coefficients, 1.0, theta_s, np.cos(theta_s)) for coefficients in self.perez_coefficients]
+        )
+        self._zenith_values = np.array([self.zenith_luminance_kcd_m2, *self.zenith_chromaticity])
 
     @classmethod
-    def from_location(cls, turbidity, latitude_deg, day_of_year, time_h, *, longitude_deg=None,
-                      utc_offset_h=None):
+    def from_location(cls, turbidity, latitude_deg, day_of_year, time_h, *, longitude_deg=None, utc_offset_h=None):
         """Sky for a place and time; the sun direction comes from :func:`sandlight.sky.sun_direction`.
 
         Parameters
@@ -261,16 +255,19 @@ class PreethamSky:
         ParameterError
             Bad inputs, or the sun below the horizon at that time.
         """
-        direction = _sun.sun_direction(latitude_deg, day_of_year, time_h,
-                                       longitude_deg=longitude_deg, utc_offset_h=utc_offset_h)
+        direction = _sun.sun_direction(
+            latitude_deg, day_of_year, time_h, longitude_deg=longitude_deg, utc_offset_h=utc_offset_h
+        )
         if direction.shape != (3,):
             raise ParameterError("time_h", time_h, "scalar place and time for a single sky")
         return cls(turbidity, direction)
 
     def __repr__(self) -> str:
         elevation = 90.0 - np.degrees(self.sun_zenith_rad)
-        return (f"PreethamSky(turbidity={self.turbidity:g}, sun_direction="
-                f"{np.round(self.sun_direction, 6).tolist()}, sun elevation {elevation:.2f}°)")
+        return (
+            f"PreethamSky(turbidity={self.turbidity:g}, sun_direction="
+            f"{np.round(self.sun_direction, 6).tolist()}, sun elevation {elevation:.2f}°)"
+        )
 
     @property
     def sun_solid_angle(self) -> float:
@@ -291,8 +288,7 @@ class PreethamSky:
             # Sun at the zenith has no azimuth either: any horizon point is then equivalent.
             anti_sun = anti_sun / anti_sun_norm if anti_sun_norm > 1e-12 else np.array([0.0, 1.0])
             straight_down = below & (norm[..., 0] <= 1e-12)
-            horizontal = np.where(straight_down[..., np.newaxis], anti_sun,
-                                  horizontal / np.maximum(norm, 1e-300))
+            horizontal = np.where(straight_down[..., np.newaxis], anti_sun, horizontal / np.maximum(norm, 1e-300))
             projected = np.concatenate([horizontal, np.zeros(d.shape[:-1] + (1,))], axis=-1)
             d = np.where(below[..., np.newaxis], projected, d)
         cos_theta = np.clip(d[..., 2], 0.0, 1.0)
@@ -302,9 +298,12 @@ class PreethamSky:
     def _yxy(self, directions):
         """(..., 3) array of (Y [kcd m⁻²], x, y) for each direction."""
         cos_theta, gamma, cos_gamma = self._angles(directions)
-        values = [zenith * _perez(coefficients, cos_theta, gamma, cos_gamma) / normaliser
-                  for zenith, coefficients, normaliser
-                  in zip(self._zenith_values, self.perez_coefficients, self._zenith_perez)]
+        values = [
+            zenith * _perez(coefficients, cos_theta, gamma, cos_gamma) / normaliser
+            for zenith, coefficients, normaliser in zip(
+                self._zenith_values, self.perez_coefficients, self._zenith_perez
+            )
+        ]
         return np.stack(values, axis=-1)
 
     def luminance(self, directions):
@@ -321,9 +320,11 @@ class PreethamSky:
             Luminance in kcd m⁻² (1 kcd m⁻² = 1000 cd m⁻²).
         """
         cos_theta, gamma, cos_gamma = self._angles(directions)
-        return (self.zenith_luminance_kcd_m2
-                * _perez(self.perez_coefficients[0], cos_theta, gamma, cos_gamma)
-                / self._zenith_perez[0])
+        return (
+            self.zenith_luminance_kcd_m2
+            * _perez(self.perez_coefficients[0], cos_theta, gamma, cos_gamma)
+            / self._zenith_perez[0]
+        )
 
     def chromaticity(self, directions):
         """CIE 1931 chromaticity (x, y) of the sky.
@@ -365,15 +366,17 @@ class PreethamSky:
         """
         wavelengths = real_array("wavelengths_nm", wavelengths_nm, *SKY_WAVELENGTH_RANGE_NM)
         if wavelengths.ndim > 1:
-            raise ParameterError("wavelengths_nm", f"array of shape {wavelengths.shape}",
-                                 "a scalar or a 1-D array of wavelengths in nm")
+            raise ParameterError(
+                "wavelengths_nm", f"array of shape {wavelengths.shape}", "a scalar or a 1-D array of wavelengths in nm"
+            )
         yxy = self._yxy(directions)
         m1, m2 = daylight_m1_m2(yxy[..., 1], yxy[..., 2])
         grid, basis, y_integrals = _daylight_basis()
         s0, s1, s2 = (np.interp(wavelengths, grid, row) for row in basis)
         # Scale so that K_m ∫ L ȳ dλ = Y (kcd m⁻² → cd m⁻²).
-        scale = (1000.0 * yxy[..., 0] / LUMINOUS_EFFICACY_LM_W
-                 / (y_integrals[0] + m1 * y_integrals[1] + m2 * y_integrals[2]))
+        scale = (
+            1000.0 * yxy[..., 0] / LUMINOUS_EFFICACY_LM_W / (y_integrals[0] + m1 * y_integrals[1] + m2 * y_integrals[2])
+        )
         if wavelengths.ndim == 1:
             scale, m1, m2 = (v[..., np.newaxis] for v in (scale, m1, m2))
         return np.maximum(scale * (s0 + m1 * s1 + m2 * s2), 0.0)
@@ -396,8 +399,7 @@ class PreethamSky:
         numpy.ndarray
             W m⁻² sr⁻¹ nm⁻¹, same shape as ``wavelengths_nm``.
         """
-        return _sun_spectrum.sun_spectral_radiance(self.sun_zenith_rad, wavelengths_nm,
-                                                   self.turbidity, method=method)
+        return _sun_spectrum.sun_spectral_radiance(self.sun_zenith_rad, wavelengths_nm, self.turbidity, method=method)
 
     def sun_irradiance(self, wavelengths_nm, *, method="Preetham 1999"):
         """Direct normal spectral irradiance of the sun, W m⁻² nm⁻¹ (radiance × solid angle).

@@ -110,8 +110,9 @@ def solar_time(standard_time_h, day_of_year, longitude_deg, utc_offset_h) -> np.
     lon = real_array("longitude_deg", longitude_deg, -180.0, 180.0)
     offset = real_array("utc_offset_h", utc_offset_h, -12.0, 14.0)
     # Equation of time, Preetham appendix (hours).
-    equation_of_time_h = (0.170 * np.sin(4.0 * np.pi * (j - 80.0) / 373.0)
-                          - 0.129 * np.sin(2.0 * np.pi * (j - 8.0) / 355.0))
+    equation_of_time_h = 0.170 * np.sin(4.0 * np.pi * (j - 80.0) / 373.0) - 0.129 * np.sin(
+        2.0 * np.pi * (j - 8.0) / 355.0
+    )
     # 12 (SM − L)/π with west-positive radians == (L_east − SM_east)/15 with degrees.
     meridian_correction_h = (lon - 15.0 * offset) / 15.0
     return ts + equation_of_time_h + meridian_correction_h
@@ -136,8 +137,9 @@ def solar_declination(day_of_year) -> np.ndarray:
     return 0.4093 * np.sin(2.0 * np.pi * (j - 81.0) / 368.0)
 
 
-def sun_position(latitude_deg, day_of_year, time_h, *, longitude_deg=None,
-                 utc_offset_h=None) -> tuple[np.ndarray, np.ndarray]:
+def sun_position(
+    latitude_deg, day_of_year, time_h, *, longitude_deg=None, utc_offset_h=None
+) -> tuple[np.ndarray, np.ndarray]:
     """Zenith and azimuth angles of the sun (Preetham et al. 1999, appendix).
 
     θs = π/2 − arcsin(sin l sin δ − cos l cos δ cos(πt/12)),
@@ -177,11 +179,15 @@ def sun_position(latitude_deg, day_of_year, time_h, *, longitude_deg=None,
     """
     lat = np.radians(real_array("latitude_deg", latitude_deg, -90.0, 90.0))
     if (longitude_deg is None) != (utc_offset_h is None):
-        given, missing = (("longitude_deg", "utc_offset_h") if utc_offset_h is None
-                          else ("utc_offset_h", "longitude_deg"))
-        raise ParameterError(missing, None,
-                             f"a value whenever {given} is given (both convert clock time to "
-                             "solar time; omit both to give solar time directly)")
+        given, missing = (
+            ("longitude_deg", "utc_offset_h") if utc_offset_h is None else ("utc_offset_h", "longitude_deg")
+        )
+        raise ParameterError(
+            missing,
+            None,
+            f"a value whenever {given} is given (both convert clock time to "
+            "solar time; omit both to give solar time directly)",
+        )
     if longitude_deg is None:
         t = real_array("time_h", time_h, 0.0, 24.0)
     else:
@@ -190,23 +196,22 @@ def sun_position(latitude_deg, day_of_year, time_h, *, longitude_deg=None,
     delta = solar_declination(day_of_year)
     hour_angle = np.pi * t / 12.0  # Preetham's πt/12 (π at solar noon)
     # Preetham appendix. The clip guards arcsin against rounding just beyond ±1 at the poles.
-    sin_elevation = np.clip(np.sin(lat) * np.sin(delta)
-                            - np.cos(lat) * np.cos(delta) * np.cos(hour_angle), -1.0, 1.0)
+    sin_elevation = np.clip(np.sin(lat) * np.sin(delta) - np.cos(lat) * np.cos(delta) * np.cos(hour_angle), -1.0, 1.0)
     zenith = np.pi / 2.0 - np.arcsin(sin_elevation)
     # Azimuth as in the authors' code: atan2(west component, south component). The denominator
     # is −(cos l sin δ + sin l cos δ cos(πt/12)); the form cos l sin δ − sin l cos δ cos(πt/12)
     # found in reproductions of the appendix is wrong whenever δ ≠ 0 (tens of degrees in winter
     # mornings; see docs/daylight.md).
-    phi_south = np.arctan2(-np.cos(delta) * np.sin(hour_angle),
-                           -(np.cos(lat) * np.sin(delta)
-                             + np.sin(lat) * np.cos(delta) * np.cos(hour_angle)))
+    phi_south = np.arctan2(
+        -np.cos(delta) * np.sin(hour_angle),
+        -(np.cos(lat) * np.sin(delta) + np.sin(lat) * np.cos(delta) * np.cos(hour_angle)),
+    )
     azimuth = np.mod(phi_south + np.pi, 2.0 * np.pi)
     zenith, azimuth = np.broadcast_arrays(zenith, azimuth)
     return zenith.copy(), azimuth.copy()
 
 
-def sun_direction(latitude_deg, day_of_year, time_h, *, longitude_deg=None,
-                  utc_offset_h=None) -> np.ndarray:
+def sun_direction(latitude_deg, day_of_year, time_h, *, longitude_deg=None, utc_offset_h=None) -> np.ndarray:
     """Unit vector towards the sun in the local frame (x east, y north, z up).
 
     Parameters are those of :func:`sun_position`.
@@ -223,8 +228,9 @@ def sun_direction(latitude_deg, day_of_year, time_h, *, longitude_deg=None,
     >>> bool(d[0] > 0.99)                   # rising in the east
     True
     """
-    zenith, azimuth = sun_position(latitude_deg, day_of_year, time_h,
-                                   longitude_deg=longitude_deg, utc_offset_h=utc_offset_h)
+    zenith, azimuth = sun_position(
+        latitude_deg, day_of_year, time_h, longitude_deg=longitude_deg, utc_offset_h=utc_offset_h
+    )
     return direction_from_angles(zenith, azimuth)
 
 
@@ -248,8 +254,7 @@ def direction_from_angles(zenith_rad, azimuth_rad) -> np.ndarray:
     theta = real_array("zenith_rad", zenith_rad, 0.0, np.pi)
     phi = real_array("azimuth_rad", azimuth_rad)
     sin_theta = np.sin(theta)
-    return np.stack(np.broadcast_arrays(sin_theta * np.sin(phi), sin_theta * np.cos(phi),
-                                        np.cos(theta)), axis=-1)
+    return np.stack(np.broadcast_arrays(sin_theta * np.sin(phi), sin_theta * np.cos(phi), np.cos(theta)), axis=-1)
 
 
 def angles_from_direction(direction) -> tuple[np.ndarray, np.ndarray]:

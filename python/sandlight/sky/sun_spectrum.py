@@ -177,8 +177,13 @@ def earth_sun_distance_factor(day_of_year):
     """
     j = real_array("day_of_year", day_of_year, 1.0, 366.0)
     gamma = 2.0 * np.pi * (j - 1.0) / 365.0
-    return (1.000110 + 0.034221 * np.cos(gamma) + 0.001280 * np.sin(gamma)
-            + 0.000719 * np.cos(2.0 * gamma) + 0.000077 * np.sin(2.0 * gamma))
+    return (
+        1.000110
+        + 0.034221 * np.cos(gamma)
+        + 0.001280 * np.sin(gamma)
+        + 0.000719 * np.cos(2.0 * gamma)
+        + 0.000077 * np.sin(2.0 * gamma)
+    )
 
 
 @functools.lru_cache(maxsize=1)
@@ -188,19 +193,22 @@ def _tables() -> dict[str, np.ndarray]:
     Columns: wavelength (nm), extraterrestrial irradiance (W m⁻² nm⁻¹ at 1 au), water-vapour,
     ozone (cm⁻¹) and mixed-gas absorption coefficients, 122 rows, 300–4000 nm.
     """
-    message = ("the sun spectrum needs pvlib >= 0.10 (its SPECTRL2 tables: Bird & Riordan 1986); "
-               "install it with `pip install pvlib`")
+    message = (
+        "the sun spectrum needs pvlib >= 0.10 (its SPECTRL2 tables: Bird & Riordan 1986); "
+        "install it with `pip install pvlib`"
+    )
     try:
         # import_module returns the module; the package attribute of the same name is the function.
         module = importlib.import_module("pvlib.spectrum.spectrl2")
     except ImportError as err:
         raise ImportError(message) from err
     table = getattr(module, "_SPECTRL2_COEFFS", None)
-    fields = ("wavelength", "spectral_irradiance_et", "water_vapor_absorption",
-              "ozone_absorption", "mixed_absorption")
+    fields = ("wavelength", "spectral_irradiance_et", "water_vapor_absorption", "ozone_absorption", "mixed_absorption")
     if table is None or table.dtype.names is None or not set(fields) <= set(table.dtype.names):
-        raise ImportError(message + f" (this pvlib, {getattr(module, '__name__', '?')}, "
-                          "no longer exposes the SPECTRL2 table in the expected form)")
+        raise ImportError(
+            message + f" (this pvlib, {getattr(module, '__name__', '?')}, "
+            "no longer exposes the SPECTRL2 table in the expected form)"
+        )
     out = {name: np.array(table[name], dtype=np.float64) for name in fields}
     if out["wavelength"][0] != 300.0 or out["wavelength"][-1] != 4000.0:
         raise ImportError(message + " (unexpected SPECTRL2 wavelength grid)")
@@ -212,8 +220,9 @@ def _tables() -> dict[str, np.ndarray]:
 def _wavelengths(wavelength_nm) -> np.ndarray:
     wavelength = real_array("wavelength_nm", wavelength_nm, *WAVELENGTH_RANGE_NM)
     if wavelength.ndim > 1:
-        raise ParameterError("wavelength_nm", f"array of shape {wavelength.shape}",
-                             "a scalar or a 1-D array of wavelengths in nm")
+        raise ParameterError(
+            "wavelength_nm", f"array of shape {wavelength.shape}", "a scalar or a 1-D array of wavelengths in nm"
+        )
     return wavelength
 
 
@@ -244,8 +253,9 @@ def _check_atmosphere(turbidity, ozone_cm, water_vapour_cm):
     return t, ozone, water
 
 
-def transmittance_components(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZONE_CM,
-                             water_vapour_cm=WATER_VAPOUR_CM) -> dict[str, np.ndarray]:
+def transmittance_components(
+    zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZONE_CM, water_vapour_cm=WATER_VAPOUR_CM
+) -> dict[str, np.ndarray]:
     """The five beam transmittances of Preetham et al. (1999), appendix (see module docstring).
 
     Parameters
@@ -281,20 +291,20 @@ def transmittance_components(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=O
     beta = 0.04608365822050 * t - 0.04586025928522
     # Preetham appendix with m multiplying each optical depth (the authors' code): see docstring.
     components = {
-        "rayleigh": np.exp(-m * 0.008735 * lambda_um ** -4.08),
-        "aerosol": np.exp(-m * beta * lambda_um ** -ANGSTROM_ALPHA),
+        "rayleigh": np.exp(-m * 0.008735 * lambda_um**-4.08),
+        "aerosol": np.exp(-m * beta * lambda_um**-ANGSTROM_ALPHA),
         "ozone": np.exp(-m * k_o * ozone),
         "mixed_gases": np.exp(-1.41 * k_g * m / (1.0 + 118.93 * k_g * m) ** 0.45),
-        "water_vapour": np.exp(-0.2385 * k_wa * water * m
-                               / (1.0 + 20.07 * k_wa * water * m) ** 0.45),
+        "water_vapour": np.exp(-0.2385 * k_wa * water * m / (1.0 + 20.07 * k_wa * water * m) ** 0.45),
     }
     if scalar_wavelength:
         components = {key: value[..., 0] for key, value in components.items()}
     return components
 
 
-def sun_transmittance(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZONE_CM,
-                      water_vapour_cm=WATER_VAPOUR_CM, method="Preetham 1999"):
+def sun_transmittance(
+    zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZONE_CM, water_vapour_cm=WATER_VAPOUR_CM, method="Preetham 1999"
+):
     """Spectral transmittance of the atmosphere along the direct solar beam.
 
     Parameters
@@ -318,12 +328,12 @@ def sun_transmittance(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZONE_CM
         Dimensionless, shape ``zenith.shape + wavelength.shape``.
     """
     if method == "Preetham 1999":
-        components = transmittance_components(zenith_rad, wavelength_nm, turbidity,
-                                              ozone_cm=ozone_cm, water_vapour_cm=water_vapour_cm)
+        components = transmittance_components(
+            zenith_rad, wavelength_nm, turbidity, ozone_cm=ozone_cm, water_vapour_cm=water_vapour_cm
+        )
         return functools.reduce(np.multiply, components.values())
     if method == "Bird-Riordan 1986":
-        return _spectrl2_transmittance(zenith_rad, wavelength_nm, turbidity, ozone_cm,
-                                       water_vapour_cm)
+        return _spectrl2_transmittance(zenith_rad, wavelength_nm, turbidity, ozone_cm, water_vapour_cm)
     raise ParameterError("method", method, f"one of {', '.join(map(repr, METHODS))}")
 
 
@@ -338,13 +348,19 @@ def _spectrl2_transmittance(zenith_rad, wavelength_nm, turbidity, ozone_cm, wate
     zenith_deg = np.degrees(theta).reshape(-1)
     beta = 0.04608365822050 * t - 0.04586025928522
     result = pvlib.spectrum.spectrl2(
-        apparent_zenith=zenith_deg, aoi=zenith_deg, surface_tilt=0.0, ground_albedo=0.0,
+        apparent_zenith=zenith_deg,
+        aoi=zenith_deg,
+        surface_tilt=0.0,
+        ground_albedo=0.0,
         surface_pressure=_SEA_LEVEL_PRESSURE_PA,
         relative_airmass=pvlib.atmosphere.get_relative_airmass(zenith_deg, model="kasten1966"),
-        precipitable_water=water, ozone=ozone,
+        precipitable_water=water,
+        ozone=ozone,
         # Ångström: τ_a(500 nm) = β · 0.5^−α, with Preetham's α.
-        aerosol_turbidity_500nm=beta * 0.5 ** -ANGSTROM_ALPHA, alpha=ANGSTROM_ALPHA,
-        dayofyear=np.ones_like(zenith_deg))
+        aerosol_turbidity_500nm=beta * 0.5**-ANGSTROM_ALPHA,
+        alpha=ANGSTROM_ALPHA,
+        dayofyear=np.ones_like(zenith_deg),
+    )
     # dni / dni_extra removes the extraterrestrial spectrum and its eccentricity correction.
     transmittance_grid = np.asarray(result["dni"]) / np.asarray(result["dni_extra"])  # (122, N)
     # Linear interpolation along the wavelength grid for all zenith angles at once.
@@ -352,15 +368,24 @@ def _spectrl2_transmittance(zenith_rad, wavelength_nm, turbidity, ozone_cm, wate
     targets = np.atleast_1d(wavelength)
     upper = np.clip(np.searchsorted(grid, targets), 1, grid.size - 1)
     weight = (targets - grid[upper - 1]) / (grid[upper] - grid[upper - 1])
-    flat = (transmittance_grid[upper - 1] * (1.0 - weight)[:, np.newaxis]
-            + transmittance_grid[upper] * weight[:, np.newaxis]).T  # (N, n)
+    flat = (
+        transmittance_grid[upper - 1] * (1.0 - weight)[:, np.newaxis]
+        + transmittance_grid[upper] * weight[:, np.newaxis]
+    ).T  # (N, n)
     out = flat.reshape(theta.shape + targets.shape)
     return out[..., 0] if wavelength.ndim == 0 else out
 
 
-def sun_spectral_irradiance(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZONE_CM,
-                            water_vapour_cm=WATER_VAPOUR_CM, day_of_year=None,
-                            method="Preetham 1999"):
+def sun_spectral_irradiance(
+    zenith_rad,
+    wavelength_nm,
+    turbidity,
+    *,
+    ozone_cm=OZONE_CM,
+    water_vapour_cm=WATER_VAPOUR_CM,
+    day_of_year=None,
+    method="Preetham 1999",
+):
     """Direct normal spectral irradiance of the sun at sea level.
 
     E(λ) = E0 · E_ext(λ) · τ(λ), with E_ext the extraterrestrial spectrum at 1 au, E0 the
@@ -386,8 +411,9 @@ def sun_spectral_irradiance(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZ
     numpy.ndarray
         W m⁻² nm⁻¹ on a surface normal to the beam; shape ``zenith.shape + wavelength.shape``.
     """
-    transmittance = sun_transmittance(zenith_rad, wavelength_nm, turbidity, ozone_cm=ozone_cm,
-                                      water_vapour_cm=water_vapour_cm, method=method)
+    transmittance = sun_transmittance(
+        zenith_rad, wavelength_nm, turbidity, ozone_cm=ozone_cm, water_vapour_cm=water_vapour_cm, method=method
+    )
     irradiance = extraterrestrial_spectral_irradiance(wavelength_nm) * transmittance
     if day_of_year is not None:
         factor = earth_sun_distance_factor(day_of_year)
@@ -397,8 +423,9 @@ def sun_spectral_irradiance(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZ
     return irradiance
 
 
-def sun_spectral_radiance(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZONE_CM,
-                          water_vapour_cm=WATER_VAPOUR_CM, method="Preetham 1999"):
+def sun_spectral_radiance(
+    zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZONE_CM, water_vapour_cm=WATER_VAPOUR_CM, method="Preetham 1999"
+):
     """Spectral radiance of the solar disc seen from sea level.
 
     L(λ) = E(λ) / Ω at the mean Earth–Sun distance, Ω = :data:`SUN_SOLID_ANGLE_SR`; a renderer
@@ -415,6 +442,9 @@ def sun_spectral_radiance(zenith_rad, wavelength_nm, turbidity, *, ozone_cm=OZON
     numpy.ndarray
         W m⁻² sr⁻¹ nm⁻¹; shape ``zenith.shape + wavelength.shape``.
     """
-    return sun_spectral_irradiance(zenith_rad, wavelength_nm, turbidity, ozone_cm=ozone_cm,
-                                   water_vapour_cm=water_vapour_cm,
-                                   method=method) / SUN_SOLID_ANGLE_SR
+    return (
+        sun_spectral_irradiance(
+            zenith_rad, wavelength_nm, turbidity, ozone_cm=ozone_cm, water_vapour_cm=water_vapour_cm, method=method
+        )
+        / SUN_SOLID_ANGLE_SR
+    )

@@ -14,11 +14,35 @@ The combined spectral × spatial BRDF is `sandlight.appearance.SandAppearance`.
 """
 
 from sandlight.spatial.mesh import Mesh
-from sandlight.spatial.model import (SpatialApproximationWarning, SpatialBRDF, SpatialModel, default_model,
-                                     default_model_path)
-from sandlight.spatial.training import (HoldoutReport, cross_validate, evaluate, measure_nodes, node_brdfs,
-                                        node_job, train_spatial)
+from sandlight.spatial.model import (
+    SpatialApproximationWarning,
+    SpatialBRDF,
+    SpatialModel,
+    default_model,
+    default_model_path,
+)
+from sandlight.spatial.training import (
+    HoldoutReport,
+    cross_validate,
+    evaluate,
+    measure_nodes,
+    node_brdfs,
+    node_job,
+    train_spatial,
+)
 
-__all__ = ["Mesh", "SpatialModel", "SpatialBRDF", "SpatialApproximationWarning", "default_model",
-           "default_model_path", "HoldoutReport", "evaluate", "cross_validate", "measure_nodes", "node_brdfs", "node_job",
-           "train_spatial"]
+__all__ = [
+    "Mesh",
+    "SpatialModel",
+    "SpatialBRDF",
+    "SpatialApproximationWarning",
+    "default_model",
+    "default_model_path",
+    "HoldoutReport",
+    "evaluate",
+    "cross_validate",
+    "measure_nodes",
+    "node_brdfs",
+    "node_job",
+    "train_spatial",
+]

@@ -29,8 +29,8 @@ from __future__ import annotations
 
 import functools
 import math
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -108,11 +108,15 @@ class Mesh:
             nodes = nodes[:, None]
         d = len(params)
         if nodes.ndim != 2 or nodes.shape[1] != d:
-            raise ParameterError("nodes", f"an array of shape {nodes.shape}", f"must have shape (n, {d}), one column per parameter")
+            raise ParameterError(
+                "nodes", f"an array of shape {nodes.shape}", f"must have shape (n, {d}), one column per parameter"
+            )
         if not np.isfinite(nodes).all():
             raise ParameterError("nodes", nodes[~np.isfinite(nodes).all(axis=1)][0].tolist(), "finite coordinates")
         if nodes.shape[0] < d + 1:
-            raise ParameterError("nodes", f"{nodes.shape[0]} nodes", f"at least d + 1 = {d + 1} nodes for {d} parameter(s)")
+            raise ParameterError(
+                "nodes", f"{nodes.shape[0]} nodes", f"at least d + 1 = {d + 1} nodes for {d} parameter(s)"
+            )
         if len(np.unique(nodes, axis=0)) != len(nodes):
             raise ParameterError("nodes", "duplicate nodes", "distinct nodes")
         for j, p in enumerate(params):
@@ -133,7 +137,7 @@ class Mesh:
 
     # ---- construction ----------------------------------------------------------------------
     @classmethod
-    def grid(cls, base=None, **axes) -> "Mesh":
+    def grid(cls, base=None, **axes) -> Mesh:
         """A mesh on the Cartesian product of per-parameter node values.
 
         Parameters
@@ -156,7 +160,7 @@ class Mesh:
         return cls(tuple(names), mesh, base)
 
     @classmethod
-    def beach(cls, n: int = 16, base=None) -> "Mesh":
+    def beach(cls, n: int = 16, base=None) -> Mesh:
         """The paper's beach-scene mesh: ``n`` degrees of saturation evenly spaced over [0, 1]."""
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
             raise ParameterError("n", n, "an integer >= 2")
@@ -221,7 +225,9 @@ class Mesh:
         if x.ndim == 1 and x.shape[0] == self.dimension:
             x = x[None, :]
         if x.ndim != 2 or x.shape[1] != self.dimension:
-            raise ParameterError("points", f"an array of shape {x.shape}", f"shape (k, {self.dimension}) in the order {self.parameters}")
+            raise ParameterError(
+                "points", f"an array of shape {x.shape}", f"shape (k, {self.dimension}) in the order {self.parameters}"
+            )
         return x
 
     def differing_parameters(self, sample) -> dict:
@@ -236,8 +242,11 @@ class Mesh:
             if k in self.parameters or k in derived or k not in d:
                 continue
             w = d[k]
-            same = (v == w) if isinstance(v, str) or isinstance(w, str) else (
-                (math.isinf(v) and v == w) or math.isclose(float(v), float(w), rel_tol=1e-9, abs_tol=1e-12))
+            same = (
+                (v == w)
+                if isinstance(v, str) or isinstance(w, str)
+                else ((math.isinf(v) and v == w) or math.isclose(float(v), float(w), rel_tol=1e-9, abs_tol=1e-12))
+            )
             if not same:
                 out[k] = (w, v)
         return out
@@ -253,8 +262,12 @@ class Mesh:
         try:
             return Delaunay(self._unit(self.nodes))
         except QhullError as exc:
-            raise ParameterError("nodes", f"{self.n_nodes} nodes in {self.dimension}-D",
-                                 f"nodes spanning all {self.dimension} dimensions (not all in one hyperplane): {str(exc).splitlines()[0]}") from None
+            raise ParameterError(
+                "nodes",
+                f"{self.n_nodes} nodes in {self.dimension}-D",
+                f"nodes spanning all {self.dimension} dimensions (not all in one hyperplane): "
+                f"{str(exc).splitlines()[0]}",
+            ) from None
 
     def locate(self, points) -> tuple[np.ndarray, np.ndarray]:
         """Simplex vertices and barycentric weights of points inside the mesh (paper eq. 6).
@@ -298,8 +311,12 @@ class Mesh:
         point = dict(zip(self.parameters, (float(v) for v in x_row)))
         name = self.parameters[0] if self.dimension == 1 else ", ".join(self.parameters)
         value = point[name] if self.dimension == 1 else point
-        return ParameterError(name, value, f"a point inside the spatial model's mesh ({self._ranges()}"
-                              f"{'' if self.dimension == 1 else ', within the convex hull of the nodes'})")
+        return ParameterError(
+            name,
+            value,
+            f"a point inside the spatial model's mesh ({self._ranges()}"
+            f"{'' if self.dimension == 1 else ', within the convex hull of the nodes'})",
+        )
 
     def _locate_1d(self, x):
         order = np.argsort(self.nodes[:, 0])
@@ -337,13 +354,15 @@ class Mesh:
         return {"parameters": list(self.parameters), "nodes": self.nodes.tolist(), "base": dict(self.base)}
 
     @classmethod
-    def from_dict(cls, d: Mapping) -> "Mesh":
+    def from_dict(cls, d: Mapping) -> Mesh:
         return cls(tuple(d["parameters"]), np.asarray(d["nodes"], dtype=float), d["base"])
 
     def __eq__(self, other) -> bool:
         if not isinstance(other, Mesh):
             return NotImplemented
-        return self.parameters == other.parameters and np.array_equal(self.nodes, other.nodes) and self.base == other.base
+        return (
+            self.parameters == other.parameters and np.array_equal(self.nodes, other.nodes) and self.base == other.base
+        )
 
     __hash__ = None
 

@@ -47,9 +47,9 @@ from __future__ import annotations
 
 import functools
 import warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -57,17 +57,31 @@ from sandlight.errors import ModelFileError, ParameterError, SandlightError
 from sandlight.gonio.brdf import MeasuredBRDF, band_grid, band_grid_f
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.symmetry import EquivalenceClasses
+from sandlight.io import read_model_npz, write_model_npz
 from sandlight.predictor.spectral import ModelVersionWarning, _plain
 from sandlight.spatial.mesh import Mesh
-from sandlight.io import read_model_npz, write_model_npz
 
-__all__ = ["SpatialModel", "SpatialBRDF", "SpatialApproximationWarning", "default_model", "default_model_path",
-           "MODEL_FORMAT", "MODEL_FORMAT_VERSION"]
+__all__ = [
+    "SpatialModel",
+    "SpatialBRDF",
+    "SpatialApproximationWarning",
+    "default_model",
+    "default_model_path",
+    "MODEL_FORMAT",
+    "MODEL_FORMAT_VERSION",
+]
 
 MODEL_FORMAT = "sandlight-spatial-model"
 MODEL_FORMAT_VERSION = 1
-_ARRAYS = ("mean", "components", "scale", "explained_variance_ratio", "node_coordinates", "node_scores",
-           "node_normal_reflectance")
+_ARRAYS = (
+    "mean",
+    "components",
+    "scale",
+    "explained_variance_ratio",
+    "node_coordinates",
+    "node_scores",
+    "node_normal_reflectance",
+)
 FIXED_POLICIES = ("warn", "ignore", "error")
 SCALINGS = ("relative", "none", "noise")
 
@@ -202,10 +216,13 @@ class SpatialModel:
         self.scaling = scaling
 
     def get_params(self, deep=True) -> dict:
-        return {"n_components": self.n_components, "variance_threshold": self.variance_threshold,
-                "scaling": self.scaling}
+        return {
+            "n_components": self.n_components,
+            "variance_threshold": self.variance_threshold,
+            "scaling": self.scaling,
+        }
 
-    def set_params(self, **params) -> "SpatialModel":
+    def set_params(self, **params) -> SpatialModel:
         for k, v in params.items():
             if k not in self.get_params():
                 raise ParameterError(k, v, f"one of {sorted(self.get_params())}")
@@ -248,7 +265,7 @@ class SpatialModel:
         return self.mean_.shape[0]
 
     # ---- fitting -----------------------------------------------------------------------------
-    def fit(self, brdfs: Sequence[MeasuredBRDF], mesh: Mesh, *, training_set: Mapping | None = None) -> "SpatialModel":
+    def fit(self, brdfs: Sequence[MeasuredBRDF], mesh: Mesh, *, training_set: Mapping | None = None) -> SpatialModel:
         """Fit the PCA basis to the node BRDFs.
 
         Parameters
@@ -279,8 +296,11 @@ class SpatialModel:
         S = np.stack([b.unique_stderr for b in brdfs])
         bad = ~np.isfinite(X).all(axis=1)
         if bad.any():
-            raise ParameterError("brdfs", f"node {int(np.argmax(bad))} has undefined values (a class saw no incidence "
-                                 "or R = 0)", "finite normalised BRDFs: measure with more rays")
+            raise ParameterError(
+                "brdfs",
+                f"node {int(np.argmax(bad))} has undefined values (a class saw no incidence or R = 0)",
+                "finite normalised BRDFs: measure with more rays",
+            )
         stderr = S if np.isfinite(S).all() else None
         n, m = X.shape
 
@@ -332,8 +352,14 @@ class SpatialModel:
             raise ParameterError("fixed", fixed, f"one of {FIXED_POLICIES}")
         from sandlight.sample import SandSample
 
-        many = samples if isinstance(samples, Sequence) and not isinstance(samples, str) and samples and \
-            isinstance(samples[0], (SandSample, Mapping)) else None
+        many = (
+            samples
+            if isinstance(samples, Sequence)
+            and not isinstance(samples, str)
+            and samples
+            and isinstance(samples[0], (SandSample, Mapping))
+            else None
+        )
         if isinstance(samples, (SandSample, Mapping)):
             many = [samples]
         if many is not None and fixed != "ignore":
@@ -341,14 +367,23 @@ class SpatialModel:
                 diff = self.mesh_.differing_parameters(s)
                 if diff:
                     text = ", ".join(f"{k} = {a!r} (base {b!r})" for k, a, b in ((k, *v) for k, v in diff.items()))
-                    message = (f"the spatial model's mesh varies only {', '.join(self.mesh_.parameters)}; this sample "
-                               f"differs from its base sample in {text}")
+                    message = (
+                        f"the spatial model's mesh varies only {', '.join(self.mesh_.parameters)}; this sample "
+                        f"differs from its base sample in {text}"
+                    )
                     if fixed == "error":
                         name = next(iter(diff))
-                        raise ParameterError(name, diff[name][0], f"{diff[name][1]!r}, the value of the spatial model's "
-                                             f"base sample (pass fixed='warn' or 'ignore' to accept the approximation)")
-                    warnings.warn(message + ": its BRDF shape is taken at its mesh coordinates with the base's other "
-                                  "parameters", SpatialApproximationWarning, stacklevel=3)
+                        raise ParameterError(
+                            name,
+                            diff[name][0],
+                            f"{diff[name][1]!r}, the value of the spatial model's "
+                            f"base sample (pass fixed='warn' or 'ignore' to accept the approximation)",
+                        )
+                    warnings.warn(
+                        message + ": its BRDF shape is taken at its mesh coordinates with the base's other parameters",
+                        SpatialApproximationWarning,
+                        stacklevel=3,
+                    )
         x = self.mesh_.coordinates(samples)
         idx, w = self.mesh_.locate(x)
         return x, idx, w, many
@@ -405,16 +440,28 @@ class SpatialModel:
         return self.training_set_.get("memory", "none")
 
     def _metadata(self) -> dict:
-        return {"format": MODEL_FORMAT, "format_version": MODEL_FORMAT_VERSION,
-                "sandlight_version": _sandlight_version(), "params": self.get_params(),
-                "mesh": {"parameters": list(self.mesh_.parameters), "base": self.mesh_.base},
-                "stacks": self.stacks_, "slices": self.slices_, "wavelength_nm": self.wavelength_nm_,
-                "n_components": self.n_components_, "reconstruction_rms": self.reconstruction_rms_,
-                "node_noise_rms": self.node_noise_rms_, "training_set": self.training_set_,
-                "holdout_scores": self.holdout_scores_,
-                "units": {"mean": "sr-1", "components": "sr-1 per unit score", "scale": "sr-1 (relative, none) or as stderr",
-                          "node_coordinates":
-                          "units of the mesh parameters (SandSample)", "node_normal_reflectance": "1"}}
+        return {
+            "format": MODEL_FORMAT,
+            "format_version": MODEL_FORMAT_VERSION,
+            "sandlight_version": _sandlight_version(),
+            "params": self.get_params(),
+            "mesh": {"parameters": list(self.mesh_.parameters), "base": self.mesh_.base},
+            "stacks": self.stacks_,
+            "slices": self.slices_,
+            "wavelength_nm": self.wavelength_nm_,
+            "n_components": self.n_components_,
+            "reconstruction_rms": self.reconstruction_rms_,
+            "node_noise_rms": self.node_noise_rms_,
+            "training_set": self.training_set_,
+            "holdout_scores": self.holdout_scores_,
+            "units": {
+                "mean": "sr-1",
+                "components": "sr-1 per unit score",
+                "scale": "sr-1 (relative, none) or as stderr",
+                "node_coordinates": "units of the mesh parameters (SandSample)",
+                "node_normal_reflectance": "1",
+            },
+        }
 
     def save(self, path) -> Path:
         """Write the model as plain arrays + JSON metadata in an ``.npz`` file (never pickle).
@@ -423,16 +470,21 @@ class SpatialModel:
         """
         self._check_is_fitted()
         path = Path(path)
-        arrays = {"mean": self.mean_, "components": self.components_, "scale": self.scale_,
-                  "explained_variance_ratio": self.explained_variance_ratio_,
-                  "node_coordinates": self.mesh_.nodes, "node_scores": self.node_scores_,
-                  "node_normal_reflectance": self.node_normal_reflectance_}
+        arrays = {
+            "mean": self.mean_,
+            "components": self.components_,
+            "scale": self.scale_,
+            "explained_variance_ratio": self.explained_variance_ratio_,
+            "node_coordinates": self.mesh_.nodes,
+            "node_scores": self.node_scores_,
+            "node_normal_reflectance": self.node_normal_reflectance_,
+        }
         if self.signal_variance_ratio_ is not None:
             arrays["signal_variance_ratio"] = self.signal_variance_ratio_
         return write_model_npz(path, _plain(self._metadata()), arrays, compressed=True)
 
     @classmethod
-    def load(cls, path) -> "SpatialModel":
+    def load(cls, path) -> SpatialModel:
         """Read a model written by `save`.
 
         Raises
@@ -447,19 +499,24 @@ class SpatialModel:
             The file was written by another sandlight version.
         """
         path = Path(path)
-        meta, data = read_model_npz(path, kind="spatial model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION)
+        meta, data = read_model_npz(
+            path, kind="spatial model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION
+        )
         try:
             model = cls._from_parts(meta, data)
         except (KeyError, TypeError, ValueError) as exc:  # ParameterError is a ValueError
             raise ModelFileError(f"{path} is an incomplete or inconsistent spatial model file: {exc}") from exc
         if meta.get("sandlight_version") != _sandlight_version():
-            warnings.warn(f"{path} was written by sandlight {meta.get('sandlight_version')}, this is sandlight "
-                          f"{_sandlight_version()}: predictions follow the engine that measured the model",
-                          ModelVersionWarning, stacklevel=2)
+            warnings.warn(
+                f"{path} was written by sandlight {meta.get('sandlight_version')}, this is sandlight "
+                f"{_sandlight_version()}: predictions follow the engine that measured the model",
+                ModelVersionWarning,
+                stacklevel=2,
+            )
         return model
 
     @classmethod
-    def _from_parts(cls, meta: dict, data: dict) -> "SpatialModel":
+    def _from_parts(cls, meta: dict, data: dict) -> SpatialModel:
         missing = [a for a in _ARRAYS if a not in data]
         if missing:
             raise KeyError(f"missing arrays {missing}")
@@ -469,8 +526,14 @@ class SpatialModel:
         m = EquivalenceClasses(CollectorHemisphere(stacks, slices)).n_classes
         mesh = Mesh(tuple(meta["mesh"]["parameters"]), data["node_coordinates"], meta["mesh"]["base"])
         n, d, k = mesh.n_nodes, mesh.dimension, int(meta["n_components"])
-        expected = {"mean": (m,), "components": (k, m), "scale": (m,), "node_coordinates": (n, d), "node_scores": (n, k),
-                    "node_normal_reflectance": (n,)}
+        expected = {
+            "mean": (m,),
+            "components": (k, m),
+            "scale": (m,),
+            "node_coordinates": (n, d),
+            "node_scores": (n, k),
+            "node_normal_reflectance": (n,),
+        }
         for name, shape in expected.items():
             if data[name].shape != shape:
                 raise ValueError(f"array {name!r} has shape {data[name].shape}, expected {shape}")
@@ -540,7 +603,8 @@ def default_model() -> SpatialModel:
     """
     path = default_model_path()
     if not path.is_file():
-        raise ModelFileError(f"the default spatial model is not installed (expected at {path}); train it with "
-                             f"scripts/train_default_spatial.py, or pass a model file")
+        raise ModelFileError(
+            f"the default spatial model is not installed (expected at {path}); train it with "
+            f"scripts/train_default_spatial.py, or pass a model file"
+        )
     return SpatialModel.load(path)
-

@@ -30,9 +30,9 @@ from __future__ import annotations
 import functools
 import json
 import time
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Mapping, Sequence
 
 import numpy as np
 
@@ -41,14 +41,23 @@ from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import REDUCTION_METHODS
 from sandlight.gonio.symmetry import EquivalenceClasses
+from sandlight.io import write_atomically
 from sandlight.jobs import Job, JobStatus, derive_seed
 from sandlight.jobs.executors import resolve_executor
-from sandlight.io import write_atomically
 from sandlight.spatial.mesh import Mesh
 from sandlight.spatial.model import SpatialModel
 
-__all__ = ["node_job", "measure_nodes", "node_brdfs", "evaluate", "cross_validate", "HoldoutReport", "train_spatial",
-           "TrainingRun", "NODE_SET_FORMAT"]
+__all__ = [
+    "node_job",
+    "measure_nodes",
+    "node_brdfs",
+    "evaluate",
+    "cross_validate",
+    "HoldoutReport",
+    "train_spatial",
+    "TrainingRun",
+    "NODE_SET_FORMAT",
+]
 
 NODE_SET_FORMAT = "sandlight-spatial-nodes"
 NODE_SET_FORMAT_VERSION = 1
@@ -56,8 +65,18 @@ NODE_SET_FORMAT_VERSION = 1
 HOLDOUT_MAX_RELATIVE_STDERR = 0.02
 
 
-def engine_measure(params: dict, wavelength_nm: float, *, rays: int, seed: int, stacks: int, slices: int,
-                   threads: int, checkpoint=None, memory: str = "none") -> dict:
+def engine_measure(
+    params: dict,
+    wavelength_nm: float,
+    *,
+    rays: int,
+    seed: int,
+    stacks: int,
+    slices: int,
+    threads: int,
+    checkpoint=None,
+    memory: str = "none",
+) -> dict:
     """Goniophotometer counts of one sample with sandlight's engine (the default ``measure``).
 
     Returns ``{"counts", "absorbed", "launched", "lost"}`` as integer arrays.
@@ -65,8 +84,18 @@ def engine_measure(params: dict, wavelength_nm: float, *, rays: int, seed: int, 
     from sandlight.gonio.measure import brdf
     from sandlight.sample import SandSample
 
-    b = brdf(SandSample.from_dict(params), wavelength_nm, rays=rays, stacks=stacks, slices=slices, seed=seed,
-             threads=threads, checkpoint=checkpoint, progress=False, memory=memory)
+    b = brdf(
+        SandSample.from_dict(params),
+        wavelength_nm,
+        rays=rays,
+        stacks=stacks,
+        slices=slices,
+        seed=seed,
+        threads=threads,
+        checkpoint=checkpoint,
+        progress=False,
+        memory=memory,
+    )
     return {"counts": b.counts, "absorbed": b.absorbed, "launched": b.launched, "lost": b.lost}
 
 
@@ -75,8 +104,19 @@ def _counts_dtype(rays: int):
     return np.uint32 if rays < 2**32 else np.uint64
 
 
-def node_task(payload: dict, seed: int, *, wavelength_nm: float, rays: int, stacks: int, slices: int, threads: int,
-              checkpoint_dir=None, measure=None, memory: str = "none") -> dict:
+def node_task(
+    payload: dict,
+    seed: int,
+    *,
+    wavelength_nm: float,
+    rays: int,
+    stacks: int,
+    slices: int,
+    threads: int,
+    checkpoint_dir=None,
+    measure=None,
+    memory: str = "none",
+) -> dict:
     """Job task: goniophotometer counts of one node (runs on a worker)."""
     measure = functools.partial(engine_measure, memory=memory) if measure is None else measure
     params = {k: v for k, v in payload.items() if k != "node_index"}
@@ -84,14 +124,24 @@ def node_task(payload: dict, seed: int, *, wavelength_nm: float, rays: int, stac
     if checkpoint_dir is not None:  # created here: the job store must exist (and be empty) before the job runs
         Path(checkpoint_dir).mkdir(parents=True, exist_ok=True)
         checkpoint = Path(checkpoint_dir) / f"node-{int(payload['node_index']):05d}.npz"
-    out = measure(params, wavelength_nm, rays=rays, seed=seed, stacks=stacks, slices=slices, threads=threads,
-                  checkpoint=checkpoint)
+    out = measure(
+        params,
+        wavelength_nm,
+        rays=rays,
+        seed=seed,
+        stacks=stacks,
+        slices=slices,
+        threads=threads,
+        checkpoint=checkpoint,
+    )
     r = CollectorHemisphere(stacks, slices).n_patches
     counts = np.asarray(out["counts"])
     if counts.shape != (r, r):
         raise ValueError(f"measure returned counts of shape {counts.shape}, expected ({r}, {r})")
-    return {"counts": counts.astype(_counts_dtype(rays)),
-            **{k: np.asarray(out[k]).astype(np.int64) for k in ("absorbed", "launched", "lost")}}
+    return {
+        "counts": counts.astype(_counts_dtype(rays)),
+        **{k: np.asarray(out[k]).astype(np.int64) for k in ("absorbed", "launched", "lost")},
+    }
 
 
 def _measure_name(measure) -> str:
@@ -106,9 +156,21 @@ def _check_count(name: str, value) -> int:
     return int(value)
 
 
-def node_job(path, mesh_or_samples, wavelength_nm: float, rays: int, seed: int, *, stacks: int = 31,
-             slices: int = 30, threads: int = 1, checkpoint: bool = True, measure=None,
-             kind: str = "nodes", memory: str = "none") -> Job:
+def node_job(
+    path,
+    mesh_or_samples,
+    wavelength_nm: float,
+    rays: int,
+    seed: int,
+    *,
+    stacks: int = 31,
+    slices: int = 30,
+    threads: int = 1,
+    checkpoint: bool = True,
+    measure=None,
+    kind: str = "nodes",
+    memory: str = "none",
+) -> Job:
     """The job measuring the BRDF of every node of a mesh (or of a list of samples), not yet run.
 
     Parameters
@@ -162,26 +224,77 @@ def node_job(path, mesh_or_samples, wavelength_nm: float, rays: int, seed: int, 
             raise ParameterError("samples", samples, "at least one sample")
     payloads = [{"node_index": i, **s} for i, s in enumerate(samples)]
     path = Path(path)
-    settings = {"kind": f"{NODE_SET_FORMAT}:{kind}", "wavelength_nm": wl, "rays": rays, "stacks": int(stacks),
-                "slices": int(slices), "measure": _measure_name(measure), "sandlight_version": __version__,
-                **with_memory}
-    fn = functools.partial(node_task, wavelength_nm=wl, rays=rays, stacks=int(stacks), slices=int(slices),
-                           threads=threads, checkpoint_dir=str(path / "checkpoints") if checkpoint else None,
-                           measure=measure, memory=memory)
-    attrs = {"format": NODE_SET_FORMAT, "format_version": NODE_SET_FORMAT_VERSION, "wavelength_nm": wl, "rays": rays,
-             "stacks": int(stacks), "slices": int(slices), "seed": int(seed), "measure": settings["measure"],
-             "sandlight_version": __version__, "mesh": mesh_dict, **with_memory}
-    var_attrs = {"counts": {"units": "1", "long_name": "trials with incidence in patch i escaping into patch j"},
-                 "absorbed": {"units": "1"}, "launched": {"units": "1"}, "lost": {"units": "1"},
-                 "wavelength_nm": {"units": "nm"}}
-    return Job(path, fn, payloads, seed=seed, settings=settings,
-               dims={"counts": ("incoming", "outgoing"), "absorbed": ("incoming",), "launched": ("incoming",),
-                     "lost": ("incoming",)},
-               var_attrs=var_attrs, attrs=attrs, task_dim="node")
+    settings = {
+        "kind": f"{NODE_SET_FORMAT}:{kind}",
+        "wavelength_nm": wl,
+        "rays": rays,
+        "stacks": int(stacks),
+        "slices": int(slices),
+        "measure": _measure_name(measure),
+        "sandlight_version": __version__,
+        **with_memory,
+    }
+    fn = functools.partial(
+        node_task,
+        wavelength_nm=wl,
+        rays=rays,
+        stacks=int(stacks),
+        slices=int(slices),
+        threads=threads,
+        checkpoint_dir=str(path / "checkpoints") if checkpoint else None,
+        measure=measure,
+        memory=memory,
+    )
+    attrs = {
+        "format": NODE_SET_FORMAT,
+        "format_version": NODE_SET_FORMAT_VERSION,
+        "wavelength_nm": wl,
+        "rays": rays,
+        "stacks": int(stacks),
+        "slices": int(slices),
+        "seed": int(seed),
+        "measure": settings["measure"],
+        "sandlight_version": __version__,
+        "mesh": mesh_dict,
+        **with_memory,
+    }
+    var_attrs = {
+        "counts": {"units": "1", "long_name": "trials with incidence in patch i escaping into patch j"},
+        "absorbed": {"units": "1"},
+        "launched": {"units": "1"},
+        "lost": {"units": "1"},
+        "wavelength_nm": {"units": "nm"},
+    }
+    return Job(
+        path,
+        fn,
+        payloads,
+        seed=seed,
+        settings=settings,
+        dims={
+            "counts": ("incoming", "outgoing"),
+            "absorbed": ("incoming",),
+            "launched": ("incoming",),
+            "lost": ("incoming",),
+        },
+        var_attrs=var_attrs,
+        attrs=attrs,
+        task_dim="node",
+    )
 
 
-def measure_nodes(path, mesh: Mesh, wavelength_nm: float, rays: int, seed: int, executor=None, *,
-                  progress: bool = True, max_tasks: int | None = None, **job_options) -> JobStatus:
+def measure_nodes(
+    path,
+    mesh: Mesh,
+    wavelength_nm: float,
+    rays: int,
+    seed: int,
+    executor=None,
+    *,
+    progress: bool = True,
+    max_tasks: int | None = None,
+    **job_options,
+) -> JobStatus:
     """Measure every node of ``mesh`` (resumable: the same call continues an interrupted run).
 
     Parameters are those of `node_job`; ``executor`` is an `Executor` or 'local', 'in-process',
@@ -189,8 +302,9 @@ def measure_nodes(path, mesh: Mesh, wavelength_nm: float, rays: int, seed: int, 
     dataset once complete.
     """
     job = node_job(path, mesh, wavelength_nm, rays, seed, **job_options)
-    return job.run(resolve_executor(executor), max_tasks=max_tasks, progress=progress, description=Path(path).name,
-                   unit="node")
+    return job.run(
+        resolve_executor(executor), max_tasks=max_tasks, progress=progress, description=Path(path).name, unit="node"
+    )
 
 
 def node_brdfs(dataset, method: str = "average") -> list[MeasuredBRDF]:
@@ -222,11 +336,21 @@ def node_brdfs(dataset, method: str = "average") -> list[MeasuredBRDF]:
         for k in params:
             v = ds[k].values[i]
             sample[k] = str(v) if ds[k].dtype.kind in "US" else float(v)
-        out.append(MeasuredBRDF.from_counts(
-            ds["counts"].values[i].astype(np.int64), ds["absorbed"].values[i], ds["launched"].values[i],
-            ds["lost"].values[i], stacks=int(ds.attrs["stacks"]), slices=int(ds.attrs["slices"]), sample=sample,
-            wavelength_nm=float(ds.attrs["wavelength_nm"]), rays=int(ds.attrs["rays"]), seed=int(ds["seed"].values[i]),
-            method=method))
+        out.append(
+            MeasuredBRDF.from_counts(
+                ds["counts"].values[i].astype(np.int64),
+                ds["absorbed"].values[i],
+                ds["launched"].values[i],
+                ds["lost"].values[i],
+                stacks=int(ds.attrs["stacks"]),
+                slices=int(ds.attrs["slices"]),
+                sample=sample,
+                wavelength_nm=float(ds.attrs["wavelength_nm"]),
+                rays=int(ds.attrs["rays"]),
+                seed=int(ds["seed"].values[i]),
+                method=method,
+            )
+        )
     return out
 
 
@@ -286,16 +410,23 @@ class HoldoutReport:
 
     def table(self) -> str:
         point = ", ".join(f"{k} = {v:g}" for k, v in self.point.items())
-        return (f"held-out point {point} ({self.rays:,} trials): over the {self.n_pairs:,} patch pairs "
-                f"({self.fraction_pairs:.1%}; {self.n_values} unique values) whose relative standard error < "
-                f"{self.max_relative_stderr:.0%}: relative RMS {self.relative_rms:.2%} (per unique value "
-                f"{self.relative_rms_values:.2%}), measurement noise {self.noise_rms:.2%}, estimated model error "
-                f"{self.model_error:.2%}, max |error| {self.max_abs_relative:.2%}; all values: RMS of "
-                f"error/stderr {self.normalised_rms:.2f}")
+        return (
+            f"held-out point {point} ({self.rays:,} trials): over the {self.n_pairs:,} patch pairs "
+            f"({self.fraction_pairs:.1%}; {self.n_values} unique values) whose relative standard error < "
+            f"{self.max_relative_stderr:.0%}: relative RMS {self.relative_rms:.2%} (per unique value "
+            f"{self.relative_rms_values:.2%}), measurement noise {self.noise_rms:.2%}, estimated model error "
+            f"{self.model_error:.2%}, max |error| {self.max_abs_relative:.2%}; all values: RMS of "
+            f"error/stderr {self.normalised_rms:.2f}"
+        )
 
 
-def evaluate(model: SpatialModel, measured: MeasuredBRDF, *, max_relative_stderr: float = HOLDOUT_MAX_RELATIVE_STDERR,
-             attach: bool = False) -> HoldoutReport:
+def evaluate(
+    model: SpatialModel,
+    measured: MeasuredBRDF,
+    *,
+    max_relative_stderr: float = HOLDOUT_MAX_RELATIVE_STDERR,
+    attach: bool = False,
+) -> HoldoutReport:
     """Compare the model's prediction with a direct goniophotometer measurement.
 
     Parameters
@@ -310,8 +441,11 @@ def evaluate(model: SpatialModel, measured: MeasuredBRDF, *, max_relative_stderr
         Append the report to ``model.holdout_scores_`` (saved with the model).
     """
     if (measured.stacks, measured.slices) != (model.stacks_, model.slices_):
-        raise ParameterError("measured", (measured.stacks, measured.slices),
-                             f"a measurement on the model's hemisphere {(model.stacks_, model.slices_)}")
+        raise ParameterError(
+            "measured",
+            (measured.stacks, measured.slices),
+            f"a measurement on the model's hemisphere {(model.stacks_, model.slices_)}",
+        )
     if not 0 < max_relative_stderr < 1:
         raise ParameterError("max_relative_stderr", max_relative_stderr, "a fraction in (0, 1)")
     predicted = model.predict(measured.sample, fixed="warn")[0]
@@ -324,26 +458,42 @@ def evaluate(model: SpatialModel, measured: MeasuredBRDF, *, max_relative_stderr
         finite = np.isfinite(stderr) & (stderr > 0)
         normalised = (predicted - value)[finite] / stderr[finite]
     if not keep.any():
-        raise ParameterError("measured", f"{measured.rays:,} trials",
-                             f"a held-out measurement with some values to better than {max_relative_stderr:.0%} "
-                             f"relative standard error (measure with more trials)")
+        raise ParameterError(
+            "measured",
+            f"{measured.rays:,} trials",
+            f"a held-out measurement with some values to better than {max_relative_stderr:.0%} "
+            f"relative standard error (measure with more trials)",
+        )
     w = sizes[keep].astype(float)
     rms = float(np.sqrt(np.sum(w * rel[keep] ** 2) / w.sum()))
     noise = float(np.sqrt(np.sum(w * rel_se[keep] ** 2) / w.sum()))
     point = dict(zip(model.mesh_.parameters, model.mesh_.coordinates(measured.sample)[0].tolist()))
     report = HoldoutReport(
-        point=point, rays=int(measured.rays), max_relative_stderr=float(max_relative_stderr),
-        n_values=int(keep.sum()), n_pairs=int(w.sum()), fraction_pairs=float(w.sum() / sizes.sum()),
-        relative_rms=rms, relative_rms_values=float(np.sqrt(np.mean(rel[keep] ** 2))), noise_rms=noise,
-        model_error=float(np.sqrt(max(rms**2 - noise**2, 0.0))), max_abs_relative=float(np.abs(rel[keep]).max()),
-        normalised_rms=float(np.sqrt(np.mean(normalised**2))))
+        point=point,
+        rays=int(measured.rays),
+        max_relative_stderr=float(max_relative_stderr),
+        n_values=int(keep.sum()),
+        n_pairs=int(w.sum()),
+        fraction_pairs=float(w.sum() / sizes.sum()),
+        relative_rms=rms,
+        relative_rms_values=float(np.sqrt(np.mean(rel[keep] ** 2))),
+        noise_rms=noise,
+        model_error=float(np.sqrt(max(rms**2 - noise**2, 0.0))),
+        max_abs_relative=float(np.abs(rel[keep]).max()),
+        normalised_rms=float(np.sqrt(np.mean(normalised**2))),
+    )
     if attach:
         model.holdout_scores_ = list(model.holdout_scores_ or []) + [report.to_dict()]
     return report
 
 
-def cross_validate(brdfs: Sequence[MeasuredBRDF], mesh: Mesh, model_params: Mapping | None = None, *,
-                   max_relative_stderr: float = HOLDOUT_MAX_RELATIVE_STDERR) -> list:
+def cross_validate(
+    brdfs: Sequence[MeasuredBRDF],
+    mesh: Mesh,
+    model_params: Mapping | None = None,
+    *,
+    max_relative_stderr: float = HOLDOUT_MAX_RELATIVE_STDERR,
+) -> list:
     """Leave-one-out check: each node inside the others' mesh is predicted by a model fitted
     without it and scored against its own measurement (`evaluate`).
 
@@ -361,7 +511,7 @@ def cross_validate(brdfs: Sequence[MeasuredBRDF], mesh: Mesh, model_params: Mapp
         others = [i for i in range(n) if i != k]
         try:
             sub = Mesh(mesh.parameters, mesh.nodes[others], mesh.base)
-            sub.locate(mesh.nodes[k:k + 1])
+            sub.locate(mesh.nodes[k : k + 1])
         except ParameterError:  # degenerate without node k, or node k on the hull
             continue
         model = SpatialModel(**dict(model_params or {})).fit([brdfs[i] for i in others], sub)
@@ -387,12 +537,28 @@ class TrainingRun:
         return self.model is not None
 
 
-def train_spatial(out_dir, mesh: Mesh, rays: int, wavelength_nm: float = 550.0, seed: int = 0, *,
-                  holdout: Sequence | None = None, holdout_rays: int | None = None, stacks: int = 31,
-                  slices: int = 30, method: str = "average", executor=None, threads: int = 1,
-                  checkpoint: bool = True, fit_only: bool = False, measure=None, progress: bool = True,
-                  max_tasks: int | None = None, model_params: Mapping | None = None,
-                  memory: str = "none") -> TrainingRun:
+def train_spatial(
+    out_dir,
+    mesh: Mesh,
+    rays: int,
+    wavelength_nm: float = 550.0,
+    seed: int = 0,
+    *,
+    holdout: Sequence | None = None,
+    holdout_rays: int | None = None,
+    stacks: int = 31,
+    slices: int = 30,
+    method: str = "average",
+    executor=None,
+    threads: int = 1,
+    checkpoint: bool = True,
+    fit_only: bool = False,
+    measure=None,
+    progress: bool = True,
+    max_tasks: int | None = None,
+    model_params: Mapping | None = None,
+    memory: str = "none",
+) -> TrainingRun:
     """Measure the nodes and held-out points, fit, score and save a spatial model (resumable).
 
     Layout of ``out_dir``: ``nodes/`` and ``holdout/`` (job stores with their ``dataset.nc``),
@@ -422,8 +588,14 @@ def train_spatial(out_dir, mesh: Mesh, rays: int, wavelength_nm: float = 550.0, 
     if method not in REDUCTION_METHODS:
         raise ParameterError("method", method, f"one of {REDUCTION_METHODS}")
     out = Path(out_dir)
-    options = {"stacks": stacks, "slices": slices, "threads": threads, "checkpoint": checkpoint, "measure": measure,
-               "memory": memory}
+    options = {
+        "stacks": stacks,
+        "slices": slices,
+        "threads": threads,
+        "checkpoint": checkpoint,
+        "measure": measure,
+        "memory": memory,
+    }
     jobs = [node_job(out / "nodes", mesh, wavelength_nm, rays, seed, kind="nodes", **options)]
     if holdout:
         points = []
@@ -433,15 +605,25 @@ def train_spatial(out_dir, mesh: Mesh, rays: int, wavelength_nm: float = 550.0, 
             else:
                 points.append(mesh.sample_dict(mesh.coordinates(h)[0]))
         mesh.locate(mesh.coordinates(points))  # refuse held-out points outside the mesh before measuring
-        jobs.append(node_job(out / "holdout", points, wavelength_nm, holdout_rays or rays,
-                             derive_seed(seed, "holdout"), kind="holdout", **options))
+        jobs.append(
+            node_job(
+                out / "holdout",
+                points,
+                wavelength_nm,
+                holdout_rays or rays,
+                derive_seed(seed, "holdout"),
+                kind="holdout",
+                **options,
+            )
+        )
     start = time.perf_counter()
     if fit_only:
         statuses = [job.status() for job in jobs]
     else:
         ex = resolve_executor(executor)
-        statuses = [job.run(ex, max_tasks=max_tasks, progress=progress, description=job.path.name, unit="node")
-                    for job in jobs]
+        statuses = [
+            job.run(ex, max_tasks=max_tasks, progress=progress, description=job.path.name, unit="node") for job in jobs
+        ]
     measurement_s = time.perf_counter() - start
     holdout_status = statuses[1] if len(statuses) > 1 else None
     if not all(s.complete for s in statuses):
@@ -454,9 +636,18 @@ def train_spatial(out_dir, mesh: Mesh, rays: int, wavelength_nm: float = 550.0, 
     from sandlight.predictor.training import engine_memory_record, file_sha256
 
     nodes_path = statuses[0].dataset_path
-    info = {"path": str(nodes_path), "sha256": file_sha256(nodes_path), "rays_per_node": int(rays),
-            "seed": int(seed), "wavelength_nm": float(wavelength_nm), "stacks": int(stacks), "slices": int(slices),
-            "reduction_method": method, "measure": _measure_name(measure), **engine_memory_record(memory)}
+    info = {
+        "path": str(nodes_path),
+        "sha256": file_sha256(nodes_path),
+        "rays_per_node": int(rays),
+        "seed": int(seed),
+        "wavelength_nm": float(wavelength_nm),
+        "stacks": int(stacks),
+        "slices": int(slices),
+        "reduction_method": method,
+        "measure": _measure_name(measure),
+        **engine_memory_record(memory),
+    }
     model = SpatialModel(**dict(model_params or {})).fit(node_brdfs(nodes_path, method), mesh, training_set=info)
     reports = []
     if holdout_status is not None:

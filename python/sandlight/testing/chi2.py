@@ -25,8 +25,8 @@ that expects nothing, which makes the test fail.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
@@ -70,8 +70,15 @@ class ChiSquareResult:
         return self.p_value >= significance
 
 
-def hemisphere_chi2(directions, pdf: Callable, *, mu_edges=None, phi_edges=None, quadrature: int = QUADRATURE,
-                    min_expected: float = MIN_EXPECTED) -> ChiSquareResult:
+def hemisphere_chi2(
+    directions,
+    pdf: Callable,
+    *,
+    mu_edges=None,
+    phi_edges=None,
+    quadrature: int = QUADRATURE,
+    min_expected: float = MIN_EXPECTED,
+) -> ChiSquareResult:
     """Chi-square test of directions against a density over the upper hemisphere.
 
     Parameters
@@ -103,7 +110,9 @@ def hemisphere_chi2(directions, pdf: Callable, *, mu_edges=None, phi_edges=None,
     phi_edges = np.linspace(0.0, 2.0 * math.pi, 25) if phi_edges is None else np.asarray(phi_edges, dtype=float)
     for name, e, hi in (("mu_edges", mu_edges, 1.0), ("phi_edges", phi_edges, 2.0 * math.pi)):
         if e.ndim != 1 or e.size < 2 or np.any(np.diff(e) <= 0) or e[0] < 0 or e[-1] > hi + 1e-12:
-            raise ParameterError(name, e.tolist() if e.size < 10 else f"{e.size} edges", f"ascending edges within [0, {hi:g}]")
+            raise ParameterError(
+                name, e.tolist() if e.size < 10 else f"{e.size} edges", f"ascending edges within [0, {hi:g}]"
+            )
     if isinstance(quadrature, bool) or not isinstance(quadrature, int) or quadrature < 1:
         raise ParameterError("quadrature", quadrature, "an integer >= 1")
     n = d.shape[0]
@@ -159,4 +168,6 @@ def hemisphere_chi2(directions, pdf: Callable, *, mu_edges=None, phi_edges=None,
     keep = e > 0
     statistic = float(np.sum((o[keep] - e[keep]) ** 2 / e[keep]))
     dof = max(int(keep.sum()) - 1, 1)
-    return ChiSquareResult(statistic, dof, float(chi2.sf(statistic, dof)), int(keep.sum()), float(integral.sum()), outside)
+    return ChiSquareResult(
+        statistic, dof, float(chi2.sf(statistic, dof)), int(keep.sum()), float(integral.sum()), outside
+    )
