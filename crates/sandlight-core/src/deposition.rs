@@ -79,7 +79,16 @@ impl Heap {
         let l = [lx, ly];
         let n = l.map(|l| ((l / cell).floor() as usize).max(1));
         let h = std::array::from_fn(|a| l[a] / n[a] as f64);
-        Heap { n, h, l, cells: vec![Vec::new(); n[0] * n[1]], centres: Vec::new(), radii: Vec::new(), max_radius: 0.0, top: f64::NEG_INFINITY }
+        Heap {
+            n,
+            h,
+            l,
+            cells: vec![Vec::new(); n[0] * n[1]],
+            centres: Vec::new(),
+            radii: Vec::new(),
+            max_radius: 0.0,
+            top: f64::NEG_INFINITY,
+        }
     }
 
     /// Adds a grain (centre with x, y inside the period).
@@ -98,7 +107,8 @@ impl Heap {
     fn near(&self, x: Vec3, reach: f64, zlo: f64, zhi: f64, r: f64) -> Vec<Contact> {
         let mut out = Vec::new();
         let xa = [x.x, x.y];
-        let range = |a: usize| ((xa[a] - reach) / self.h[a]).floor() as i64..=((xa[a] + reach) / self.h[a]).floor() as i64;
+        let range =
+            |a: usize| ((xa[a] - reach) / self.h[a]).floor() as i64..=((xa[a] + reach) / self.h[a]).floor() as i64;
         for cy in range(1) {
             for cx in range(0) {
                 let (wx, bx) = (cx.rem_euclid(self.n[0] as i64) as usize, cx.div_euclid(self.n[0] as i64));
@@ -170,13 +180,19 @@ impl Heap {
         let reach = r + self.max_radius;
         match *path {
             Path::Line { x0 } => self.near(x0, reach, f64::NEG_INFINITY, x0.z + reach, r),
-            Path::Circle { q, radius, .. } => self.near(q, radius + reach, q.z - radius - reach, q.z + radius + reach, r),
+            Path::Circle { q, radius, .. } => {
+                self.near(q, radius + reach, q.z - radius - reach, q.z + radius + reach, r)
+            }
         }
     }
 }
 
 fn stuck(what: &str) -> SandlightError {
-    SandlightError::parameter("surface", "settled", &format!("deposition failed: {what}; use a deeper box (depth_mm) or the cut surface"))
+    SandlightError::parameter(
+        "surface",
+        "settled",
+        &format!("deposition failed: {what}; use a deeper box (depth_mm) or the cut surface"),
+    )
 }
 
 /// What a grain does next (module docs).
@@ -193,7 +209,8 @@ enum Motion {
 /// contact (v·nⱼ ≥ 0). None only if rounding leaves no consistent set.
 fn motion(x: Vec3, touching: &[Contact]) -> Option<Motion> {
     let n: Vec<Vec3> = touching.iter().map(|t| (x - t.c).normalized()).collect();
-    let leaves_others = |v: Vec3, loaded: &[usize]| n.iter().enumerate().all(|(m, nm)| loaded.contains(&m) || v.dot(*nm) >= -FORCE_TOL);
+    let leaves_others =
+        |v: Vec3, loaded: &[usize]| n.iter().enumerate().all(|(m, nm)| loaded.contains(&m) || v.dot(*nm) >= -FORCE_TOL);
     if leaves_others(-UP, &[]) {
         return Some(Motion::Fall);
     }
@@ -216,7 +233,11 @@ fn motion(x: Vec3, touching: &[Contact]) -> Option<Motion> {
             let fj = (n[j].z - c * n[i].z) / det;
             let v = n[i] * fi + n[j] * fj - UP;
             if fi >= -FORCE_TOL && fj >= -FORCE_TOL && leaves_others(v, &[i, j]) {
-                return Some(if v.norm2() < REST_SPEED * REST_SPEED { Motion::Rest } else { Motion::Groove(touching[i], touching[j]) });
+                return Some(if v.norm2() < REST_SPEED * REST_SPEED {
+                    Motion::Rest
+                } else {
+                    Motion::Groove(touching[i], touching[j])
+                });
             }
         }
     }
@@ -228,7 +249,8 @@ fn motion(x: Vec3, touching: &[Contact]) -> Option<Motion> {
                 if det.abs() < 1e-12 {
                     continue;
                 }
-                let f = [UP.dot(n[j].cross(n[k])) / det, UP.dot(n[k].cross(n[i])) / det, UP.dot(n[i].cross(n[j])) / det];
+                let f =
+                    [UP.dot(n[j].cross(n[k])) / det, UP.dot(n[k].cross(n[i])) / det, UP.dot(n[i].cross(n[j])) / det];
                 if f.iter().all(|&f| f >= -FORCE_TOL) {
                     return Some(Motion::Rest);
                 }
@@ -369,7 +391,11 @@ fn groove(x: Vec3, i: Contact, j: Contact) -> Path {
 pub fn deposit(packing: &Packing, thickness_mm: f64, seed: u64) -> Result<Vec<PackedParticle>, SandlightError> {
     let per = packing.period;
     if !(thickness_mm > 0.0 && thickness_mm <= per.z) {
-        return Err(SandlightError::parameter("settled_thickness_mm", thickness_mm, &format!("must be > 0 and at most the box height {:.4} mm", per.z)));
+        return Err(SandlightError::parameter(
+            "settled_thickness_mm",
+            thickness_mm,
+            &format!("must be > 0 and at most the box height {:.4} mm", per.z),
+        ));
     }
     let max_d = packing.particles.iter().map(|p| p.diameter_mm).fold(0.0, f64::max);
     let mut heap = Heap::new(per.x, per.y, max_d);
@@ -386,7 +412,14 @@ pub fn deposit(packing: &Packing, thickness_mm: f64, seed: u64) -> Result<Vec<Pa
         let (x0, y0) = (rng.uniform() * per.x, rng.uniform() * per.y);
         let x = heap.settle(x0, y0, r, &mut rng)?;
         // rem_euclid of a tiny negative number rounds to the period itself.
-        let wrap = |v: f64, l: f64| { let w = v.rem_euclid(l); if w >= l { 0.0 } else { w } };
+        let wrap = |v: f64, l: f64| {
+            let w = v.rem_euclid(l);
+            if w >= l {
+                0.0
+            } else {
+                w
+            }
+        };
         grain.centre = Vec3::new(wrap(x.x, per.x), wrap(x.y, per.y), x.z);
         heap.push(grain.centre, r);
         solid += PI / 6.0 * grain.diameter_mm.powi(3);
@@ -406,9 +439,16 @@ mod tests {
     fn grains(quantiles: Vec<f64>, eps: f64) -> Particulate {
         let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true };
         let mean_d = quantiles.iter().sum::<f64>() / quantiles.len() as f64;
-        let t = ParticleType { probability: 1.0, sizes: QuantileTable::new(quantiles).unwrap(), aspect_ratio: eps, optics };
+        let t =
+            ParticleType { probability: 1.0, sizes: QuantileTable::new(quantiles).unwrap(), aspect_ratio: eps, optics };
         // φ = 0.4: ℓ = 4φ/[(1 − φ) 6 f(ε)/E[D]].
-        Particulate::new(vec![t], 4.0 * 0.4 / (0.6 * 6.0 * surface_factor(eps) / mean_d), PoreOptics::DRY, f64::INFINITY).unwrap()
+        Particulate::new(
+            vec![t],
+            4.0 * 0.4 / (0.6 * 6.0 * surface_factor(eps) / mean_d),
+            PoreOptics::DRY,
+            f64::INFINITY,
+        )
+        .unwrap()
     }
 
     #[test]
@@ -483,7 +523,8 @@ mod tests {
     /// image of the cut surface or of another deposited grain beyond 1e-6 d, and at rest.
     fn check_settled(quantiles: Vec<f64>, seed: u64) -> (usize, usize) {
         let m = grains(quantiles, 1.0);
-        let pk = Packing::generate(&m, &PackingParams { lateral_mm: 1.5, depth_mm: 1.5, seed, ..Default::default() }).unwrap();
+        let pk = Packing::generate(&m, &PackingParams { lateral_mm: 1.5, depth_mm: 1.5, seed, ..Default::default() })
+            .unwrap();
         let thickness = 0.5;
         let dep = deposit(&pk, thickness, seed).unwrap();
         let per = pk.period;

@@ -67,7 +67,15 @@ pub fn incident_direction(theta_rad: f64) -> Vec3 {
 
 /// Directional-hemispherical reflectance counts for rays `first .. first + n` at incidence
 /// direction `dir_in` (splits-model.md §2.6: ρ = escaped / launched).
-pub fn directional_hemispherical<Md: Medium>(medium: &Md, dir_in: Vec3, seed: u64, stream: u64, first: u64, n: u64, limits: &Limits) -> DhrCounts {
+pub fn directional_hemispherical<Md: Medium>(
+    medium: &Md,
+    dir_in: Vec3,
+    seed: u64,
+    stream: u64,
+    first: u64,
+    n: u64,
+    limits: &Limits,
+) -> DhrCounts {
     for_rays(
         first,
         n,

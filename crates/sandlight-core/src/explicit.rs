@@ -84,7 +84,8 @@ impl Scene {
     pub fn with_deposit(packing: Packing, deposit: Vec<PackedParticle>) -> Scene {
         let per = packing.period;
         let mut shapes: Vec<Spheroid> = (0..packing.particles.len()).map(|k| packing.shape(k)).collect();
-        shapes.extend(deposit.iter().map(|g| Spheroid::new(g.diameter_mm, packing.aspect_ratios[g.type_index], g.axis)));
+        shapes
+            .extend(deposit.iter().map(|g| Spheroid::new(g.diameter_mm, packing.aspect_ratios[g.type_index], g.axis)));
         let mean_d = packing.particles.iter().map(|p| p.diameter_mm).sum::<f64>() / packing.particles.len() as f64;
         let n = [per.x, per.y, per.z].map(|l| ((l / mean_d).floor() as usize).max(1));
         let h = Vec3::new(per.x / n[0] as f64, per.y / n[1] as f64, per.z / n[2] as f64);
@@ -111,7 +112,11 @@ impl Scene {
             entries.extend(l);
             start.push(entries.len() as u32);
         }
-        let deposit_top = deposit.iter().zip(&shapes[packing.particles.len()..]).map(|(g, s)| g.centre.z + s.c).fold(f64::NEG_INFINITY, f64::max);
+        let deposit_top = deposit
+            .iter()
+            .zip(&shapes[packing.particles.len()..])
+            .map(|(g, s)| g.centre.z + s.c)
+            .fold(f64::NEG_INFINITY, f64::max);
         let top_mm = (per.z + packing.max_extent_mm()).max(deposit_top);
         Scene { packing, deposit, shapes, n, h, start, entries, top_mm }
     }
@@ -120,7 +125,11 @@ impl Scene {
     #[inline]
     fn grain(&self, k: usize) -> &PackedParticle {
         let n_packed = self.packing.particles.len();
-        if k < n_packed { &self.packing.particles[k] } else { &self.deposit[k - n_packed] }
+        if k < n_packed {
+            &self.packing.particles[k]
+        } else {
+            &self.deposit[k - n_packed]
+        }
     }
 
     /// The images of the grains listed in grid cell `cell` (unbounded indices) seen from that
@@ -150,7 +159,15 @@ impl Scene {
     /// (distance, particle, centre of the image hit). Packed grains count with centres in
     /// [`bottom_z`, `top_z`), deposited ones (if `with_deposit`) above `bottom_z`. Err(()) if
     /// the ray crossed too many cells.
-    fn nearest(&self, o: Vec3, d: Vec3, max_t: f64, bottom_z: f64, top_z: f64, with_deposit: bool) -> Result<Option<(f64, usize, Vec3)>, ()> {
+    fn nearest(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        max_t: f64,
+        bottom_z: f64,
+        top_z: f64,
+        with_deposit: bool,
+    ) -> Result<Option<(f64, usize, Vec3)>, ()> {
         let oa = [o.x, o.y, o.z];
         let da = [d.x, d.y, d.z];
         let ha = [self.h.x, self.h.y, self.h.z];
@@ -188,7 +205,13 @@ impl Scene {
                     return Ok(Some(hit));
                 }
             }
-            let a = if t_max[0] <= t_max[1] && t_max[0] <= t_max[2] { 0 } else if t_max[1] <= t_max[2] { 1 } else { 2 };
+            let a = if t_max[0] <= t_max[1] && t_max[0] <= t_max[2] {
+                0
+            } else if t_max[1] <= t_max[2] {
+                1
+            } else {
+                2
+            };
             cell[a] += step[a];
             t_enter = t_max[a];
             t_max[a] += t_delta[a];
@@ -213,7 +236,9 @@ impl Scene {
     /// How many grains of the sample (packed ones below the cut plane, deposited ones) hold `x`.
     fn grains_holding(&self, x: Vec3) -> usize {
         let cut = self.packing.period.z;
-        self.images(self.cell_of(x)).filter(|&(k, c, deposited)| (deposited || c.z < cut) && self.shapes[k].contains(x - c)).count()
+        self.images(self.cell_of(x))
+            .filter(|&(k, c, deposited)| (deposited || c.z < cut) && self.shapes[k].contains(x - c))
+            .count()
     }
 
     /// Solid profile by point sampling: for each height (mm), the fractions of `n_points`
@@ -221,16 +246,20 @@ impl Scene {
     /// and inside two or more (true overlap of spheroids).
     pub fn porosity_profile(&self, heights: &[f64], n_points: usize, seed: u64) -> Vec<(f64, f64)> {
         let per = self.packing.period;
-        heights.iter().enumerate().map(|(j, &z)| {
-            let mut rng = Rng::for_ray(seed, 0x9ac5, j as u64);
-            let (mut empty, mut multiple) = (0usize, 0usize);
-            for _ in 0..n_points {
-                let held = self.grains_holding(Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, z));
-                empty += (held == 0) as usize;
-                multiple += (held >= 2) as usize;
-            }
-            (empty as f64 / n_points as f64, multiple as f64 / n_points as f64)
-        }).collect()
+        heights
+            .iter()
+            .enumerate()
+            .map(|(j, &z)| {
+                let mut rng = Rng::for_ray(seed, 0x9ac5, j as u64);
+                let (mut empty, mut multiple) = (0usize, 0usize);
+                for _ in 0..n_points {
+                    let held = self.grains_holding(Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, z));
+                    empty += (held == 0) as usize;
+                    multiple += (held >= 2) as usize;
+                }
+                (empty as f64 / n_points as f64, multiple as f64 / n_points as f64)
+            })
+            .collect()
     }
 
     /// Heights (mm) of the sample's surface along `n_points` vertical lines at uniformly random
@@ -239,13 +268,15 @@ impl Scene {
     pub fn surface_heights(&self, n_points: usize, seed: u64) -> Vec<f64> {
         let per = self.packing.period;
         let mut rng = Rng::for_ray(seed, 0x9ac6, 0);
-        (0..n_points).map(|_| {
-            let o = Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, self.top_mm);
-            match self.nearest(o, -UP, f64::INFINITY, f64::NEG_INFINITY, per.z, true) {
-                Ok(Some((t, _, _))) => self.top_mm - t,
-                _ => f64::NAN,
-            }
-        }).collect()
+        (0..n_points)
+            .map(|_| {
+                let o = Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, self.top_mm);
+                match self.nearest(o, -UP, f64::INFINITY, f64::NEG_INFINITY, per.z, true) {
+                    Ok(Some((t, _, _))) => self.top_mm - t,
+                    _ => f64::NAN,
+                }
+            })
+            .collect()
     }
 
     /// Pore chords of the packed grains (mm): along `n_lines` random lines (uniform start,
@@ -262,7 +293,10 @@ impl Scene {
             let mut first = true;
             let mut got = 0;
             while got < per_line {
-                let Ok(Some((t, k, c))) = self.nearest(o, d, f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, false) else { break };
+                let Ok(Some((t, k, c))) = self.nearest(o, d, f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, false)
+                else {
+                    break;
+                };
                 if !first {
                     out.push(t);
                     got += 1;
@@ -303,11 +337,21 @@ impl Explicit {
     /// aspect ratios; its optics may be those of another wavelength).
     pub fn new(medium: Particulate, scene: Arc<Scene>, bottom_mm: f64) -> Result<Explicit, SandlightError> {
         let pk = &scene.packing;
-        if medium.types.len() != pk.aspect_ratios.len() || medium.types.iter().zip(&pk.aspect_ratios).any(|(t, &e)| t.aspect_ratio != e) {
-            return Err(SandlightError::parameter("packing", format!("{} particle types", pk.aspect_ratios.len()), "must be generated from a medium with the same particle types and aspect ratios"));
+        if medium.types.len() != pk.aspect_ratios.len()
+            || medium.types.iter().zip(&pk.aspect_ratios).any(|(t, &e)| t.aspect_ratio != e)
+        {
+            return Err(SandlightError::parameter(
+                "packing",
+                format!("{} particle types", pk.aspect_ratios.len()),
+                "must be generated from a medium with the same particle types and aspect ratios",
+            ));
         }
         if !(bottom_mm > 0.0) {
-            return Err(SandlightError::parameter("bottom_mm", bottom_mm, "must be > 0 (inf for a semi-infinite sample)"));
+            return Err(SandlightError::parameter(
+                "bottom_mm",
+                bottom_mm,
+                "must be > 0 (inf for a semi-infinite sample)",
+            ));
         }
         let total: f64 = medium.types.iter().map(|t| t.probability).sum();
         let mut acc = 0.0;
@@ -328,10 +372,28 @@ impl Explicit {
     /// The interaction with packed grain `k` at `hit` (relative to its centre): the on-the-fly
     /// engine's function with the medium's tables for the grain's type.
     #[inline]
-    pub fn interact_packed(&self, k: usize, hit: Hit, d: Vec3, water: bool, rng: &mut Rng, max_internal: u32) -> Interaction {
+    pub fn interact_packed(
+        &self,
+        k: usize,
+        hit: Hit,
+        d: Vec3,
+        water: bool,
+        rng: &mut Rng,
+        max_internal: u32,
+    ) -> Interaction {
         let i = self.scene.grain(k).type_index;
         let (_, stacks) = self.medium.type_tables(i);
-        interact_with_stacks(&self.medium.types[i].optics, stacks, &self.medium.pore, &self.scene.shapes[k], hit, d, water, rng, max_internal)
+        interact_with_stacks(
+            &self.medium.types[i].optics,
+            stacks,
+            &self.medium.pore,
+            &self.scene.shapes[k],
+            hit,
+            d,
+            water,
+            rng,
+            max_internal,
+        )
     }
 
     /// Traces from the point `o` (above the sample or in its pores) along `d`.
@@ -348,14 +410,28 @@ impl Explicit {
             o.y = o.y.rem_euclid(per.y);
             let s_fines = self.fines_free_path_mm * rng.exponential();
             let t_top = if d.z > 0.0 { (scene.top_mm - o.z) / d.z } else { f64::INFINITY };
-            let t_bottom = if d.z < 0.0 && self.bottom_mm.is_finite() { (bottom_z - scene.packing.max_extent_mm() - o.z) / d.z } else { f64::INFINITY };
+            let t_bottom = if d.z < 0.0 && self.bottom_mm.is_finite() {
+                (bottom_z - scene.packing.max_extent_mm() - o.z) / d.z
+            } else {
+                f64::INFINITY
+            };
             let reach = s_fines.min(t_top).min(t_bottom);
-            let hit = match scene.nearest(o, d, reach, if self.bottom_mm.is_finite() { bottom_z } else { f64::NEG_INFINITY }, per.z, true) {
+            let hit = match scene.nearest(
+                o,
+                d,
+                reach,
+                if self.bottom_mm.is_finite() { bottom_z } else { f64::NEG_INFINITY },
+                per.z,
+                true,
+            ) {
                 Ok(h) => h,
                 Err(()) => return done(Fate::Capped, events),
             };
             let flight = hit.map_or(reach, |h| h.0);
-            if water && pore.water_alpha_per_mm > 0.0 && !survives(rng.uniform(), pore.water_alpha_per_mm * flight.min(t_top)) {
+            if water
+                && pore.water_alpha_per_mm > 0.0
+                && !survives(rng.uniform(), pore.water_alpha_per_mm * flight.min(t_top))
+            {
                 return done(Fate::Absorbed, events);
             }
             if hit.is_none() && t_top <= s_fines && t_top <= t_bottom {
@@ -417,12 +493,27 @@ impl Explicit {
                     let ptype = &self.medium.types[i];
                     let (a_over_d, stacks) = self.medium.type_tables(i);
                     let diameter = ptype.sizes.sample(rng);
-                    let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
+                    let shape = Spheroid::with_semi_axis_ratio(
+                        diameter,
+                        a_over_d,
+                        ptype.aspect_ratio,
+                        Spheroid::random_axis(rng),
+                    );
                     let Some(h) = shape.sample_hit(d, rng, 10_000) else {
                         return done(Fate::Capped, events);
                     };
                     o = x;
-                    match interact_with_stacks(&ptype.optics, stacks, pore, &shape, h, d, water, rng, limits.max_internal) {
+                    match interact_with_stacks(
+                        &ptype.optics,
+                        stacks,
+                        pore,
+                        &shape,
+                        h,
+                        d,
+                        water,
+                        rng,
+                        limits.max_internal,
+                    ) {
                         Interaction::Reflected { dir } => d = dir,
                         Interaction::Transmitted { dir, exit_point, water: w } => {
                             let moved = x + (exit_point - h.point);
@@ -467,7 +558,8 @@ mod tests {
     use crate::sizes::QuantileTable;
 
     fn grains(alpha_per_mm: f64) -> Particulate {
-        let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: alpha_per_mm, coating: None, wets: true };
+        let optics =
+            ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: alpha_per_mm, coating: None, wets: true };
         let t = ParticleType { probability: 1.0, sizes: QuantileTable::constant(0.25), aspect_ratio: 1.0, optics };
         // φ = 0.4: ℓ = (2/3) d φ/(1 − φ).
         Particulate::new(vec![t], 2.0 / 3.0 * 0.25 * 0.4 / 0.6, PoreOptics::DRY, f64::INFINITY).unwrap()
@@ -481,7 +573,20 @@ mod tests {
         let m = grains(5.0);
         let pops = Populations::of(&m, 0.05);
         let per = Vec3::new(5.0, 5.0, 5.0);
-        let pk = Packing { particles: vec![PackedParticle { centre: Vec3::new(2.5, 2.5, 2.5), axis: UP, diameter_mm: 0.25, type_index: 0 }], aspect_ratios: vec![1.0], period: per, populations: pops, packing_fraction: 0.0, max_overlap: 0.0, sweeps: 0 };
+        let pk = Packing {
+            particles: vec![PackedParticle {
+                centre: Vec3::new(2.5, 2.5, 2.5),
+                axis: UP,
+                diameter_mm: 0.25,
+                type_index: 0,
+            }],
+            aspect_ratios: vec![1.0],
+            period: per,
+            populations: pops,
+            packing_fraction: 0.0,
+            max_overlap: 0.0,
+            sweeps: 0,
+        };
         let ex = Explicit::new(m.clone(), Arc::new(Scene::new(pk)), f64::INFINITY).unwrap();
         let mut rng = Rng::for_ray(21, 0, 0);
         let shape = Spheroid::new(0.25, 1.0, UP);
@@ -491,16 +596,31 @@ mod tests {
             let h = shape.sample_hit(d, &mut rng, 100).unwrap();
             let centre = Vec3::new(2.5, 2.5, 2.5);
             let o = centre + h.point - d * 0.4;
-            let (t, k, c) = ex.scene.nearest(o, d, 1.0, f64::NEG_INFINITY, f64::INFINITY, false).unwrap().expect("the ray aims at the grain");
+            let (t, k, c) = ex
+                .scene
+                .nearest(o, d, 1.0, f64::NEG_INFINITY, f64::INFINITY, false)
+                .unwrap()
+                .expect("the ray aims at the grain");
             let rel = o + d * t - c;
             assert!((rel - h.point).norm2() < 1e-20, "hit {rel:?} vs {:?}", h.point);
             let (mut r1, mut r2) = (rng.clone(), rng.clone());
-            let explicit = ex.interact_packed(k, Hit { point: rel, normal: shape.normal_at(rel) }, d, false, &mut r1, 10_000);
+            let explicit =
+                ex.interact_packed(k, Hit { point: rel, normal: shape.normal_at(rel) }, d, false, &mut r1, 10_000);
             let (_, stacks) = m.type_tables(0);
-            let on_the_fly = interact_with_stacks(&m.types[0].optics, stacks, &m.pore, &shape, h, d, false, &mut r2, 10_000);
+            let on_the_fly =
+                interact_with_stacks(&m.types[0].optics, stacks, &m.pore, &shape, h, d, false, &mut r2, 10_000);
             match (explicit, on_the_fly) {
-                (Interaction::Reflected { dir: a }, Interaction::Reflected { dir: b }) => { assert!((a - b).norm2() < 1e-20); outcomes[0] += 1 }
-                (Interaction::Transmitted { dir: a, exit_point: e, .. }, Interaction::Transmitted { dir: b, exit_point: f, .. }) => { assert!((a - b).norm2() < 1e-20 && (e - f).norm2() < 1e-20); outcomes[1] += 1 }
+                (Interaction::Reflected { dir: a }, Interaction::Reflected { dir: b }) => {
+                    assert!((a - b).norm2() < 1e-20);
+                    outcomes[0] += 1
+                }
+                (
+                    Interaction::Transmitted { dir: a, exit_point: e, .. },
+                    Interaction::Transmitted { dir: b, exit_point: f, .. },
+                ) => {
+                    assert!((a - b).norm2() < 1e-20 && (e - f).norm2() < 1e-20);
+                    outcomes[1] += 1
+                }
                 (Interaction::Absorbed, Interaction::Absorbed) => outcomes[2] += 1,
                 (a, b) => panic!("explicit {a:?} vs on the fly {b:?}"),
             }
@@ -549,7 +669,10 @@ mod tests {
             for i in 0..4000 {
                 let mut rng = Rng::for_ray(5, 0, i);
                 match ex.trace(Vec3::new(0.0, 0.0, -1.0), &mut rng, &limits).fate {
-                    Fate::Escaped(d) => { assert!(d.z > 0.0); c[0] += 1 }
+                    Fate::Escaped(d) => {
+                        assert!(d.z > 0.0);
+                        c[0] += 1
+                    }
                     Fate::Absorbed => c[1] += 1,
                     Fate::Transmitted => c[2] += 1,
                     Fate::Capped => c[3] += 1,

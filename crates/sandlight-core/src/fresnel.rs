@@ -51,7 +51,7 @@ pub fn conductor(n1: f64, n2: f64, k2: f64, cos_i: f64) -> f64 {
     let a = n1 * c;
     let (pr, pi) = (m2r * c, m2i * c);
     let h = 0.5 * m2i; // w_r w_i
-    // |r_s|² = [(a − w_r)² + w_i²]/[(a + w_r)² + w_i²]; |r_p|² = [(p_r − n₁w_r)² + (p_i − n₁w_i)²]/[…+…].
+                       // |r_s|² = [(a − w_r)² + w_i²]/[(a + w_r)² + w_i²]; |r_p|² = [(p_r − n₁w_r)² + (p_i − n₁w_i)²]/[…+…].
     let (ns, ds, np, dp) = if x >= 0.0 {
         let wr2 = 0.5 * (modulus + x);
         let wr = wr2.sqrt();
@@ -109,11 +109,21 @@ mod tests {
     fn conductor_matches_complex_form() {
         // Weak (quartz), strong (hematite, magnetite) and metal-like (k > n) absorbers, from air
         // and from water, including indices below n₁ sin θ (x < 0 branch of the root).
-        for &(n1, n2, k2) in &[(1.0, 1.549, 4.4e-7), (1.333, 1.56, 1.2e-5), (1.0, 2.9, 1.3), (1.333, 2.34, 0.105), (1.0, 0.3, 3.0), (1.333, 1.1, 0.01)] {
+        for &(n1, n2, k2) in &[
+            (1.0, 1.549, 4.4e-7),
+            (1.333, 1.56, 1.2e-5),
+            (1.0, 2.9, 1.3),
+            (1.333, 2.34, 0.105),
+            (1.0, 0.3, 3.0),
+            (1.333, 1.1, 0.01),
+        ] {
             for j in 0..=200 {
                 let c = j as f64 / 200.0;
                 let (fast, reference) = (conductor(n1, n2, k2, c), conductor_complex(n1, n2, k2, c));
-                assert!((fast - reference).abs() <= 1e-12 * reference, "n1 {n1} n2 {n2} k2 {k2} cos {c}: {fast} vs {reference}");
+                assert!(
+                    (fast - reference).abs() <= 1e-12 * reference,
+                    "n1 {n1} n2 {n2} k2 {k2} cos {c}: {fast} vs {reference}"
+                );
             }
         }
     }

@@ -151,7 +151,10 @@ mod tests {
         // R_a = 1 at μ = 0, τ = 1, R_b = 1 (TIR at the film/air interface): R = 1, not 0/0.
         let w = Slab { n: 1.33, alpha_per_mm: 0.0, thickness_mm: 0.001, k_fresnel: 0.0 };
         let c = Slab { n: 1.9, alpha_per_mm: 0.0, thickness_mm: 0.0005, k_fresnel: 0.0 };
-        for st in [vec![Slab::semi_infinite(1.54), w, Slab::semi_infinite(1.0)], vec![Slab::semi_infinite(1.54), c, w, Slab::semi_infinite(1.0)]] {
+        for st in [
+            vec![Slab::semi_infinite(1.54), w, Slab::semi_infinite(1.0)],
+            vec![Slab::semi_infinite(1.54), c, w, Slab::semi_infinite(1.0)],
+        ] {
             assert_eq!(stack_rt(&st, 0.0), (1.0, 0.0));
         }
     }

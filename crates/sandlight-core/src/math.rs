@@ -156,7 +156,9 @@ mod tests {
 
     #[test]
     fn basis_is_orthonormal() {
-        for v in [Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.36, 0.48, -0.8)] {
+        for v in
+            [Vec3::new(0.0, 0.0, 1.0), Vec3::new(0.0, 0.0, -1.0), Vec3::new(0.6, 0.0, 0.8), Vec3::new(0.36, 0.48, -0.8)]
+        {
             let (a, b) = v.orthonormal_basis();
             assert!((a.norm2() - 1.0).abs() < 1e-12 && (b.norm2() - 1.0).abs() < 1e-12);
             assert!(a.dot(b).abs() < 1e-12 && a.dot(v).abs() < 1e-12 && b.dot(v).abs() < 1e-12);
@@ -170,7 +172,13 @@ mod tests {
         for q in 0..=4 {
             let b = q as f64 / 8.0;
             // Neighbouring doubles (positive b: ±1 in the bit pattern; f64::next_up needs Rust 1.86).
-            ts.extend([b, b - 1e-17, b + 1e-17, f64::from_bits(b.to_bits() + 1), f64::from_bits(b.to_bits().saturating_sub(1))]);
+            ts.extend([
+                b,
+                b - 1e-17,
+                b + 1e-17,
+                f64::from_bits(b.to_bits() + 1),
+                f64::from_bits(b.to_bits().saturating_sub(1)),
+            ]);
         }
         ts.push(f64::from_bits(1.0f64.to_bits() - 1));
         for t in ts.into_iter().filter(|t| (0.0..1.0).contains(t)) {

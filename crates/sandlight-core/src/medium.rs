@@ -3,9 +3,9 @@
 //! a Lambertian surface).
 
 use crate::error::{check_range, SandlightError};
+use crate::pair_correlation::PairCorrelation;
 use crate::particle::{Coating, ParticleOptics, PoreOptics, Stacks};
 use crate::sizes::QuantileTable;
-use crate::pair_correlation::PairCorrelation;
 use crate::surface_layer::SurfaceLayer;
 
 /// One kind of particle in a sand sample.
@@ -85,7 +85,12 @@ pub struct Particulate {
 }
 
 impl Particulate {
-    pub fn new(types: Vec<ParticleType>, mean_free_path_mm: f64, pore: PoreOptics, depth_mm: f64) -> Result<Particulate, SandlightError> {
+    pub fn new(
+        types: Vec<ParticleType>,
+        mean_free_path_mm: f64,
+        pore: PoreOptics,
+        depth_mm: f64,
+    ) -> Result<Particulate, SandlightError> {
         if types.is_empty() {
             return Err(SandlightError::parameter("particle_types", 0, "at least one particle type"));
         }
@@ -95,7 +100,11 @@ impl Particulate {
         check_range("film_thickness_mm", pore.film_thickness_mm, 0.0, 10.0)?;
         check_range("water_filled_probability", pore.water_filled_probability, 0.0, 1.0)?;
         if !(depth_mm > 0.0) {
-            return Err(SandlightError::parameter("depth_mm", depth_mm, "must be > 0 (inf for a semi-infinite sample)"));
+            return Err(SandlightError::parameter(
+                "depth_mm",
+                depth_mm,
+                "must be > 0 (inf for a semi-infinite sample)",
+            ));
         }
         let mut total = 0.0;
         for (i, t) in types.iter().enumerate() {
@@ -113,13 +122,34 @@ impl Particulate {
             total += t.probability;
         }
         if !(total > 0.0) {
-            return Err(SandlightError::parameter("particle_types.probability", total, "probabilities must sum to > 0"));
+            return Err(SandlightError::parameter(
+                "particle_types.probability",
+                total,
+                "probabilities must sum to > 0",
+            ));
         }
         let mut acc = 0.0;
-        let cumulative = types.iter().map(|t| { acc += t.probability / total; acc }).collect();
+        let cumulative = types
+            .iter()
+            .map(|t| {
+                acc += t.probability / total;
+                acc
+            })
+            .collect();
         let a_over_d = types.iter().map(ParticleType::a_over_d).collect();
         let stacks = types.iter().map(|t| Stacks::tabulated(&t.optics, &pore)).collect();
-        Ok(Particulate { types, cumulative, a_over_d, stacks, mean_free_path_mm, pore, depth_mm, memory: Memory::None, surface: None, neighbours: None })
+        Ok(Particulate {
+            types,
+            cumulative,
+            a_over_d,
+            stacks,
+            mean_free_path_mm,
+            pore,
+            depth_mm,
+            memory: Memory::None,
+            surface: None,
+            neighbours: None,
+        })
     }
 
     /// The same medium traced with path memory `memory`.
@@ -128,7 +158,11 @@ impl Particulate {
         self.surface = matches!(memory, Memory::Cut | Memory::Packed).then(|| SurfaceLayer::of(&self));
         // Only spheres have a pair correlation here (docs/geometry.md): none packed, none needed.
         let packed_spheres = (0..self.types.len()).any(|i| self.is_packed_sphere(i));
-        self.neighbours = self.surface.as_ref().filter(|_| memory == Memory::Packed && packed_spheres).map(|s| PairCorrelation::at_packing_fraction(s.packed_fraction));
+        self.neighbours = self
+            .surface
+            .as_ref()
+            .filter(|_| memory == Memory::Packed && packed_spheres)
+            .map(|s| PairCorrelation::at_packing_fraction(s.packed_fraction));
         self
     }
 
@@ -199,7 +233,12 @@ mod tests {
     #[test]
     fn pick_index_is_the_first_cumulative_above_u() {
         // Including a type of zero probability and u exactly on a boundary.
-        let t = |p: f64| ParticleType { probability: p, sizes: QuantileTable::constant(0.1), aspect_ratio: 1.0, optics: ParticleOptics { core_n: 1.5, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true } };
+        let t = |p: f64| ParticleType {
+            probability: p,
+            sizes: QuantileTable::constant(0.1),
+            aspect_ratio: 1.0,
+            optics: ParticleOptics { core_n: 1.5, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true },
+        };
         let m = Particulate::new(vec![t(0.25), t(0.0), t(0.5), t(0.25)], 0.1, PoreOptics::DRY, f64::INFINITY).unwrap();
         let mut rng = Rng::for_ray(1, 0, 0);
         let mut counts = [0usize; 4];

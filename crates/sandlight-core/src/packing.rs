@@ -76,7 +76,15 @@ pub struct PackingParams {
 
 impl Default for PackingParams {
     fn default() -> Self {
-        PackingParams { lateral_mm: 3.0, depth_mm: 10.0, fines_below_mm: FINES_BELOW_MM, seed: 0, max_particles: 400_000, max_sweeps: 20_000, overlap_tolerance: 1e-3 }
+        PackingParams {
+            lateral_mm: 3.0,
+            depth_mm: 10.0,
+            fines_below_mm: FINES_BELOW_MM,
+            seed: 0,
+            max_particles: 400_000,
+            max_sweeps: 20_000,
+            overlap_tolerance: 1e-3,
+        }
     }
 }
 
@@ -124,11 +132,18 @@ impl Populations {
         let mut packed = Vec::new();
         for t in &medium.types {
             let p = t.probability / total_p;
-            let sizes: Vec<f64> = (0..SIZE_LEVELS).map(|k| t.sizes.quantile((k as f64 + 0.5) / SIZE_LEVELS as f64)).collect();
+            let sizes: Vec<f64> =
+                (0..SIZE_LEVELS).map(|k| t.sizes.quantile((k as f64 + 0.5) / SIZE_LEVELS as f64)).collect();
             let mean_d = sizes.iter().sum::<f64>() / SIZE_LEVELS as f64;
             // p_n ∝ p_enc D⁻²: cumulative number weights over the stratified encounter sizes.
             let mut acc = 0.0;
-            let cum: Vec<f64> = sizes.iter().map(|d| { acc += 1.0 / (d * d); acc }).collect();
+            let cum: Vec<f64> = sizes
+                .iter()
+                .map(|d| {
+                    acc += 1.0 / (d * d);
+                    acc
+                })
+                .collect();
             let cum = cum.iter().map(|c| c / acc).collect();
             volume.push(p * mean_d / surface_factor(t.aspect_ratio));
             packed.push(t.sizes.quantile(0.5) >= fines_below_mm);
@@ -142,19 +157,36 @@ impl Populations {
         let mean_volume = |i: usize| {
             let (sizes, cum) = &number_sizes[i];
             let mut prev = 0.0;
-            sizes.iter().zip(cum).map(|(d, c)| { let w = c - prev; prev = *c; w * d * d * d }).sum::<f64>() * std::f64::consts::PI / 6.0
+            sizes
+                .iter()
+                .zip(cum)
+                .map(|(d, c)| {
+                    let w = c - prev;
+                    prev = *c;
+                    w * d * d * d
+                })
+                .sum::<f64>()
+                * std::f64::consts::PI
+                / 6.0
         };
         let packed_types: Vec<usize> = (0..packed.len()).filter(|&i| packed[i]).collect();
         let weights: Vec<f64> = packed_types.iter().map(|&i| volume_fraction[i] / mean_volume(i)).collect();
         let wsum: f64 = weights.iter().sum();
         let mut acc = 0.0;
-        let number_cumulative = weights.iter().map(|w| { acc += w / wsum; acc }).collect();
+        let number_cumulative = weights
+            .iter()
+            .map(|w| {
+                acc += w / wsum;
+                acc
+            })
+            .collect();
         Populations { porosity: x / (1.0 + x), volume_fraction, packed, number_sizes, packed_types, number_cumulative }
     }
 
     /// Fraction of the total volume filled by the packed types: (1 − φ) Σ_packed vᵢ.
     pub fn packed_fraction(&self) -> f64 {
-        (1.0 - self.porosity) * self.volume_fraction.iter().zip(&self.packed).filter(|(_, &p)| p).map(|(v, _)| v).sum::<f64>()
+        (1.0 - self.porosity)
+            * self.volume_fraction.iter().zip(&self.packed).filter(|(_, &p)| p).map(|(v, _)| v).sum::<f64>()
     }
 
     /// A size drawn from the number distribution of type `i`.
@@ -199,18 +231,29 @@ impl Packing {
 
     /// Largest half-extent (polar semi-axis c) over all particles (mm).
     pub fn max_extent_mm(&self) -> f64 {
-        self.particles.iter().map(|p| 0.5 * p.diameter_mm * self.aspect_ratios[p.type_index].powf(2.0 / 3.0)).fold(0.0, f64::max)
+        self.particles
+            .iter()
+            .map(|p| 0.5 * p.diameter_mm * self.aspect_ratios[p.type_index].powf(2.0 / 3.0))
+            .fold(0.0, f64::max)
     }
 
     /// Packs the non-fine particles of `medium` at their share of the volume (module docs).
     pub fn generate(medium: &Particulate, params: &PackingParams) -> Result<Packing, SandlightError> {
         let pops = Populations::of(medium, params.fines_below_mm);
         if !pops.packed.iter().any(|&p| p) {
-            return Err(SandlightError::parameter("fines_below_mm", params.fines_below_mm, "must leave at least one particle type to pack (a median size at or above it)"));
+            return Err(SandlightError::parameter(
+                "fines_below_mm",
+                params.fines_below_mm,
+                "must leave at least one particle type to pack (a median size at or above it)",
+            ));
         }
         let eta = pops.packed_fraction();
         if !(0.05..=0.66).contains(&eta) {
-            return Err(SandlightError::parameter("porosity", pops.porosity, "packed solids must fill 5 %–66 % of the volume for the packing generator"));
+            return Err(SandlightError::parameter(
+                "porosity",
+                pops.porosity,
+                "packed solids must fill 5 %–66 % of the volume for the packing generator",
+            ));
         }
         let aspect: Vec<f64> = medium.types.iter().map(|t| t.aspect_ratio).collect();
         let mut rng = Rng::for_ray(params.seed, 0x9ac1_u64, 0);
@@ -222,7 +265,14 @@ impl Packing {
         // the packing fraction is η exactly (a change of < one particle volume / L²).
         while solid < target {
             if particles.len() >= params.max_particles {
-                return Err(SandlightError::parameter("max_particles", params.max_particles, &format!("the box needs more packed particles; use a smaller box (lateral_mm {}, depth_mm {})", params.lateral_mm, params.depth_mm)));
+                return Err(SandlightError::parameter(
+                    "max_particles",
+                    params.max_particles,
+                    &format!(
+                        "the box needs more packed particles; use a smaller box (lateral_mm {}, depth_mm {})",
+                        params.lateral_mm, params.depth_mm
+                    ),
+                ));
             }
             let grain = pops.draw_grain(&mut rng);
             let d = grain.diameter_mm;
@@ -230,16 +280,29 @@ impl Packing {
             particles.push(grain);
         }
         // The box must hold at least three of the largest grains drawn across.
-        let max_c = particles.iter().map(|p| 0.5 * p.diameter_mm * aspect[p.type_index].powf(2.0 / 3.0)).fold(0.0, f64::max);
+        let max_c =
+            particles.iter().map(|p| 0.5 * p.diameter_mm * aspect[p.type_index].powf(2.0 / 3.0)).fold(0.0, f64::max);
         if !(params.lateral_mm >= 6.0 * max_c && params.depth_mm >= 6.0 * max_c) {
-            return Err(SandlightError::parameter("lateral_mm/depth_mm", format!("{}/{}", params.lateral_mm, params.depth_mm), &format!("both must be at least three of the largest grains drawn across ({:.4} mm)", 6.0 * max_c)));
+            return Err(SandlightError::parameter(
+                "lateral_mm/depth_mm",
+                format!("{}/{}", params.lateral_mm, params.depth_mm),
+                &format!("both must be at least three of the largest grains drawn across ({:.4} mm)", 6.0 * max_c),
+            ));
         }
         let depth = solid / (eta * params.lateral_mm * params.lateral_mm);
         let period = Vec3::new(params.lateral_mm, params.lateral_mm, depth);
         for p in particles.iter_mut() {
             p.centre = Vec3::new(rng.uniform() * period.x, rng.uniform() * period.y, rng.uniform() * period.z);
         }
-        let mut packing = Packing { particles, aspect_ratios: aspect, period, populations: pops, packing_fraction: solid / (period.x * period.y * period.z), max_overlap: f64::INFINITY, sweeps: 0 };
+        let mut packing = Packing {
+            particles,
+            aspect_ratios: aspect,
+            period,
+            populations: pops,
+            packing_fraction: solid / (period.x * period.y * period.z),
+            max_overlap: f64::INFINITY,
+            sweeps: 0,
+        };
         packing.relax(params.max_sweeps, params.overlap_tolerance);
         if packing.max_overlap > params.overlap_tolerance {
             return Err(SandlightError::parameter("porosity", packing.populations.porosity, &format!("overlaps did not relax below {} within {} sweeps (largest {:.3e}); the packing fraction {:.3} may be beyond jamming", params.overlap_tolerance, params.max_sweeps, packing.max_overlap, packing.packing_fraction)));
@@ -258,11 +321,15 @@ impl Packing {
     /// below `tolerance`.
     fn relax(&mut self, max_sweeps: usize, tolerance: f64) {
         let n = self.particles.len();
-        let semi: Vec<(f64, f64)> = self.particles.iter().map(|p| {
-            let eps = self.aspect_ratios[p.type_index];
-            let a = p.diameter_mm * equatorial_ratio(eps);
-            (a, eps * a)
-        }).collect();
+        let semi: Vec<(f64, f64)> = self
+            .particles
+            .iter()
+            .map(|p| {
+                let eps = self.aspect_ratios[p.type_index];
+                let a = p.diameter_mm * equatorial_ratio(eps);
+                (a, eps * a)
+            })
+            .collect();
         let mean_d = self.particles.iter().map(|p| p.diameter_mm).sum::<f64>() / n as f64;
         let reach: Vec<f64> = semi.iter().map(|s| s.1).collect();
         let mut disp = vec![Vec3::default(); n];
@@ -282,7 +349,8 @@ impl Packing {
                 }
                 let dist = dist2.sqrt().max(1e-12);
                 let nrm = r * (1.0 / dist);
-                let sigma = radial_distance(semi[i].0, semi[i].1, pi.axis, nrm) + radial_distance(semi[j].0, semi[j].1, pj.axis, nrm);
+                let sigma = radial_distance(semi[i].0, semi[i].1, pi.axis, nrm)
+                    + radial_distance(semi[j].0, semi[j].1, pj.axis, nrm);
                 let ov = sigma - dist;
                 if ov <= 0.0 {
                     return;
@@ -303,7 +371,14 @@ impl Packing {
                 return;
             }
             let per = self.period;
-            let wrap = |v: f64, l: f64| { let w = v.rem_euclid(l); if w >= l { 0.0 } else { w } };
+            let wrap = |v: f64, l: f64| {
+                let w = v.rem_euclid(l);
+                if w >= l {
+                    0.0
+                } else {
+                    w
+                }
+            };
             for ((p, d), c) in self.particles.iter_mut().zip(&disp).zip(centres.iter_mut()) {
                 let x = p.centre + *d;
                 p.centre = Vec3::new(wrap(x.x, per.x), wrap(x.y, per.y), wrap(x.z, per.z));
@@ -323,7 +398,8 @@ impl Packing {
         let mut rng = Rng::for_ray(seed, 0x9ac2, 0);
         let (mut empty, mut multiple) = (0usize, 0usize);
         for _ in 0..n_points {
-            let x = Vec3::new(rng.uniform() * self.period.x, rng.uniform() * self.period.y, rng.uniform() * self.period.z);
+            let x =
+                Vec3::new(rng.uniform() * self.period.x, rng.uniform() * self.period.y, rng.uniform() * self.period.z);
             let mut inside = 0;
             list.for_each_near(x, max_c, |k| {
                 let r = self.min_image(self.particles[k].centre, x);
@@ -354,7 +430,13 @@ impl CellList {
         let l = [period.x, period.y, period.z];
         let n = l.map(|l| ((l / cell).floor() as usize).max(1));
         let h = std::array::from_fn(|a| l[a] / n[a] as f64);
-        CellList { n, h, start: vec![0; n[0] * n[1] * n[2] + 1], items: vec![0; particles], cell_of: vec![0; particles] }
+        CellList {
+            n,
+            h,
+            start: vec![0; n[0] * n[1] * n[2] + 1],
+            items: vec![0; particles],
+            cell_of: vec![0; particles],
+        }
     }
 
     #[inline]
@@ -394,7 +476,11 @@ impl CellList {
         let range = |a: usize| -> std::ops::RangeInclusive<i64> {
             let lo = ((xa[a] - reach) / self.h[a]).floor() as i64;
             let hi = ((xa[a] + reach) / self.h[a]).floor() as i64;
-            if hi - lo + 1 >= self.n[a] as i64 { 0..=self.n[a] as i64 - 1 } else { lo..=hi }
+            if hi - lo + 1 >= self.n[a] as i64 {
+                0..=self.n[a] as i64 - 1
+            } else {
+                lo..=hi
+            }
         };
         for cz in range(2) {
             for cy in range(1) {

@@ -280,8 +280,15 @@ mod tests {
         }
         // The contact peak: the tabulated contacts plus the band folded into them.
         let peak = |z: f64, eta: f64, g: &[f64]| {
-            z / (24.0 * eta) + g.iter().enumerate().take_while(|(k, _)| x0 + dx * (*k + 1) as f64 <= 1.0 + CONTACT_BAND + 1e-9)
-                .map(|(k, v)| { let x = x0 + dx * (k as f64 + 0.5); v * x * x * dx }).sum::<f64>()
+            z / (24.0 * eta)
+                + g.iter()
+                    .enumerate()
+                    .take_while(|(k, _)| x0 + dx * (*k + 1) as f64 <= 1.0 + CONTACT_BAND + 1e-9)
+                    .map(|(k, v)| {
+                        let x = x0 + dx * (k as f64 + 0.5);
+                        v * x * x * dx
+                    })
+                    .sum::<f64>()
         };
         let (e0, z0, g0) = (rows[0].eta, rows[0].z, &rows[0].g);
         let at = PairCorrelation::at_packing_fraction(e0);
@@ -323,7 +330,11 @@ mod tests {
         for cvd in [-1.0, -0.6, 0.0, 0.3, 0.95] {
             let svd: f64 = (1.0f64 - cvd * cvd).sqrt();
             let n = 20_000;
-            let sum: f64 = (0..n).map(|k| ContactCircle::new(-1.0 + 2.0 * (k as f64 + 0.5) / n as f64, cvd, svd).shadow_weight()).sum::<f64>() * 2.0 / n as f64;
+            let sum: f64 = (0..n)
+                .map(|k| ContactCircle::new(-1.0 + 2.0 * (k as f64 + 0.5) / n as f64, cvd, svd).shadow_weight())
+                .sum::<f64>()
+                * 2.0
+                / n as f64;
             assert!((sum - std::f64::consts::PI).abs() < 1e-3, "cvd {cvd}: {sum}");
         }
     }
@@ -349,7 +360,8 @@ mod tests {
         let v_hat = v * (1.0 / big_v);
         let cvd = v_hat.dot(d);
         let t_c = (big_v * big_v + r_b * r_b - sigma * sigma) / (2.0 * r_b * big_v);
-        let w_c = g.contact * ContactCircle::new(t_c, cvd, (1.0 - cvd * cvd).sqrt()).shadow_weight() * sigma * sigma / (std::f64::consts::PI * r_b * big_v);
+        let w_c = g.contact * ContactCircle::new(t_c, cvd, (1.0 - cvd * cvd).sqrt()).shadow_weight() * sigma * sigma
+            / (std::f64::consts::PI * r_b * big_v);
         let expected_contact = w_c / (w_c + w_s);
         let (mut contacts, mut sum_x_s, mut others) = (0usize, 0.0, 0usize);
         for _ in 0..n_draws {

@@ -45,11 +45,16 @@ pub struct PoreOptics {
 }
 
 impl PoreOptics {
-    pub const DRY: PoreOptics = PoreOptics { water_n: 1.333, water_alpha_per_mm: 0.0, film_thickness_mm: 0.0, water_filled_probability: 0.0 };
+    pub const DRY: PoreOptics =
+        PoreOptics { water_n: 1.333, water_alpha_per_mm: 0.0, film_thickness_mm: 0.0, water_filled_probability: 0.0 };
 
     #[inline]
     pub fn index(&self, water: bool) -> f64 {
-        if water { self.water_n } else { 1.0 }
+        if water {
+            self.water_n
+        } else {
+            1.0
+        }
     }
     /// Draws whether a newly entered pore is water-filled.
     #[inline]
@@ -62,10 +67,16 @@ impl PoreOptics {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Interaction {
     /// Reflected at the outer surface; the ray stays in the pore it came from.
-    Reflected { dir: Vec3 },
+    Reflected {
+        dir: Vec3,
+    },
     /// Went through the particle and left at `exit_point` (relative to the particle centre) into
     /// a new pore, water-filled or not.
-    Transmitted { dir: Vec3, exit_point: Vec3, water: bool },
+    Transmitted {
+        dir: Vec3,
+        exit_point: Vec3,
+        water: bool,
+    },
     Absorbed,
     /// Stopped by the internal-reflection cap (counted and reported by the caller).
     Capped,
@@ -80,7 +91,12 @@ fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
     };
     push(Slab::semi_infinite(pore.index(water)));
     if !water && p.wets && pore.film_thickness_mm > 0.0 {
-        push(Slab { n: pore.water_n, alpha_per_mm: pore.water_alpha_per_mm, thickness_mm: pore.film_thickness_mm, k_fresnel: 0.0 });
+        push(Slab {
+            n: pore.water_n,
+            alpha_per_mm: pore.water_alpha_per_mm,
+            thickness_mm: pore.film_thickness_mm,
+            k_fresnel: 0.0,
+        });
     }
     if let Some(c) = p.coating {
         push(Slab { n: c.n, alpha_per_mm: c.alpha_per_mm, thickness_mm: c.thickness_mm, k_fresnel: 0.0 });
@@ -209,7 +225,11 @@ impl Stack {
                     (0..2).all(|k| cell[2 * k] <= v[k] && v[k] <= cell[2 * k + 1])
                 });
                 // Bounds that never decide: u < −1 and u ≥ 2 are impossible.
-                if inside && !undecided[j] { cell } else { [-1.0, 2.0, -1.0, 2.0] }
+                if inside && !undecided[j] {
+                    cell
+                } else {
+                    [-1.0, 2.0, -1.0, 2.0]
+                }
             })
             .collect();
         self.brackets = Some(cells);
@@ -244,7 +264,10 @@ impl Stacks {
         let [ea, ew] = s.entry;
         let [xa, xw] = s.exit;
         let tab = |st: Stack, used: bool| if used { st.with_brackets() } else { st };
-        Stacks { entry: [tab(ea, true), tab(ew, water_used)], exit: [tab(xa, pore.water_filled_probability < 1.0), tab(xw, water_used)] }
+        Stacks {
+            entry: [tab(ea, true), tab(ew, water_used)],
+            exit: [tab(xa, pore.water_filled_probability < 1.0), tab(xw, water_used)],
+        }
     }
 }
 
@@ -260,7 +283,16 @@ pub fn survives(u: f64, x: f64) -> bool {
 /// Traces a ray arriving along `d` at `hit` on particle `shape` from a pore (water-filled if
 /// `water`). `max_internal` caps internal reflections.
 #[inline]
-pub fn interact(p: &ParticleOptics, pore: &PoreOptics, shape: &Spheroid, hit: Hit, d: Vec3, water: bool, rng: &mut Rng, max_internal: u32) -> Interaction {
+pub fn interact(
+    p: &ParticleOptics,
+    pore: &PoreOptics,
+    shape: &Spheroid,
+    hit: Hit,
+    d: Vec3,
+    water: bool,
+    rng: &mut Rng,
+    max_internal: u32,
+) -> Interaction {
     interact_with_stacks(p, &Stacks::new(p, pore), pore, shape, hit, d, water, rng, max_internal)
 }
 
@@ -271,7 +303,17 @@ pub fn interact(p: &ParticleOptics, pore: &PoreOptics, shape: &Spheroid, hit: Hi
 /// explicit), and as an out-of-line call the classic engine lost 10–12 % of its speed.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-pub fn interact_with_stacks(p: &ParticleOptics, stacks: &Stacks, pore: &PoreOptics, shape: &Spheroid, hit: Hit, d: Vec3, water: bool, rng: &mut Rng, max_internal: u32) -> Interaction {
+pub fn interact_with_stacks(
+    p: &ParticleOptics,
+    stacks: &Stacks,
+    pore: &PoreOptics,
+    shape: &Spheroid,
+    hit: Hit,
+    d: Vec3,
+    water: bool,
+    rng: &mut Rng,
+    max_internal: u32,
+) -> Interaction {
     let cos_i = (-d.dot(hit.normal)).clamp(0.0, 1.0);
     match stacks.entry[water as usize].fate(cos_i, rng.uniform()) {
         StackFate::Reflect => return Interaction::Reflected { dir: d.reflect(hit.normal) },
@@ -360,10 +402,24 @@ mod tests {
         // Every stack kind (bare, film, coating, film + coating; from air and water; entry and
         // exit with critical angles; weak to opaque layers).
         let mut rng = Rng::for_ray(4, 0, 0);
-        let (weak, dark) = (Coating { n: 1.9, alpha_per_mm: 300.0, thickness_mm: 5e-4 }, Coating { n: 2.4, alpha_per_mm: 2e4, thickness_mm: 2e-4 });
-        let cases = [(1.55, 4e-7, None, 0.05), (1.55, 4e-7, Some(weak), 0.05), (1.55, 1e-5, Some(dark), 50.0), (2.34, 0.1, None, 50.0), (3.0, 0.5, Some(weak), 0.05)];
+        let (weak, dark) = (
+            Coating { n: 1.9, alpha_per_mm: 300.0, thickness_mm: 5e-4 },
+            Coating { n: 2.4, alpha_per_mm: 2e4, thickness_mm: 2e-4 },
+        );
+        let cases = [
+            (1.55, 4e-7, None, 0.05),
+            (1.55, 4e-7, Some(weak), 0.05),
+            (1.55, 1e-5, Some(dark), 50.0),
+            (2.34, 0.1, None, 50.0),
+            (3.0, 0.5, Some(weak), 0.05),
+        ];
         for (core_n, core_k, coating, water_alpha_per_mm) in cases {
-            let pore = PoreOptics { water_n: 1.333, water_alpha_per_mm, film_thickness_mm: 1e-3, water_filled_probability: 0.4 };
+            let pore = PoreOptics {
+                water_n: 1.333,
+                water_alpha_per_mm,
+                film_thickness_mm: 1e-3,
+                water_filled_probability: 0.4,
+            };
             let p = ParticleOptics { core_n, core_k, core_alpha_per_mm: 1.0, coating, wets: true };
             let tab = Stacks::tabulated(&p, &pore);
             assert!(tab.entry.iter().chain(tab.exit.iter()).all(|st| st.brackets.is_some()));
@@ -378,12 +434,23 @@ mod tests {
         let mut rng = Rng::for_ray(5, 0, 0);
         let log_uniform = |rng: &mut Rng, lo: f64, hi: f64| lo * (hi / lo).powf(rng.uniform());
         for _ in 0..RANDOM_STACK_MEDIA {
-            let coating = (rng.uniform() < 0.6).then(|| Coating { n: 1.3 + 1.5 * rng.uniform(), alpha_per_mm: log_uniform(&mut rng, 1e-2, 3e4), thickness_mm: log_uniform(&mut rng, 1e-5, 2e-3) });
+            let coating = (rng.uniform() < 0.6).then(|| Coating {
+                n: 1.3 + 1.5 * rng.uniform(),
+                alpha_per_mm: log_uniform(&mut rng, 1e-2, 3e4),
+                thickness_mm: log_uniform(&mut rng, 1e-5, 2e-3),
+            });
             let core_k = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-8, 1.0) };
-            let p = ParticleOptics { core_n: 1.3 + 1.9 * rng.uniform(), core_k, core_alpha_per_mm: 1.0, coating, wets: true };
+            let p = ParticleOptics {
+                core_n: 1.3 + 1.9 * rng.uniform(),
+                core_k,
+                core_alpha_per_mm: 1.0,
+                coating,
+                wets: true,
+            };
             let film_thickness_mm = if rng.uniform() < 0.3 { 0.0 } else { log_uniform(&mut rng, 1e-5, 2e-3) };
             let water_alpha_per_mm = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-3, 100.0) };
-            let pore = PoreOptics { water_n: 1.333, water_alpha_per_mm, film_thickness_mm, water_filled_probability: 0.4 };
+            let pore =
+                PoreOptics { water_n: 1.333, water_alpha_per_mm, film_thickness_mm, water_filled_probability: 0.4 };
             assert_bracketed_decisions_exact(&Stacks::tabulated(&p, &pore), 2_000, &mut rng);
         }
     }
@@ -400,7 +467,9 @@ mod tests {
         for _ in 0..10_000 {
             let hit = s.sample_hit(d, &mut rng, 100).unwrap();
             match interact(&glass(1.5), &PoreOptics::DRY, &s, hit, d, false, &mut rng, 10_000) {
-                Interaction::Reflected { dir } | Interaction::Transmitted { dir, .. } => assert!((dir.norm2() - 1.0).abs() < 1e-9),
+                Interaction::Reflected { dir } | Interaction::Transmitted { dir, .. } => {
+                    assert!((dir.norm2() - 1.0).abs() < 1e-9)
+                }
                 other => panic!("unexpected {other:?}"),
             }
         }

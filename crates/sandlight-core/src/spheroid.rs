@@ -296,7 +296,10 @@ mod tests {
             // Dense sampling can only miss a grazing intersection.
             assert!(exact || !sampled, "{p0:?} {p1:?}");
             if exact && !sampled {
-                let grazing = (0..=4000).any(|i| { let x = p0 + (p1 - p0) * (i as f64 / 4000.0); x.norm2() / (s.a * s.a) + s.k * x.dot(s.u).powi(2) < 1.0 + 1e-3 });
+                let grazing = (0..=4000).any(|i| {
+                    let x = p0 + (p1 - p0) * (i as f64 / 4000.0);
+                    x.norm2() / (s.a * s.a) + s.k * x.dot(s.u).powi(2) < 1.0 + 1e-3
+                });
                 assert!(grazing, "{p0:?} {p1:?}");
             }
         }

@@ -77,14 +77,26 @@ impl SurfaceLayer {
         let keep = (0..Self::N)
             .map(|j| {
                 let z = -top + 2.0 * top * j as f64 / (Self::N - 1) as f64;
-                let f: f64 = radii.iter().map(|&(r, w)| {
-                    let u = ((r - z) / (2.0 * r)).clamp(0.0, 1.0);
-                    w * u * u * (3.0 - 2.0 * u)
-                }).sum::<f64>() / wsum;
+                let f: f64 = radii
+                    .iter()
+                    .map(|&(r, w)| {
+                        let u = ((r - z) / (2.0 * r)).clamp(0.0, 1.0);
+                        w * u * u * (3.0 - 2.0 * u)
+                    })
+                    .sum::<f64>()
+                    / wsum;
                 (1.0 - eta) / (1.0 - eta * f)
             })
             .collect();
-        let mut layer = SurfaceLayer { top_mm: top, packed: pops.packed, packed_fraction: eta, keep, slices: Vec::new(), hazard: Vec::new(), lookup: Vec::new() };
+        let mut layer = SurfaceLayer {
+            top_mm: top,
+            packed: pops.packed,
+            packed_fraction: eta,
+            keep,
+            slices: Vec::new(),
+            hazard: Vec::new(),
+            lookup: Vec::new(),
+        };
         layer.slices = (0..Self::BINS).map(|j| layer.slice(m, j as f64 * top / Self::BINS as f64)).collect();
         let h = top / Self::BINS as f64;
         layer.hazard = std::iter::once(0.0)
@@ -102,15 +114,29 @@ impl SurfaceLayer {
 
     fn slice(&self, m: &Particulate, z: f64) -> Slice {
         let total: f64 = m.types.iter().map(|t| t.probability).sum();
-        let level: Vec<f64> = m.types.iter().zip(&self.packed).map(|(t, &p)| {
-            // b(D) = max(a, c) = (a/d)·max(1, ε)·D: the largest semi-axis, ≥ the half height.
-            if p { t.sizes.level(z / (t.a_over_d() * t.aspect_ratio.max(1.0))) } else { 1.0 }
-        }).collect();
+        let level: Vec<f64> = m
+            .types
+            .iter()
+            .zip(&self.packed)
+            .map(|(t, &p)| {
+                // b(D) = max(a, c) = (a/d)·max(1, ε)·D: the largest semi-axis, ≥ the half height.
+                if p {
+                    t.sizes.level(z / (t.a_over_d() * t.aspect_ratio.max(1.0)))
+                } else {
+                    1.0
+                }
+            })
+            .collect();
         let mut acc = 0.0;
-        let mut cumulative: Vec<f64> = m.types.iter().zip(&level).map(|(t, l)| {
-            acc += t.probability / total * (1.0 - l);
-            acc
-        }).collect();
+        let mut cumulative: Vec<f64> = m
+            .types
+            .iter()
+            .zip(&level)
+            .map(|(t, l)| {
+                acc += t.probability / total * (1.0 - l);
+                acc
+            })
+            .collect();
         cumulative.iter_mut().for_each(|c| *c /= acc);
         let keep = self.keep(z);
         Slice { rate_per_mm: keep * acc / m.mean_free_path_mm, keep, cumulative, level }
@@ -189,7 +215,12 @@ mod tests {
 
     fn sand_with_fines() -> Particulate {
         let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true };
-        let sand = ParticleType { probability: 0.4, sizes: QuantileTable::new((0..65).map(|j| 0.15 + 0.3 * j as f64 / 64.0).collect()).unwrap(), aspect_ratio: 1.4, optics: optics.clone() };
+        let sand = ParticleType {
+            probability: 0.4,
+            sizes: QuantileTable::new((0..65).map(|j| 0.15 + 0.3 * j as f64 / 64.0).collect()).unwrap(),
+            aspect_ratio: 1.4,
+            optics: optics.clone(),
+        };
         let clay = ParticleType { probability: 0.6, sizes: QuantileTable::constant(0.002), aspect_ratio: 1.0, optics };
         Particulate::new(vec![sand, clay], 0.05, PoreOptics::DRY, f64::INFINITY).unwrap()
     }

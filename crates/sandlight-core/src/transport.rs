@@ -309,7 +309,11 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
                 None => {
                     let i = m.pick_index(rng.uniform());
                     let discarded = surface.is_some_and(|sf| {
-                        if sf.packed[i] { z >= -sf.top_mm && rng.uniform() >= sf.keep(z) } else { z >= 0.0 }
+                        if sf.packed[i] {
+                            z >= -sf.top_mm && rng.uniform() >= sf.keep(z)
+                        } else {
+                            z >= 0.0
+                        }
                     });
                     if discarded {
                         continue;
@@ -320,7 +324,8 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             let cut_packed = surface.is_some_and(|sf| sf.packed[i]);
             let ptype = &m.types[i];
             let (a_over_d, _) = m.type_tables(i);
-            let shape = Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
+            let shape =
+                Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
             // Centre height = z − (hit height) ≥ z − (highest point a ray along d can enter):
             // above the plane whatever the hit point if that bound is.
             if cut_packed && z >= shape.highest_entry(d) {
@@ -328,7 +333,11 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             }
             // `Packed`: a packed sphere met after leaving one lies where the packing's pair
             // correlation puts it (the flight length keeps its law).
-            let neighbour = m.neighbours.as_ref().zip(prev).filter(|(_, a)| m.is_packed_sphere(i) && m.is_packed_sphere(a.type_index));
+            let neighbour = m
+                .neighbours
+                .as_ref()
+                .zip(prev)
+                .filter(|(_, a)| m.is_packed_sphere(i) && m.is_packed_sphere(a.type_index));
             let hit = match neighbour {
                 Some((g, a)) => {
                     let n = g.sample_normal(here - a.centre, d, shape.a, shape.a + a.shape.a, rng);
@@ -358,7 +367,17 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
         // A packed grain of the cut-plane model (not a fine particle): it bounds the pore.
         let packed = surface.is_some_and(|sf| sf.packed[i]);
         let (_, stacks) = m.type_tables(i);
-        match interact_with_stacks(&m.types[i].optics, stacks, pore, &grain.shape, hit, d, water, rng, limits.max_internal) {
+        match interact_with_stacks(
+            &m.types[i].optics,
+            stacks,
+            pore,
+            &grain.shape,
+            hit,
+            d,
+            water,
+            rng,
+            limits.max_internal,
+        ) {
             Interaction::Reflected { dir } => {
                 // Back into the pore it came from: remember the segment just travelled and the
                 // grain at its far end.
@@ -371,7 +390,11 @@ fn trace_with_memory(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limi
                 // The particle's extent: the ray leaves from the far side (a fine particle in a
                 // pore whose walls are remembered: unless that is inside a wall, then it leaves
                 // where it hit, as in the explicit reference).
-                let moved = Vec3::new(x + exit_point.x - hit.point.x, y + exit_point.y - hit.point.y, (z + (exit_point.z - hit.point.z)).min(top));
+                let moved = Vec3::new(
+                    x + exit_point.x - hit.point.x,
+                    y + exit_point.y - hit.point.y,
+                    (z + (exit_point.z - hit.point.z)).min(top),
+                );
                 if packed || !walls.contain(moved) {
                     (x, y, z) = (moved.x, moved.y, moved.z);
                 }

@@ -1,7 +1,7 @@
 //! Hunts for NaN or non-unit directions and lost rays over extreme but valid media.
 
 use sandlight_core::driver::incident_direction;
-use sandlight_core::medium::{Particulate, ParticleType};
+use sandlight_core::medium::{ParticleType, Particulate};
 use sandlight_core::particle::{Coating, ParticleOptics, PoreOptics};
 use sandlight_core::rng::Rng;
 use sandlight_core::sizes::QuantileTable;
@@ -14,8 +14,14 @@ fn medium(aspect: f64, k: f64, alpha: f64, coating: Option<Coating>, film: f64, 
         aspect_ratio: aspect,
         optics: ParticleOptics { core_n: n, core_k: k, core_alpha_per_mm: alpha, coating, wets: true },
     };
-    let pore = PoreOptics { water_n: 1.333, water_alpha_per_mm: 0.01, film_thickness_mm: film, water_filled_probability: filled };
-    Particulate::new(vec![t(0.6, 0.25, 1.544), t(0.3, 0.001, 1.56), t(0.1, 0.01, 2.4)], 0.1, pore, f64::INFINITY).unwrap()
+    let pore = PoreOptics {
+        water_n: 1.333,
+        water_alpha_per_mm: 0.01,
+        film_thickness_mm: film,
+        water_filled_probability: filled,
+    };
+    Particulate::new(vec![t(0.6, 0.25, 1.544), t(0.3, 0.001, 1.56), t(0.1, 0.01, 2.4)], 0.1, pore, f64::INFINITY)
+        .unwrap()
 }
 
 #[test]

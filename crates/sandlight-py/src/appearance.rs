@@ -22,7 +22,11 @@ pub struct PyBandGridBrdf {
 
 fn check_dirs(name: &str, a: &PyReadonlyArray2<'_, f64>) -> Result<(), SandlightError> {
     if a.shape()[1] != 3 {
-        return Err(SandlightError::parameter(name, format!("an array of shape {:?}", a.shape()), "must have shape (N, 3)"));
+        return Err(SandlightError::parameter(
+            name,
+            format!("an array of shape {:?}", a.shape()),
+            "must have shape (N, 3)",
+        ));
     }
     Ok(())
 }
@@ -32,13 +36,25 @@ impl PyBandGridBrdf {
     /// grid: float64 (stacks, stacks, slices) node values F[b_i, b_o, k]; band_cos_theta: float64
     /// (stacks,) node μ, decreasing (cap first); profile: float64 (stacks,) P at the nodes.
     #[new]
-    fn new(py: Python<'_>, grid: PyReadonlyArray3<'_, f64>, band_cos_theta: PyReadonlyArray1<'_, f64>, profile: PyReadonlyArray1<'_, f64>) -> PyResult<Self> {
+    fn new(
+        py: Python<'_>,
+        grid: PyReadonlyArray3<'_, f64>,
+        band_cos_theta: PyReadonlyArray1<'_, f64>,
+        profile: PyReadonlyArray1<'_, f64>,
+    ) -> PyResult<Self> {
         let shape = grid.shape().to_vec();
         let values: Vec<f64> = grid.as_array().iter().copied().collect();
         let nodes: Vec<f64> = band_cos_theta.as_array().iter().copied().collect();
         let profile: Vec<f64> = profile.as_array().iter().copied().collect();
         if shape[0] != shape[1] {
-            return Err(to_py(py, SandlightError::parameter("grid", format!("shape {shape:?}"), "must have shape (stacks, stacks, slices)")));
+            return Err(to_py(
+                py,
+                SandlightError::parameter(
+                    "grid",
+                    format!("shape {shape:?}"),
+                    "must have shape (stacks, stacks, slices)",
+                ),
+            ));
         }
         let grid = BandGrid::new(shape[0], shape[2], &nodes, values, profile).map_err(|e| to_py(py, e))?;
         Ok(PyBandGridBrdf { grid })
@@ -49,19 +65,40 @@ impl PyBandGridBrdf {
     /// horizon, NaN for NaN directions; ParameterError for a zero or infinite direction.
     /// The GIL is released; `threads` > 1 splits the pairs over a rayon pool.
     #[pyo3(signature = (wi, wo, a, b, threads = None))]
-    fn evaluate<'py>(&self, py: Python<'py>, wi: PyReadonlyArray2<'py, f64>, wo: PyReadonlyArray2<'py, f64>, a: PyReadonlyArray1<'py, f64>, b: PyReadonlyArray1<'py, f64>, threads: Option<usize>)
-        -> PyResult<Bound<'py, PyArray2<f64>>> {
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        wi: PyReadonlyArray2<'py, f64>,
+        wo: PyReadonlyArray2<'py, f64>,
+        a: PyReadonlyArray1<'py, f64>,
+        b: PyReadonlyArray1<'py, f64>,
+        threads: Option<usize>,
+    ) -> PyResult<Bound<'py, PyArray2<f64>>> {
         check_dirs("wi", &wi).map_err(|e| to_py(py, e))?;
         check_dirs("wo", &wo).map_err(|e| to_py(py, e))?;
         let n = wi.shape()[0];
         if wo.shape()[0] != n {
-            return Err(to_py(py, SandlightError::parameter("wo", format!("{} rows", wo.shape()[0]), &format!("must have as many rows as wi ({n})"))));
+            return Err(to_py(
+                py,
+                SandlightError::parameter(
+                    "wo",
+                    format!("{} rows", wo.shape()[0]),
+                    &format!("must have as many rows as wi ({n})"),
+                ),
+            ));
         }
         let (x, y) = (wi.as_slice()?, wo.as_slice()?);
         let (sa, sb) = (a.as_slice()?, b.as_slice()?);
         let w = sa.len();
         if sb.len() != w {
-            return Err(to_py(py, SandlightError::parameter("b", format!("length {}", sb.len()), &format!("must have the length of a ({w})"))));
+            return Err(to_py(
+                py,
+                SandlightError::parameter(
+                    "b",
+                    format!("length {}", sb.len()),
+                    &format!("must have the length of a ({w})"),
+                ),
+            ));
         }
         let mut out = vec![0.0; n * w];
         let grid = &self.grid;
@@ -71,7 +108,8 @@ impl PyBandGridBrdf {
                     out.par_chunks_mut(CHUNK * w).enumerate().try_for_each(|(c, o)| {
                         let lo = c * CHUNK;
                         let hi = lo + o.len() / w;
-                        spectral_brdf(grid, &x[3 * lo..3 * hi], &y[3 * lo..3 * hi], sa, sb, o).map_err(|(name, p)| (name, p + lo))
+                        spectral_brdf(grid, &x[3 * lo..3 * hi], &y[3 * lo..3 * hi], sa, sb, o)
+                            .map_err(|(name, p)| (name, p + lo))
                     })
                 }),
                 _ => Ok(spectral_brdf(grid, x, y, sa, sb, &mut out)),
@@ -79,7 +117,10 @@ impl PyBandGridBrdf {
         });
         match result {
             Err(msg) => Err(PyRuntimeError::new_err(msg)),
-            Ok(Err((name, row))) => Err(to_py(py, SandlightError::parameter(name, format!("row {row}"), "directions must be non-zero and finite"))),
+            Ok(Err((name, row))) => Err(to_py(
+                py,
+                SandlightError::parameter(name, format!("row {row}"), "directions must be non-zero and finite"),
+            )),
             Ok(Ok(())) => {
                 let arr = Array2::from_shape_vec((n, w), out).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
                 Ok(arr.into_pyarray(py))
@@ -89,11 +130,23 @@ impl PyBandGridBrdf {
 
     /// (F, P(μ_i)P(μ_o)) at (μ_i, μ_o, Δφ) for equal-length float64 arrays (no horizon test).
     #[allow(clippy::type_complexity)]
-    fn evaluate_mu<'py>(&self, py: Python<'py>, mu_i: PyReadonlyArray1<'py, f64>, mu_o: PyReadonlyArray1<'py, f64>, dphi: PyReadonlyArray1<'py, f64>)
-        -> PyResult<(Bound<'py, numpy::PyArray1<f64>>, Bound<'py, numpy::PyArray1<f64>>)> {
+    fn evaluate_mu<'py>(
+        &self,
+        py: Python<'py>,
+        mu_i: PyReadonlyArray1<'py, f64>,
+        mu_o: PyReadonlyArray1<'py, f64>,
+        dphi: PyReadonlyArray1<'py, f64>,
+    ) -> PyResult<(Bound<'py, numpy::PyArray1<f64>>, Bound<'py, numpy::PyArray1<f64>>)> {
         let (a, b, c) = (mu_i.as_array(), mu_o.as_array(), dphi.as_array());
         if a.len() != b.len() || a.len() != c.len() {
-            return Err(to_py(py, SandlightError::parameter("mu_i, mu_o, dphi", format!("lengths {}, {}, {}", a.len(), b.len(), c.len()), "must have equal lengths")));
+            return Err(to_py(
+                py,
+                SandlightError::parameter(
+                    "mu_i, mu_o, dphi",
+                    format!("lengths {}, {}, {}", a.len(), b.len(), c.len()),
+                    "must have equal lengths",
+                ),
+            ));
         }
         let (f, p): (Vec<f64>, Vec<f64>) = (0..a.len()).map(|i| self.grid.eval_mu(a[i], b[i], c[i])).unzip();
         Ok((f.into_pyarray(py), p.into_pyarray(py)))

@@ -31,7 +31,11 @@ fn hemisphere_patch_index<'py>(
     if dirs.shape()[1] != 3 {
         return Err(errors::to_py(
             py,
-            SandlightError::parameter("dirs", format!("an array of shape {:?}", dirs.shape()), "must have shape (N, 3)"),
+            SandlightError::parameter(
+                "dirs",
+                format!("an array of shape {:?}", dirs.shape()),
+                "must have shape (N, 3)",
+            ),
         ));
     }
     let view = dirs.as_array();

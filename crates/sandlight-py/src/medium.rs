@@ -5,15 +5,15 @@ use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use sandlight_core::driver::{directional_hemispherical, incident_direction};
+use sandlight_core::error::SandlightError;
 use sandlight_core::gonio::measure::{measure_brdf, measure_fixed_incidence};
 use sandlight_core::gonio::{BrdfTally, CollectorHemisphere, FixedIncidenceTally};
 use sandlight_core::math::Vec3;
-use sandlight_core::error::SandlightError;
 use std::sync::Arc;
 
 use sandlight_core::deposition::deposit;
 use sandlight_core::explicit::{Explicit, Scene};
-use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, Memory, Particulate, ParticleType};
+use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, Memory, ParticleType, Particulate};
 use sandlight_core::packing::{PackedParticle, Packing, PackingParams};
 use sandlight_core::particle::{Coating, ParticleOptics, PoreOptics};
 use sandlight_core::sizes::QuantileTable;
@@ -35,7 +35,11 @@ pub struct PyMedium {
 }
 
 fn same_len(name: &str, got: usize, want: usize) -> Result<(), SandlightError> {
-    if got == want { Ok(()) } else { Err(SandlightError::parameter(name, format!("length {got}"), &format!("one entry per particle type ({want})"))) }
+    if got == want {
+        Ok(())
+    } else {
+        Err(SandlightError::parameter(name, format!("length {got}"), &format!("one entry per particle type ({want})")))
+    }
 }
 
 #[pymethods]
@@ -78,12 +82,22 @@ impl PyMedium {
             same_len("coating_thickness_mm", coating_thickness_mm.len(), n)?;
             let mut types = Vec::with_capacity(n);
             for i in 0..n {
-                let coating = (coating_thickness_mm[i] > 0.0).then_some(Coating { n: coating_n[i], alpha_per_mm: coating_alpha_per_mm[i], thickness_mm: coating_thickness_mm[i] });
+                let coating = (coating_thickness_mm[i] > 0.0).then_some(Coating {
+                    n: coating_n[i],
+                    alpha_per_mm: coating_alpha_per_mm[i],
+                    thickness_mm: coating_thickness_mm[i],
+                });
                 types.push(ParticleType {
                     probability: probabilities[i],
                     sizes: QuantileTable::new(size_quantiles_mm[i].clone())?,
                     aspect_ratio: aspect_ratios[i],
-                    optics: ParticleOptics { core_n: core_n[i], core_k: core_k[i], core_alpha_per_mm: core_alpha_per_mm[i], coating, wets: true },
+                    optics: ParticleOptics {
+                        core_n: core_n[i],
+                        core_k: core_k[i],
+                        core_alpha_per_mm: core_alpha_per_mm[i],
+                        coating,
+                        wets: true,
+                    },
                 });
             }
             let pore = PoreOptics { water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability };
@@ -92,7 +106,9 @@ impl PyMedium {
                 "channel" => Memory::Channel,
                 "cut" => Memory::Cut,
                 "packed" => Memory::Packed,
-                other => return Err(SandlightError::parameter("memory", other, "'none', 'channel', 'cut' or 'packed'")),
+                other => {
+                    return Err(SandlightError::parameter("memory", other, "'none', 'channel', 'cut' or 'packed'"))
+                }
             };
             Ok(Particulate::new(types, mean_free_path_mm, pore, depth_mm)?.with_memory(memory))
         };
@@ -105,12 +121,28 @@ impl PyMedium {
     #[pyo3(signature = (packing, bottom_mm = f64::INFINITY))]
     fn explicit(&self, py: Python<'_>, packing: &PyPacking, bottom_mm: f64) -> PyResult<Self> {
         let Kind::Particulate(m) = &self.kind else {
-            return Err(to_py(py, SandlightError::parameter("medium", "a reference medium", "explicit geometry needs a sand (particulate) medium")));
+            return Err(to_py(
+                py,
+                SandlightError::parameter(
+                    "medium",
+                    "a reference medium",
+                    "explicit geometry needs a sand (particulate) medium",
+                ),
+            ));
         };
         if m.memory != Memory::None {
-            return Err(to_py(py, SandlightError::parameter("memory", format!("{:?}", m.memory), "'none' for explicit geometry (memory is a model of the on-the-fly engine)")));
+            return Err(to_py(
+                py,
+                SandlightError::parameter(
+                    "memory",
+                    format!("{:?}", m.memory),
+                    "'none' for explicit geometry (memory is a model of the on-the-fly engine)",
+                ),
+            ));
         }
-        Explicit::new(m.clone(), packing.scene.clone(), bottom_mm).map(|e| PyMedium { kind: Kind::Explicit(e) }).map_err(|e| to_py(py, e))
+        Explicit::new(m.clone(), packing.scene.clone(), bottom_mm)
+            .map(|e| PyMedium { kind: Kind::Explicit(e) })
+            .map_err(|e| to_py(py, e))
     }
 
     /// Isotropic point scatterers of albedo ω, unit mean free path (Chandrasekhar's half-space).
@@ -130,7 +162,18 @@ impl PyMedium {
     /// counts (launched, escaped, absorbed, transmitted, capped, events). The GIL is released.
     #[pyo3(signature = (theta_deg, seed, stream, first_ray, n_rays, max_events, max_internal, threads = None))]
     #[allow(clippy::too_many_arguments)]
-    fn dhr(&self, py: Python<'_>, theta_deg: f64, seed: u64, stream: u64, first_ray: u64, n_rays: u64, max_events: u64, max_internal: u32, threads: Option<usize>) -> PyResult<(u64, u64, u64, u64, u64, u64)> {
+    fn dhr(
+        &self,
+        py: Python<'_>,
+        theta_deg: f64,
+        seed: u64,
+        stream: u64,
+        first_ray: u64,
+        n_rays: u64,
+        max_events: u64,
+        max_internal: u32,
+        threads: Option<usize>,
+    ) -> PyResult<(u64, u64, u64, u64, u64, u64)> {
         if !(0.0..90.0).contains(&theta_deg) {
             return Err(to_py(py, SandlightError::parameter("incidence_deg", theta_deg, "must be in [0, 90)")));
         }
@@ -153,8 +196,24 @@ impl PyMedium {
     /// lost (r,)) as uint64 arrays. The GIL is released.
     #[pyo3(signature = (stacks, slices, seed, stream, first_ray, n_rays, max_events, max_internal, threads = None))]
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
-    fn brdf_counts<'py>(&self, py: Python<'py>, stacks: usize, slices: usize, seed: u64, stream: u64, first_ray: u64, n_rays: u64, max_events: u64, max_internal: u32, threads: Option<usize>)
-        -> PyResult<(Bound<'py, PyArray2<u64>>, Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<u64>>, Bound<'py, PyArray1<u64>>)> {
+    fn brdf_counts<'py>(
+        &self,
+        py: Python<'py>,
+        stacks: usize,
+        slices: usize,
+        seed: u64,
+        stream: u64,
+        first_ray: u64,
+        n_rays: u64,
+        max_events: u64,
+        max_internal: u32,
+        threads: Option<usize>,
+    ) -> PyResult<(
+        Bound<'py, PyArray2<u64>>,
+        Bound<'py, PyArray1<u64>>,
+        Bound<'py, PyArray1<u64>>,
+        Bound<'py, PyArray1<u64>>,
+    )> {
         let h = CollectorHemisphere::new(stacks, slices).map_err(|e| to_py(py, e))?;
         let limits = Limits { max_events, max_internal };
         let run = || -> Result<BrdfTally, String> {
@@ -175,10 +234,26 @@ impl PyMedium {
     /// Returns (counts (r,), absorbed, launched, lost).
     #[pyo3(signature = (stacks, slices, theta_deg, phi_deg, seed, stream, first_ray, n_rays, max_events, max_internal, threads = None))]
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
-    fn fixed_counts<'py>(&self, py: Python<'py>, stacks: usize, slices: usize, theta_deg: f64, phi_deg: f64, seed: u64, stream: u64, first_ray: u64, n_rays: u64, max_events: u64, max_internal: u32, threads: Option<usize>)
-        -> PyResult<(Bound<'py, PyArray1<u64>>, u64, u64, u64)> {
+    fn fixed_counts<'py>(
+        &self,
+        py: Python<'py>,
+        stacks: usize,
+        slices: usize,
+        theta_deg: f64,
+        phi_deg: f64,
+        seed: u64,
+        stream: u64,
+        first_ray: u64,
+        n_rays: u64,
+        max_events: u64,
+        max_internal: u32,
+        threads: Option<usize>,
+    ) -> PyResult<(Bound<'py, PyArray1<u64>>, u64, u64, u64)> {
         if !(0.0..90.0).contains(&theta_deg) || !phi_deg.is_finite() {
-            return Err(to_py(py, SandlightError::parameter("incidence_deg", theta_deg, "must be in [0, 90) with a finite azimuth")));
+            return Err(to_py(
+                py,
+                SandlightError::parameter("incidence_deg", theta_deg, "must be in [0, 90) with a finite azimuth"),
+            ));
         }
         let h = CollectorHemisphere::new(stacks, slices).map_err(|e| to_py(py, e))?;
         let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
@@ -186,10 +261,18 @@ impl PyMedium {
         let limits = Limits { max_events, max_internal };
         let run = || -> Result<FixedIncidenceTally, String> {
             run_with_threads(threads, || match &self.kind {
-                Kind::Particulate(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
-                Kind::Explicit(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
-                Kind::Isotropic(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
-                Kind::Lambertian(m) => measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits),
+                Kind::Particulate(m) => {
+                    measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits)
+                }
+                Kind::Explicit(m) => {
+                    measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits)
+                }
+                Kind::Isotropic(m) => {
+                    measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits)
+                }
+                Kind::Lambertian(m) => {
+                    measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits)
+                }
             })
         };
         let t = py.detach(run).map_err(PyRuntimeError::new_err)?;
@@ -214,18 +297,45 @@ impl PyPacking {
     #[staticmethod]
     #[pyo3(signature = (medium, lateral_mm, depth_mm, seed = 0, fines_below_mm = 0.05, max_particles = 400_000, overlap_tolerance = 1e-3, max_sweeps = 20_000, surface = "cut", settled_thickness_mm = None))]
     #[allow(clippy::too_many_arguments)]
-    fn generate(py: Python<'_>, medium: &PyMedium, lateral_mm: f64, depth_mm: f64, seed: u64, fines_below_mm: f64, max_particles: usize, overlap_tolerance: f64, max_sweeps: usize, surface: &str, settled_thickness_mm: Option<f64>) -> PyResult<Self> {
+    fn generate(
+        py: Python<'_>,
+        medium: &PyMedium,
+        lateral_mm: f64,
+        depth_mm: f64,
+        seed: u64,
+        fines_below_mm: f64,
+        max_particles: usize,
+        overlap_tolerance: f64,
+        max_sweeps: usize,
+        surface: &str,
+        settled_thickness_mm: Option<f64>,
+    ) -> PyResult<Self> {
         let Kind::Particulate(m) = &medium.kind else {
-            return Err(to_py(py, SandlightError::parameter("medium", "a reference medium", "a sand (particulate) medium")));
+            return Err(to_py(
+                py,
+                SandlightError::parameter("medium", "a reference medium", "a sand (particulate) medium"),
+            ));
         };
         let settled = match (surface, settled_thickness_mm) {
             ("cut", None) => None,
             ("settled", Some(t)) => Some(t),
-            ("cut", Some(t)) => return Err(to_py(py, SandlightError::parameter("settled_thickness_mm", t, "None for surface 'cut'"))),
-            ("settled", None) => return Err(to_py(py, SandlightError::parameter("settled_thickness_mm", "None", "a thickness > 0 (mm) for surface 'settled'"))),
+            ("cut", Some(t)) => {
+                return Err(to_py(py, SandlightError::parameter("settled_thickness_mm", t, "None for surface 'cut'")))
+            }
+            ("settled", None) => {
+                return Err(to_py(
+                    py,
+                    SandlightError::parameter(
+                        "settled_thickness_mm",
+                        "None",
+                        "a thickness > 0 (mm) for surface 'settled'",
+                    ),
+                ))
+            }
             (other, _) => return Err(to_py(py, SandlightError::parameter("surface", other, "'cut' or 'settled'"))),
         };
-        let params = PackingParams { lateral_mm, depth_mm, fines_below_mm, seed, max_particles, max_sweeps, overlap_tolerance };
+        let params =
+            PackingParams { lateral_mm, depth_mm, fines_below_mm, seed, max_particles, max_sweeps, overlap_tolerance };
         let m = m.clone();
         let made = py.detach(move || -> Result<Arc<Scene>, SandlightError> {
             let packing = Packing::generate(&m, &params)?;
@@ -241,7 +351,11 @@ impl PyPacking {
     /// 'cut' or 'settled'.
     #[getter]
     fn surface(&self) -> &'static str {
-        if self.scene.deposit.is_empty() { "cut" } else { "settled" }
+        if self.scene.deposit.is_empty() {
+            "cut"
+        } else {
+            "settled"
+        }
     }
     /// Grains settled on the cut (0 for the cut surface).
     #[getter]
@@ -259,8 +373,15 @@ impl PyPacking {
     }
     /// (porosity, overlap) at each of `heights` (mm): fractions of `n_points` random points of
     /// that plane in no grain of the sample and in two or more.
-    fn porosity_profile<'py>(&self, py: Python<'py>, heights: Vec<f64>, n_points: usize, seed: u64) -> (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
-        let (empty, multiple): (Vec<f64>, Vec<f64>) = py.detach(|| self.scene.porosity_profile(&heights, n_points, seed)).into_iter().unzip();
+    fn porosity_profile<'py>(
+        &self,
+        py: Python<'py>,
+        heights: Vec<f64>,
+        n_points: usize,
+        seed: u64,
+    ) -> (Bound<'py, PyArray1<f64>>, Bound<'py, PyArray1<f64>>) {
+        let (empty, multiple): (Vec<f64>, Vec<f64>) =
+            py.detach(|| self.scene.porosity_profile(&heights, n_points, seed)).into_iter().unzip();
         (empty.into_pyarray(py), multiple.into_pyarray(py))
     }
     /// Centres (N, 3) in mm and volume-equivalent diameters (N,) in mm of the settled grains.
@@ -312,7 +433,13 @@ impl PyPacking {
         py.detach(|| self.scene.packing.point_statistics(n_points, seed))
     }
     /// Pore chord lengths (mm) along random lines (see `Scene::pore_chords`).
-    fn pore_chords<'py>(&self, py: Python<'py>, n_lines: usize, per_line: usize, seed: u64) -> Bound<'py, PyArray1<f64>> {
+    fn pore_chords<'py>(
+        &self,
+        py: Python<'py>,
+        n_lines: usize,
+        per_line: usize,
+        seed: u64,
+    ) -> Bound<'py, PyArray1<f64>> {
         py.detach(|| self.scene.pore_chords(n_lines, per_line, seed)).into_pyarray(py)
     }
     /// Centres (N, 3) in mm and volume-equivalent diameters (N,) in mm of the periodic packing.
@@ -321,7 +448,10 @@ impl PyPacking {
     }
 }
 
-fn centres_and_diameters<'py>(py: Python<'py>, ps: &[PackedParticle]) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>) {
+fn centres_and_diameters<'py>(
+    py: Python<'py>,
+    ps: &[PackedParticle],
+) -> (Bound<'py, PyArray2<f64>>, Bound<'py, PyArray1<f64>>) {
     let mut c = Array2::<f64>::zeros((ps.len(), 3));
     for (i, p) in ps.iter().enumerate() {
         c[[i, 0]] = p.centre.x;

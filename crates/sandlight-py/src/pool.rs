@@ -19,7 +19,9 @@ pub fn run_with_threads<T: Send>(threads: Option<usize>, f: impl FnOnce() -> T +
                 match map.get(&n) {
                     Some(p) => p.clone(),
                     None => {
-                        let p = Arc::new(rayon::ThreadPoolBuilder::new().num_threads(n).build().map_err(|e| e.to_string())?);
+                        let p = Arc::new(
+                            rayon::ThreadPoolBuilder::new().num_threads(n).build().map_err(|e| e.to_string())?,
+                        );
                         map.insert(n, p.clone());
                         p
                     }

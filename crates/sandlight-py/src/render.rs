@@ -3,7 +3,10 @@
 //! converts arrays, releases the GIL and maps errors.
 
 use numpy::ndarray::{Array2, Array3};
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3, PyReadonlyArrayDyn, PyUntypedArrayMethods};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyReadonlyArray2, PyReadonlyArray3, PyReadonlyArrayDyn,
+    PyUntypedArrayMethods,
+};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use sandlight_core::math::Vec3;
@@ -18,14 +21,25 @@ use crate::errors::to_py;
 use crate::pool::run_with_threads;
 
 fn vec3(name: &str, v: &[f64]) -> Result<[f64; 3], SandlightError> {
-    if v.len() == 3 { Ok([v[0], v[1], v[2]]) } else { Err(SandlightError::parameter(name, format!("{v:?}"), "a 3-vector")) }
+    if v.len() == 3 {
+        Ok([v[0], v[1], v[2]])
+    } else {
+        Err(SandlightError::parameter(name, format!("{v:?}"), "a 3-vector"))
+    }
 }
 
 fn pair(name: &str, v: &[f64]) -> Result<(f64, f64), SandlightError> {
-    if v.len() == 2 { Ok((v[0], v[1])) } else { Err(SandlightError::parameter(name, format!("{v:?}"), "a pair (x, y)")) }
+    if v.len() == 2 {
+        Ok((v[0], v[1]))
+    } else {
+        Err(SandlightError::parameter(name, format!("{v:?}"), "a pair (x, y)"))
+    }
 }
 
-fn contiguous<'a, T: numpy::Element, D: numpy::ndarray::Dimension>(name: &str, a: &'a numpy::PyReadonlyArray<'_, T, D>) -> Result<&'a [T], SandlightError> {
+fn contiguous<'a, T: numpy::Element, D: numpy::ndarray::Dimension>(
+    name: &str,
+    a: &'a numpy::PyReadonlyArray<'_, T, D>,
+) -> Result<&'a [T], SandlightError> {
     a.as_slice().map_err(|_| SandlightError::parameter(name, "a non-contiguous array", "a C-contiguous array"))
 }
 
@@ -91,17 +105,47 @@ impl PyRenderScene {
         max_bounces: u32,
     ) -> PyResult<Self> {
         let build = || -> Result<Scene, SandlightError> {
-            let camera = Camera::new(vec3("camera_origin", &camera_origin)?, vec3("camera_forward", &camera_forward)?, vec3("camera_right", &camera_right)?, vec3("camera_up", &camera_up)?, width, height)?;
+            let camera = Camera::new(
+                vec3("camera_origin", &camera_origin)?,
+                vec3("camera_forward", &camera_forward)?,
+                vec3("camera_right", &camera_right)?,
+                vec3("camera_up", &camera_up)?,
+                width,
+                height,
+            )?;
             let sky_shape = sky_radiance.shape().to_vec();
-            let environment = Environment::new(sky_shape[0], sky_shape[1], sky_shape[2], contiguous("sky_radiance", &sky_radiance)?.to_vec(), vec3("sun_direction", &sun_direction)?, sun_solid_angle_sr, &sun_radiance)?;
+            let environment = Environment::new(
+                sky_shape[0],
+                sky_shape[1],
+                sky_shape[2],
+                contiguous("sky_radiance", &sky_radiance)?.to_vec(),
+                vec3("sun_direction", &sun_direction)?,
+                sun_solid_angle_sr,
+                &sun_radiance,
+            )?;
             let bshape = brdf.shape().to_vec();
             if bshape.len() != 5 || bshape[1] != mu_i.len() || bshape[2] != mu_o.len() || bshape[3] != dphi.len() {
-                return Err(SandlightError::parameter("brdf", format!("array of shape {bshape:?}"), "shape (levels, len(mu_i), len(mu_o), len(dphi), bands)"));
+                return Err(SandlightError::parameter(
+                    "brdf",
+                    format!("array of shape {bshape:?}"),
+                    "shape (levels, len(mu_i), len(mu_o), len(dphi), bands)",
+                ));
             }
             if bshape[4] != sky_shape[2] || bshape[4] != sun_radiance.len() {
-                return Err(SandlightError::parameter("brdf", format!("{} bands", bshape[4]), &format!("the sky's {} bands and the sun's {}", sky_shape[2], sun_radiance.len())));
+                return Err(SandlightError::parameter(
+                    "brdf",
+                    format!("{} bands", bshape[4]),
+                    &format!("the sky's {} bands and the sun's {}", sky_shape[2], sun_radiance.len()),
+                ));
             }
-            let brdf = BrdfStack::new(bshape[0], mu_i.clone(), mu_o.clone(), dphi.clone(), bshape[4], contiguous("brdf", &brdf)?.to_vec())?;
+            let brdf = BrdfStack::new(
+                bshape[0],
+                mu_i.clone(),
+                mu_o.clone(),
+                dphi.clone(),
+                bshape[4],
+                contiguous("brdf", &brdf)?.to_vec(),
+            )?;
             let terrain = match terrain {
                 "plane" => {
                     if !plane_z.is_finite() {
@@ -110,11 +154,24 @@ impl PyRenderScene {
                     Terrain::Plane { z: plane_z }
                 }
                 "heightfield" => {
-                    let h = heights.as_ref().ok_or_else(|| SandlightError::parameter("heights", "None", "an array for a heightfield terrain"))?;
+                    let h = heights.as_ref().ok_or_else(|| {
+                        SandlightError::parameter("heights", "None", "an array for a heightfield terrain")
+                    })?;
                     let (ny, nx) = (h.shape()[0], h.shape()[1]);
                     let (x0, y0) = pair("origin", origin.as_deref().unwrap_or(&[0.0, 0.0]))?;
                     let (dx, dy) = pair("spacing", spacing.as_deref().unwrap_or(&[1.0, 1.0]))?;
-                    Terrain::Heightfield(Box::new(Heightfield::new(nx, ny, x0, y0, dx, dy, contiguous("heights", h)?.to_vec(), wrap, outside, far_m)?))
+                    Terrain::Heightfield(Box::new(Heightfield::new(
+                        nx,
+                        ny,
+                        x0,
+                        y0,
+                        dx,
+                        dy,
+                        contiguous("heights", h)?.to_vec(),
+                        wrap,
+                        outside,
+                        far_m,
+                    )?))
                 }
                 other => return Err(SandlightError::parameter("terrain", other, "\"plane\" or \"heightfield\"")),
             };
@@ -124,7 +181,17 @@ impl PyRenderScene {
                     let (ny, nx) = (m.shape()[0], m.shape()[1]);
                     let (x0, y0) = pair("material_origin", material_origin.as_deref().unwrap_or(&[0.0, 0.0]))?;
                     let (dx, dy) = pair("material_spacing", material_spacing.as_deref().unwrap_or(&[1.0, 1.0]))?;
-                    MaterialMap::new(nx, ny, x0, y0, dx, dy, contiguous("material", m)?.to_vec(), material_wrap, bshape[0])?
+                    MaterialMap::new(
+                        nx,
+                        ny,
+                        x0,
+                        y0,
+                        dx,
+                        dy,
+                        contiguous("material", m)?.to_vec(),
+                        material_wrap,
+                        bshape[0],
+                    )?
                 }
             };
             let estimator = match estimator {
@@ -146,7 +213,14 @@ impl PyRenderScene {
             if max_bounces == 0 {
                 return Err(SandlightError::parameter("max_bounces", max_bounces, "at least 1"));
             }
-            Ok(Scene { camera, environment, brdf, terrain, material, settings: Settings { estimator, sampling, heuristic, max_bounces } })
+            Ok(Scene {
+                camera,
+                environment,
+                brdf,
+                terrain,
+                material,
+                settings: Settings { estimator, sampling, heuristic, max_bounces },
+            })
         };
         build().map(|scene| PyRenderScene { scene }).map_err(|e| to_py(py, e))
     }
@@ -160,14 +234,31 @@ impl PyRenderScene {
     /// Returns (radiance float32 (n_rows, width, n_bands), coverage float32 (n_rows, width)).
     #[pyo3(signature = (row0, n_rows, spp, seed, frame = 0, threads = None))]
     #[allow(clippy::too_many_arguments, clippy::type_complexity)]
-    fn render_rows<'py>(&self, py: Python<'py>, row0: usize, n_rows: usize, spp: u32, seed: u64, frame: u64, threads: Option<usize>)
-        -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyArray2<f32>>)> {
+    fn render_rows<'py>(
+        &self,
+        py: Python<'py>,
+        row0: usize,
+        n_rows: usize,
+        spp: u32,
+        seed: u64,
+        frame: u64,
+        threads: Option<usize>,
+    ) -> PyResult<(Bound<'py, PyArray3<f32>>, Bound<'py, PyArray2<f32>>)> {
         let (w, h, nb) = (self.scene.camera.width, self.scene.camera.height, self.scene.brdf.n_bands());
         if row0 + n_rows > h || spp == 0 {
-            return Err(to_py(py, SandlightError::parameter("rows", format!("{row0}..{} at {spp} spp", row0 + n_rows), &format!("rows within 0..{h} and spp ≥ 1"))));
+            return Err(to_py(
+                py,
+                SandlightError::parameter(
+                    "rows",
+                    format!("{row0}..{} at {spp} spp", row0 + n_rows),
+                    &format!("rows within 0..{h} and spp ≥ 1"),
+                ),
+            ));
         }
         let scene = &self.scene;
-        let (rad, cov) = py.detach(|| run_with_threads(threads, || render_rows(scene, row0, n_rows, spp, seed, frame))).map_err(PyRuntimeError::new_err)?;
+        let (rad, cov) = py
+            .detach(|| run_with_threads(threads, || render_rows(scene, row0, n_rows, spp, seed, frame)))
+            .map_err(PyRuntimeError::new_err)?;
         let rad = Array3::from_shape_vec((n_rows, w, nb), rad).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
         let cov = Array2::from_shape_vec((n_rows, w), cov).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
         Ok((rad.into_pyarray(py), cov.into_pyarray(py)))
@@ -176,9 +267,21 @@ impl PyRenderScene {
     /// First terrain hit of rays (origins, dirs: float64 (N, 3)): returns (t (N,), inf for none;
     /// normals (N, 3), zero for none). For tests and picking.
     #[allow(clippy::type_complexity)]
-    fn intersect<'py>(&self, py: Python<'py>, origins: PyReadonlyArray2<'py, f64>, dirs: PyReadonlyArray2<'py, f64>) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>)> {
+    fn intersect<'py>(
+        &self,
+        py: Python<'py>,
+        origins: PyReadonlyArray2<'py, f64>,
+        dirs: PyReadonlyArray2<'py, f64>,
+    ) -> PyResult<(Bound<'py, PyArray1<f64>>, Bound<'py, PyArray2<f64>>)> {
         if origins.shape()[1] != 3 || dirs.shape() != origins.shape() {
-            return Err(to_py(py, SandlightError::parameter("origins/dirs", format!("shapes {:?} and {:?}", origins.shape(), dirs.shape()), "two arrays of the same shape (N, 3)")));
+            return Err(to_py(
+                py,
+                SandlightError::parameter(
+                    "origins/dirs",
+                    format!("shapes {:?} and {:?}", origins.shape(), dirs.shape()),
+                    "two arrays of the same shape (N, 3)",
+                ),
+            ));
         }
         let (o, d) = (origins.as_array(), dirs.as_array());
         let n = o.shape()[0];
@@ -186,7 +289,8 @@ impl PyRenderScene {
         let mut normals = Array2::<f64>::zeros((n, 3));
         for k in 0..n {
             let dir = Vec3::new(d[[k, 0]], d[[k, 1]], d[[k, 2]]).normalized();
-            if let Some(hit) = self.scene.terrain.intersect(Vec3::new(o[[k, 0]], o[[k, 1]], o[[k, 2]]), dir, 0.0, false) {
+            if let Some(hit) = self.scene.terrain.intersect(Vec3::new(o[[k, 0]], o[[k, 1]], o[[k, 2]]), dir, 0.0, false)
+            {
                 t[k] = hit.t;
                 normals[[k, 0]] = hit.n.x;
                 normals[[k, 1]] = hit.n.y;

@@ -38,18 +38,40 @@ impl BandGrid {
     /// `band_cos_theta` are the μ of the nodes in band order (cap first, decreasing), `values`
     /// is F[b_i, b_o, k] row-major with shape (stacks, stacks, slices), `profile` P at the nodes
     /// in band order (zeros for the plain product).
-    pub fn new(stacks: usize, slices: usize, band_cos_theta: &[f64], values: Vec<f64>, profile: Vec<f64>) -> Result<Self, SandlightError> {
+    pub fn new(
+        stacks: usize,
+        slices: usize,
+        band_cos_theta: &[f64],
+        values: Vec<f64>,
+        profile: Vec<f64>,
+    ) -> Result<Self, SandlightError> {
         if stacks < 2 || slices < 1 {
-            return Err(SandlightError::parameter("stacks, slices", format!("{stacks}, {slices}"), "must be at least 2 and 1"));
+            return Err(SandlightError::parameter(
+                "stacks, slices",
+                format!("{stacks}, {slices}"),
+                "must be at least 2 and 1",
+            ));
         }
         if band_cos_theta.len() != stacks {
-            return Err(SandlightError::parameter("band_cos_theta", format!("length {}", band_cos_theta.len()), &format!("must have one entry per stack ({stacks})")));
+            return Err(SandlightError::parameter(
+                "band_cos_theta",
+                format!("length {}", band_cos_theta.len()),
+                &format!("must have one entry per stack ({stacks})"),
+            ));
         }
         if band_cos_theta.windows(2).any(|w| !(w[0] > w[1])) || band_cos_theta.iter().any(|m| !m.is_finite()) {
-            return Err(SandlightError::parameter("band_cos_theta", format!("{band_cos_theta:?}"), "must be finite and strictly decreasing"));
+            return Err(SandlightError::parameter(
+                "band_cos_theta",
+                format!("{band_cos_theta:?}"),
+                "must be finite and strictly decreasing",
+            ));
         }
         if values.len() != stacks * stacks * slices {
-            return Err(SandlightError::parameter("grid", format!("{} values", values.len()), &format!("must hold stacks × stacks × slices = {} values", stacks * stacks * slices)));
+            return Err(SandlightError::parameter(
+                "grid",
+                format!("{} values", values.len()),
+                &format!("must hold stacks × stacks × slices = {} values", stacks * stacks * slices),
+            ));
         }
         if stacks > u16::MAX as usize {
             return Err(SandlightError::parameter("stacks", stacks, "must be at most 65535"));
@@ -58,7 +80,11 @@ impl BandGrid {
             return Err(SandlightError::parameter("grid", "a non-finite value", "must hold finite values"));
         }
         if profile.len() != stacks || profile.iter().any(|v| !v.is_finite()) {
-            return Err(SandlightError::parameter("profile", format!("{} values", profile.len()), &format!("must hold {stacks} finite values, one per node")));
+            return Err(SandlightError::parameter(
+                "profile",
+                format!("{} values", profile.len()),
+                &format!("must hold {stacks} finite values, one per node"),
+            ));
         }
         let ascending: Vec<f64> = band_cos_theta.iter().rev().copied().collect();
         let (lo, hi) = (ascending[0], ascending[stacks - 1]);
@@ -107,7 +133,8 @@ impl BandGrid {
             let row = (bi * self.stacks + bo) * l;
             (1.0 - tk) * v[row + k0] + tk * v[row + k1]
         };
-        let f = (1.0 - ta) * ((1.0 - tb) * at(a0, b0) + tb * at(a0, b1)) + ta * ((1.0 - tb) * at(a1, b0) + tb * at(a1, b1));
+        let f =
+            (1.0 - ta) * ((1.0 - tb) * at(a0, b0) + tb * at(a0, b1)) + ta * ((1.0 - tb) * at(a1, b0) + tb * at(a1, b1));
         let p = &self.profile;
         let pi = (1.0 - ta) * p[a0] + ta * p[a1];
         let po = (1.0 - tb) * p[b0] + tb * p[b1];
@@ -143,7 +170,14 @@ impl BandGrid {
 /// (W = a.len() = b.len()). `wi`, `wo` are row-major (n, 3).
 ///
 /// Returns Err((name, row)) for the first zero or infinite direction.
-pub fn spectral_brdf(grid: &BandGrid, wi: &[f64], wo: &[f64], a: &[f64], b: &[f64], out: &mut [f64]) -> Result<(), (&'static str, usize)> {
+pub fn spectral_brdf(
+    grid: &BandGrid,
+    wi: &[f64],
+    wo: &[f64],
+    a: &[f64],
+    b: &[f64],
+    out: &mut [f64],
+) -> Result<(), (&'static str, usize)> {
     let w = a.len();
     debug_assert_eq!(b.len(), w);
     for (p, ((x, y), o)) in wi.chunks_exact(3).zip(wo.chunks_exact(3)).zip(out.chunks_exact_mut(w.max(1))).enumerate() {
@@ -162,7 +196,8 @@ mod tests {
     /// A small grid with distinct values: F = 1 + b_i + 10 b_o + 100 k (not reciprocal; the
     /// interpolation arithmetic does not need it).
     fn grid(stacks: usize, slices: usize) -> BandGrid {
-        let nodes: Vec<f64> = (0..stacks).map(|b| if b == 0 { 1.0 } else { 1.0 - (b as f64 - 0.5) / stacks as f64 }).collect();
+        let nodes: Vec<f64> =
+            (0..stacks).map(|b| if b == 0 { 1.0 } else { 1.0 - (b as f64 - 0.5) / stacks as f64 }).collect();
         let mut v = Vec::new();
         for bi in 0..stacks {
             for bo in 0..stacks {

@@ -60,7 +60,11 @@ impl CollectorHemisphere {
             ));
         }
         if !(1..=MAX_SLICES).contains(&slices) {
-            return Err(SandlightError::parameter("slices", slices, &format!("must be an integer in [1, {MAX_SLICES}]")));
+            return Err(SandlightError::parameter(
+                "slices",
+                slices,
+                &format!("must be an integer in [1, {MAX_SLICES}]"),
+            ));
         }
         Ok(CollectorHemisphere { stacks, slices })
     }
@@ -400,7 +404,7 @@ mod tests {
         assert_eq!(h.band_slice(h.patch_index([1.0, 0.0, 0.0])), (30, 0));
         assert_eq!(h.band_slice(h.patch_index([1.0, 0.0, -1e-17])), (30, 0));
         assert_eq!(h.band_slice(h.patch_index([0.0, -1.0, 0.0])), (30, 22)); // φ = 3π/2
-        // φ just below 2π (atan2 of −0.0 and of a tiny negative y).
+                                                                             // φ just below 2π (atan2 of −0.0 and of a tiny negative y).
         assert_eq!(h.band_slice(h.patch_index([1.0, -0.0, 0.5])).1, 0);
         assert_eq!(h.band_slice(h.patch_index([1.0, -1e-300, 0.5])).1, 0);
         assert_eq!(h.band_slice(h.patch_index([1.0, -1e-9, 0.5])).1, 29);

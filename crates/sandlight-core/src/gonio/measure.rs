@@ -19,7 +19,15 @@ fn uniform_hemisphere(rng: &mut Rng) -> Vec3 {
 /// Uniform-incidence measurement of trials `first .. first + n`: each trial draws its incident
 /// direction over the hemisphere and is tallied under (incoming patch, outgoing patch), or as
 /// absorbed, or as lost (event cap, or through the bottom of a finite sample).
-pub fn measure_brdf<Md: Medium>(medium: &Md, hemisphere: &CollectorHemisphere, seed: u64, stream: u64, first: u64, n: u64, limits: &Limits) -> BrdfTally {
+pub fn measure_brdf<Md: Medium>(
+    medium: &Md,
+    hemisphere: &CollectorHemisphere,
+    seed: u64,
+    stream: u64,
+    first: u64,
+    n: u64,
+    limits: &Limits,
+) -> BrdfTally {
     let r = hemisphere.n_patches();
     for_rays(
         first,
@@ -44,7 +52,16 @@ pub fn measure_brdf<Md: Medium>(medium: &Md, hemisphere: &CollectorHemisphere, s
 }
 
 /// The classic goniophotometer: every trial comes from `toward_light` (unit, z > 0).
-pub fn measure_fixed_incidence<Md: Medium>(medium: &Md, hemisphere: &CollectorHemisphere, toward_light: Vec3, seed: u64, stream: u64, first: u64, n: u64, limits: &Limits) -> FixedIncidenceTally {
+pub fn measure_fixed_incidence<Md: Medium>(
+    medium: &Md,
+    hemisphere: &CollectorHemisphere,
+    toward_light: Vec3,
+    seed: u64,
+    stream: u64,
+    first: u64,
+    n: u64,
+    limits: &Limits,
+) -> FixedIncidenceTally {
     for_rays(
         first,
         n,
@@ -75,8 +92,16 @@ mod tests {
         let h = CollectorHemisphere::new(5, 4).unwrap();
         let m = LambertianSurface::new(0.7).unwrap();
         let lim = Limits::default();
-        let one = rayon::ThreadPoolBuilder::new().num_threads(1).build().unwrap().install(|| measure_brdf(&m, &h, 3, 0, 0, 20_000, &lim));
-        let two = rayon::ThreadPoolBuilder::new().num_threads(2).build().unwrap().install(|| measure_brdf(&m, &h, 3, 0, 0, 20_000, &lim));
+        let one = rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .unwrap()
+            .install(|| measure_brdf(&m, &h, 3, 0, 0, 20_000, &lim));
+        let two = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap()
+            .install(|| measure_brdf(&m, &h, 3, 0, 0, 20_000, &lim));
         assert_eq!(one.counts, two.counts);
         assert_eq!(one.total_launched(), 20_000);
         let escaped: u64 = one.counts.iter().sum();

@@ -166,7 +166,13 @@ impl FixedIncidenceTally {
 
     /// Zeroed counters sized for `hemisphere`.
     pub fn for_hemisphere(hemisphere: &CollectorHemisphere) -> Self {
-        FixedIncidenceTally { n_patches: hemisphere.n_patches(), counts: vec![0; hemisphere.n_patches()], absorbed: 0, launched: 0, lost: 0 }
+        FixedIncidenceTally {
+            n_patches: hemisphere.n_patches(),
+            counts: vec![0; hemisphere.n_patches()],
+            absorbed: 0,
+            launched: 0,
+            lost: 0,
+        }
     }
 
     /// A trial escaped into patch `j_out`.

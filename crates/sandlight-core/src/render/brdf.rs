@@ -75,7 +75,11 @@ fn check_axis(name: &str, axis: &[f64], lo: f64, hi: f64, must_span: bool) -> Re
         return Err(SandlightError::parameter(name, format!("{axis:?}"), "strictly ascending values"));
     }
     if must_span && ((axis[0] - lo).abs() > 1e-9 || (axis[axis.len() - 1] - hi).abs() > 1e-9) {
-        return Err(SandlightError::parameter(name, format!("{axis:?}"), &format!("an axis from {lo} to {hi} inclusive")));
+        return Err(SandlightError::parameter(
+            name,
+            format!("{axis:?}"),
+            &format!("an axis from {lo} to {hi} inclusive"),
+        ));
     }
     Ok(())
 }
@@ -100,7 +104,14 @@ fn bracket(axis: &[f64], x: f64) -> (usize, f64) {
 impl BrdfStack {
     /// Builds a stack from its axes and values `f` (length n_levels·n_i·n_o·n_p·n_bands, order
     /// level, μ_i, μ_o, Δφ, band). Values must be finite and ≥ 0.
-    pub fn new(n_levels: usize, mu_i: Vec<f64>, mu_o: Vec<f64>, dphi: Vec<f64>, n_bands: usize, f: Vec<f32>) -> Result<Self, SandlightError> {
+    pub fn new(
+        n_levels: usize,
+        mu_i: Vec<f64>,
+        mu_o: Vec<f64>,
+        dphi: Vec<f64>,
+        n_bands: usize,
+        f: Vec<f32>,
+    ) -> Result<Self, SandlightError> {
         if n_levels == 0 {
             return Err(SandlightError::parameter("n_levels", n_levels, "at least one BRDF table"));
         }
@@ -113,7 +124,11 @@ impl BrdfStack {
         let (ni, no, np) = (mu_i.len(), mu_o.len(), dphi.len());
         let expected = n_levels * ni * no * np * n_bands;
         if f.len() != expected {
-            return Err(SandlightError::parameter("f", format!("{} values", f.len()), &format!("{expected} values (levels × mu_i × mu_o × dphi × bands)")));
+            return Err(SandlightError::parameter(
+                "f",
+                format!("{} values", f.len()),
+                &format!("{expected} values (levels × mu_i × mu_o × dphi × bands)"),
+            ));
         }
         if let Some(bad) = f.iter().find(|v| !v.is_finite() || **v < 0.0) {
             return Err(SandlightError::parameter("f", bad, "finite BRDF values ≥ 0 sr⁻¹"));
@@ -123,9 +138,19 @@ impl BrdfStack {
             let block = &f[l * per_level..(l + 1) * per_level];
             block.chunks_exact(n_bands).all(|c| c == &block[..n_bands])
         });
-        let flat = is_flat.then(|| (0..n_levels).flat_map(|l| f[l * per_level..l * per_level + n_bands].to_vec()).collect());
+        let flat =
+            is_flat.then(|| (0..n_levels).flat_map(|l| f[l * per_level..l * per_level + n_bands].to_vec()).collect());
         let mut stack = BrdfStack {
-            n_levels, mu_i, mu_o, dphi, n_bands, f, mean_f: Vec::new(), cell_cdf: Vec::new(), row_albedo: Vec::new(), flat,
+            n_levels,
+            mu_i,
+            mu_o,
+            dphi,
+            n_bands,
+            f,
+            mean_f: Vec::new(),
+            cell_cdf: Vec::new(),
+            row_albedo: Vec::new(),
+            flat,
         };
         // Band means in row order (level, μ_o node, μ_i node, Δφ node).
         let mut mean_f = vec![0.0; n_levels * no * ni * np];
@@ -150,7 +175,8 @@ impl BrdfStack {
                 for p in 0..np - 1 {
                     let (h0, h1) = stack.cell_marginal(row, i, p);
                     // ∫∫ ḡ μ dμ dΔφ over the cell = Δμ ΔΔφ (H0 + H1)/2; ×2 for both signs of Δφ.
-                    weights[i * (np - 1) + p] = (stack.mu_i[i + 1] - stack.mu_i[i]) * (stack.dphi[p + 1] - stack.dphi[p]) * (h0 + h1);
+                    weights[i * (np - 1) + p] =
+                        (stack.mu_i[i + 1] - stack.mu_i[i]) * (stack.dphi[p + 1] - stack.dphi[p]) * (h0 + h1);
                 }
             }
             let total: f64 = weights.iter().sum();
@@ -273,7 +299,12 @@ impl BrdfStack {
         let no = self.mu_o.len();
         let (o0, to) = bracket(&self.mu_o, mu_o);
         let [(l0, w0), (l1, w1)] = self.levels(s);
-        [(l0 * no + o0, w0 * (1.0 - to)), (l0 * no + o0 + 1, w0 * to), (l1 * no + o0, w1 * (1.0 - to)), (l1 * no + o0 + 1, w1 * to)]
+        [
+            (l0 * no + o0, w0 * (1.0 - to)),
+            (l0 * no + o0 + 1, w0 * to),
+            (l1 * no + o0, w1 * (1.0 - to)),
+            (l1 * no + o0 + 1, w1 * to),
+        ]
     }
 
     /// Samples the light direction (μ_i, signed Δφ) for the view cosine `mu_o`, following the
@@ -307,7 +338,11 @@ impl BrdfStack {
         // Δφ: the cell's marginal is linear in y ∈ [0, 1], (1 − y) H0 + y H1; inverse CDF in the
         // cancellation-free form y = (H0 + H1) u / (H0 + √(H0² + (H1² − H0²) u)).
         let (h0, h1) = self.cell_marginal(chosen, i, p);
-        let y = if h0 + h1 > 0.0 { ((h0 + h1) * u[3] / (h0 + (h0 * h0 + (h1 * h1 - h0 * h0) * u[3]).max(0.0).sqrt())).clamp(0.0, 1.0) } else { u[3] };
+        let y = if h0 + h1 > 0.0 {
+            ((h0 + h1) * u[3] / (h0 + (h0 * h0 + (h1 * h1 - h0 * h0) * u[3]).max(0.0).sqrt())).clamp(0.0, 1.0)
+        } else {
+            u[3]
+        };
         // μ given Δφ: density ∝ ḡ(μ, y) μ with ḡ linear in μ, a quadratic in x = (μ − μ0)/Δμ.
         let [g00, g10, g01, g11] = self.cell_corners(chosen, i, p);
         let (c0, c1) = ((1.0 - y) * g00 + y * g01, (1.0 - y) * g10 + y * g11);
@@ -362,11 +397,16 @@ fn invert_linear_times_ramp(c0: f64, c1: f64, m0: f64, d: f64, u: f64) -> f64 {
     }
     let target = u * total;
     // Start from the cosine-weighted solution (c0 = c1), μ² uniform in the cell.
-    let mut x = if d > 0.0 { (((m0 * m0 + u * ((m0 + d) * (m0 + d) - m0 * m0)).sqrt() - m0) / d).clamp(0.0, 1.0) } else { u };
+    let mut x =
+        if d > 0.0 { (((m0 * m0 + u * ((m0 + d) * (m0 + d) - m0 * m0)).sqrt() - m0) / d).clamp(0.0, 1.0) } else { u };
     let (mut lo, mut hi) = (0.0, 1.0);
     for _ in 0..60 {
         let r = cdf(x) - target;
-        if r > 0.0 { hi = x } else { lo = x }
+        if r > 0.0 {
+            hi = x
+        } else {
+            lo = x
+        }
         let q = a0 + x * (a1 + x * a2);
         let mut next = if q > 0.0 { x - r / q } else { 0.5 * (lo + hi) };
         if !(next > lo && next < hi) {
@@ -400,7 +440,6 @@ pub fn pair_cosines(n: Vec3, a: Vec3, b: Vec3) -> (f64, f64, f64) {
     let c = if la < 1e-24 || lb < 1e-24 { 1.0 } else { (ta.dot(tb) / (la * lb).sqrt()).clamp(-1.0, 1.0) };
     (ma, mb, c)
 }
-
 
 /// World direction with cosine μ to `n` and azimuth Δφ from the tangent projection of `given`.
 #[inline]
@@ -544,7 +583,10 @@ mod tests {
             }
             let mean = sum / n as f64;
             let rel_sd = (sum2 / n as f64 - mean * mean).max(0.0).sqrt() / mean;
-            assert!(max <= high * (1.0 + 1e-9) && min >= low * (1.0 - 1e-9), "μ_o = {mu_o}: weights in [{min}, {max}], not in [{low}, {high}]");
+            assert!(
+                max <= high * (1.0 + 1e-9) && min >= low * (1.0 - 1e-9),
+                "μ_o = {mu_o}: weights in [{min}, {max}], not in [{low}, {high}]"
+            );
             if mu_o == 0.02 {
                 assert!(rel_sd < 1e-6, "on a node: relative sd of the weights {rel_sd}");
             }
@@ -594,7 +636,10 @@ mod tests {
                         let mu = (a as f64 + (i as f64 + 0.5) / sub as f64) / bm as f64;
                         let ph = PI * (b as f64 + (j as f64 + 0.5) / sub as f64) / bp as f64;
                         // dω = dμ dφ, both signs of Δφ.
-                        p += s.pdf_table(level, mu_given, mu, ph) * 2.0 * (1.0 / (bm * sub) as f64) * (PI / (bp * sub) as f64);
+                        p += s.pdf_table(level, mu_given, mu, ph)
+                            * 2.0
+                            * (1.0 / (bm * sub) as f64)
+                            * (PI / (bp * sub) as f64);
                     }
                 }
                 let expected = p * n as f64;
@@ -624,7 +669,9 @@ mod tests {
         let given = Vec3::new(0.5, 0.3, 0.6).normalized();
         let w = direction_from(n, given, 0.4, -2.0);
         let (ma, mb, cos_dphi) = pair_cosines(n, given, w);
-        assert!((mb - 0.4).abs() < 1e-12 && (cos_dphi - 2.0f64.cos()).abs() < 1e-9 && (ma - given.dot(n)).abs() < 1e-12);
+        assert!(
+            (mb - 0.4).abs() < 1e-12 && (cos_dphi - 2.0f64.cos()).abs() < 1e-9 && (ma - given.dot(n)).abs() < 1e-12
+        );
     }
 
     #[test]

@@ -17,14 +17,33 @@ pub struct Camera {
 }
 
 impl Camera {
-    pub fn new(origin: [f64; 3], forward: [f64; 3], right: [f64; 3], up: [f64; 3], width: usize, height: usize) -> Result<Self, SandlightError> {
+    pub fn new(
+        origin: [f64; 3],
+        forward: [f64; 3],
+        right: [f64; 3],
+        up: [f64; 3],
+        width: usize,
+        height: usize,
+    ) -> Result<Self, SandlightError> {
         let v = |a: [f64; 3]| Vec3::new(a[0], a[1], a[2]);
         let (o, f, r, u) = (v(origin), v(forward), v(right), v(up));
-        if !(o.is_finite() && f.is_finite() && r.is_finite() && u.is_finite()) || f.norm2() < 1e-24 || r.norm2() < 1e-24 || u.norm2() < 1e-24 {
-            return Err(SandlightError::parameter("camera", format!("origin {origin:?}, forward {forward:?}"), "finite, non-degenerate camera vectors"));
+        if !(o.is_finite() && f.is_finite() && r.is_finite() && u.is_finite())
+            || f.norm2() < 1e-24
+            || r.norm2() < 1e-24
+            || u.norm2() < 1e-24
+        {
+            return Err(SandlightError::parameter(
+                "camera",
+                format!("origin {origin:?}, forward {forward:?}"),
+                "finite, non-degenerate camera vectors",
+            ));
         }
         if width == 0 || height == 0 {
-            return Err(SandlightError::parameter("resolution", format!("{width} × {height}"), "at least 1 × 1 pixels"));
+            return Err(SandlightError::parameter(
+                "resolution",
+                format!("{width} × {height}"),
+                "at least 1 × 1 pixels",
+            ));
         }
         Ok(Camera { origin: o, forward: f, right: r, up: u, width, height })
     }

@@ -58,21 +58,41 @@ pub struct Environment {
 impl Environment {
     /// `radiance` has n_theta·n_phi·n_bands values (row-major θ, φ, band); `sun_dir` need not be
     /// normalised; `sun_solid_angle_sr` in (0, 2π).
-    pub fn new(n_theta: usize, n_phi: usize, n_bands: usize, radiance: Vec<f32>, sun_dir: [f64; 3], sun_solid_angle_sr: f64, sun_radiance: &[f64]) -> Result<Self, SandlightError> {
+    pub fn new(
+        n_theta: usize,
+        n_phi: usize,
+        n_bands: usize,
+        radiance: Vec<f32>,
+        sun_dir: [f64; 3],
+        sun_solid_angle_sr: f64,
+        sun_radiance: &[f64],
+    ) -> Result<Self, SandlightError> {
         if n_theta < 2 || n_phi < 4 {
-            return Err(SandlightError::parameter("sky grid", format!("{n_theta} × {n_phi}"), "at least 2 zenith rows and 4 azimuth columns"));
+            return Err(SandlightError::parameter(
+                "sky grid",
+                format!("{n_theta} × {n_phi}"),
+                "at least 2 zenith rows and 4 azimuth columns",
+            ));
         }
         if n_bands == 0 || n_bands > MAX_BANDS {
             return Err(SandlightError::parameter("n_bands", n_bands, &format!("between 1 and {MAX_BANDS}")));
         }
         if radiance.len() != n_theta * n_phi * n_bands {
-            return Err(SandlightError::parameter("sky radiance", format!("{} values", radiance.len()), &format!("{} values (n_theta × n_phi × bands)", n_theta * n_phi * n_bands)));
+            return Err(SandlightError::parameter(
+                "sky radiance",
+                format!("{} values", radiance.len()),
+                &format!("{} values (n_theta × n_phi × bands)", n_theta * n_phi * n_bands),
+            ));
         }
         if let Some(bad) = radiance.iter().find(|v| !v.is_finite() || **v < 0.0) {
             return Err(SandlightError::parameter("sky radiance", bad, "finite values ≥ 0"));
         }
         if sun_radiance.len() != n_bands || sun_radiance.iter().any(|v| !v.is_finite() || *v < 0.0) {
-            return Err(SandlightError::parameter("sun radiance", format!("{sun_radiance:?}"), &format!("{n_bands} finite values ≥ 0")));
+            return Err(SandlightError::parameter(
+                "sun radiance",
+                format!("{sun_radiance:?}"),
+                &format!("{n_bands} finite values ≥ 0"),
+            ));
         }
         if !(sun_solid_angle_sr > 0.0 && sun_solid_angle_sr < 2.0 * PI) {
             return Err(SandlightError::parameter("sun_solid_angle_sr", sun_solid_angle_sr, "in (0, 2π)"));
@@ -84,7 +104,9 @@ impl Environment {
         let n_cells = n_theta * n_phi;
         let dth = 0.5 * PI / n_theta as f64;
         let dph = 2.0 * PI / n_phi as f64;
-        let means: Vec<f64> = (0..n_cells).map(|c| radiance[c * n_bands..(c + 1) * n_bands].iter().map(|&v| v as f64).sum::<f64>() / n_bands as f64).collect();
+        let means: Vec<f64> = (0..n_cells)
+            .map(|c| radiance[c * n_bands..(c + 1) * n_bands].iter().map(|&v| v as f64).sum::<f64>() / n_bands as f64)
+            .collect();
         let mut omega_total = 0.0;
         let mut mean_sky = 0.0;
         for it in 0..n_theta {
@@ -189,14 +211,22 @@ impl Environment {
 
     #[inline]
     fn distribution(&self, compensated: bool) -> Option<&CellDistribution> {
-        if compensated { self.compensated.as_ref() } else { Some(&self.full) }
+        if compensated {
+            self.compensated.as_ref()
+        } else {
+            Some(&self.full)
+        }
     }
 
     /// Sky radiance in direction `d` into `out`, and the pdf of `sample_sky(_, compensated)` for it.
     pub fn sky_and_pdf(&self, d: Vec3, out: &mut Spectrum, compensated: bool) -> f64 {
         let (theta, phi) = Self::angles(d);
         self.sky_at(theta, phi, out);
-        if d.z <= 0.0 { 0.0 } else { self.density_at(theta, phi, compensated) }
+        if d.z <= 0.0 {
+            0.0
+        } else {
+            self.density_at(theta, phi, compensated)
+        }
     }
 
     #[inline]

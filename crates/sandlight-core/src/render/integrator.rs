@@ -76,10 +76,18 @@ fn mis_weight(h: Heuristic, a: f64, b: f64) -> f64 {
     match h {
         Heuristic::Power => {
             let (a2, b2) = (a * a, b * b);
-            if a2 + b2 > 0.0 { a2 / (a2 + b2) } else { 0.0 }
+            if a2 + b2 > 0.0 {
+                a2 / (a2 + b2)
+            } else {
+                0.0
+            }
         }
         Heuristic::Balance => {
-            if a + b > 0.0 { a / (a + b) } else { 0.0 }
+            if a + b > 0.0 {
+                a / (a + b)
+            } else {
+                0.0
+            }
         }
     }
 }
@@ -93,7 +101,11 @@ impl Scene {
     /// Δφ from its cosine, skipped for angle-independent (Lambertian) tables, which ignore it.
     #[inline]
     fn azimuth(&self, cos_dphi: f64) -> f64 {
-        if self.brdf.is_flat() { 0.0 } else { cos_dphi.acos() }
+        if self.brdf.is_flat() {
+            0.0
+        } else {
+            cos_dphi.acos()
+        }
     }
 
     /// Solid-angle pdf of the BRDF sampler for light direction cosine μ_i, |Δφ|, view cosine μ_o.
@@ -150,7 +162,11 @@ impl Scene {
                         let dphi = self.azimuth(cos_dphi);
                         self.brdf.eval(s, mu_i, mu_o, dphi, f);
                         let pl = env.pdf_sun();
-                        let w = if use_brdf { mis_weight(st.heuristic, pl, self.brdf_pdf(s, mu_o, mu_i, dphi)) } else { 1.0 };
+                        let w = if use_brdf {
+                            mis_weight(st.heuristic, pl, self.brdf_pdf(s, mu_o, mu_i, dphi))
+                        } else {
+                            1.0
+                        };
                         let k = mu_i * w / pl;
                         for b in 0..nb {
                             acc[b] += beta[b] * f[b] * env.sun_radiance()[b] * k;
@@ -165,7 +181,8 @@ impl Scene {
                     let dphi = self.azimuth(cos_dphi);
                     self.brdf.eval(s, mu_i, mu_o, dphi, f);
                     env.sky_at(theta, phi, tmp);
-                    let w = if use_brdf { mis_weight(st.heuristic, pl, self.brdf_pdf(s, mu_o, mu_i, dphi)) } else { 1.0 };
+                    let w =
+                        if use_brdf { mis_weight(st.heuristic, pl, self.brdf_pdf(s, mu_o, mu_i, dphi)) } else { 1.0 };
                     let k = mu_i * w / pl;
                     for b in 0..nb {
                         acc[b] += beta[b] * f[b] * tmp[b] * k;
@@ -180,7 +197,11 @@ impl Scene {
             }
             let (mu_i, dphi_signed) = match st.sampling {
                 BrdfSampling::Cosine => sample_cosine(rng.uniform(), rng.uniform()),
-                BrdfSampling::Table => self.brdf.sample_table(s, mu_o, [rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()]),
+                BrdfSampling::Table => self.brdf.sample_table(
+                    s,
+                    mu_o,
+                    [rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform(), rng.uniform()],
+                ),
             };
             if mu_i <= 0.0 {
                 break;
@@ -198,7 +219,13 @@ impl Scene {
                     if use_brdf {
                         let p_sky = env.sky_and_pdf(wi, tmp, use_light);
                         let w_sky = if use_light { mis_weight(st.heuristic, pb, p_sky) } else { 1.0 };
-                        let w_sun = if !env.in_sun(wi) { 0.0 } else if use_light { mis_weight(st.heuristic, pb, env.pdf_sun()) } else { 1.0 };
+                        let w_sun = if !env.in_sun(wi) {
+                            0.0
+                        } else if use_light {
+                            mis_weight(st.heuristic, pb, env.pdf_sun())
+                        } else {
+                            1.0
+                        };
                         for b in 0..nb {
                             acc[b] += beta[b] * f[b] * k * (tmp[b] * w_sky + env.sun_radiance()[b] * w_sun);
                         }

@@ -101,12 +101,27 @@ impl Heightfield {
     /// `h` holds ny·nx node heights in metres (row j = y index). `outside` is the height of the
     /// plane around a non-periodic grid (ignored when `wrap`); `far_m` > 0 the far-field distance.
     #[allow(clippy::too_many_arguments)]
-    pub fn new(nx: usize, ny: usize, x0: f64, y0: f64, dx: f64, dy: f64, h: Vec<f32>, wrap: bool, outside: f64, far_m: f64) -> Result<Self, SandlightError> {
+    pub fn new(
+        nx: usize,
+        ny: usize,
+        x0: f64,
+        y0: f64,
+        dx: f64,
+        dy: f64,
+        h: Vec<f32>,
+        wrap: bool,
+        outside: f64,
+        far_m: f64,
+    ) -> Result<Self, SandlightError> {
         if nx < 2 || ny < 2 {
             return Err(SandlightError::parameter("heightfield", format!("{nx} × {ny} nodes"), "at least 2 × 2 nodes"));
         }
         if h.len() != nx * ny {
-            return Err(SandlightError::parameter("heights", format!("{} values", h.len()), &format!("{} values (ny × nx)", nx * ny)));
+            return Err(SandlightError::parameter(
+                "heights",
+                format!("{} values", h.len()),
+                &format!("{} values (ny × nx)", nx * ny),
+            ));
         }
         if !(dx > 0.0 && dx.is_finite() && dy > 0.0 && dy.is_finite()) {
             return Err(SandlightError::parameter("cell size", format!("({dx}, {dy})"), "finite spacings > 0 m"));
@@ -132,7 +147,29 @@ impl Heightfield {
         }
         let mask = |n: usize| if wrap && n.is_power_of_two() { n as i64 - 1 } else { -1 };
         let (mask_x, mask_y) = (mask(nx), mask(ny));
-        let mut hf = Heightfield { nx: nx as i64, ny: ny as i64, x0, y0, dx, dy, h, wrap, outside, far_m, far_z, zmin, zmax, levels: Vec::new(), mask_x, mask_y, inv_dx: 1.0 / dx, inv_dy: 1.0 / dy, cell_w: Vec::new(), cell_h: Vec::new(), lipschitz: 0.0 };
+        let mut hf = Heightfield {
+            nx: nx as i64,
+            ny: ny as i64,
+            x0,
+            y0,
+            dx,
+            dy,
+            h,
+            wrap,
+            outside,
+            far_m,
+            far_z,
+            zmin,
+            zmax,
+            levels: Vec::new(),
+            mask_x,
+            mask_y,
+            inv_dx: 1.0 / dx,
+            inv_dy: 1.0 / dy,
+            cell_w: Vec::new(),
+            cell_h: Vec::new(),
+            lipschitz: 0.0,
+        };
         hf.build_levels();
         hf.cell_w = (0..=hf.levels.len()).map(|k| dx * hf.scale(k) as f64).collect();
         hf.cell_h = (0..=hf.levels.len()).map(|k| dy * hf.scale(k) as f64).collect();
@@ -146,8 +183,11 @@ impl Heightfield {
         let mut g2: f64 = 0.0;
         for j in lo..hy {
             for i in lo..hx {
-                let (h00, h10, h01, h11) = (self.node(i, j), self.node(i + 1, j), self.node(i, j + 1), self.node(i + 1, j + 1));
-                for (sx, sy) in [(h10 - h00, h01 - h00), (h11 - h01, h01 - h00), (h10 - h00, h11 - h10), (h11 - h01, h11 - h10)] {
+                let (h00, h10, h01, h11) =
+                    (self.node(i, j), self.node(i + 1, j), self.node(i, j + 1), self.node(i + 1, j + 1));
+                for (sx, sy) in
+                    [(h10 - h00, h01 - h00), (h11 - h01, h01 - h00), (h10 - h00, h11 - h10), (h11 - h01, h11 - h10)]
+                {
                     let (gx, gy) = (sx * self.inv_dx, sy * self.inv_dy);
                     g2 = g2.max(gx * gx + gy * gy);
                 }
@@ -162,7 +202,8 @@ impl Heightfield {
         let fy = (y - self.y0) * self.inv_dy;
         let (i, j) = (floor_i64(fx), floor_i64(fy));
         let (u, v) = (fx - i as f64, fy - j as f64);
-        (1.0 - v) * ((1.0 - u) * self.node(i, j) + u * self.node(i + 1, j)) + v * ((1.0 - u) * self.node(i, j + 1) + u * self.node(i + 1, j + 1))
+        (1.0 - v) * ((1.0 - u) * self.node(i, j) + u * self.node(i + 1, j))
+            + v * ((1.0 - u) * self.node(i, j + 1) + u * self.node(i + 1, j + 1))
     }
 
     fn build_levels(&mut self) {
@@ -174,7 +215,11 @@ impl Heightfield {
             }
             // Periodic: blocks 0 .. n/scale (indices wrap). Otherwise the cells touching data run
             // from −1 to n−1, hence blocks ⌊−1/s⌋ = −1 .. ⌊(n−1)/s⌋.
-            let (off, nbx, nby) = if self.wrap { (0, self.nx / scale, self.ny / scale) } else { (1, (self.nx - 1).div_euclid(scale) + 2, (self.ny - 1).div_euclid(scale) + 2) };
+            let (off, nbx, nby) = if self.wrap {
+                (0, self.nx / scale, self.ny / scale)
+            } else {
+                (1, (self.nx - 1).div_euclid(scale) + 2, (self.ny - 1).div_euclid(scale) + 2)
+            };
             let mut max = vec![f32::NEG_INFINITY; (nbx * nby) as usize];
             for bj in 0..nby {
                 for bi in 0..nbx {
@@ -209,7 +254,11 @@ impl Heightfield {
 
     #[inline]
     fn scale(&self, k: usize) -> i64 {
-        if k == 0 { 1 } else { self.levels[k - 1].scale }
+        if k == 0 {
+            1
+        } else {
+            self.levels[k - 1].scale
+        }
     }
 
     #[inline]
@@ -249,11 +298,7 @@ impl Heightfield {
         let c1 = d.z - (b * du + c * dv + e * (u0 * dv + v0 * du));
         let c2 = -e * du * dv;
         let len = tb - ta;
-        let s = if c0 <= 0.0 {
-            0.0
-        } else {
-            first_root(c0, c1, c2, len)?
-        };
+        let s = if c0 <= 0.0 { 0.0 } else { first_root(c0, c1, c2, len)? };
         let u = (u0 + s * du).clamp(0.0, 1.0);
         let v = (v0 + s * dv).clamp(0.0, 1.0);
         // ∂S/∂x, ∂S/∂y → normal (−S_x, −S_y, 1).
@@ -267,8 +312,16 @@ impl Heightfield {
     #[inline(always)]
     fn cell_exit(&self, r: &Ray, k: usize, i: i64, j: i64) -> (f64, f64) {
         // The far face of the cell along each axis: index + 1 going forwards, index going back.
-        let tx = if r.d.x != 0.0 { (self.x0 + (i as f64 + r.ahead_x) * self.cell_w[k] - r.o.x) * r.inv_x } else { f64::INFINITY };
-        let ty = if r.d.y != 0.0 { (self.y0 + (j as f64 + r.ahead_y) * self.cell_h[k] - r.o.y) * r.inv_y } else { f64::INFINITY };
+        let tx = if r.d.x != 0.0 {
+            (self.x0 + (i as f64 + r.ahead_x) * self.cell_w[k] - r.o.x) * r.inv_x
+        } else {
+            f64::INFINITY
+        };
+        let ty = if r.d.y != 0.0 {
+            (self.y0 + (j as f64 + r.ahead_y) * self.cell_h[k] - r.o.y) * r.inv_y
+        } else {
+            f64::INFINITY
+        };
         (tx, ty)
     }
 
@@ -281,7 +334,9 @@ impl Heightfield {
         let i = floor_i64((p.x - self.x0) * self.inv_dx / s);
         let j = floor_i64((p.y - self.y0) * self.inv_dy / s);
         match parent {
-            Some((bi, bj)) => (i.clamp(bi * BRANCH, bi * BRANCH + BRANCH - 1), j.clamp(bj * BRANCH, bj * BRANCH + BRANCH - 1)),
+            Some((bi, bj)) => {
+                (i.clamp(bi * BRANCH, bi * BRANCH + BRANCH - 1), j.clamp(bj * BRANCH, bj * BRANCH + BRANCH - 1))
+            }
             None => (i, j),
         }
     }
@@ -374,7 +429,14 @@ impl Heightfield {
             }
             t_end = t_end.min((self.zmin - o.z) / d.z);
         }
-        let ray = Ray { o, d, inv_x: 1.0 / d.x, inv_y: 1.0 / d.y, ahead_x: (d.x > 0.0) as u8 as f64, ahead_y: (d.y > 0.0) as u8 as f64 };
+        let ray = Ray {
+            o,
+            d,
+            inv_x: 1.0 / d.x,
+            inv_y: 1.0 / d.y,
+            ahead_x: (d.x > 0.0) as u8 as f64,
+            ahead_y: (d.y > 0.0) as u8 as f64,
+        };
         if let Some(h) = self.traverse(&ray, t_min, t_end) {
             return Some(h);
         }
@@ -407,13 +469,24 @@ impl Heightfield {
 #[inline(always)]
 pub(crate) fn floor_i64(x: f64) -> i64 {
     let i = x as i64;
-    if (i as f64) > x { i - 1 } else { i }
+    if (i as f64) > x {
+        i - 1
+    } else {
+        i
+    }
 }
 
 /// Smallest s in [0, len] where C0 + C1 s + C2 s² (with C0 > 0) reaches 0.
 #[inline]
 fn first_root(c0: f64, c1: f64, c2: f64, len: f64) -> Option<f64> {
-    let lin = |c0: f64, c1: f64| if c1 < 0.0 { let s = -c0 / c1; (s <= len).then_some(s) } else { None };
+    let lin = |c0: f64, c1: f64| {
+        if c1 < 0.0 {
+            let s = -c0 / c1;
+            (s <= len).then_some(s)
+        } else {
+            None
+        }
+    };
     if c2.abs() <= 1e-12 * (c1.abs() + c0.abs() / len.max(1e-300)) {
         return lin(c0, c1);
     }
@@ -488,12 +561,30 @@ impl MaterialMap {
     }
 
     #[allow(clippy::too_many_arguments)]
-    pub fn new(nx: usize, ny: usize, x0: f64, y0: f64, dx: f64, dy: f64, values: Vec<f32>, wrap: bool, n_levels: usize) -> Result<Self, SandlightError> {
+    pub fn new(
+        nx: usize,
+        ny: usize,
+        x0: f64,
+        y0: f64,
+        dx: f64,
+        dy: f64,
+        values: Vec<f32>,
+        wrap: bool,
+        n_levels: usize,
+    ) -> Result<Self, SandlightError> {
         if nx == 0 || ny == 0 || values.len() != nx * ny {
-            return Err(SandlightError::parameter("material map", format!("{} values for {nx} × {ny}", values.len()), "ny × nx values, nx, ny ≥ 1"));
+            return Err(SandlightError::parameter(
+                "material map",
+                format!("{} values for {nx} × {ny}", values.len()),
+                "ny × nx values, nx, ny ≥ 1",
+            ));
         }
         if !(dx > 0.0 && dy > 0.0 && dx.is_finite() && dy.is_finite() && x0.is_finite() && y0.is_finite()) {
-            return Err(SandlightError::parameter("material map extent", format!("origin ({x0}, {y0}), spacing ({dx}, {dy})"), "finite origin and spacings > 0 m"));
+            return Err(SandlightError::parameter(
+                "material map extent",
+                format!("origin ({x0}, {y0}), spacing ({dx}, {dy})"),
+                "finite origin and spacings > 0 m",
+            ));
         }
         let top = (n_levels.max(1) - 1) as f32;
         if let Some(bad) = values.iter().find(|v| !v.is_finite() || **v < 0.0 || **v > top) {
@@ -504,7 +595,11 @@ impl MaterialMap {
 
     #[inline]
     fn at(&self, i: i64, j: i64) -> f64 {
-        let (i, j) = if self.wrap { (i.rem_euclid(self.nx), j.rem_euclid(self.ny)) } else { (i.clamp(0, self.nx - 1), j.clamp(0, self.ny - 1)) };
+        let (i, j) = if self.wrap {
+            (i.rem_euclid(self.nx), j.rem_euclid(self.ny))
+        } else {
+            (i.clamp(0, self.nx - 1), j.clamp(0, self.ny - 1))
+        };
         self.values[(j * self.nx + i) as usize] as f64
     }
 
@@ -515,10 +610,15 @@ impl MaterialMap {
         }
         let fx = (x - self.x0) / self.dx;
         let fy = (y - self.y0) / self.dy;
-        let (fx, fy) = if self.wrap { (fx, fy) } else { (fx.clamp(0.0, (self.nx - 1) as f64), fy.clamp(0.0, (self.ny - 1) as f64)) };
+        let (fx, fy) = if self.wrap {
+            (fx, fy)
+        } else {
+            (fx.clamp(0.0, (self.nx - 1) as f64), fy.clamp(0.0, (self.ny - 1) as f64))
+        };
         let (i, j) = (floor_i64(fx), floor_i64(fy));
         let (tx, ty) = (fx - i as f64, fy - j as f64);
-        (1.0 - ty) * ((1.0 - tx) * self.at(i, j) + tx * self.at(i + 1, j)) + ty * ((1.0 - tx) * self.at(i, j + 1) + tx * self.at(i + 1, j + 1))
+        (1.0 - ty) * ((1.0 - tx) * self.at(i, j) + tx * self.at(i + 1, j))
+            + ty * ((1.0 - tx) * self.at(i, j + 1) + tx * self.at(i + 1, j + 1))
     }
 }
 
@@ -544,7 +644,8 @@ mod tests {
         let fy = (y - hf.y0) / hf.dy;
         let (i, j) = (fx.floor() as i64, fy.floor() as i64);
         let (u, v) = (fx - i as f64, fy - j as f64);
-        (1.0 - v) * ((1.0 - u) * hf.node(i, j) + u * hf.node(i + 1, j)) + v * ((1.0 - u) * hf.node(i, j + 1) + u * hf.node(i + 1, j + 1))
+        (1.0 - v) * ((1.0 - u) * hf.node(i, j) + u * hf.node(i + 1, j))
+            + v * ((1.0 - u) * hf.node(i, j + 1) + u * hf.node(i + 1, j + 1))
     }
 
     fn march(hf: &Heightfield, o: Vec3, d: Vec3, t_max: f64) -> Option<f64> {
@@ -624,7 +725,11 @@ mod tests {
             let (x2, y2) = (x + 1e-3 * a.cos(), y + 1e-3 * a.sin());
             steepest = steepest.max((height(&hf, x2, y2) - height(&hf, x, y)).abs() / 1e-3);
         }
-        assert!(steepest <= hf.lipschitz * (1.0 + 1e-6) && steepest > 0.8 * hf.lipschitz, "{steepest} vs {}", hf.lipschitz);
+        assert!(
+            steepest <= hf.lipschitz * (1.0 + 1e-6) && steepest > 0.8 * hf.lipschitz,
+            "{steepest} vs {}",
+            hf.lipschitz
+        );
         // Rays just steeper than the bound escape without a walk, and marching agrees.
         let el = hf.lipschitz.atan() + 0.01;
         for k in 0..50 {
