@@ -44,6 +44,7 @@ from types import MappingProxyType
 
 import numpy as np
 import xarray as xr
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ModelFileError, ParameterError
 
@@ -95,13 +96,13 @@ _HEADER_KEYS = (
 _COLUMNS = "wavelength_nm,n,k"
 
 
-def _check_material(material) -> str:
+def _check_material(material: object) -> str:
     if not isinstance(material, str) or material not in MATERIALS:
         raise ParameterError("material", material, "one of " + ", ".join(MATERIALS))
     return material
 
 
-def _check_wavelengths(wavelengths_nm) -> np.ndarray:
+def _check_wavelengths(wavelengths_nm: ArrayLike) -> np.ndarray:
     """Wavelengths as a float array, every value finite and inside WAVELENGTH_RANGE_NM."""
     allowed = f"finite vacuum wavelengths in nm within [{WAVELENGTH_RANGE_NM[0]:g}, {WAVELENGTH_RANGE_NM[1]:g}]"
     try:
@@ -182,7 +183,7 @@ def _interpolate_k(wavelengths: np.ndarray, grid: np.ndarray, k: np.ndarray) -> 
     return np.where(both, k0 * ratio**t, k0 + t * (k1 - k0))
 
 
-def complex_index(material: str, wavelengths_nm) -> np.ndarray:
+def complex_index(material: str, wavelengths_nm: ArrayLike) -> np.ndarray:
     """Complex refractive index m = n + i k of a material.
 
     Parameters
@@ -226,7 +227,7 @@ def complex_index(material: str, wavelengths_nm) -> np.ndarray:
     return result[()] if result.ndim == 0 else result
 
 
-def absorption_coefficient_per_mm(material: str, wavelengths_nm) -> np.ndarray:
+def absorption_coefficient_per_mm(material: str, wavelengths_nm: ArrayLike) -> np.ndarray:
     """Absorption coefficient α = 4πk/λ of a material, in mm⁻¹.
 
     Parameters
