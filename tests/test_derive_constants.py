@@ -1,4 +1,4 @@
-"""scripts/derive_constants.py (issue 3 §2): the hematite inversion proof runs and reports its
+"""scripts/studies/derive_constants.py (issue 3 §2): the hematite inversion proof runs and reports its
 identifiability verdict, so it cannot rot. Needs the shared USGS library and optical sources."""
 
 import subprocess
@@ -8,13 +8,14 @@ from pathlib import Path
 import pytest
 
 REPO = Path(__file__).resolve().parents[1]
+SCRIPT = REPO / "scripts" / "studies" / "derive_constants.py"
 SHARED = next((p / "shared" for p in REPO.parents if (p / "shared" / "data" / "measured").is_dir()), None)
 
 
 @pytest.mark.skipif(SHARED is None, reason="shared data not available")
 def test_inversion_proof_runs_and_reports_identifiability():
     out = subprocess.run(
-        [sys.executable, str(REPO / "scripts" / "derive_constants.py"), "--rays", "200", "--wavelengths", "550,1500"],
+        [sys.executable, str(SCRIPT), "--rays", "200", "--wavelengths", "550,1500"],
         capture_output=True,
         text=True,
         check=True,

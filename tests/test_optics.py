@@ -27,7 +27,7 @@ def shared_optical():
 
 
 def load_build_script():
-    spec = importlib.util.spec_from_file_location("build_optical_tables", REPO / "scripts" / "build_optical_tables.py")
+    spec = importlib.util.spec_from_file_location("build_optical_tables", REPO / "scripts/data/build_optical_tables.py")
     module = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = module  # dataclasses resolve annotations through sys.modules
     spec.loader.exec_module(module)

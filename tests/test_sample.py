@@ -427,10 +427,10 @@ def test_to_toml_is_commented():
 
 
 def test_generated_doc_sections_are_up_to_date():
-    spec = importlib.util.spec_from_file_location("gen_sample_doc", ROOT / "scripts" / "gen_sample_doc.py")
+    spec = importlib.util.spec_from_file_location("gen_sample_doc", ROOT / "scripts/docs/gen_sample_doc.py")
     gen = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(gen)
     text = (ROOT / "docs" / "sample.md").read_text(encoding="utf-8")
-    assert gen.render(text) == text, "run python3 scripts/gen_sample_doc.py"
+    assert gen.render(text) == text, "run python3 scripts/docs/gen_sample_doc.py"
     for p in PARAMETERS:
         assert f"| `{p.name}` |" in text

@@ -124,7 +124,7 @@ def _find_wavelength_file(spectrum: Path, channels: int) -> Path:
     return matches[0]
 
 
-def read_usgs(path, wavelengths=None) -> xr.DataArray:
+def read_usgs(path: str | os.PathLike, wavelengths: str | os.PathLike | None = None) -> xr.DataArray:
     """Read a USGS Spectral Library Version 7 (splib07) ASCII spectrum.
 
     Parameters
@@ -203,7 +203,7 @@ def _split(line: str) -> list[str]:
     return line.split()
 
 
-def read_csv(path) -> xr.DataArray:
+def read_csv(path: str | os.PathLike) -> xr.DataArray:
     """Read a two-column reflectance spectrum: wavelength in nm, reflectance.
 
     Parameters
@@ -337,7 +337,7 @@ def _shared_usgs_folder() -> Path | None:
     return None
 
 
-def usgs_library(stem: str, root=None) -> Path:
+def usgs_library(stem: str, root: str | os.PathLike | None = None) -> Path:
     """Path of a splib07a ASCII spectrum, found by its name.
 
     Parameters

@@ -2,11 +2,22 @@
 
 from __future__ import annotations
 
+import os
+from collections.abc import Sequence
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 
 def plot_spectrum(
-    wavelengths_nm, values, stderr, path, *, title=None, label="sandlight (Monte Carlo)", others=()
+    wavelengths_nm: ArrayLike,
+    values: ArrayLike,
+    stderr: ArrayLike,
+    path: str | os.PathLike,
+    *,
+    title: str | None = None,
+    label: str = "sandlight (Monte Carlo)",
+    others: Sequence[tuple[ArrayLike, ArrayLike, str]] = (),
 ) -> None:
     """Reflectance vs wavelength with a ±2 standard-error band, to a PNG written atomically.
 

@@ -10,7 +10,7 @@
 //! met is hit changes: the uniform law is weighted by g(|c_B − c_A|/σ), c_A and c_B the two
 //! centres and σ their contact distance.
 //!
-//! Table: `data/pair_correlation.txt`, written by `scripts/build_pair_correlation.py` from
+//! Table: `data/pair_correlation.txt`, written by `scripts/data/build_pair_correlation.py` from
 //! sandlight's own packings of monodisperse spheres: per packing fraction η, the contacts per
 //! grain z (a delta peak at x = 1) and g(x) beyond contact on a grid, x = r/σ.
 

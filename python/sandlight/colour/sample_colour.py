@@ -79,7 +79,7 @@ def sample_rgb(
     illuminant: str = DEFAULT_ILLUMINANT,
     observer: str = DEFAULT_OBSERVER,
     return_out_of_gamut: bool = False,
-):
+) -> NDArray[np.float64] | tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Encoded sRGB in [0, 1] of sand samples (paper §4.1.1).
 
     Parameters

@@ -143,7 +143,7 @@ def xyz_to_srgb(
     illuminant: str = DEFAULT_ILLUMINANT,
     observer: str = DEFAULT_OBSERVER,
     return_out_of_gamut: bool = False,
-):
+) -> NDArray[np.float64] | tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Encoded sRGB of tristimulus values.
 
     Parameters

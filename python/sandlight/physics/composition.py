@@ -30,10 +30,14 @@ water-filled with probability (S − S_f)/(1 − S_f).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from sandlight.errors import ParameterError
 from sandlight.optics import DENSITY_G_CM3
 from sandlight.physics.sizes import SizeDistribution, spheroid_surface_factor
+
+if TYPE_CHECKING:
+    from sandlight.sample import SandSample
 
 SAND_RANGE_MM = (0.05, 2.0)
 SILT_RANGE_MM = (0.002, 0.05)
@@ -96,7 +100,7 @@ def _surface_per_volume(sizes: SizeDistribution, aspect_ratio: float) -> float:
     return 6.0 * spheroid_surface_factor(aspect_ratio) * sizes.mass_mean_inverse_diameter()
 
 
-def compose(sample) -> Composition:
+def compose(sample: SandSample) -> Composition:
     """Particle populations of ``sample`` (a :class:`sandlight.SandSample`) by mass balance."""
     rho = DENSITY_G_CM3
     m_fe = sample.iron_oxide
@@ -152,7 +156,15 @@ def compose(sample) -> Composition:
 
     pops = []
 
-    def add(name, volume, sizes, aspect, core, coat=None, t=0.0):
+    def add(
+        name: str,
+        volume: float,
+        sizes: SizeDistribution,
+        aspect: float,
+        core: dict[str, float],
+        coat: dict[str, float] | None = None,
+        t: float = 0.0,
+    ) -> None:
         if volume > 0:
             pops.append(
                 Population(name, volume, sizes, aspect, core, coat or {}, t, _surface_per_volume(sizes, aspect))

@@ -15,12 +15,17 @@ grains deposited on it under gravity (``surface="settled"``, Visscher & Bolsterl
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight import _native
 from sandlight.errors import ParameterError
 from sandlight.physics.sizes import spheroid_surface_factor
+
+if TYPE_CHECKING:
+    from sandlight.physics.composition import Composition
 
 #: Populations whose area-weighted median size (mm) is below this stay on the fly in the pores.
 FINES_BELOW_MM = 0.05
@@ -35,7 +40,7 @@ SURFACES = ("cut", "settled")
 SETTLED_LAYERS = 2.0
 
 
-def _positive(name, value, allowed="a finite number > 0"):
+def _positive(name: str, value: object, allowed: str = "a finite number > 0") -> float:
     try:
         x = float(value)
     except (TypeError, ValueError):
@@ -45,7 +50,7 @@ def _positive(name, value, allowed="a finite number > 0"):
     return x
 
 
-def reference_grain_mm(comp, fines_below_mm: float = FINES_BELOW_MM) -> float:
+def reference_grain_mm(comp: Composition, fines_below_mm: float = FINES_BELOW_MM) -> float:
     """Largest area-weighted median size (mm) among the packed populations of ``comp``."""
     medians = [float(np.median(p.sizes.encounter_quantiles())) for p in comp.populations]
     packed = [m for m in medians if m >= fines_below_mm]
@@ -57,11 +62,11 @@ def reference_grain_mm(comp, fines_below_mm: float = FINES_BELOW_MM) -> float:
 
 
 def generate_packing(
-    medium,
+    medium: _native.Medium,
     *,
     reference_mm: float,
-    lateral_mm=None,
-    depth_mm=None,
+    lateral_mm: float | None = None,
+    depth_mm: float | None = None,
     seed: int = 0,
     fines_below_mm: float = FINES_BELOW_MM,
     overlap_tolerance: float = 1e-3,
@@ -140,7 +145,7 @@ def generate_packing(
 
 
 def grain_medium(
-    size_quantiles_mm,
+    size_quantiles_mm: ArrayLike,
     *,
     aspect_ratio: float = 1.0,
     n: float = 1.544,

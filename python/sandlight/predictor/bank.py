@@ -257,14 +257,14 @@ def default_model() -> ModelBank:
     ------
     ModelFileError
         The package has no spectral model (e.g. a source checkout before
-        ``scripts/train_default_spectral.py`` was run), or a shipped file is unreadable.
+        ``scripts/data/train_default_spectral.py`` was run), or a shipped file is unreadable.
     """
     paths = sorted(default_model_dir().glob(SHIPPED_PATTERN))
     if not paths:
         raise ModelFileError(
             f"no spectral model is installed (expected {SHIPPED_PATTERN} in "
             f"{default_model_dir()}); train them with "
-            f"scripts/train_default_spectral.py, or pass a model file "
+            f"scripts/data/train_default_spectral.py, or pass a model file "
             f"(sandlight predict --model PATH)"
         )
     try:

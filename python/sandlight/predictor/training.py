@@ -21,7 +21,7 @@ absent, the classic model), simulator, sandlight_version and the job settings.
 
 :func:`train_spectral` runs the training and hold-out jobs, fits a :class:`SpectralModel`,
 evaluates it on the hold-out set and saves it; the ``sandlight train-spectral`` command and
-``scripts/train_default_spectral.py`` call it.
+``scripts/data/train_default_spectral.py`` call it.
 """
 
 from __future__ import annotations

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 
@@ -59,12 +60,14 @@ class Camera:
         object.__setattr__(self, "forward", f)
 
     @classmethod
-    def look_at(cls, position, target, fov_deg: float, width: int, height: int) -> Camera:
+    def look_at(cls, position: ArrayLike, target: ArrayLike, fov_deg: float, width: int, height: int) -> Camera:
         d = np.asarray(target, dtype=float) - np.asarray(position, dtype=float)
         return cls(position, d, fov_deg, width, height)
 
     @classmethod
-    def heading(cls, position, heading_deg: float, pitch_deg: float, fov_deg: float, width: int, height: int) -> Camera:
+    def heading(
+        cls, position: ArrayLike, heading_deg: float, pitch_deg: float, fov_deg: float, width: int, height: int
+    ) -> Camera:
         """Looking towards ``heading_deg`` (from north, clockwise) and ``pitch_deg`` above the
         horizontal (negative: down)."""
         if not -89.0 <= pitch_deg <= 89.0:

@@ -14,6 +14,7 @@ import threading
 import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -23,6 +24,11 @@ from sandlight.render.light import Lighting
 from sandlight.render.maps import MaterialMap
 from sandlight.render.tables import BrdfTable
 from sandlight.render.terrain import HeightfieldTerrain, PlaneTerrain
+
+if TYPE_CHECKING:
+    import types
+
+    from sandlight._native import RenderScene
 
 __all__ = ["RenderSettings", "RenderedImage", "render_image", "native_scene"]
 
@@ -64,7 +70,7 @@ class RenderSettings:
     threads: int | None = None
 
     def __post_init__(self):
-        def whole(name, v, lo, hi):
+        def whole(name: str, v: object, lo: int, hi: int) -> None:
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
                 raise ParameterError(name, v, f"a whole number in [{lo}, {hi}]")
 
@@ -111,7 +117,7 @@ def native_scene(
     lighting: Lighting,
     material: MaterialMap | None = None,
     settings: RenderSettings = RenderSettings(),
-):
+) -> RenderScene:
     """The native ``RenderScene`` for these objects (validated, arrays converted)."""
     from sandlight._native import RenderScene
 
@@ -164,7 +170,7 @@ def _interrupt_requests() -> Iterator[list[bool]]:
         yield flag
         return
 
-    def handler(signum, frame):
+    def handler(signum: int, frame: types.FrameType | None) -> None:
         flag[0] = True
 
     previous = signal.signal(signal.SIGINT, handler)
@@ -176,7 +182,7 @@ def _interrupt_requests() -> Iterator[list[bool]]:
 
 def render_image(
     camera: Camera,
-    terrain,
+    terrain: PlaneTerrain | HeightfieldTerrain,
     table: BrdfTable,
     lighting: Lighting,
     material: MaterialMap | None = None,

@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 
@@ -78,7 +79,12 @@ class Lighting:
 
     @classmethod
     def preetham(
-        cls, turbidity: float, sun_direction, wavelength_nm, *, resolution: tuple[int, int] = DEFAULT_SKY_RESOLUTION
+        cls,
+        turbidity: float,
+        sun_direction: ArrayLike,
+        wavelength_nm: ArrayLike,
+        *,
+        resolution: tuple[int, int] = DEFAULT_SKY_RESOLUTION,
     ) -> Lighting:
         """Preetham et al. (1999) sky and sun for a turbidity and a sun direction (above the horizon)."""
         from sandlight.sky import PreethamSky
@@ -92,11 +98,11 @@ class Lighting:
     @classmethod
     def uniform(
         cls,
-        sky_radiance,
-        wavelength_nm,
+        sky_radiance: ArrayLike,
+        wavelength_nm: ArrayLike,
         *,
-        sun_direction=(0.0, 0.0, 1.0),
-        sun_irradiance=0.0,
+        sun_direction: ArrayLike = (0.0, 0.0, 1.0),
+        sun_irradiance: ArrayLike = 0.0,
         sun_solid_angle_sr: float | None = None,
         resolution: tuple[int, int] = (8, 16),
     ) -> Lighting:
@@ -129,7 +135,7 @@ class Lighting:
         return sky + sun
 
 
-def _resolution(resolution) -> tuple[int, int]:
+def _resolution(resolution: tuple[int, int]) -> tuple[int, int]:
     try:
         n_theta, n_phi = (int(v) for v in resolution)
     except (TypeError, ValueError):

@@ -14,10 +14,15 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
+
+if TYPE_CHECKING:
+    from sandlight.render.tables import BrdfTable
 
 __all__ = ["MaterialMap", "Waterlines", "waterline_map", "brownian_curve"]
 
@@ -77,7 +82,7 @@ class MaterialMap:
         values = lo + (hi - lo) * np.flipud(a)
         return cls(values, (x0, y0), ((x1 - x0) / max(nx - 1, 1), (y1 - y0) / max(ny - 1, 1)))
 
-    def value_at(self, x, y) -> np.ndarray:
+    def value_at(self, x: ArrayLike, y: ArrayLike) -> np.ndarray:
         """Bilinear value at ground points (as the renderer interpolates level coordinates)."""
         v = self.values
         ny, nx = v.shape
@@ -88,14 +93,14 @@ class MaterialMap:
         i, j = np.floor(fx).astype(np.int64), np.floor(fy).astype(np.int64)
         u, w = fx - i, fy - j
 
-        def at(ii, jj):
+        def at(ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
             if self.wrap:
                 return v[jj % ny, ii % nx]
             return v[np.clip(jj, 0, ny - 1), np.clip(ii, 0, nx - 1)]
 
         return (1 - w) * ((1 - u) * at(i, j) + u * at(i + 1, j)) + w * ((1 - u) * at(i, j + 1) + u * at(i + 1, j + 1))
 
-    def native_args(self, table) -> dict:
+    def native_args(self, table: BrdfTable) -> dict:
         """Arguments of the native scene: level coordinates of ``table`` (a BrdfTable)."""
         level = table.level_coordinate(self.values, name="material map").astype(np.float32)
         return {

@@ -35,10 +35,16 @@ from __future__ import annotations
 import functools
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ModelFileError, ParameterError
+
+if TYPE_CHECKING:
+    from sandlight.render.image import RenderedImage
+    from sandlight.render.light import Lighting
 
 __all__ = [
     "xyz_matrix",
@@ -70,12 +76,12 @@ def _xyz_matrix(wavelengths: tuple[float, ...]) -> np.ndarray:
     return m
 
 
-def xyz_matrix(wavelength_nm) -> np.ndarray:
+def xyz_matrix(wavelength_nm: ArrayLike) -> np.ndarray:
     """(n_bands, 3) matrix taking band radiances to XYZ (Y = 1 for a flat unit spectrum)."""
     return _xyz_matrix(tuple(float(v) for v in np.asarray(wavelength_nm, dtype=float)))
 
 
-def spectral_to_xyz(radiance, wavelength_nm) -> np.ndarray:
+def spectral_to_xyz(radiance: ArrayLike, wavelength_nm: ArrayLike) -> np.ndarray:
     """XYZ of spectral radiance (..., n_bands); see the module docstring for the scale."""
     return np.asarray(radiance, dtype=float) @ xyz_matrix(wavelength_nm)
 
@@ -88,7 +94,7 @@ def _luminance_per_y() -> float:
     return K_M * float(colour.MSDS_CMFS[COLOUR_OBSERVER].values[:, 1].sum())
 
 
-def white_level(exposure, lighting, wavelength_nm) -> float:
+def white_level(exposure: str | float, lighting: Lighting, wavelength_nm: ArrayLike) -> float:
     """The Y shown as display white for an exposure setting (module docstring)."""
     if isinstance(exposure, str):
         if exposure != "auto":
@@ -115,7 +121,7 @@ def soft_highlights(y: np.ndarray, knee: float = SOFT_KNEE) -> np.ndarray:
 
 
 def to_srgb(
-    xyz, white_y: float, *, exposure_ev: float = 0.0, mode: str = "managed", highlights: str = "soft"
+    xyz: ArrayLike, white_y: float, *, exposure_ev: float = 0.0, mode: str = "managed", highlights: str = "soft"
 ) -> np.ndarray:
     """Encoded sRGB in [0, 1] of XYZ scaled so that Y = ``white_y`` is display white.
 
@@ -143,7 +149,11 @@ def _gaussian(image: np.ndarray, sigma: float) -> np.ndarray:
 
 
 def texture_quotient(
-    photo, *, blur_px: float = 25.0, ground_mask=None, limits: tuple[float, float] = (0.25, 4.0)
+    photo: ArrayLike,
+    *,
+    blur_px: float = 25.0,
+    ground_mask: ArrayLike | None = None,
+    limits: tuple[float, float] = (0.25, 4.0),
 ) -> np.ndarray:
     """Quotient image of §4.2.1: photo luminance over its heavily blurred copy.
 
@@ -228,7 +238,12 @@ def write_png(path: str | os.PathLike, rgb: np.ndarray) -> Path:
 
 
 def write_netcdf(
-    path: str | os.PathLike, image, xyz: np.ndarray | None = None, attrs: dict | None = None, *, spectral: bool = True
+    path: str | os.PathLike,
+    image: RenderedImage,
+    xyz: np.ndarray | None = None,
+    attrs: dict | None = None,
+    *,
+    spectral: bool = True,
 ) -> Path:
     """Write a :class:`~sandlight.render.image.RenderedImage` as compressed NetCDF, atomically:
     ground coverage, the linear spectral radiance (unless ``spectral=False``) and XYZ if given."""

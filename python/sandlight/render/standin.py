@@ -20,11 +20,18 @@ import csv
 import io
 import sys
 from importlib import resources
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.render.tables import BrdfTable
+
+if TYPE_CHECKING:
+    import os
+
+    from sandlight.sample import SandSample
 
 __all__ = ["standin_table", "standin_reflectance", "SHIPPED", "STANDIN_CSV"]
 
@@ -53,11 +60,11 @@ def _read_csv() -> dict[tuple[str, str, float], np.ndarray]:
 
 
 def standin_reflectance(
-    sample,
+    sample: SandSample,
     preset: str | None,
     vary: str | None,
-    level_values,
-    wavelength_nm,
+    level_values: ArrayLike,
+    wavelength_nm: ArrayLike,
     *,
     rays: int = 5000,
     seed: int = SHIPPED_SEED,
@@ -89,12 +96,12 @@ def standin_reflectance(
 
 
 def standin_table(
-    sample,
-    wavelength_nm,
+    sample: SandSample,
+    wavelength_nm: ArrayLike,
     *,
     preset: str | None = None,
     vary: str | None = None,
-    level_values=(0.0,),
+    level_values: ArrayLike = (0.0,),
     rays: int = 5000,
     progress: bool = False,
 ) -> BrdfTable:
@@ -113,7 +120,7 @@ def standin_table(
     )
 
 
-def generate(path=None) -> str:
+def generate(path: str | os.PathLike | None = None) -> str:
     """Recompute the shipped spectra (SHIPPED_RAYS rays per band and level) and return the CSV
     text; written to ``path`` (atomically) when given."""
     import sandlight

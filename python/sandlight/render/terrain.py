@@ -13,6 +13,7 @@ import os
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 
@@ -29,7 +30,7 @@ class PlaneTerrain:
         if not np.isfinite(self.height_m):
             raise ParameterError("height_m", self.height_m, "a finite height in metres")
 
-    def height_at(self, x, y) -> np.ndarray:
+    def height_at(self, x: ArrayLike, y: ArrayLike) -> np.ndarray:
         return np.full(np.broadcast(np.asarray(x), np.asarray(y)).shape, float(self.height_m))
 
     def native_args(self) -> dict:
@@ -93,7 +94,7 @@ class HeightfieldTerrain:
         k = 0 if self.wrap else 1
         return ((nx - k) * self.spacing_m[0], (ny - k) * self.spacing_m[1])
 
-    def height_at(self, x, y) -> np.ndarray:
+    def height_at(self, x: ArrayLike, y: ArrayLike) -> np.ndarray:
         """Height of the bilinear surface at (x, y), as the renderer sees it."""
         h = self.heights_m.astype(float)
         ny, nx = h.shape
@@ -102,7 +103,7 @@ class HeightfieldTerrain:
         i, j = np.floor(fx).astype(np.int64), np.floor(fy).astype(np.int64)
         u, v = fx - i, fy - j
 
-        def node(ii, jj):
+        def node(ii: np.ndarray, jj: np.ndarray) -> np.ndarray:
             if self.wrap:
                 return h[jj % ny, ii % nx]
             inside = (ii >= 0) & (ii < nx) & (jj >= 0) & (jj < ny)
@@ -232,7 +233,7 @@ def dune_field(
     coords = np.arange(cells) * spacing
     x, y = np.meshgrid(coords, coords)
 
-    def profile(phase):
+    def profile(phase: np.ndarray) -> np.ndarray:
         # One cycle per unit phase: sin² rise over the stoss side, cos² fall over the lee side.
         t = np.mod(phase, 1.0)
         stoss = 1.0 - lee_fraction
@@ -308,7 +309,7 @@ def heightfield_from_image(
 
 
 def heightfield_from_array(
-    values,
+    values: ArrayLike,
     *,
     size_m: tuple[float, float],
     height_range_m: tuple[float, float],

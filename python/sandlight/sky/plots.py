@@ -26,15 +26,24 @@ drawn (it is not part of the sky radiance); a ring marks its position.
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.io import write_atomically
 from sandlight.sky import sun as _sun
 from sandlight.sky._checks import real_array, real_scalar
 from sandlight.sky.preetham import LUMINOUS_EFFICACY_LM_W, TURBIDITY_RANGE, PreethamSky
+
+if TYPE_CHECKING:
+    import datetime
+
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 __all__ = ["fisheye_directions", "sky_dome_xyz", "xyz_to_display_srgb", "plot_sky_dome", "plot_sky_day"]
 
@@ -44,7 +53,7 @@ _PLOT_WAVELENGTHS_NM = np.arange(380.0, 781.0, 5.0)
 _ROWS_PER_CHUNK = 64
 
 
-def _check_size(size) -> int:
+def _check_size(size: int) -> int:
     if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or not 16 <= size <= 4096:
         raise ParameterError("size", size, "an integer number of pixels in [16, 4096]")
     return int(size)
@@ -115,7 +124,7 @@ def sky_dome_xyz(sky: PreethamSky, size: int = 512) -> tuple[np.ndarray, np.ndar
     return xyz, inside
 
 
-def xyz_to_display_srgb(xyz, exposure_cd_m2) -> np.ndarray:
+def xyz_to_display_srgb(xyz: ArrayLike, exposure_cd_m2: float) -> np.ndarray:
     """Display-encoded sRGB in [0, 1] from absolute XYZ.
 
     Parameters
@@ -148,7 +157,7 @@ def _auto_exposure_cd_m2(xyz: np.ndarray, inside: np.ndarray) -> float:
     return float(2.0 * np.median(xyz[..., 1][inside]))
 
 
-def _save_figure_atomically(figure, path: Path) -> None:
+def _save_figure_atomically(figure: Figure, path: Path) -> None:
     """Write the figure as PNG, atomically (sandlight.io)."""
     write_atomically(path, lambda tmp: figure.savefig(tmp, format="png"))
 
@@ -162,7 +171,7 @@ def _sun_marker_position(sky: PreethamSky, size: int) -> tuple[float, float]:
     return (u + 1.0) / 2.0 * size - 0.5, (1.0 - v) / 2.0 * size - 0.5
 
 
-def _draw_dome(axes, image: np.ndarray, sky: PreethamSky | None, size: int, title: str) -> None:
+def _draw_dome(axes: Axes, image: np.ndarray, sky: PreethamSky | None, size: int, title: str) -> None:
     from matplotlib.patches import Circle
 
     axes.imshow(image, interpolation="nearest")
@@ -194,7 +203,12 @@ def _sky_title(sky: PreethamSky) -> str:
 
 
 def plot_sky_dome(
-    sky: PreethamSky, path, *, size: int = 512, exposure_cd_m2: float | None = None, title: str | None = None
+    sky: PreethamSky,
+    path: str | os.PathLike,
+    *,
+    size: int = 512,
+    exposure_cd_m2: float | None = None,
+    title: str | None = None,
 ) -> Path:
     """Save a fisheye picture of the sky dome as a PNG.
 
@@ -248,14 +262,14 @@ def plot_sky_dome(
 
 
 def plot_sky_day(
-    latitude_deg,
-    day_of_year,
-    times_h,
-    path,
+    latitude_deg: float,
+    day_of_year: float | datetime.date,
+    times_h: ArrayLike,
+    path: str | os.PathLike,
     *,
     turbidity: float = 3.0,
-    longitude_deg=None,
-    utc_offset_h=None,
+    longitude_deg: float | None = None,
+    utc_offset_h: float | None = None,
     size: int = 256,
     exposure_cd_m2: float | None = None,
     columns: int = 6,

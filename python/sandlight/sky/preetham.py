@@ -66,13 +66,18 @@ Zotti, G., Wilkie, A., Purgathofer, W. (2007). A critical review of the Preetham
 from __future__ import annotations
 
 import functools
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.sky import sun as _sun
 from sandlight.sky import sun_spectrum as _sun_spectrum
 from sandlight.sky._checks import real_array, real_scalar, unit_vectors
+
+if TYPE_CHECKING:
+    import datetime
 
 __all__ = ["PreethamSky", "TURBIDITY_RANGE", "LUMINOUS_EFFICACY_LM_W", "SKY_WAVELENGTH_RANGE_NM"]
 
@@ -137,7 +142,7 @@ def _daylight_basis():
     return wavelengths, basis, y_integrals
 
 
-def _perez(coefficients, cos_theta, gamma, cos_gamma):
+def _perez(coefficients: ArrayLike, cos_theta: ArrayLike, gamma: ArrayLike, cos_gamma: ArrayLike) -> np.ndarray:
     """Perez et al. (1993) distribution F(θ, γ); ``coefficients`` is (A, B, C, D, E)."""
     a, b, c, d, e = coefficients
     gradation = 1.0 + a * np.exp(b / np.maximum(cos_theta, _COS_FLOOR))
@@ -145,7 +150,7 @@ def _perez(coefficients, cos_theta, gamma, cos_gamma):
     return gradation * indicatrix
 
 
-def daylight_m1_m2(x, y):
+def daylight_m1_m2(x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """CIE daylight factors M1, M2 from chromaticity (x, y), unrounded (CIE 015:2018).
 
     Parameters
@@ -206,7 +211,7 @@ class PreethamSky:
     (2, 3)
     """
 
-    def __init__(self, turbidity, sun_direction):
+    def __init__(self, turbidity: float, sun_direction: ArrayLike) -> None:
         self.turbidity = real_scalar("turbidity", turbidity, *TURBIDITY_RANGE)
         direction = unit_vectors("sun_direction", sun_direction)
         if direction.shape != (3,):
@@ -240,7 +245,16 @@ class PreethamSky:
         self._zenith_values = np.array([self.zenith_luminance_kcd_m2, *self.zenith_chromaticity])
 
     @classmethod
-    def from_location(cls, turbidity, latitude_deg, day_of_year, time_h, *, longitude_deg=None, utc_offset_h=None):
+    def from_location(
+        cls,
+        turbidity: float,
+        latitude_deg: float,
+        day_of_year: float | datetime.date,
+        time_h: float,
+        *,
+        longitude_deg: float | None = None,
+        utc_offset_h: float | None = None,
+    ) -> PreethamSky:
         """Sky for a place and time; the sun direction comes from :func:`sandlight.sky.sun_direction`.
 
         Parameters
@@ -276,7 +290,7 @@ class PreethamSky:
 
     # --- sky -----------------------------------------------------------------------------------
 
-    def _angles(self, directions):
+    def _angles(self, directions: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """cos θ, γ and cos γ of directions, below-horizon ones moved onto the horizon."""
         d = unit_vectors("directions", directions)
         below = d[..., 2] < 0.0
@@ -295,7 +309,7 @@ class PreethamSky:
         cos_gamma = np.clip(d @ self.sun_direction, -1.0, 1.0)
         return cos_theta, np.arccos(cos_gamma), cos_gamma
 
-    def _yxy(self, directions):
+    def _yxy(self, directions: ArrayLike) -> np.ndarray:
         """(..., 3) array of (Y [kcd m⁻²], x, y) for each direction."""
         cos_theta, gamma, cos_gamma = self._angles(directions)
         values = [
@@ -306,7 +320,7 @@ class PreethamSky:
         ]
         return np.stack(values, axis=-1)
 
-    def luminance(self, directions):
+    def luminance(self, directions: ArrayLike) -> np.ndarray:
         """Sky luminance Y (Perez distribution scaled to the zenith value Y_z).
 
         Parameters
@@ -326,7 +340,7 @@ class PreethamSky:
             / self._zenith_perez[0]
         )
 
-    def chromaticity(self, directions):
+    def chromaticity(self, directions: ArrayLike) -> np.ndarray:
         """CIE 1931 chromaticity (x, y) of the sky.
 
         Parameters
@@ -341,7 +355,7 @@ class PreethamSky:
         """
         return self._yxy(directions)[..., 1:]
 
-    def radiance(self, directions, wavelengths_nm):
+    def radiance(self, directions: ArrayLike, wavelengths_nm: ArrayLike) -> np.ndarray:
         """Spectral sky radiance.
 
         Parameters
@@ -383,7 +397,7 @@ class PreethamSky:
 
     # --- sun -----------------------------------------------------------------------------------
 
-    def sun_radiance(self, wavelengths_nm, *, method="Preetham 1999"):
+    def sun_radiance(self, wavelengths_nm: ArrayLike, *, method: str = "Preetham 1999") -> np.ndarray:
         """Spectral radiance of the solar disc for this sky's turbidity and sun zenith angle.
 
         See :func:`sandlight.sky.sun_spectral_radiance` (ozone 0.35 cm, water 2 cm).
@@ -401,7 +415,7 @@ class PreethamSky:
         """
         return _sun_spectrum.sun_spectral_radiance(self.sun_zenith_rad, wavelengths_nm, self.turbidity, method=method)
 
-    def sun_irradiance(self, wavelengths_nm, *, method="Preetham 1999"):
+    def sun_irradiance(self, wavelengths_nm: ArrayLike, *, method: str = "Preetham 1999") -> np.ndarray:
         """Direct normal spectral irradiance of the sun, W m⁻² nm⁻¹ (radiance × solid angle).
 
         Parameters and shape as :meth:`sun_radiance`.

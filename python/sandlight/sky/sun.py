@@ -38,6 +38,7 @@ from __future__ import annotations
 import datetime as _dt
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.sky._checks import real_array, unit_vectors
@@ -72,14 +73,16 @@ def day_of_year(date: _dt.date) -> int:
     return date.timetuple().tm_yday
 
 
-def _day_array(value) -> np.ndarray:
+def _day_array(value: ArrayLike | _dt.date) -> np.ndarray:
     """Day of year as float array; accepts numbers, arrays or a single datetime.date."""
     if isinstance(value, _dt.date):
         return np.asarray(float(day_of_year(value)))
     return real_array("day_of_year", value, 1.0, 366.0)
 
 
-def solar_time(standard_time_h, day_of_year, longitude_deg, utc_offset_h) -> np.ndarray:
+def solar_time(
+    standard_time_h: ArrayLike, day_of_year: ArrayLike | _dt.date, longitude_deg: ArrayLike, utc_offset_h: ArrayLike
+) -> np.ndarray:
     """Local apparent solar time from standard (clock) time.
 
     Preetham et al. (1999), appendix:
@@ -118,7 +121,7 @@ def solar_time(standard_time_h, day_of_year, longitude_deg, utc_offset_h) -> np.
     return ts + equation_of_time_h + meridian_correction_h
 
 
-def solar_declination(day_of_year) -> np.ndarray:
+def solar_declination(day_of_year: ArrayLike | _dt.date) -> np.ndarray:
     """Solar declination δ in radians (Preetham et al. 1999, appendix).
 
     δ = 0.4093 sin(2π(J − 81)/368).
@@ -138,7 +141,12 @@ def solar_declination(day_of_year) -> np.ndarray:
 
 
 def sun_position(
-    latitude_deg, day_of_year, time_h, *, longitude_deg=None, utc_offset_h=None
+    latitude_deg: ArrayLike,
+    day_of_year: ArrayLike | _dt.date,
+    time_h: ArrayLike,
+    *,
+    longitude_deg: ArrayLike | None = None,
+    utc_offset_h: ArrayLike | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Zenith and azimuth angles of the sun (Preetham et al. 1999, appendix).
 
@@ -211,7 +219,14 @@ def sun_position(
     return zenith.copy(), azimuth.copy()
 
 
-def sun_direction(latitude_deg, day_of_year, time_h, *, longitude_deg=None, utc_offset_h=None) -> np.ndarray:
+def sun_direction(
+    latitude_deg: ArrayLike,
+    day_of_year: ArrayLike | _dt.date,
+    time_h: ArrayLike,
+    *,
+    longitude_deg: ArrayLike | None = None,
+    utc_offset_h: ArrayLike | None = None,
+) -> np.ndarray:
     """Unit vector towards the sun in the local frame (x east, y north, z up).
 
     Parameters are those of :func:`sun_position`.
@@ -234,7 +249,7 @@ def sun_direction(latitude_deg, day_of_year, time_h, *, longitude_deg=None, utc_
     return direction_from_angles(zenith, azimuth)
 
 
-def direction_from_angles(zenith_rad, azimuth_rad) -> np.ndarray:
+def direction_from_angles(zenith_rad: ArrayLike, azimuth_rad: ArrayLike) -> np.ndarray:
     """Unit vectors from zenith and compass azimuth angles.
 
     x = sin θ sin φ (east), y = sin θ cos φ (north), z = cos θ (up).
@@ -257,7 +272,7 @@ def direction_from_angles(zenith_rad, azimuth_rad) -> np.ndarray:
     return np.stack(np.broadcast_arrays(sin_theta * np.sin(phi), sin_theta * np.cos(phi), np.cos(theta)), axis=-1)
 
 
-def angles_from_direction(direction) -> tuple[np.ndarray, np.ndarray]:
+def angles_from_direction(direction: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Zenith angle and compass azimuth of direction vectors (inverse of
     :func:`direction_from_angles`).
 

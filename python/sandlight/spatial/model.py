@@ -599,12 +599,12 @@ def default_model() -> SpatialModel:
     ------
     ModelFileError
         The package has no default model (a source checkout before
-        ``scripts/train_default_spatial.py`` was run).
+        ``scripts/data/train_default_spatial.py`` was run).
     """
     path = default_model_path()
     if not path.is_file():
         raise ModelFileError(
             f"the default spatial model is not installed (expected at {path}); train it with "
-            f"scripts/train_default_spatial.py, or pass a model file"
+            f"scripts/data/train_default_spatial.py, or pass a model file"
         )
     return SpatialModel.load(path)

@@ -22,7 +22,7 @@ Global attributes: format ``sandlight-spatial-nodes``, wavelength_nm, rays, stac
 
 :func:`train_spatial` runs the node job and a held-out job, fits a `SpatialModel`, scores it
 (:func:`evaluate`) and saves both; ``sandlight train-spatial`` and
-``scripts/train_default_spatial.py`` call it.
+``scripts/data/train_default_spatial.py`` call it.
 """
 
 from __future__ import annotations

@@ -44,6 +44,7 @@ import functools
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 
@@ -81,7 +82,7 @@ def _node_values(omega: float) -> np.ndarray:
     raise RuntimeError(f"H-function iteration did not converge for omega = {omega}")
 
 
-def _check_omega(omega) -> float:
+def _check_omega(omega: float) -> float:
     try:
         value = float(omega)
     except (TypeError, ValueError):
@@ -91,7 +92,7 @@ def _check_omega(omega) -> float:
     return value
 
 
-def _check_mu(name: str, mu) -> np.ndarray:
+def _check_mu(name: str, mu: ArrayLike) -> np.ndarray:
     arr = np.asarray(mu, dtype=float)
     finite = arr[np.isfinite(arr)]
     if np.any(finite < 0.0) or np.any(finite > 1.0):
@@ -100,7 +101,7 @@ def _check_mu(name: str, mu) -> np.ndarray:
     return arr
 
 
-def h_function(mu, omega: float) -> np.ndarray:
+def h_function(mu: ArrayLike, omega: float) -> np.ndarray:
     """Chandrasekhar's H-function for isotropic scattering.
 
     Parameters
@@ -137,7 +138,7 @@ def h_function(mu, omega: float) -> np.ndarray:
     return (1.0 / (math.sqrt(1.0 - w) + 0.5 * w * integral)).reshape(mu.shape)
 
 
-def dhr(mu0, omega: float) -> np.ndarray:
+def dhr(mu0: ArrayLike, omega: float) -> np.ndarray:
     """Directional-hemispherical reflectance of the isotropic half-space, 1 − H(μ0)√(1 − ω).
 
     Parameters
@@ -156,7 +157,7 @@ def dhr(mu0, omega: float) -> np.ndarray:
     return 1.0 - h_function(mu0, w) * math.sqrt(1.0 - w)
 
 
-def brdf(mu, mu0, omega: float) -> np.ndarray:
+def brdf(mu: ArrayLike, mu0: ArrayLike, omega: float) -> np.ndarray:
     """BRDF of the isotropic half-space, ω H(μ) H(μ0) / (4π (μ + μ0)).
 
     Parameters

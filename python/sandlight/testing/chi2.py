@@ -29,6 +29,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 
@@ -71,11 +72,11 @@ class ChiSquareResult:
 
 
 def hemisphere_chi2(
-    directions,
+    directions: ArrayLike,
     pdf: Callable,
     *,
-    mu_edges=None,
-    phi_edges=None,
+    mu_edges: ArrayLike | None = None,
+    phi_edges: ArrayLike | None = None,
     quadrature: int = QUADRATURE,
     min_expected: float = MIN_EXPECTED,
 ) -> ChiSquareResult:

@@ -2,7 +2,7 @@
 """Render the two shipped animations at a preview resolution, time them, and write the strips of
 frames shown in docs/rendering.md (``render_desert_day.png``, ``render_beach_drying.png``).
 
-    python3 scripts/render_figures.py [--out docs/figures] [--work build/render-figures]
+    python3 scripts/docs/render_figures.py [--out docs/figures] [--work build/render-figures]
 
 Each animation is rendered by the same command a user runs (``sandlight render SCENE -o DIR
 --video FILE.mp4 --width 320 --height 180``, every other setting from the scene file), in a
@@ -18,7 +18,7 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 
 #: Scene, frames shown (0-based) and their labels; the scene files give 25 desert frames from
 #: 06:00 to 18:00 and 21 beach frames from 08:00 to 18:00.

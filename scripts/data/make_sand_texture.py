@@ -8,7 +8,7 @@ stored as a 128-colour palette PNG.
 The output is deterministic for a given seed and numpy version. Released under CC0 1.0 (public
 domain dedication); see the README beside the image.
 
-Usage: python3 scripts/make_sand_texture.py [--size 256] [--seed 2024] [-o PATH]
+Usage: python3 scripts/data/make_sand_texture.py [--size 256] [--seed 2024] [-o PATH]
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from PIL import Image
 from scipy.ndimage import gaussian_filter
 from scipy.spatial import cKDTree
 
-DEFAULT_OUTPUT = Path(__file__).resolve().parent.parent / "python" / "sandlight" / "data" / "textures" / "sand.png"
+DEFAULT_OUTPUT = Path(__file__).resolve().parents[2] / "python" / "sandlight" / "data" / "textures" / "sand.png"
 
 # Encoded sRGB albedos of the grain populations and their shares: mostly tan quartz with iron
 # staining, some clear quartz, a few dark (heavy mineral) and reddish grains.

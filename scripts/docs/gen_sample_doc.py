@@ -4,7 +4,7 @@ The parameter table comes from ``PARAMETERS``, the preset list from the headers 
 files. Each part sits between ``<!-- BEGIN name -->`` and ``<!-- END name -->`` markers; the
 text outside the markers is left alone.
 
-Usage: ``python3 scripts/gen_sample_doc.py`` (rewrite) or ``... --check`` (exit 1 if stale).
+Usage: ``python3 scripts/docs/gen_sample_doc.py`` (rewrite) or ``... --check`` (exit 1 if stale).
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from pathlib import Path
 
 from sandlight.sample import PARAMETERS, Parameter, SandSample
 
-DOC = Path(__file__).resolve().parents[1] / "docs" / "sample.md"
+DOC = Path(__file__).resolve().parents[2] / "docs" / "sample.md"
 
 
 def _domain(p: Parameter) -> str:
@@ -75,7 +75,7 @@ def main(argv: list[str]) -> int:
     fresh = render(current)
     if "--check" in argv:
         if fresh != current:
-            print(f"{DOC} is out of date: run python3 scripts/gen_sample_doc.py", file=sys.stderr)
+            print(f"{DOC} is out of date: run python3 scripts/docs/gen_sample_doc.py", file=sys.stderr)
             return 1
         return 0
     if fresh != current:

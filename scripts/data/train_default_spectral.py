@@ -4,9 +4,9 @@
 This is the documented command behind ``python/sandlight/data/models/spectral-*.npz`` (see
 docs/spectral-predictor.md, "Shipped models"). It needs the native engine (a built sandlight)::
 
-    python scripts/train_default_spectral.py --workers 2          # every model of the bank
-    python scripts/train_default_spectral.py --only reference-wet --dask-local 8
-    python scripts/train_default_spectral.py --scheduler tcp://head:8786
+    python scripts/data/train_default_spectral.py --workers 2          # every model of the bank
+    python scripts/data/train_default_spectral.py --only reference-wet --dask-local 8
+    python scripts/data/train_default_spectral.py --scheduler tcp://head:8786
 
 Each model is trained by :func:`sandlight.predictor.train_spectral` into ``--work-dir/NAME``:
 resumable (interrupted by Ctrl-C, kill or a lost node, the same command continues from the
@@ -26,7 +26,7 @@ import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PACKAGE_DIR = ROOT / "python" / "sandlight" / "data" / "models"
 
 

@@ -9,14 +9,14 @@ that the shipped tables are exactly what this script produces.
 Goethite and kaolinite (and the visible absorption of the quartz grain host) have no usable
 measured table. Their PROVISIONAL parameterisations are defined below, each with its
 justification; issue 3 replaces them by constants derived by inversion with the engine
-(``scripts/derive_constants.py``), after which this script must no longer write them.
+(``scripts/studies/derive_constants.py``), after which this script must no longer write them.
 
 Usage::
 
-    python3 scripts/build_optical_tables.py                # write the tables
-    python3 scripts/build_optical_tables.py --check        # exit 1 if shipped tables differ
-    python3 scripts/build_optical_tables.py --report       # cross-check tables (Markdown)
-    python3 scripts/build_optical_tables.py --plot         # docs/img/optical-constants.png
+    python3 scripts/data/build_optical_tables.py                # write the tables
+    python3 scripts/data/build_optical_tables.py --check        # exit 1 if shipped tables differ
+    python3 scripts/data/build_optical_tables.py --report       # cross-check tables (Markdown)
+    python3 scripts/data/build_optical_tables.py --plot         # docs/img/optical-constants.png
 
 ``--source DIR`` points at the shared ``data/optical`` folder (default: found by walking up
 from the repository to a ``shared/data/optical`` folder).
@@ -34,7 +34,7 @@ from pathlib import Path
 
 import numpy as np
 
-REPO = Path(__file__).resolve().parents[1]
+REPO = Path(__file__).resolve().parents[2]
 OUT_DIR = REPO / "python" / "sandlight" / "data" / "optical"
 PLOT_PATH = REPO / "docs" / "img" / "optical-constants.png"
 
@@ -54,7 +54,7 @@ UNITS = (
     "wavelength_nm = wavelength in vacuum [nm]; n, k dimensionless, complex index m = n + i k; "
     "absorption coefficient alpha = 4 pi k / lambda"
 )
-BUILT_BY = "scripts/build_optical_tables.py (sandlight); do not edit by hand"
+BUILT_BY = "scripts/data/build_optical_tables.py (sandlight); do not edit by hand"
 # Licence of values that sandlight itself computed (provisional parameterisations, averages).
 SANDLIGHT_LICENCE = "MIT (sandlight project) for the provisional parameterisation"
 
@@ -484,7 +484,7 @@ def build_goethite(src: Path) -> Table:
         (
             "status",
             "PROVISIONAL (no measured n,k table exists); to be replaced by the issue-3 "
-            "inversion of USGS goethite spectra (scripts/derive_constants.py)",
+            "inversion of USGS goethite spectra (scripts/studies/derive_constants.py)",
         ),
         (
             "source",
@@ -509,7 +509,7 @@ def build_goethite(src: Path) -> Table:
             "A. C. Scheinost, A. Chavernas, V. Barron, J. Torrent, Clays Clay Miner. 46, "
             "528-536 (1998) [band assignments and positions]",
         ),
-        ("origin", "parameterisation in scripts/build_optical_tables.py (no external data file)"),
+        ("origin", "parameterisation in scripts/data/build_optical_tables.py (no external data file)"),
         ("licence", SANDLIGHT_LICENCE + "; quoted single values are facts from the cited works"),
         ("units", UNITS),
         ("sampling", "5 nm grid, 350-2500 nm"),
@@ -607,7 +607,7 @@ def build_kaolinite(quartz: Table) -> Table:
             "not available to the project); O-H band positions: R. N. Clark et al., "
             "J. Geophys. Res. 95(B8), 12653-12680 (1990), doi:10.1029/JB095iB08p12653",
         ),
-        ("origin", "parameterisation in scripts/build_optical_tables.py (no external data file)"),
+        ("origin", "parameterisation in scripts/data/build_optical_tables.py (no external data file)"),
         ("licence", SANDLIGHT_LICENCE),
         ("units", UNITS),
         ("sampling", "5 nm grid, 350-2500 nm"),

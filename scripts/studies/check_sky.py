@@ -3,7 +3,7 @@
 
 Usage::
 
-    PYTHONPATH=python python3 scripts/check_sky.py [--figures DIR]
+    PYTHONPATH=python python3 scripts/studies/check_sky.py [--figures DIR]
 
 Checks:
 1. Sun position (Preetham appendix) against NOAA/Spencer and against pvlib's NREL SPA.

@@ -7,8 +7,8 @@ evenly spaced over [0, 1] at the default mineralogy (``SandSample()``), each mea
 virtual goniophotometer (31 × 30 patches, uniform incidence) at 550 nm, plus a held-out
 measurement at saturation 0.5 (between the nodes 7/15 and 8/15). It needs the native engine::
 
-    python scripts/train_default_spatial.py                  # in-process, engine threads = CPUs
-    python scripts/train_default_spatial.py --rays 1e8 --dask-local 8 --threads 1
+    python scripts/data/train_default_spatial.py                  # in-process, engine threads = CPUs
+    python scripts/data/train_default_spatial.py --rays 1e8 --dask-local 8 --threads 1
 
 Resumable: interrupted, the same command continues from the stored nodes (and from each
 running node's checkpoint) in ``--work-dir``. At the end it copies the model into the package
@@ -26,7 +26,7 @@ import sys
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 PACKAGE_MODEL = ROOT / "python" / "sandlight" / "data" / "models" / "spatial-beach.npz"
 
 

@@ -17,7 +17,7 @@ provenance. Run time: about 2 minutes on 2 CPUs.
 
 Usage::
 
-    python3 scripts/build_pair_correlation.py [--etas 0.40 0.45 0.50 0.55 0.60 0.62] [--seeds 1 2]
+    python3 scripts/data/build_pair_correlation.py [--etas 0.40 0.45 0.50 0.55 0.60 0.62] [--seeds 1 2]
 """
 
 from __future__ import annotations
@@ -33,7 +33,7 @@ from sandlight.io import write_atomically
 from sandlight.machine import describe
 from sandlight.physics.packing import generate_packing, grain_medium
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 OUT = ROOT / "crates" / "sandlight-core" / "data" / "pair_correlation.txt"
 D_MM = 0.25
 X0, DX, BINS = 1.001, 0.005, 400
@@ -82,7 +82,7 @@ def main(argv=None):
         )
     header = [
         "# Pair correlation of sandlight's random packings of monodisperse spheres.",
-        f"# Source: scripts/build_pair_correlation.py (this repository), sandlight_core::packing, d = {D_MM} mm,",
+        f"# Source: scripts/data/build_pair_correlation.py (this repository), sandlight_core::packing, d = {D_MM} mm,",
         f"#   default box, seeds {' '.join(map(str, args.seeds))}; "
         f"generated on {describe()}, {time.strftime('%Y-%m-%d')}.",
         "# Licence: MIT (computed by this project's own code).",

@@ -20,7 +20,7 @@ draws a figure.
 
 Usage::
 
-    python3 scripts/derive_constants.py --rays 4000 --plot docs/img/hematite-inversion.png
+    python3 scripts/studies/derive_constants.py --rays 4000 --plot docs/img/hematite-inversion.png
 
 Needs the native engine and the shared USGS library (``shared/data/measured/usgs_splib07a``).
 """
@@ -32,9 +32,13 @@ import contextlib
 import math
 import sys
 import time
+from pathlib import Path
 
 import numpy as np
-from build_optical_tables import find_shared_optical, hematite_sources
+
+# The inversion reads Querry's hematite tables the way the data builder does: reuse its readers.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "data"))
+from build_optical_tables import find_shared_optical, hematite_sources  # noqa: E402
 
 from sandlight import validation as v
 from sandlight.measured import read_usgs, usgs_library
