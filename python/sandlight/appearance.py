@@ -105,7 +105,7 @@ from sandlight.errors import ParameterError
 
 # The interpolant's linear weights in μ: (band a, band b, t), shared with the BRDF itself so that
 # albedo, sampling tables and the BRDF bracket μ identically.
-from sandlight.gonio.brdf import _bracket
+from sandlight.gonio.brdf import mu_bracket as _bracket
 
 __all__ = [
     "SandAppearance",
