@@ -51,7 +51,7 @@ from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import ReducedBRDF, check_counts
 from sandlight.gonio.symmetry import EquivalenceClasses
-from sandlight.io import write_atomically
+from sandlight.io import read_netcdf_file, write_atomically
 
 __all__ = ["to_netcdf", "read_netcdf", "FORMAT_NAME", "FORMAT_VERSION"]
 
@@ -168,29 +168,8 @@ def read_netcdf(path: str | PathLike) -> MeasuredBRDF:
         If the file is not readable NetCDF/HDF5 (e.g. truncated), is not a 'sandlight-brdf'
         file, has another format version, or its variables are missing or inconsistent.
     """
-    import xarray as xr
-
     path = Path(path)
-    if not path.exists():
-        raise FileNotFoundError(f"{path}: no such BRDF file")
-    try:
-        with xr.open_dataset(path, engine="h5netcdf") as ds:
-            ds = ds.load()
-    except Exception as exc:  # h5py/h5netcdf raise OSError, ValueError, KeyError… on damaged files
-        raise ModelFileError(f"{path}: not a readable NetCDF-4 file (truncated or corrupt?): {exc}") from exc
-
-    fmt = ds.attrs.get("format")
-    if fmt != FORMAT_NAME:
-        raise ModelFileError(
-            f"{path}: not a sandlight BRDF file (global attribute format = {fmt!r}, expected {FORMAT_NAME!r})"
-        )
-    version = ds.attrs.get("format_version")
-    version = version.item() if isinstance(version, np.generic) else version
-    if not (isinstance(version, (int, np.integer)) and version == FORMAT_VERSION):
-        raise ModelFileError(
-            f"{path}: {FORMAT_NAME} format version {version!r} is not supported "
-            f"(this sandlight reads version {FORMAT_VERSION})"
-        )
+    ds = read_netcdf_file(path, kind="BRDF", format_name=FORMAT_NAME, max_version=FORMAT_VERSION)
     try:
         return _from_dataset(ds)
     except (KeyError, ValueError, TypeError) as exc:  # ParameterError is a ValueError
