@@ -1,6 +1,7 @@
 """SandAppearance: the explicit spectral BRDF — energy, reciprocity, sampling, albedo, tables."""
 
 import copy
+import dataclasses
 import json
 import math
 import sys
@@ -14,6 +15,7 @@ sys.path.insert(0, str(Path(__file__).parent / "spatial"))
 import spatial_fakes  # noqa: E402
 
 from sandlight.appearance import DEFENSIVE_COSINE_SHARE, TABLE_FORMAT, SandAppearance  # noqa: E402
+from sandlight.appearance.band_grid import hat_quadrature  # noqa: E402
 from sandlight.errors import ParameterError  # noqa: E402
 from sandlight.gonio.brdf import interpolate_band_grid  # noqa: E402
 from sandlight.sample import SandSample  # noqa: E402
@@ -135,10 +137,10 @@ def test_native_evaluator_matches_the_reference_interpolant(app):
     # f = a(λ) F + b(λ) P(μ_i) P(μ_o), with F the goniophotometer's interpolant (numpy reference).
     wi, wo = directions(3000, 7), directions(3000, 8)
     dphi = np.arctan2(wo[:, 1], wo[:, 0]) - np.arctan2(wi[:, 1], wi[:, 0])
-    F = interpolate_band_grid(app._grid, app._nodes, wi[:, 2], wo[:, 2], dphi)
-    nodes_asc = app._nodes[::-1]
-    profile = lambda mu: np.interp(mu, nodes_asc, app._profile[::-1])  # noqa: E731
-    a, b = app._weights(app.normal_reflectance)
+    F = interpolate_band_grid(app.band_grid.grid, app.band_grid.nodes, wi[:, 2], wo[:, 2], dphi)
+    nodes_asc = app.band_grid.nodes[::-1]
+    profile = lambda mu: np.interp(mu, nodes_asc, app._combination.profile[::-1])  # noqa: E731
+    a, b = app._combination.weights(app.normal_reflectance)
     expected = F[:, None] * a + (profile(wi[:, 2]) * profile(wo[:, 2]))[:, None] * b
     np.testing.assert_allclose(app.brdf(wi, wo), expected, rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(app.brdf(wi, wo, threads=2), expected, rtol=1e-12, atol=1e-15)
@@ -339,12 +341,12 @@ def test_table_conserves_the_albedo(app):
 def test_table_keeps_a_normal_incidence_peak_energy(spatial):
     # A narrow peak at the cap (as flat water gives) must not be smeared into extra energy.
     peaked = SandAppearance(SandSample(saturation=0.3), spatial_fakes.fake_spectrum, spatial, combination="product")
-    grid = peaked._grid.copy()
+    grid = peaked.band_grid.grid.copy()
     grid[:2, :2, :] *= 50.0  # the cap → cap value (nodes μ = 1 and the cap's edge)
     from sandlight import _native
 
-    peaked._grid = grid
-    peaked._native = _native.BandGridBrdf(grid, peaked._nodes, peaked._profile)
+    peaked.band_grid = dataclasses.replace(peaked.band_grid, grid=grid)
+    peaked._evaluator = _native.BandGridBrdf(grid, peaked.band_grid.nodes, peaked._combination.profile)
     d, w = hemisphere_quadrature(4000, 8)
     exact = (peaked.brdf([0, 0, 1], d, [550.0])[:, 0] * d[:, 2] * w).sum()
     ds = peaked.table(n_mu=32, n_dphi=9, wavelengths_nm=[550.0])
@@ -360,7 +362,7 @@ def test_table_keeps_a_normal_incidence_peak_energy(spatial):
     from_table = (2 * np.trapezoid(f[-1], dphi, axis=1)) @ hat_mu
     # The table's μ_i = 1 row averages over its hat in μ_i too, diluting the cap: compare with the
     # model averaged the same way.
-    x, W = peaked._hat_quadrature(mu)
+    x, W = hat_quadrature(peaked.band_grid.nodes, mu)
     row = W[-1] @ np.array(
         [
             (peaked.brdf(from_angles(np.degrees(np.arccos(min(xi, 1.0)))), d, [550.0])[:, 0] * d[:, 2] * w).sum()

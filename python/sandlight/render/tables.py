@@ -239,10 +239,10 @@ class BrdfTable:
             Level value of this table (for `stack`).
         level_name : str
         """
-        # The interpolant's μ nodes (descending, 1 first) and azimuth slices are internals of
-        # SandAppearance; tests/render/test_render_appearance.py checks the reproduction.
-        nodes = np.asarray(appearance._nodes, dtype=float)
-        slices = int(appearance._slices)
+        # The interpolant's μ nodes (descending, 1 first) and azimuth slices;
+        # tests/render/test_render_appearance.py checks the reproduction.
+        nodes = np.asarray(appearance.band_grid.nodes, dtype=float)
+        slices = int(appearance.band_grid.slices)
         mu = np.unique(np.r_[0.0, nodes, 1.0])
         dphi = 2.0 * np.pi * np.arange(slices // 2 + 1) / slices
         dphi = np.r_[dphi[dphi < np.pi - 1e-9], np.pi]
