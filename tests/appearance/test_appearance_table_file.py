@@ -9,9 +9,9 @@ import spatial_fakes
 import xarray as xr
 from appearance_helpers import from_angles, hemisphere_quadrature
 
-from sandlight.appearance import TABLE_FORMAT, SandAppearance
+from sandlight.appearance import TABLE_FORMAT, SandAppearance, table_file
 from sandlight.appearance.band_grid import hat_quadrature
-from sandlight.errors import ParameterError
+from sandlight.errors import ModelFileError, ParameterError
 from sandlight.sample import SandSample
 
 
@@ -99,3 +99,112 @@ def test_table_arguments(app):
         app.table(n_mu=1)
     ds = app.table(n_mu=3, n_dphi=2, wavelengths_nm=[550.0])
     assert ds["f"].shape == (1, 3, 3, 2)
+
+
+# ---- the file: written by SandAppearance and BrdfTable, read and checked by one reader ----------
+def readers():
+    """Both ways of reading a table file: the format's reader and the renderer's."""
+    from sandlight.render import BrdfTable
+
+    return [pytest.param(table_file.read_table, id="read_table"), pytest.param(BrdfTable.from_netcdf, id="BrdfTable")]
+
+
+@pytest.fixture(scope="module")
+def small_table(app):
+    return app.table(n_mu=5, n_dphi=4, wavelengths_nm=[450.0, 650.0])
+
+
+def test_appearance_table_reads_back_in_the_renderer(app, small_table, tmp_path):
+    from sandlight.render import BrdfTable
+
+    path = app.to_table(tmp_path / "brdf.nc", n_mu=5, n_dphi=4, wavelengths_nm=[450.0, 650.0])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["brdf.nc"]  # no temporary file left behind
+    back = BrdfTable.from_netcdf(path)
+    np.testing.assert_array_equal(back.f[0], small_table["f"].values)
+    np.testing.assert_array_equal(back.mu_o, small_table["mu_o"].values)
+    ds = table_file.read_table(path)
+    assert ds.attrs["format"] == table_file.FORMAT_NAME and ds.attrs["format_version"] == table_file.FORMAT_VERSION
+    assert ds.attrs["reference_reflectance"] == app.reference_reflectance
+
+
+def test_renderer_stacks_are_written_in_the_format(tmp_path):
+    from sandlight.render import BrdfTable
+
+    wl = [450.0, 650.0]
+    stack = BrdfTable.stack([BrdfTable.oren_nayar(a, 20.0, wl) for a in (0.2, 0.5)], [0.0, 1.0], "saturation")
+    ds = table_file.read_table(stack.to_netcdf(tmp_path / "stack.nc"))
+    assert ds.attrs["format"] == TABLE_FORMAT and ds["f"].dims == ("saturation", *table_file.AXES)
+    assert ds["f"].attrs["units"] == "sr-1" and ds["dphi"].attrs["units"] == "rad"
+    np.testing.assert_array_equal(ds["saturation"].values, [0.0, 1.0])
+
+
+@pytest.mark.parametrize("read", readers())
+def test_foreign_netcdf_is_refused(read, small_table, tmp_path):
+    # A BRDF in the same layout but not written by sandlight: no format attribute.
+    foreign = small_table.copy()
+    foreign.attrs = {"title": "someone else's BRDF"}
+    foreign.to_netcdf(tmp_path / "other.nc", engine="h5netcdf")
+    with pytest.raises(ModelFileError, match=r"other\.nc: not a sandlight BRDF table file .*format = None"):
+        read(tmp_path / "other.nc")
+    xr.Dataset({"t": ("x", np.arange(3.0))}, attrs={"format": "sandlight-brdf"}).to_netcdf(
+        tmp_path / "gonio.nc", engine="h5netcdf"
+    )
+    with pytest.raises(ModelFileError, match="format = 'sandlight-brdf', expected 'sandlight-brdf-table'"):
+        read(tmp_path / "gonio.nc")
+
+
+@pytest.mark.parametrize("read", readers())
+def test_newer_or_unknown_format_version_is_refused(read, small_table, tmp_path):
+    newer = small_table.copy()
+    newer.attrs["format_version"] = table_file.FORMAT_VERSION + 1
+    newer.to_netcdf(tmp_path / "future.nc", engine="h5netcdf")
+    with pytest.raises(ModelFileError, match=r"future\.nc: sandlight-brdf-table format version 2 .*newer sandlight"):
+        read(tmp_path / "future.nc")
+    newer.attrs["format_version"] = "one"
+    newer.to_netcdf(tmp_path / "odd.nc", engine="h5netcdf")
+    with pytest.raises(ModelFileError, match="version 'one' is not supported"):
+        read(tmp_path / "odd.nc")
+
+
+@pytest.mark.parametrize("read", readers())
+def test_missing_variables_are_refused(read, small_table, tmp_path):
+    small_table.drop_vars("f").to_netcdf(tmp_path / "no_f.nc", engine="h5netcdf")
+    with pytest.raises(ModelFileError, match=r"no_f\.nc: incomplete sandlight-brdf-table file: no variable 'f'"):
+        read(tmp_path / "no_f.nc")
+    small_table.drop_vars("mu_o").to_netcdf(tmp_path / "no_mu_o.nc", engine="h5netcdf")
+    with pytest.raises(ModelFileError, match="no coordinate 'mu_o'"):
+        read(tmp_path / "no_mu_o.nc")
+    small_table.transpose("mu_i", "wavelength", "mu_o", "dphi").to_netcdf(tmp_path / "order.nc", engine="h5netcdf")
+    with pytest.raises(ModelFileError, match=r"variable f has dimensions \('mu_i', 'wavelength'"):
+        read(tmp_path / "order.nc")
+
+
+@pytest.mark.parametrize("read", readers())
+def test_truncated_or_corrupt_file_is_refused(read, app, tmp_path):
+    data = app.to_table(tmp_path / "brdf.nc", n_mu=5, n_dphi=4).read_bytes()
+    (tmp_path / "cut.nc").write_bytes(data[: len(data) // 2])
+    with pytest.raises(ModelFileError, match=r"cut\.nc: not a readable NetCDF-4 file \(truncated or corrupt\?\)"):
+        read(tmp_path / "cut.nc")
+    (tmp_path / "notes.nc").write_text("not a table\n")
+    with pytest.raises(ModelFileError, match=r"notes\.nc: not a readable NetCDF-4 file"):
+        read(tmp_path / "notes.nc")
+    with pytest.raises(FileNotFoundError, match="absent.nc"):
+        read(tmp_path / "absent.nc")
+
+
+def test_renderer_refuses_invalid_values_naming_the_file(small_table, tmp_path):
+    from sandlight.render import BrdfTable
+
+    bad = small_table.copy()
+    bad["f"] = -bad["f"]
+    bad.to_netcdf(tmp_path / "negative.nc", engine="h5netcdf")
+    with pytest.raises(ModelFileError, match=r"negative\.nc: .*BRDF values ≥ 0"):
+        BrdfTable.from_netcdf(tmp_path / "negative.nc")
+
+
+def test_writer_takes_only_datasets_in_the_format(small_table, tmp_path):
+    with pytest.raises(ParameterError, match="dataset"):
+        table_file.write_table(xr.Dataset({"f": ("x", np.ones(2))}), tmp_path / "x.nc")
+    assert not (tmp_path / "x.nc").exists()
+    with pytest.raises(ParameterError, match="level_name"):
+        table_file.table_dataset(np.ones((1, 1, 2, 2, 2)), [500.0], [0, 1], [0, 1], [0, np.pi], interpolation="")
