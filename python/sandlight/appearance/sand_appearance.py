@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.appearance import table_file
 from sandlight.appearance.band_grid import BandGrid, hat_quadrature
@@ -41,7 +42,7 @@ TABLE_INTERPOLATION = (
 )
 
 
-def _directions(name: str, w: np.ndarray) -> np.ndarray:
+def _directions(name: str, w: ArrayLike) -> np.ndarray:
     d = np.asarray(w, dtype=float)
     if d.ndim == 1:
         d = d[None, :]
@@ -50,7 +51,7 @@ def _directions(name: str, w: np.ndarray) -> np.ndarray:
     return d
 
 
-def _unit_pairs(wi: np.ndarray, wo: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _unit_pairs(wi: ArrayLike, wo: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     wi, wo = _directions("wi", wi), _directions("wo", wo)
     ni, no = np.linalg.norm(wi, axis=1), np.linalg.norm(wo, axis=1)
     for name, w, nrm in (("wi", wi, ni), ("wo", wo, no)):
@@ -147,7 +148,7 @@ class SandAppearance:
         self._sampling = SamplingTables.build(self.band_grid, self._evaluator.evaluate_mu, a_ref, b_ref)
 
     # ---- spectra -----------------------------------------------------------------------------
-    def reflectance_at(self, wavelengths_nm: np.ndarray | None = None) -> np.ndarray:
+    def reflectance_at(self, wavelengths_nm: ArrayLike | None = None) -> np.ndarray:
         """r(λ) at the given wavelengths (nm), linear between the spectral model's wavelengths.
 
         Raises
@@ -171,7 +172,7 @@ class SandAppearance:
 
     # ---- evaluation --------------------------------------------------------------------------
     def brdf(
-        self, wi: np.ndarray, wo: np.ndarray, wavelengths_nm: np.ndarray | None = None, *, threads: int | None = None
+        self, wi: ArrayLike, wo: ArrayLike, wavelengths_nm: ArrayLike | None = None, *, threads: int | None = None
     ) -> np.ndarray:
         """The spectral BRDF f(ω_i, ω_o, λ) in sr⁻¹.
 
@@ -212,7 +213,7 @@ class SandAppearance:
             threads,
         )
 
-    def albedo(self, wi: np.ndarray, wavelengths_nm: np.ndarray | None = None) -> np.ndarray:
+    def albedo(self, wi: ArrayLike, wavelengths_nm: ArrayLike | None = None) -> np.ndarray:
         """Directional-hemispherical reflectance ∫ f(ω_i, ω_o, λ) cos θ_o dω_o, exact for the model.
 
         Parameters
@@ -236,7 +237,7 @@ class SandAppearance:
         return self._combination.albedo(self.band_grid, mu, self.reflectance_at(wavelengths_nm))
 
     # ---- sampling ----------------------------------------------------------------------------
-    def pdf(self, wi: np.ndarray, wo: np.ndarray, method: str = "brdf") -> np.ndarray:
+    def pdf(self, wi: ArrayLike, wo: ArrayLike, method: str = "brdf") -> np.ndarray:
         """Density of `sample`'s outgoing directions with respect to solid angle, sr⁻¹.
 
         Parameters
@@ -258,10 +259,10 @@ class SandAppearance:
 
     def sample(
         self,
-        wi: np.ndarray,
-        u1: np.ndarray,
-        u2: np.ndarray,
-        wavelength_nm: float | np.ndarray | None = None,
+        wi: ArrayLike,
+        u1: ArrayLike,
+        u2: ArrayLike,
+        wavelength_nm: ArrayLike | None = None,
         method: str = "brdf",
     ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Draw outgoing directions for incoming ones (importance sampling of f cos θ_o).
@@ -303,7 +304,7 @@ class SandAppearance:
         return wo, (weight[:, 0] if scalar else weight), pdf
 
     # ---- regular-grid table -----------------------------------------------------------------
-    def table(self, n_mu: int = 32, n_dphi: int = 32, wavelengths_nm: np.ndarray | None = None) -> xr.Dataset:
+    def table(self, n_mu: int = 32, n_dphi: int = 32, wavelengths_nm: ArrayLike | None = None) -> xr.Dataset:
         """The BRDF on a regular grid as an ``xarray.Dataset`` (format 'sandlight-brdf-table').
 
         In μ_i and μ_o each value is the cos-weighted average of f over the node's
@@ -382,7 +383,7 @@ class SandAppearance:
         path: str | os.PathLike,
         n_mu: int = 32,
         n_dphi: int = 32,
-        wavelengths_nm: np.ndarray | None = None,
+        wavelengths_nm: ArrayLike | None = None,
     ) -> Path:
         """Write the BRDF on a regular grid to NetCDF (format 'sandlight-brdf-table', atomically).
 

@@ -45,6 +45,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.io import read_netcdf_file, write_atomically
@@ -67,19 +68,19 @@ CONVENTIONS = (
 
 
 def table_dataset(
-    f: np.ndarray,
-    wavelength_nm: np.ndarray,
-    mu_i: np.ndarray,
-    mu_o: np.ndarray,
-    dphi: np.ndarray,
+    f: ArrayLike,
+    wavelength_nm: ArrayLike,
+    mu_i: ArrayLike,
+    mu_o: ArrayLike,
+    dphi: ArrayLike,
     *,
     interpolation: str,
     title: str = "Spectral BRDF table (sandlight)",
     attrs: dict | None = None,
-    albedo: np.ndarray | None = None,
-    normal_reflectance: np.ndarray | None = None,
+    albedo: ArrayLike | None = None,
+    normal_reflectance: ArrayLike | None = None,
     level_name: str | None = None,
-    level_values: np.ndarray | None = None,
+    level_values: ArrayLike | None = None,
 ) -> xr.Dataset:
     """A BRDF table in the file layout (module docstring).
 

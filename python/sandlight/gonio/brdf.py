@@ -40,6 +40,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.gonio.hemisphere import CollectorHemisphere
@@ -102,10 +103,10 @@ class MeasuredBRDF:
     @classmethod
     def from_counts(
         cls,
-        counts,
-        absorbed,
-        launched,
-        lost=None,
+        counts: ArrayLike,
+        absorbed: ArrayLike,
+        launched: ArrayLike,
+        lost: ArrayLike | None = None,
         *,
         stacks: int = 31,
         slices: int = 30,
@@ -230,7 +231,7 @@ class MeasuredBRDF:
 
     # The continuous BRDF ----------------------------------------------------------------------
 
-    def f(self, wi, wo, *, normalised: bool = False) -> np.ndarray:
+    def f(self, wi: ArrayLike, wo: ArrayLike, *, normalised: bool = False) -> np.ndarray:
         """Continuous BRDF f(ω_i, ω_o) by interpolation between patch centroids (paper §3.2.4).
 
         Parameters
@@ -263,7 +264,7 @@ class MeasuredBRDF:
 
     # Comparison -------------------------------------------------------------------------------
 
-    def __eq__(self, other) -> bool:
+    def __eq__(self, other: object) -> bool:
         if not isinstance(other, MeasuredBRDF):
             return NotImplemented
         arrays = ("counts", "absorbed", "launched", "lost")
@@ -286,7 +287,7 @@ class MeasuredBRDF:
         )
 
 
-def band_grid(hemisphere: CollectorHemisphere, unique_values) -> np.ndarray:
+def band_grid(hemisphere: CollectorHemisphere, unique_values: ArrayLike) -> np.ndarray:
     """Node values F[b_i, b_o, k] of the continuous BRDF (module docstring) from unique values.
 
     Parameters
@@ -336,7 +337,9 @@ def mu_bracket(nodes_desc: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray, np.n
     return n - 1 - j, n - 2 - j, t
 
 
-def interpolate_band_grid(grid, band_cos_theta, mu_i, mu_o, dphi) -> np.ndarray:
+def interpolate_band_grid(
+    grid: ArrayLike, band_cos_theta: ArrayLike, mu_i: ArrayLike, mu_o: ArrayLike, dphi: ArrayLike
+) -> np.ndarray:
     """The continuous BRDF's interpolant on the band grid (module docstring), in (μ_i, μ_o, Δφ).
 
     Parameters
@@ -379,7 +382,7 @@ def interpolate_band_grid(grid, band_cos_theta, mu_i, mu_o, dphi) -> np.ndarray:
     return value.reshape(shape)
 
 
-def band_grid_f(hemisphere: CollectorHemisphere, unique_values, wi, wo) -> np.ndarray:
+def band_grid_f(hemisphere: CollectorHemisphere, unique_values: ArrayLike, wi: ArrayLike, wo: ArrayLike) -> np.ndarray:
     """Continuous BRDF f(ω_i, ω_o) from the m unique values of a BRDF (paper §3.2.4).
 
     This is `MeasuredBRDF.f` for any unique values (e.g. a BRDF reconstructed by the spatial
@@ -417,11 +420,11 @@ def band_grid_f(hemisphere: CollectorHemisphere, unique_values, wi, wo) -> np.nd
     return np.where(nan, np.nan, value).reshape(shape)
 
 
-def _same_float(a, b) -> bool:
+def _same_float(a: float | None, b: float | None) -> bool:
     return (a is None and b is None) or (a is not None and b is not None and float(a) == float(b))
 
 
-def _unit(name: str, w) -> np.ndarray:
+def _unit(name: str, w: ArrayLike) -> np.ndarray:
     d = np.asarray(w, dtype=float)
     if d.ndim == 0 or d.shape[-1] != 3:
         raise ParameterError(name, f"an array of shape {d.shape}", "must have shape (..., 3)")

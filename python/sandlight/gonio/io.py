@@ -43,8 +43,10 @@ from __future__ import annotations
 import json
 from os import PathLike
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF
@@ -52,6 +54,9 @@ from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import ReducedBRDF, check_counts
 from sandlight.gonio.symmetry import EquivalenceClasses
 from sandlight.io import read_netcdf_file, write_atomically
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["to_netcdf", "read_netcdf", "FORMAT_NAME", "FORMAT_VERSION"]
 
@@ -61,7 +66,7 @@ FORMAT_VERSION = 1
 _COMPRESSED = {"zlib": True, "complevel": 4}
 
 
-def _dataset(brdf: MeasuredBRDF):
+def _dataset(brdf: MeasuredBRDF) -> xr.Dataset:
     import xarray as xr
 
     h = brdf.hemisphere
@@ -69,7 +74,7 @@ def _dataset(brdf: MeasuredBRDF):
     red = brdf.reduced
     pair = ("incoming", "outgoing")
 
-    def var(dims, data, units, long_name):
+    def var(dims: str | tuple[str, ...], data: ArrayLike, units: str, long_name: str) -> xr.Variable:
         return xr.Variable(dims, data, {"units": units, "long_name": long_name})
 
     data = {
@@ -176,7 +181,7 @@ def read_netcdf(path: str | PathLike) -> MeasuredBRDF:
         raise ModelFileError(f"{path}: inconsistent {FORMAT_NAME} file: {exc}") from exc
 
 
-def _from_dataset(ds) -> MeasuredBRDF:
+def _from_dataset(ds: xr.Dataset) -> MeasuredBRDF:
     attrs = ds.attrs
     h = CollectorHemisphere(int(attrs["stacks"]), int(attrs["slices"]))
     counts, absorbed, launched, lost = check_counts(

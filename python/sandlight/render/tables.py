@@ -33,11 +33,16 @@ import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.appearance import table_file
 from sandlight.errors import ModelFileError, ParameterError
+
+if TYPE_CHECKING:
+    from sandlight.appearance import SandAppearance
 
 __all__ = ["BrdfTable", "DEFAULT_MU", "DEFAULT_DPHI"]
 
@@ -48,7 +53,7 @@ DEFAULT_MU = np.unique(np.round(np.cos(np.radians(np.linspace(90.0, 0.0, 19))), 
 DEFAULT_DPHI = np.radians(np.arange(0.0, 180.1, 15.0))
 
 
-def _axis(name: str, values, lo: float, hi: float) -> np.ndarray:
+def _axis(name: str, values: ArrayLike, lo: float, hi: float) -> np.ndarray:
     a = np.asarray(values, dtype=float)
     if a.ndim != 1 or a.size < 2 or not np.isfinite(a).all() or (np.diff(a) <= 0).any():
         raise ParameterError(name, values, "a strictly ascending 1-D array of at least 2 finite values")
@@ -86,7 +91,7 @@ class BrdfTable:
     level_name: str = "level"
     source: str = ""
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         wl = np.asarray(self.wavelength_nm, dtype=float)
         if wl.ndim != 1 or wl.size < 1 or not np.isfinite(wl).all() or (np.diff(wl) <= 0).any():
             raise ParameterError(
@@ -144,7 +149,13 @@ class BrdfTable:
 
     @classmethod
     def lambertian(
-        cls, albedo, wavelength_nm, *, level_values=None, level_name: str = "level", source: str = "Lambertian"
+        cls,
+        albedo: ArrayLike,
+        wavelength_nm: ArrayLike,
+        *,
+        level_values: ArrayLike | None = None,
+        level_name: str = "level",
+        source: str = "Lambertian",
     ) -> BrdfTable:
         """f = a(λ)/π at every angle.
 
@@ -172,7 +183,14 @@ class BrdfTable:
 
     @classmethod
     def oren_nayar(
-        cls, albedo, sigma_deg: float, wavelength_nm, *, mu=DEFAULT_MU, dphi=DEFAULT_DPHI, max_theta_deg: float = 89.0
+        cls,
+        albedo: ArrayLike,
+        sigma_deg: float,
+        wavelength_nm: ArrayLike,
+        *,
+        mu: ArrayLike = DEFAULT_MU,
+        dphi: ArrayLike = DEFAULT_DPHI,
+        max_theta_deg: float = 89.0,
     ) -> BrdfTable:
         """The qualitative Oren–Nayar (1994) model of a rough diffuse surface, tabulated.
 
@@ -209,7 +227,14 @@ class BrdfTable:
 
     @classmethod
     def from_function(
-        cls, brdf: Callable, wavelength_nm, *, mu=DEFAULT_MU, dphi=DEFAULT_DPHI, source: str = "", min_mu: float = 1e-3
+        cls,
+        brdf: Callable,
+        wavelength_nm: ArrayLike,
+        *,
+        mu: ArrayLike = DEFAULT_MU,
+        dphi: ArrayLike = DEFAULT_DPHI,
+        source: str = "",
+        min_mu: float = 1e-3,
     ) -> BrdfTable:
         """Tabulate ``brdf(wi, wo, wavelengths_nm) -> (..., n_wavelengths)`` (directions in the
         local frame, z the normal, wi towards the light) on the grid. Nodes at μ = 0 are evaluated
@@ -236,7 +261,12 @@ class BrdfTable:
 
     @classmethod
     def from_appearance(
-        cls, appearance, wavelength_nm, *, level_value: float = 0.0, level_name: str = "level"
+        cls,
+        appearance: SandAppearance,
+        wavelength_nm: ArrayLike,
+        *,
+        level_value: float = 0.0,
+        level_name: str = "level",
     ) -> BrdfTable:
         """Tabulate a `sandlight.SandAppearance` exactly, on the nodes of its own interpolant.
 
@@ -284,7 +314,7 @@ class BrdfTable:
         )
 
     @classmethod
-    def stack(cls, tables: Sequence[BrdfTable], level_values, level_name: str) -> BrdfTable:
+    def stack(cls, tables: Sequence[BrdfTable], level_values: ArrayLike, level_name: str) -> BrdfTable:
         """One table per level (single-level tables on identical grids) → a stack."""
         tables = list(tables)
         if not tables:
@@ -368,7 +398,7 @@ class BrdfTable:
         )
         return table_file.write_table(ds, path)
 
-    def level_coordinate(self, values, name: str = "values") -> np.ndarray:
+    def level_coordinate(self, values: ArrayLike, name: str = "values") -> np.ndarray:
         """Fractional level index of parameter values (linear between the level values).
 
         Raises
@@ -387,7 +417,7 @@ class BrdfTable:
             return np.zeros(v.shape)
         return np.interp(v, self.level_values, np.arange(self.n_levels, dtype=float))
 
-    def native_f(self, wavelength_nm) -> np.ndarray:
+    def native_f(self, wavelength_nm: ArrayLike) -> np.ndarray:
         """float32 array (levels, mu_i, mu_o, dphi, bands) at the render wavelengths (linear in λ).
 
         Raises
