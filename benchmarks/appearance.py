@@ -41,15 +41,16 @@ def best_of(fn, repeat=3):
 
 def synthetic_spatial_model(path: Path) -> Path:
     """A 31 × 30 SpatialModel from synthetic counts (Chandrasekhar media), same size as the real one."""
-    from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, synthetic
+    from sandlight.gonio import CollectorHemisphere, MeasuredBRDF
     from sandlight.spatial import Mesh, SpatialModel
+    from sandlight.testing import synthetic_brdf
 
     h = CollectorHemisphere()
     mesh = Mesh.beach(4)
     nodes = []
     for i, x in enumerate(mesh.nodes[:, 0]):
-        p = synthetic.chandrasekhar_probabilities(h, 0.95 - 0.5 * x, order=4)
-        nodes.append(MeasuredBRDF.from_counts(**synthetic.sample_counts(h, p, 10**8, seed=i), wavelength_nm=550.0))
+        p = synthetic_brdf.chandrasekhar_probabilities(h, 0.95 - 0.5 * x, order=4)
+        nodes.append(MeasuredBRDF.from_counts(**synthetic_brdf.sample_counts(h, p, 10**8, seed=i), wavelength_nm=550.0))
     return SpatialModel(n_components=3).fit(nodes, mesh).save(path)
 
 

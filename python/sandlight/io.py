@@ -12,21 +12,25 @@ from __future__ import annotations
 import contextlib
 import os
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 #: Temporary files end with this suffix (stores clean up leftovers of killed writers by it).
 TEMPORARY_SUFFIX = ".part"
 
 
-def temporary_sibling(path) -> Path:
+def temporary_sibling(path: str | os.PathLike) -> Path:
     """A fresh, unique temporary name in the directory of ``path``."""
     path = Path(path)
     return path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:12]}{TEMPORARY_SUFFIX}")
 
 
 @contextlib.contextmanager
-def atomic_path(path, *, make_dirs: bool = True):
+def atomic_path(path: str | os.PathLike, *, make_dirs: bool = True) -> Iterator[Path]:
     """Yields a temporary path beside ``path``; on success it is renamed over ``path``.
 
     Parameters
@@ -52,14 +56,65 @@ def atomic_path(path, *, make_dirs: bool = True):
         raise
 
 
-def write_atomically(path, write: Callable[[Path], object], *, make_dirs: bool = True) -> Path:
+def write_atomically(path: str | os.PathLike, write: Callable[[Path], object], *, make_dirs: bool = True) -> Path:
     """Calls ``write(tmp)`` on a temporary path beside ``path``, then renames it onto ``path``."""
     with atomic_path(path, make_dirs=make_dirs) as tmp:
         write(tmp)
     return Path(path)
 
 
-def write_model_npz(path, metadata: dict, arrays: dict, *, compressed: bool = False) -> Path:
+def read_netcdf_file(path: str | os.PathLike, *, kind: str, format_name: str, max_version: int) -> xr.Dataset:
+    """Reads a sandlight NetCDF-4 file whose global attributes ``format`` and ``format_version``
+    name its format, refusing anything else.
+
+    ``kind`` (e.g. "BRDF") names the file in messages. Checks only the container and the two
+    attributes; each format's reader checks its variables.
+
+    Returns
+    -------
+    xarray.Dataset
+        Loaded into memory (the file is closed).
+
+    Raises
+    ------
+    FileNotFoundError
+        ``path`` does not exist.
+    sandlight.errors.ModelFileError
+        The file is not readable NetCDF-4/HDF5 (truncated, corrupt), its ``format`` is not
+        ``format_name`` (a foreign file), or its ``format_version`` is not an integer in
+        1 .. ``max_version`` (e.g. written by a newer sandlight).
+    """
+    import numpy as np
+    import xarray as xr
+
+    from sandlight.errors import ModelFileError
+
+    path = Path(path)
+    if not path.exists():
+        raise FileNotFoundError(f"{path}: no such {kind} file")
+    try:
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            ds = ds.load()
+    except Exception as exc:  # h5py/h5netcdf raise OSError, ValueError, KeyError… on damaged files
+        raise ModelFileError(f"{path}: not a readable NetCDF-4 file (truncated or corrupt?): {exc}") from exc
+    fmt = ds.attrs.get("format")
+    if fmt != format_name:
+        raise ModelFileError(
+            f"{path}: not a sandlight {kind} file (global attribute format = {fmt!r}, expected {format_name!r})"
+        )
+    version = ds.attrs.get("format_version")
+    version = version.item() if isinstance(version, np.generic) else version
+    if not (isinstance(version, int) and not isinstance(version, bool) and 1 <= version <= max_version):
+        readable = "version 1" if max_version == 1 else f"versions 1 to {max_version}"
+        newer = isinstance(version, int) and version > max_version
+        raise ModelFileError(
+            f"{path}: {format_name} format version {version!r} is not supported (this sandlight reads "
+            f"{readable}{'; the file was written by a newer sandlight: upgrade to read it' if newer else ''})"
+        )
+    return ds
+
+
+def write_model_npz(path: str | os.PathLike, metadata: dict, arrays: dict, *, compressed: bool = False) -> Path:
     """Writes a trained model as plain arrays plus a JSON ``metadata`` entry (never pickle),
     atomically; :func:`read_model_npz` reads it back."""
     import json
@@ -69,14 +124,14 @@ def write_model_npz(path, metadata: dict, arrays: dict, *, compressed: bool = Fa
     meta = np.array(json.dumps(metadata, sort_keys=True))
     save = np.savez_compressed if compressed else np.savez
 
-    def write(tmp):
+    def write(tmp: Path) -> None:
         with open(tmp, "wb") as fh:
             save(fh, metadata=meta, **arrays)
 
     return write_atomically(path, write)
 
 
-def read_model_npz(path, *, kind: str, format_name: str, max_version: int) -> tuple[dict, dict]:
+def read_model_npz(path: str | os.PathLike, *, kind: str, format_name: str, max_version: int) -> tuple[dict, dict]:
     """Reads a trained model stored as plain arrays plus a JSON ``metadata`` entry (never pickle).
 
     Every member is read in full, so zipfile checks its CRC-32 and a flipped bit anywhere is

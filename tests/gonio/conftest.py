@@ -2,7 +2,8 @@
 
 import pytest
 
-from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, synthetic
+from sandlight.gonio import CollectorHemisphere, MeasuredBRDF
+from sandlight.testing import synthetic_brdf
 
 LAMBERT_ALBEDO = 0.6
 CHANDRASEKHAR_OMEGA = 0.9
@@ -16,22 +17,22 @@ def hemisphere():
 
 @pytest.fixture(scope="session")
 def lambert_probabilities(hemisphere):
-    return synthetic.lambertian_probabilities(hemisphere, LAMBERT_ALBEDO)
+    return synthetic_brdf.lambertian_probabilities(hemisphere, LAMBERT_ALBEDO)
 
 
 @pytest.fixture(scope="session")
 def lambert_counts(hemisphere, lambert_probabilities):
-    return synthetic.sample_counts(hemisphere, lambert_probabilities, RAYS, seed=11)
+    return synthetic_brdf.sample_counts(hemisphere, lambert_probabilities, RAYS, seed=11)
 
 
 @pytest.fixture(scope="session")
 def chandrasekhar_probabilities(hemisphere):
-    return synthetic.chandrasekhar_probabilities(hemisphere, CHANDRASEKHAR_OMEGA)
+    return synthetic_brdf.chandrasekhar_probabilities(hemisphere, CHANDRASEKHAR_OMEGA)
 
 
 @pytest.fixture(scope="session")
 def chandrasekhar_counts(hemisphere, chandrasekhar_probabilities):
-    return synthetic.sample_counts(hemisphere, chandrasekhar_probabilities, RAYS, seed=12)
+    return synthetic_brdf.sample_counts(hemisphere, chandrasekhar_probabilities, RAYS, seed=12)
 
 
 @pytest.fixture(scope="session")

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from sandlight.errors import ParameterError
-from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, synthetic
+from sandlight.gonio import CollectorHemisphere, MeasuredBRDF
+from sandlight.testing import synthetic_brdf
 
 
 def random_upper(n, seed):
@@ -54,7 +55,7 @@ class TestFromCounts:
 
     def test_lost_defaults_to_zero(self):
         h = CollectorHemisphere(3, 2)
-        c = synthetic.sample_counts(h, synthetic.lambertian_probabilities(h, 0.5), 10_000, seed=0)
+        c = synthetic_brdf.sample_counts(h, synthetic_brdf.lambertian_probabilities(h, 0.5), 10_000, seed=0)
         b = MeasuredBRDF.from_counts(c["counts"], c["absorbed"], c["launched"], stacks=3, slices=2)
         np.testing.assert_array_equal(b.lost, 0)
         assert b.rays == 10_000
@@ -97,7 +98,7 @@ class TestContinuousBRDF:
     def test_constant_brdf_is_reproduced_everywhere(self):
         # Noise-free Lambertian counts: every reduced value is a/π, so is the interpolant.
         h = CollectorHemisphere(7, 6)
-        p = synthetic.lambertian_probabilities(h, 0.5)
+        p = synthetic_brdf.lambertian_probabilities(h, 0.5)
         launched = np.full(h.n_patches, 10**12)
         counts = np.round(p * 10**12).astype(np.int64)
         b = MeasuredBRDF.from_counts(counts, launched - counts.sum(axis=1), launched, stacks=7, slices=6)

@@ -6,14 +6,17 @@ import pytest
 import xarray as xr
 
 from sandlight.errors import ModelFileError
-from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, read_netcdf, synthetic, to_netcdf
+from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, read_netcdf, to_netcdf
 from sandlight.gonio.io import FORMAT_NAME, FORMAT_VERSION, _dataset
+from sandlight.testing import synthetic_brdf
 
 
 @pytest.fixture(scope="module")
 def small_brdf():
     h = CollectorHemisphere(7, 6)
-    c = synthetic.sample_counts(h, synthetic.chandrasekhar_probabilities(h, 0.8), 10**6, seed=3, lost_probability=0.01)
+    c = synthetic_brdf.sample_counts(
+        h, synthetic_brdf.chandrasekhar_probabilities(h, 0.8), 10**6, seed=3, lost_probability=0.01
+    )
     return MeasuredBRDF.from_counts(
         **c,
         stacks=7,

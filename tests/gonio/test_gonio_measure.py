@@ -7,8 +7,9 @@ import pytest
 
 import sandlight
 from sandlight.errors import ModelFileError, ParameterError
-from sandlight.gonio import CollectorHemisphere, EquivalenceClasses, reduce_counts, synthetic
+from sandlight.gonio import CollectorHemisphere, EquivalenceClasses, reduce_counts
 from sandlight.gonio.measure import IsotropicScatterers, LambertianSurface, brdf, fixed_incidence
+from sandlight.testing import synthetic_brdf
 
 STACKS, SLICES = 7, 6
 
@@ -27,7 +28,7 @@ def test_chandrasekhar_brdf_patch_by_patch():
     )
     red = reduce_counts(hemi, m.counts, m.absorbed, m.launched, m.lost, method="pooled")
     expected = EquivalenceClasses(hemi).mean(
-        synthetic.expected_brdf(hemi, synthetic.chandrasekhar_probabilities(hemi, 0.9))
+        synthetic_brdf.expected_brdf(hemi, synthetic_brdf.chandrasekhar_probabilities(hemi, 0.9))
     )
     z = (red.unique_absolute - expected) / red.unique_absolute_stderr
     z_ok(z, mean_tol=0.2)

@@ -6,14 +6,15 @@ import pytest
 from PIL import Image
 
 from sandlight.errors import ParameterError
-from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, synthetic
+from sandlight.gonio import CollectorHemisphere, MeasuredBRDF
 from sandlight.gonio.plots import plot_outgoing_polar, plot_principal_plane, save_overview_png
+from sandlight.testing import synthetic_brdf
 
 
 @pytest.fixture(scope="module")
 def lambert_exact():
     h = CollectorHemisphere(7, 6)
-    p = synthetic.lambertian_probabilities(h, 0.5)
+    p = synthetic_brdf.lambertian_probabilities(h, 0.5)
     launched = np.full(h.n_patches, 10**12)
     counts = np.round(p * 10**12).astype(np.int64)
     return MeasuredBRDF.from_counts(counts, launched - counts.sum(axis=1), launched, stacks=7, slices=6)

@@ -4,7 +4,8 @@ import numpy as np
 import pytest
 
 from sandlight.errors import ParameterError
-from sandlight.gonio import CollectorHemisphere, EquivalenceClasses, reduce_counts, reduce_fixed_incidence, synthetic
+from sandlight.gonio import CollectorHemisphere, EquivalenceClasses, reduce_counts, reduce_fixed_incidence
+from sandlight.testing import synthetic_brdf
 
 
 def check_z_scores(z, *, mean_tol):
@@ -33,7 +34,7 @@ class TestLambertian:
         check_z_scores(z, mean_tol=0.35)
 
     def test_lost_trials_count_in_n_i(self, hemisphere, lambert_probabilities, lambert_albedo):
-        counts = synthetic.sample_counts(hemisphere, lambert_probabilities, 10**8, seed=5, lost_probability=0.25)
+        counts = synthetic_brdf.sample_counts(hemisphere, lambert_probabilities, 10**8, seed=5, lost_probability=0.25)
         assert counts["lost"].sum() == pytest.approx(0.25e8, rel=1e-3)
         red = reduce_counts(hemisphere, **counts)
         z = (red.unique_absolute - 0.75 * lambert_albedo / math.pi) / red.unique_absolute_stderr
@@ -46,7 +47,7 @@ class TestChandrasekhar:
     ):
         red = reduce_counts(hemisphere, **chandrasekhar_counts)
         classes = EquivalenceClasses(hemisphere)
-        expected = classes.mean(synthetic.expected_brdf(hemisphere, chandrasekhar_probabilities))
+        expected = classes.mean(synthetic_brdf.expected_brdf(hemisphere, chandrasekhar_probabilities))
         check_z_scores((red.unique_absolute - expected) / red.unique_absolute_stderr, mean_tol=0.05)
         # Normalised: E[f̂] = E[f̄] / R with R = Σ_k ω_p(k) E[f̄][c, k].
         r_true = float((classes.expand(expected)[0] * hemisphere.projected_solid_angles).sum())
@@ -82,7 +83,7 @@ class TestChandrasekhar:
 class TestPooled:
     def test_pooled_is_unbiased_and_tighter(self, hemisphere, chandrasekhar_counts, chandrasekhar_probabilities):
         classes = EquivalenceClasses(hemisphere)
-        expected = classes.mean(synthetic.expected_brdf(hemisphere, chandrasekhar_probabilities))
+        expected = classes.mean(synthetic_brdf.expected_brdf(hemisphere, chandrasekhar_probabilities))
         pooled = reduce_counts(hemisphere, **chandrasekhar_counts, method="pooled")
         average = reduce_counts(hemisphere, **chandrasekhar_counts)
         # The class expectation of both estimators is the same up to the spread of the N_i.
@@ -102,8 +103,8 @@ class TestStandardErrorsAcrossRuns:
         # Small hemisphere, many independent runs: the empirical scatter of R and of the values
         # equals the predicted standard errors (30 runs: ±13 % on a standard deviation).
         h = CollectorHemisphere(7, 6)
-        p = synthetic.chandrasekhar_probabilities(h, 0.8)
-        runs = [reduce_counts(h, **synthetic.sample_counts(h, p, 200_000, seed=s)) for s in range(30)]
+        p = synthetic_brdf.chandrasekhar_probabilities(h, 0.8)
+        runs = [reduce_counts(h, **synthetic_brdf.sample_counts(h, p, 200_000, seed=s)) for s in range(30)]
         r = np.array([x.normal_reflectance for x in runs])
         r_se = np.mean([x.normal_reflectance_stderr for x in runs])
         assert 0.7 < r.std(ddof=1) / r_se < 1.3

@@ -57,7 +57,7 @@ def test_netcdf_round_trip_and_refused_files(tmp_path):
     import xarray as xr
 
     xr.Dataset({"g": ("x", np.ones(3))}).to_netcdf(tmp_path / "foreign.nc", engine="h5netcdf")
-    with pytest.raises(ModelFileError, match="no variable 'f'"):
+    with pytest.raises(ModelFileError, match="not a sandlight BRDF table file"):
         BrdfTable.from_netcdf(tmp_path / "foreign.nc")
 
 
@@ -188,3 +188,22 @@ def test_soft_highlights_keep_midtones_and_roll_off_smoothly():
     assert (soft[1] <= clip[1] + 1e-12).all() and soft[1].min() < clip[1].min() - 0.05
     with pytest.raises(ParameterError, match="highlights"):
         post.to_srgb(xyz, 1.0, highlights="filmic")
+
+
+def test_repr_gives_shapes_and_ranges_not_the_arrays():
+    # A table of the renderer's size: printing it must not dump its 4-D array (issue 24).
+    wl = np.arange(400.0, 701.0, 10.0)
+    stack = BrdfTable.stack(
+        [
+            BrdfTable.oren_nayar(a, 20.0, wl, mu=np.linspace(0, 1, 33), dphi=np.linspace(0, np.pi, 33))
+            for a in (0.2, 0.6)
+        ],
+        [0.0, 1.0],
+        "saturation",
+    )
+    text = repr(stack)
+    assert len(text) < 250 and "array" not in text and "\n" not in text
+    assert "2 levels (saturation 0…1)" in text and "31 wavelengths 400–700 nm" in text
+    assert "33 × 33 × 33" in text
+    assert f"f in [{stack.f.min():.4g}, {stack.f.max():.4g}] sr⁻¹" in text
+    assert "1 level (level 0)" in repr(BrdfTable.lambertian(0.5, [550.0]))

@@ -8,7 +8,7 @@ A node's "true" BRDF is azimuth-independent and reciprocal:
 with the single-scattering albedo ω(x) = 0.95 − 0.5·saturation − 2·iron_oxide, so that the shape
 changes along the mesh, and a glancing term whose albedo (≤ exp(−μ_i/0.15) ≤ 1) makes the
 directional-hemispherical reflectance rise steeply towards grazing incidence, as measured sand
-does. Counts are multinomial draws (`sandlight.gonio.synthetic.sample_counts`).
+does. Counts are multinomial draws (`sandlight.testing.synthetic_brdf.sample_counts`).
 """
 
 import functools
@@ -16,8 +16,8 @@ import math
 
 import numpy as np
 
-from sandlight.gonio import CollectorHemisphere, synthetic
-from sandlight.testing import chandrasekhar
+from sandlight.gonio import CollectorHemisphere
+from sandlight.testing import chandrasekhar, synthetic_brdf
 
 #: Hemisphere and trials of the shared synthetic measurements (multinomial draws per row: cheap).
 STACKS, SLICES = 7, 8
@@ -39,7 +39,7 @@ def true_brdf_mu(mu_out, mu_in, w):
 @functools.lru_cache(maxsize=64)
 def _probabilities(stacks, slices, w):
     h = CollectorHemisphere(stacks, slices)
-    return synthetic.band_probabilities(h, lambda mo, mi: true_brdf_mu(mo, mi, w), order=6)
+    return synthetic_brdf.band_probabilities(h, lambda mo, mi: true_brdf_mu(mo, mi, w), order=6)
 
 
 def probabilities(params, stacks, slices):
@@ -48,7 +48,7 @@ def probabilities(params, stacks, slices):
 
 def fake_measure(params, wavelength_nm, *, rays, seed, stacks, slices, threads, checkpoint=None):
     h = CollectorHemisphere(stacks, slices)
-    return synthetic.sample_counts(h, probabilities(params, stacks, slices), rays, seed=seed)
+    return synthetic_brdf.sample_counts(h, probabilities(params, stacks, slices), rays, seed=seed)
 
 
 def fake_spectrum(sample):
@@ -79,7 +79,7 @@ def expected_unique(params, stacks=7, slices=8):
     from sandlight.gonio import CollectorHemisphere, EquivalenceClasses
 
     h = CollectorHemisphere(stacks, slices)
-    f = synthetic.expected_brdf(h, probabilities(params, stacks, slices))
+    f = synthetic_brdf.expected_brdf(h, probabilities(params, stacks, slices))
     classes = EquivalenceClasses(h)
     unique = classes.mean(f)
     cap = classes.class_of[h.cap]

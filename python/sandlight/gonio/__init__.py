@@ -14,8 +14,8 @@ io
     `to_netcdf` / `read_netcdf`: the 'sandlight-brdf' NetCDF format.
 plots
     Polar heat map and principal-plane curves.
-synthetic
-    Counts drawn from known BRDFs (Lambertian, Chandrasekhar) for tests.
+
+Counts drawn from known BRDFs, to test the reduction, are in `sandlight.testing.synthetic_brdf`.
 
 The transport engine fills the counters (``sandlight-core/src/gonio/tally.rs``); everything after
 the counts happens here.

@@ -40,13 +40,14 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import ReducedBRDF, check_counts, reduce_counts
 from sandlight.gonio.symmetry import EquivalenceClasses
 
-__all__ = ["MeasuredBRDF", "band_grid", "band_grid_f", "interpolate_band_grid"]
+__all__ = ["MeasuredBRDF", "band_grid", "band_grid_f", "interpolate_band_grid", "mu_bracket"]
 
 
 def _version() -> str:
@@ -102,10 +103,10 @@ class MeasuredBRDF:
     @classmethod
     def from_counts(
         cls,
-        counts,
-        absorbed,
-        launched,
-        lost=None,
+        counts: ArrayLike,
+        absorbed: ArrayLike,
+        launched: ArrayLike,
+        lost: ArrayLike | None = None,
         *,
         stacks: int = 31,
         slices: int = 30,
@@ -230,7 +231,7 @@ class MeasuredBRDF:
 
     # The continuous BRDF ----------------------------------------------------------------------
 
-    def f(self, wi, wo, *, normalised: bool = False) -> np.ndarray:
+    def f(self, wi: ArrayLike, wo: ArrayLike, *, normalised: bool = False) -> np.ndarray:
         """Continuous BRDF f(ω_i, ω_o) by interpolation between patch centroids (paper §3.2.4).
 
         Parameters
@@ -263,7 +264,7 @@ class MeasuredBRDF:
 
     # Comparison -------------------------------------------------------------------------------
 
-    def __eq__(self, other) -> bool:
+    def __eq__(self, other: object) -> bool:
         if not isinstance(other, MeasuredBRDF):
             return NotImplemented
         arrays = ("counts", "absorbed", "launched", "lost")
@@ -286,7 +287,7 @@ class MeasuredBRDF:
         )
 
 
-def band_grid(hemisphere: CollectorHemisphere, unique_values) -> np.ndarray:
+def band_grid(hemisphere: CollectorHemisphere, unique_values: ArrayLike) -> np.ndarray:
     """Node values F[b_i, b_o, k] of the continuous BRDF (module docstring) from unique values.
 
     Parameters
@@ -309,7 +310,36 @@ def band_grid(hemisphere: CollectorHemisphere, unique_values) -> np.ndarray:
     return u[classes.table]
 
 
-def interpolate_band_grid(grid, band_cos_theta, mu_i, mu_o, dphi) -> np.ndarray:
+def mu_bracket(nodes_desc: np.ndarray, mu: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The interpolant's linear weights in μ on decreasing nodes (`interpolate_band_grid`).
+
+    Parameters
+    ----------
+    nodes_desc : numpy.ndarray, shape (n,)
+        μ = cos θ of the nodes, strictly decreasing, n ≥ 2 (e.g. ``band_cos_theta``).
+    mu : numpy.ndarray
+        Cosines to bracket, any shape (NaN is treated as 0).
+
+    Returns
+    -------
+    a, b : numpy.ndarray of int
+        Node indices (into ``nodes_desc``) on either side of each μ.
+    t : numpy.ndarray of float
+        Weight in [0, 1]: the interpolant is (1 − t)·F[a] + t·F[b]. μ below the last node is held
+        at the last node; μ above the first node (only rounding above 1) at the first.
+    """
+    asc = nodes_desc[::-1]
+    n = asc.size
+    m = np.clip(np.nan_to_num(mu), asc[0], asc[-1])
+    j = np.clip(np.searchsorted(asc, m, side="right") - 1, 0, n - 2)  # asc[j] ≤ μ < asc[j + 1]
+    t = (m - asc[j]) / (asc[j + 1] - asc[j])
+    # Back to the decreasing (band) index: ascending index q is band n − 1 − q.
+    return n - 1 - j, n - 2 - j, t
+
+
+def interpolate_band_grid(
+    grid: ArrayLike, band_cos_theta: ArrayLike, mu_i: ArrayLike, mu_o: ArrayLike, dphi: ArrayLike
+) -> np.ndarray:
     """The continuous BRDF's interpolant on the band grid (module docstring), in (μ_i, μ_o, Δφ).
 
     Parameters
@@ -335,8 +365,8 @@ def interpolate_band_grid(grid, band_cos_theta, mu_i, mu_o, dphi) -> np.ndarray:
     mu_i, mu_o, dphi = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (mu_i, mu_o, dphi)))
     shape = mu_i.shape
     slices = grid.shape[2]
-    bi0, bi1, ti = _bracket(nodes, mu_i.ravel())
-    bo0, bo1, to = _bracket(nodes, mu_o.ravel())
+    bi0, bi1, ti = mu_bracket(nodes, mu_i.ravel())
+    bo0, bo1, to = mu_bracket(nodes, mu_o.ravel())
     # (NaN rows are computed on 0 by the callers, which set them to NaN at the end.)
     x = np.mod(np.nan_to_num(dphi.ravel()) * (slices / (2.0 * math.pi)), slices)
     k0 = np.floor(x)
@@ -352,7 +382,7 @@ def interpolate_band_grid(grid, band_cos_theta, mu_i, mu_o, dphi) -> np.ndarray:
     return value.reshape(shape)
 
 
-def band_grid_f(hemisphere: CollectorHemisphere, unique_values, wi, wo) -> np.ndarray:
+def band_grid_f(hemisphere: CollectorHemisphere, unique_values: ArrayLike, wi: ArrayLike, wo: ArrayLike) -> np.ndarray:
     """Continuous BRDF f(ω_i, ω_o) from the m unique values of a BRDF (paper §3.2.4).
 
     This is `MeasuredBRDF.f` for any unique values (e.g. a BRDF reconstructed by the spatial
@@ -390,11 +420,11 @@ def band_grid_f(hemisphere: CollectorHemisphere, unique_values, wi, wo) -> np.nd
     return np.where(nan, np.nan, value).reshape(shape)
 
 
-def _same_float(a, b) -> bool:
+def _same_float(a: float | None, b: float | None) -> bool:
     return (a is None and b is None) or (a is not None and b is not None and float(a) == float(b))
 
 
-def _unit(name: str, w) -> np.ndarray:
+def _unit(name: str, w: ArrayLike) -> np.ndarray:
     d = np.asarray(w, dtype=float)
     if d.ndim == 0 or d.shape[-1] != 3:
         raise ParameterError(name, f"an array of shape {d.shape}", "must have shape (..., 3)")
@@ -403,16 +433,3 @@ def _unit(name: str, w) -> np.ndarray:
     if bad.any():
         raise ParameterError(name, d[bad[..., 0]][0].tolist(), "directions must be non-zero and finite")
     return d / norm
-
-
-def _bracket(nodes_desc: np.ndarray, mu: np.ndarray):
-    """Linear interpolation weights of μ on decreasing nodes: (index a, index b, t) such that
-    the interpolant is (1 − t)·F[a] + t·F[b]. μ below the last node is held at the last node;
-    μ above the first node (only rounding above 1) at the first."""
-    asc = nodes_desc[::-1]
-    n = asc.size
-    m = np.clip(np.nan_to_num(mu), asc[0], asc[-1])
-    j = np.clip(np.searchsorted(asc, m, side="right") - 1, 0, n - 2)  # asc[j] ≤ μ < asc[j + 1]
-    t = (m - asc[j]) / (asc[j + 1] - asc[j])
-    # Back to the decreasing (band) index: ascending index q is band n − 1 − q.
-    return n - 1 - j, n - 2 - j, t

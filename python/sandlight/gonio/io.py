@@ -43,15 +43,20 @@ from __future__ import annotations
 import json
 from os import PathLike
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import ReducedBRDF, check_counts
 from sandlight.gonio.symmetry import EquivalenceClasses
-from sandlight.io import write_atomically
+from sandlight.io import read_netcdf_file, write_atomically
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 __all__ = ["to_netcdf", "read_netcdf", "FORMAT_NAME", "FORMAT_VERSION"]
 
@@ -61,7 +66,7 @@ FORMAT_VERSION = 1
 _COMPRESSED = {"zlib": True, "complevel": 4}
 
 
-def _dataset(brdf: MeasuredBRDF):
+def _dataset(brdf: MeasuredBRDF) -> xr.Dataset:
     import xarray as xr
 
     h = brdf.hemisphere
@@ -69,7 +74,7 @@ def _dataset(brdf: MeasuredBRDF):
     red = brdf.reduced
     pair = ("incoming", "outgoing")
 
-    def var(dims, data, units, long_name):
+    def var(dims: str | tuple[str, ...], data: ArrayLike, units: str, long_name: str) -> xr.Variable:
         return xr.Variable(dims, data, {"units": units, "long_name": long_name})
 
     data = {
@@ -168,36 +173,15 @@ def read_netcdf(path: str | PathLike) -> MeasuredBRDF:
         If the file is not readable NetCDF/HDF5 (e.g. truncated), is not a 'sandlight-brdf'
         file, has another format version, or its variables are missing or inconsistent.
     """
-    import xarray as xr
-
     path = Path(path)
-    if not path.exists():
-        raise FileNotFoundError(f"{path}: no such BRDF file")
-    try:
-        with xr.open_dataset(path, engine="h5netcdf") as ds:
-            ds = ds.load()
-    except Exception as exc:  # h5py/h5netcdf raise OSError, ValueError, KeyError… on damaged files
-        raise ModelFileError(f"{path}: not a readable NetCDF-4 file (truncated or corrupt?): {exc}") from exc
-
-    fmt = ds.attrs.get("format")
-    if fmt != FORMAT_NAME:
-        raise ModelFileError(
-            f"{path}: not a sandlight BRDF file (global attribute format = {fmt!r}, expected {FORMAT_NAME!r})"
-        )
-    version = ds.attrs.get("format_version")
-    version = version.item() if isinstance(version, np.generic) else version
-    if not (isinstance(version, (int, np.integer)) and version == FORMAT_VERSION):
-        raise ModelFileError(
-            f"{path}: {FORMAT_NAME} format version {version!r} is not supported "
-            f"(this sandlight reads version {FORMAT_VERSION})"
-        )
+    ds = read_netcdf_file(path, kind="BRDF", format_name=FORMAT_NAME, max_version=FORMAT_VERSION)
     try:
         return _from_dataset(ds)
     except (KeyError, ValueError, TypeError) as exc:  # ParameterError is a ValueError
         raise ModelFileError(f"{path}: inconsistent {FORMAT_NAME} file: {exc}") from exc
 
 
-def _from_dataset(ds) -> MeasuredBRDF:
+def _from_dataset(ds: xr.Dataset) -> MeasuredBRDF:
     attrs = ds.attrs
     h = CollectorHemisphere(int(attrs["stacks"]), int(attrs["slices"]))
     counts, absorbed, launched, lost = check_counts(

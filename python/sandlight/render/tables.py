@@ -1,7 +1,8 @@
 """Spectral BRDF tables as the renderer consumes them, and stacks of them for texture maps.
 
 The renderer shades with *tables*, never with a model object: f(λ, μ_i, μ_o, Δφ) in sr⁻¹ on a
-rectilinear grid, the format the appearance model of issue 6 exports to NetCDF:
+rectilinear grid, as in the 'sandlight-brdf-table' files that `SandAppearance.to_table` writes
+(format, writer and reader: `sandlight.appearance.table_file`):
 
 =============  ==============================  ============================================
 name           dimensions / units              meaning
@@ -16,7 +17,7 @@ name           dimensions / units              meaning
 A :class:`BrdfTable` holds one or more such tables on the same grid, the *levels* of a
 one-parameter family (e.g. 16 degrees of saturation, ``level_name="saturation"``). A ground point
 with parameter value v gets the linear blend of the two levels around v (the level coordinate is
-``np.interp(v, level_values, range(n_levels))``). A file may carry the level as an extra leading
+``np.interp(v, level_values, range(n_levels))``). A file carries the level as an extra leading
 dimension of ``f`` (any name, with a coordinate of the level values).
 
 Constructors: :meth:`BrdfTable.lambertian` (f = a(λ)/π), :meth:`BrdfTable.oren_nayar` (an
@@ -32,10 +33,16 @@ import os
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
+from sandlight.appearance import table_file
 from sandlight.errors import ModelFileError, ParameterError
+
+if TYPE_CHECKING:
+    from sandlight.appearance import SandAppearance
 
 __all__ = ["BrdfTable", "DEFAULT_MU", "DEFAULT_DPHI"]
 
@@ -46,7 +53,7 @@ DEFAULT_MU = np.unique(np.round(np.cos(np.radians(np.linspace(90.0, 0.0, 19))), 
 DEFAULT_DPHI = np.radians(np.arange(0.0, 180.1, 15.0))
 
 
-def _axis(name: str, values, lo: float, hi: float) -> np.ndarray:
+def _axis(name: str, values: ArrayLike, lo: float, hi: float) -> np.ndarray:
     a = np.asarray(values, dtype=float)
     if a.ndim != 1 or a.size < 2 or not np.isfinite(a).all() or (np.diff(a) <= 0).any():
         raise ParameterError(name, values, "a strictly ascending 1-D array of at least 2 finite values")
@@ -84,7 +91,7 @@ class BrdfTable:
     level_name: str = "level"
     source: str = ""
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         wl = np.asarray(self.wavelength_nm, dtype=float)
         if wl.ndim != 1 or wl.size < 1 or not np.isfinite(wl).all() or (np.diff(wl) <= 0).any():
             raise ParameterError(
@@ -120,13 +127,35 @@ class BrdfTable:
 
     @property
     def n_levels(self) -> int:
+        """Number of tables in the stack."""
         return self.f.shape[0]
+
+    def __repr__(self) -> str:
+        # Shapes and ranges, never the arrays (a table holds up to millions of values).
+        levels = (
+            f"{self.level_values[0]:g}"
+            if self.n_levels == 1
+            else (f"{self.level_values[0]:g}…{self.level_values[-1]:g}")
+        )
+        wl = self.wavelength_nm
+        return (
+            f"BrdfTable({self.n_levels} level{'s' if self.n_levels > 1 else ''} ({self.level_name} {levels}), "
+            f"{wl.size} wavelength{'s' if wl.size > 1 else ''} {wl[0]:g}–{wl[-1]:g} nm, "
+            f"mu_i × mu_o × dphi = {self.mu_i.size} × {self.mu_o.size} × {self.dphi.size}, "
+            f"f in [{self.f.min():.4g}, {self.f.max():.4g}] sr⁻¹, source={self.source!r})"
+        )
 
     # --- constructors --------------------------------------------------------------------------
 
     @classmethod
     def lambertian(
-        cls, albedo, wavelength_nm, *, level_values=None, level_name: str = "level", source: str = "Lambertian"
+        cls,
+        albedo: ArrayLike,
+        wavelength_nm: ArrayLike,
+        *,
+        level_values: ArrayLike | None = None,
+        level_name: str = "level",
+        source: str = "Lambertian",
     ) -> BrdfTable:
         """f = a(λ)/π at every angle.
 
@@ -154,7 +183,14 @@ class BrdfTable:
 
     @classmethod
     def oren_nayar(
-        cls, albedo, sigma_deg: float, wavelength_nm, *, mu=DEFAULT_MU, dphi=DEFAULT_DPHI, max_theta_deg: float = 89.0
+        cls,
+        albedo: ArrayLike,
+        sigma_deg: float,
+        wavelength_nm: ArrayLike,
+        *,
+        mu: ArrayLike = DEFAULT_MU,
+        dphi: ArrayLike = DEFAULT_DPHI,
+        max_theta_deg: float = 89.0,
     ) -> BrdfTable:
         """The qualitative Oren–Nayar (1994) model of a rough diffuse surface, tabulated.
 
@@ -191,7 +227,14 @@ class BrdfTable:
 
     @classmethod
     def from_function(
-        cls, brdf: Callable, wavelength_nm, *, mu=DEFAULT_MU, dphi=DEFAULT_DPHI, source: str = "", min_mu: float = 1e-3
+        cls,
+        brdf: Callable,
+        wavelength_nm: ArrayLike,
+        *,
+        mu: ArrayLike = DEFAULT_MU,
+        dphi: ArrayLike = DEFAULT_DPHI,
+        source: str = "",
+        min_mu: float = 1e-3,
     ) -> BrdfTable:
         """Tabulate ``brdf(wi, wo, wavelengths_nm) -> (..., n_wavelengths)`` (directions in the
         local frame, z the normal, wi towards the light) on the grid. Nodes at μ = 0 are evaluated
@@ -218,7 +261,12 @@ class BrdfTable:
 
     @classmethod
     def from_appearance(
-        cls, appearance, wavelength_nm, *, level_value: float = 0.0, level_name: str = "level"
+        cls,
+        appearance: SandAppearance,
+        wavelength_nm: ArrayLike,
+        *,
+        level_value: float = 0.0,
+        level_name: str = "level",
     ) -> BrdfTable:
         """Tabulate a `sandlight.SandAppearance` exactly, on the nodes of its own interpolant.
 
@@ -239,10 +287,10 @@ class BrdfTable:
             Level value of this table (for `stack`).
         level_name : str
         """
-        # The interpolant's μ nodes (descending, 1 first) and azimuth slices are internals of
-        # SandAppearance; tests/render/test_render_appearance.py checks the reproduction.
-        nodes = np.asarray(appearance._nodes, dtype=float)
-        slices = int(appearance._slices)
+        # The interpolant's μ nodes (descending, 1 first) and azimuth slices;
+        # tests/render/test_render_appearance.py checks the reproduction.
+        nodes = np.asarray(appearance.band_grid.nodes, dtype=float)
+        slices = int(appearance.band_grid.slices)
         mu = np.unique(np.r_[0.0, nodes, 1.0])
         dphi = 2.0 * np.pi * np.arange(slices // 2 + 1) / slices
         dphi = np.r_[dphi[dphi < np.pi - 1e-9], np.pi]
@@ -266,7 +314,7 @@ class BrdfTable:
         )
 
     @classmethod
-    def stack(cls, tables: Sequence[BrdfTable], level_values, level_name: str) -> BrdfTable:
+    def stack(cls, tables: Sequence[BrdfTable], level_values: ArrayLike, level_name: str) -> BrdfTable:
         """One table per level (single-level tables on identical grids) → a stack."""
         tables = list(tables)
         if not tables:
@@ -293,44 +341,29 @@ class BrdfTable:
 
     @classmethod
     def from_netcdf(cls, path: str | os.PathLike) -> BrdfTable:
-        """Read a table in the documented NetCDF layout (optionally with a leading level dimension).
+        """Read a 'sandlight-brdf-table' file (`SandAppearance.to_table`, `to_netcdf`).
+
+        The format, its version and its layout are checked by
+        `sandlight.appearance.table_file.read_table`; a leading level dimension of ``f`` becomes
+        the levels.
 
         Raises
         ------
         FileNotFoundError
             No such file.
         ModelFileError
-            Not a readable NetCDF file, or variables/coordinates missing or malformed.
+            Not readable NetCDF (truncated, corrupt), not a sandlight BRDF table, a newer format
+            version, variables or coordinates missing, or values a table cannot hold.
         """
-        import xarray as xr
-
         path = Path(path)
-        if not path.is_file():
-            raise FileNotFoundError(f"BRDF table {str(path)!r} does not exist")
-        try:
-            with xr.open_dataset(path, engine="h5netcdf") as ds:
-                ds = ds.load()
-        except Exception as exc:  # h5py/xarray raise many types for a foreign or truncated file
-            raise ModelFileError(f"{path}: not a readable NetCDF BRDF table ({exc})") from exc
-        if "f" not in ds:
-            raise ModelFileError(f"{path}: no variable 'f' (expected f(wavelength, mu_i, mu_o, dphi) in sr^-1)")
+        ds = table_file.read_table(path)
         f = ds["f"]
-        core = ("wavelength", "mu_i", "mu_o", "dphi")
-        if tuple(f.dims[-4:]) != core or f.ndim not in (4, 5):
-            raise ModelFileError(
-                f"{path}: variable f has dimensions {f.dims}; expected "
-                f"(wavelength, mu_i, mu_o, dphi), optionally after one level dimension"
-            )
+        if f.ndim == 5:
+            level_name = str(f.dims[0])
+            levels = np.asarray(ds[level_name].values, dtype=float)
+        else:
+            level_name, levels = "level", np.array([0.0])
         try:
-            if f.ndim == 5:
-                level_name = f.dims[0]
-                levels = (
-                    np.asarray(ds[level_name].values, dtype=float)
-                    if level_name in ds.coords
-                    else np.arange(f.shape[0], dtype=float)
-                )
-            else:
-                level_name, levels = "level", np.array([0.0])
             return cls(
                 np.asarray(f.values, dtype=float),
                 ds["wavelength"].values,
@@ -338,44 +371,34 @@ class BrdfTable:
                 ds["mu_o"].values,
                 ds["dphi"].values,
                 levels,
-                str(level_name),
+                level_name,
                 str(ds.attrs.get("source", path.name)),
             )
-        except (KeyError, ParameterError) as exc:
-            raise ModelFileError(f"{path}: malformed BRDF table: {exc}") from exc
+        except ParameterError as exc:
+            raise ModelFileError(f"{path}: {table_file.FORMAT_NAME} file with values out of range: {exc}") from exc
 
     # --- use -----------------------------------------------------------------------------------
 
     def to_netcdf(self, path: str | os.PathLike) -> Path:
-        """Write the stack (level as the leading dimension of ``f``) atomically."""
-        import xarray as xr
-
-        from sandlight.io import write_atomically
-
-        ds = xr.Dataset(
-            {
-                "f": (
-                    (self.level_name, "wavelength", "mu_i", "mu_o", "dphi"),
-                    self.f,
-                    {"units": "sr-1", "long_name": "BRDF"},
-                )
-            },
-            coords={
-                self.level_name: self.level_values,
-                "wavelength": ("wavelength", self.wavelength_nm, {"units": "nm"}),
-                "mu_i": ("mu_i", self.mu_i, {"long_name": "cosine of the light's zenith angle"}),
-                "mu_o": ("mu_o", self.mu_o, {"long_name": "cosine of the viewer's zenith angle"}),
-                "dphi": (
-                    "dphi",
-                    self.dphi,
-                    {"units": "rad", "long_name": "phi_o - phi_i folded into [0, pi]; 0 = backscatter"},
-                ),
-            },
+        """Write the stack as a 'sandlight-brdf-table' file (the level as the leading dimension of
+        ``f``) atomically; `from_netcdf` reads it back."""
+        ds = table_file.table_dataset(
+            self.f,
+            self.wavelength_nm,
+            self.mu_i,
+            self.mu_o,
+            self.dphi,
+            level_name=self.level_name,
+            level_values=self.level_values,
+            interpolation=(
+                "multilinear in (mu_i, mu_o, dphi) and linear between levels; values are the BRDF at the "
+                "grid points (see source)"
+            ),
             attrs={"source": self.source, "creator": "sandlight.render.BrdfTable"},
         )
-        return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf"))
+        return table_file.write_table(ds, path)
 
-    def level_coordinate(self, values, name: str = "values") -> np.ndarray:
+    def level_coordinate(self, values: ArrayLike, name: str = "values") -> np.ndarray:
         """Fractional level index of parameter values (linear between the level values).
 
         Raises
@@ -394,7 +417,7 @@ class BrdfTable:
             return np.zeros(v.shape)
         return np.interp(v, self.level_values, np.arange(self.n_levels, dtype=float))
 
-    def native_f(self, wavelength_nm) -> np.ndarray:
+    def native_f(self, wavelength_nm: ArrayLike) -> np.ndarray:
         """float32 array (levels, mu_i, mu_o, dphi, bands) at the render wavelengths (linear in λ).
 
         Raises

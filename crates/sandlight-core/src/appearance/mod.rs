@@ -98,7 +98,7 @@ impl BandGrid {
     }
 
     /// Linear weights of μ on the nodes: (band a, band b, t) with value (1 − t)·F[a] + t·F[b].
-    /// μ below the lowest node is held at it, μ above the cap at the cap (`_bracket` in Python).
+    /// μ below the lowest node is held at it, μ above the cap at the cap (`mu_bracket` in Python).
     #[inline]
     fn bracket(&self, mu: f64) -> (usize, usize, f64) {
         let n = self.stacks;

@@ -30,8 +30,10 @@ to the class averages of P[i, j] / ω_p(j), which `expected_brdf` and
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.gonio.hemisphere import CollectorHemisphere
@@ -46,7 +48,7 @@ __all__ = [
 ]
 
 
-def _check_fraction(name: str, value, *, low_open: bool = False) -> float:
+def _check_fraction(name: str, value: object, *, low_open: bool = False) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -58,7 +60,9 @@ def _check_fraction(name: str, value, *, low_open: bool = False) -> float:
     return v
 
 
-def band_probabilities(hemisphere: CollectorHemisphere, brdf_mu, *, order: int = 12) -> np.ndarray:
+def band_probabilities(
+    hemisphere: CollectorHemisphere, brdf_mu: Callable[[np.ndarray, np.ndarray], np.ndarray], *, order: int = 12
+) -> np.ndarray:
     """Escape probabilities P[i, j] of an azimuth-independent BRDF.
 
     Parameters
@@ -119,13 +123,18 @@ def chandrasekhar_probabilities(hemisphere: CollectorHemisphere, omega: float, *
     return band_probabilities(hemisphere, lambda mu, mu0: chandrasekhar.brdf(mu, mu0, w), order=order)
 
 
-def expected_brdf(hemisphere: CollectorHemisphere, probabilities) -> np.ndarray:
+def expected_brdf(hemisphere: CollectorHemisphere, probabilities: ArrayLike) -> np.ndarray:
     """E[f[i, j]] = P[i, j] / ω_p(j) in sr⁻¹, the limit of the estimator of paper §3.2.1."""
     return np.asarray(probabilities, dtype=float) / hemisphere.projected_solid_angles[None, :]
 
 
 def sample_counts(
-    hemisphere: CollectorHemisphere, probabilities, rays: int, *, seed: int = 0, lost_probability: float = 0.0
+    hemisphere: CollectorHemisphere,
+    probabilities: ArrayLike,
+    rays: int,
+    *,
+    seed: int = 0,
+    lost_probability: float = 0.0,
 ) -> dict[str, np.ndarray]:
     """Counts of a simulated uniform-incidence run.
 
