@@ -56,9 +56,6 @@ KNOWN_VIOLATIONS: frozenset[str] = frozenset(
         # Rust: medium holds the SurfaceLayer, which builds on packing, which builds on medium
         # (issue 18 §2: populations.rs and a memory module wrapping the medium).
         "cycle(rust): medium, packing, surface_layer",
-        # Test support inside the goniophotometer, importing the testing layer above it
-        # (issue 18 §4: gonio/synthetic.py moves to sandlight.testing).
-        "layer: sandlight.gonio.synthetic imports sandlight.testing.chandrasekhar at module level",
         # Argument checks private to the engine, used by other layers (issue 18 §1: one public
         # module of checks).
         "private: sandlight.gonio.measure uses sandlight.engine._check_incidence",
@@ -80,7 +77,6 @@ KNOWN_VIOLATIONS: frozenset[str] = frozenset(
         "layer: sandlight.render.standin uses sandlight.reflectance of the package root "
         "(import it from sandlight.engine)",
         # Helpers shared between modules under a private name.
-        "private: sandlight.appearance uses sandlight.gonio.brdf._bracket",
         "private: sandlight.predictor.bank uses sandlight.predictor.spectral._columns",
         "private: sandlight.spatial.model uses sandlight.predictor.spectral._plain",
         "private: sandlight.render.animation uses sandlight.render.image._interrupt_requests",
