@@ -21,19 +21,22 @@ import tomllib
 from dataclasses import dataclass, field
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from sandlight.checks import Table, check_choice, check_whole_number
 from sandlight.errors import ModelFileError, ParameterError
-from sandlight.render._checks import Table
 from sandlight.render.camera import Camera
 from sandlight.render.image import ESTIMATORS, HEURISTICS, SAMPLINGS, RenderSettings
 from sandlight.render.light import DEFAULT_SKY_RESOLUTION, Lighting
 from sandlight.render.maps import MaterialMap, Waterlines
 from sandlight.render.post import HIGHLIGHTS
 from sandlight.render.tables import BrdfTable
-from sandlight.render.terrain import PlaneTerrain, dune_field, heightfield_from_image
+from sandlight.render.terrain import HeightfieldTerrain, PlaneTerrain, dune_field, heightfield_from_image
+
+if TYPE_CHECKING:
+    from sandlight.sample import SandSample
 
 __all__ = ["Scene", "shipped_scenes", "scene_path"]
 
@@ -387,11 +390,9 @@ class Scene:
         )
         for key, lo, hi in (("width", 1, 16384), ("height", 1, 16384), ("frames", 1, 100000)):
             if key in changes:
-                v = changes[key]
-                if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
-                    raise ParameterError(key, v, f"a whole number in [{lo}, {hi}]")
-        if "write_linear" in changes and changes["write_linear"] not in LINEAR_OUTPUTS:
-            raise ParameterError("linear", changes["write_linear"], "one of " + ", ".join(LINEAR_OUTPUTS))
+                check_whole_number(key, changes[key], lo, hi)
+        if "write_linear" in changes:
+            check_choice("linear", changes["write_linear"], LINEAR_OUTPUTS)
         unknown = set(changes) - {"width", "height", "frames", "write_linear"}
         if unknown:
             raise ParameterError(
@@ -414,7 +415,7 @@ class Scene:
         """Progress through the day of each frame, in [0, 1]."""
         return np.linspace(0.0, 1.0, self.frames) if self.frames > 1 else np.zeros(1)
 
-    def build_terrain(self):
+    def build_terrain(self) -> PlaneTerrain | HeightfieldTerrain:
         kind, p = self.terrain.kind, self.terrain.params
         if kind == "plane":
             return PlaneTerrain(p["height_m"])
@@ -422,7 +423,7 @@ class Scene:
             return dune_field(**p)
         return heightfield_from_image(**p)
 
-    def build_camera(self, terrain) -> Camera:
+    def build_camera(self, terrain: PlaneTerrain | HeightfieldTerrain) -> Camera:
         c = self.camera
         pos = c["position"]
         if pos.size == 2:
@@ -485,7 +486,7 @@ class Scene:
         )
 
 
-def _resolve(path: str, base_dir) -> Path:
+def _resolve(path: str, base_dir: str | os.PathLike) -> Path:
     p = Path(path).expanduser()
     return p if p.is_absolute() else Path(base_dir) / p
 
@@ -625,7 +626,7 @@ def _parse_texture(t: Table, base_dir: Path) -> dict | None:
     return spec
 
 
-def _appearance_table(sample, vary, levels, wavelength_nm) -> BrdfTable:
+def _appearance_table(sample: SandSample, vary: str | None, levels: np.ndarray, wavelength_nm: np.ndarray) -> BrdfTable:
     """`SandAppearance` of the sample (of each level's sample when ``vary`` is set), tabulated
     exactly on its own nodes (`BrdfTable.from_appearance`) and stacked."""
     from sandlight.appearance import SandAppearance
