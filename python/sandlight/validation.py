@@ -602,21 +602,17 @@ def run_variants(
 
 def powder_reflectance(
     material: str,
-    diameter_um,
+    diameter_um: float | tuple[float, float],
     wavelengths_nm,
     *,
-    rays,
+    rays: int,
     porosity: float = 0.45,
     aspect_ratio: float = 1.0,
     seed: int = 0,
     progress: bool = False,
 ):
-    """Directional-hemispherical reflectance of a dry powder of one pure material.
-
-    A :class:`~sandlight.SandSample` is a quartz sand with at most 10 wt% iron oxide, so it
-    cannot describe an iron-oxide end-member; this builds the same kind of medium (one
-    particle population, exponential free paths, on-the-fly particles) directly and traces it
-    with the same engine as :func:`sandlight.reflectance`.
+    """Directional-hemispherical reflectance at normal incidence of a dry powder of one pure
+    material: :func:`sandlight.reflectance` of a :class:`sandlight.physics.powder.Powder`.
 
     Parameters
     ----------
@@ -632,7 +628,7 @@ def powder_reflectance(
     porosity : float
         Pore volume fraction in (0, 1); only the free-path scale depends on it.
     aspect_ratio : float
-        Prolate spheroid aspect ratio ≥ 1.
+        Prolate spheroid aspect ratio in [1, 20].
     seed : int
         Master seed.
 
@@ -641,78 +637,11 @@ def powder_reflectance(
     sandlight.ReflectanceResult
         Its ``sample`` attribute records the powder's description.
     """
-    from sandlight.engine import (
-        DEFAULT_MAX_EVENTS,
-        ReflectanceResult,
-        _check_rays,
-        _check_seed,
-        _check_wavelengths,
-        _trace,
-    )
-    from sandlight.optics import MATERIALS
-    from sandlight.physics.composition import Composition, Population, _surface_per_volume
-    from sandlight.physics.medium import native_medium
-    from sandlight.physics.sizes import SizeDistribution
+    from sandlight.engine import reflectance
+    from sandlight.physics.powder import Powder
 
-    if material not in MATERIALS:
-        raise ParameterError("material", material, "one of " + ", ".join(MATERIALS))
-    sizes_um = np.atleast_1d(np.asarray(diameter_um, dtype=float))
-    if (
-        sizes_um.size not in (1, 2)
-        or not np.all(np.isfinite(sizes_um))
-        or np.any(sizes_um <= 0)
-        or (sizes_um.size == 2 and sizes_um[1] <= sizes_um[0])
-    ):
-        raise ParameterError("diameter_um", diameter_um, "a diameter > 0 µm, or (d_min, d_max) with 0 < d_min < d_max")
-    if not (0.0 < porosity < 1.0):
-        raise ParameterError("porosity", porosity, "a number in (0, 1)")
-    if not (1.0 <= aspect_ratio <= 20.0):
-        raise ParameterError("aspect_ratio", aspect_ratio, "a number in [1, 20]")
-    wl = _check_wavelengths(wavelengths_nm)
-    rays = _check_rays(rays)
-    seed = _check_seed(seed)
-    d_mm = sizes_um * 1e-3
-    if d_mm.size == 1:
-        sizes = SizeDistribution("lognormal", d_mm[0], d_mm[0], median_mm=d_mm[0], spread=1.0)
-    else:
-        sizes = SizeDistribution("loguniform", d_mm[0], d_mm[1])
-    sv = _surface_per_volume(sizes, aspect_ratio)
-    pop = Population(f"{material} powder", 1.0, sizes, aspect_ratio, {material: 1.0}, {}, 0.0, sv)
-    # Mean free path in the pore space ℓ = 4φ / [(1 − φ) ⟨S⟩/⟨V⟩] (splits-model.md §2.1).
-    comp = Composition((pop,), porosity, 4.0 * porosity / ((1.0 - porosity) * sv), 0.0, 0.0, math.inf)
-    start = time.perf_counter()
-    rows = [
-        _trace(
-            native_medium(comp, float(lam)),
-            rays=rays,
-            incidence_deg=0.0,
-            seed=seed,
-            threads=None,
-            max_events=DEFAULT_MAX_EVENTS,
-            label=f"{material} powder, λ = {lam:g} nm",
-            progress=progress,
-        )
-        for lam in wl
-    ]
-    counts = {k: np.array([r[k] for r in rows], dtype=np.int64) for k in rows[0]}
-    rho = counts["escaped"] / counts["launched"]
-    return ReflectanceResult(
-        wavelengths=wl,
-        values=rho,
-        stderr=np.sqrt(rho * (1 - rho) / counts["launched"]),
-        counts=counts,
-        rays=rays,
-        incidence_deg=0.0,
-        seed=seed,
-        max_events=DEFAULT_MAX_EVENTS,
-        sample={
-            "material": material,
-            "diameter_um": sizes_um.tolist(),
-            "porosity": porosity,
-            "aspect_ratio": aspect_ratio,
-        },
-        elapsed_s=time.perf_counter() - start,
-    )
+    powder = Powder(material, diameter_um, porosity, aspect_ratio)
+    return reflectance(powder, wavelengths_nm, rays=rays, seed=seed, progress=progress)
 
 
 FIGURE3_PARTICLE_UM = 2.5
