@@ -1,5 +1,7 @@
 """Measuring a BRDF with the virtual goniophotometer (paper §3.2.1) by tracing trials through a
-sand sample, or through a reference medium with a known answer.
+sand sample, or through any Traceable medium (``sandlight.physics.medium.Traceable``), such as a
+reference medium with a known answer. Samples are resolved as by the engine
+(``sandlight.physics.media.as_traceable``).
 
 Uniform incidence (the paper's variant): every trial draws its incident direction uniformly over
 the hemisphere, and counters n[i, j] are kept for incoming patch i and outgoing patch j, with

@@ -41,28 +41,10 @@ def powder_reflectance(
     """Directional-hemispherical reflectance at normal incidence of a dry powder of one pure
     material: :func:`sandlight.reflectance` of a :class:`sandlight.physics.powder.Powder`.
 
-    Parameters
-    ----------
-    material : str
-        A name of :data:`sandlight.optics.MATERIALS`.
-    diameter_um : float or (float, float)
-        Volume-equivalent particle diameter in µm (all equal), or a sieve fraction
-        (d_min, d_max) in µm, taken as equal mass per logarithmic size interval.
-    wavelengths_nm : array_like
-        Vacuum wavelengths (nm) in [350, 2500].
-    rays : int
-        Rays per wavelength.
-    porosity : float
-        Pore volume fraction in (0, 1); only the free-path scale depends on it.
-    aspect_ratio : float
-        Prolate spheroid aspect ratio in [1, 20].
-    seed : int
-        Master seed.
-
-    Returns
-    -------
-    sandlight.ReflectanceResult
-        Its ``sample`` attribute records the powder's description.
+    ``material``, ``diameter_um`` (µm), ``porosity`` and ``aspect_ratio`` are the powder's (see
+    :class:`~sandlight.physics.powder.Powder`); ``wavelengths_nm`` (nm, in [350, 2500]),
+    ``rays`` (per wavelength) and ``seed`` the run's. Returns a ``sandlight.ReflectanceResult``
+    whose ``sample`` records the powder's description.
     """
     from sandlight.engine import reflectance
     from sandlight.physics.powder import Powder
