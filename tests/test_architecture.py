@@ -56,22 +56,6 @@ KNOWN_VIOLATIONS: frozenset[str] = frozenset(
         # Rust: medium holds the SurfaceLayer, which builds on packing, which builds on medium
         # (issue 18 §2: populations.rs and a memory module wrapping the medium).
         "cycle(rust): medium, packing, surface_layer",
-        # Argument checks private to the engine, used by other layers (issue 18 §1: one public
-        # module of checks).
-        "private: sandlight.gonio.measure uses sandlight.engine._check_incidence",
-        "private: sandlight.gonio.measure uses sandlight.engine._check_rays",
-        "private: sandlight.gonio.measure uses sandlight.engine._check_seed",
-        "private: sandlight.gonio.measure uses sandlight.engine._check_threads",
-        "private: sandlight.gonio.measure uses sandlight.engine._check_wavelengths",
-        "private: sandlight.predictor.training uses sandlight.engine._check_choice",
-        "private: sandlight.validation uses sandlight.engine._check_rays",
-        "private: sandlight.validation uses sandlight.engine._check_seed",
-        "private: sandlight.validation uses sandlight.engine._check_wavelengths",
-        # Validation re-runs the engine's reflectance loop on a rebuilt composition (issue 18 §1:
-        # the medium protocol; powders move into physics).
-        "private: sandlight.validation uses sandlight.engine._trace",
-        "private: sandlight.validation uses sandlight.physics.composition._surface_per_volume",
-        # The engine reached through the package's public facade instead of its module.
         "layer: sandlight.predictor.training uses sandlight.reflectance of the package root "
         "(import it from sandlight.engine)",
         "layer: sandlight.render.standin uses sandlight.reflectance of the package root "
@@ -79,8 +63,6 @@ KNOWN_VIOLATIONS: frozenset[str] = frozenset(
         # Helpers shared between modules under a private name.
         "private: sandlight.predictor.bank uses sandlight.predictor.spectral._columns",
         "private: sandlight.spatial.model uses sandlight.predictor.spectral._plain",
-        "private: sandlight.render.animation uses sandlight.render.image._interrupt_requests",
-        "private: sandlight.sky.plots uses sandlight.sky.sun._day_array",
     }
 )
 

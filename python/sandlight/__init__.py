@@ -26,15 +26,17 @@ _NATIVE_API = {
     "ReflectanceResult": "sandlight.engine",
     "brdf": "sandlight.gonio.measure",
     "fixed_incidence": "sandlight.gonio.measure",
-    "IsotropicScatterers": "sandlight.gonio.measure",
-    "LambertianSurface": "sandlight.gonio.measure",
+    "Traceable": "sandlight.physics.medium",
+    "IsotropicScatterers": "sandlight.physics.media",
+    "LambertianSurface": "sandlight.physics.media",
+    "Powder": "sandlight.physics.powder",
     "SpectralModel": "sandlight.predictor",
     "SpatialModel": "sandlight.spatial",
     "SandAppearance": "sandlight.appearance",
 }
 
 
-def __getattr__(name):
+def __getattr__(name: str) -> object:
     # The engine needs the native extension; import it on first use so that pure-Python parts
     # (samples, colour, sky) work from a source tree without a build.
     if name in _NATIVE_API:

@@ -10,113 +10,47 @@ exact answer (Chandrasekhar) checks the engine.
 from __future__ import annotations
 
 import math
+import os
 import time
-import warnings
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 
 from sandlight import _native
 from sandlight._runner import run_in_batches
-from sandlight.errors import ParameterError
-from sandlight.physics.composition import compose
-from sandlight.physics.medium import native_medium
+from sandlight.checks import check_count, check_incidence, check_seed, check_threads, check_wavelengths
+from sandlight.physics.media import IsotropicScatterers, as_traceable, engine_settings
+from sandlight.physics.medium import Traceable
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from sandlight.sample import SandSample
+
+__all__ = ["ReflectanceResult", "reflectance", "isotropic_halfspace", "DEFAULT_MAX_EVENTS", "MAX_INTERNAL_REFLECTIONS"]
 
 DEFAULT_MAX_EVENTS = 10_000_000
-GEOMETRIES = ("on-the-fly", "explicit")
-MEMORIES = ("none", "channel", "cut", "packed")
-#: Path memory of the on-the-fly engine when none is asked for (docs/geometry.md).
-DEFAULT_MEMORY = "none"
 MAX_INTERNAL_REFLECTIONS = 10_000
 _COUNT_NAMES = ("launched", "escaped", "absorbed", "transmitted", "capped", "events")
 
 
-def _check_rays(rays) -> int:
-    try:
-        value = float(rays)
-    except (TypeError, ValueError):
-        raise ParameterError("rays", rays, "a whole number ≥ 1 (e.g. 1e6)") from None
-    if not math.isfinite(value) or value < 1 or value != int(value) or isinstance(rays, bool):
-        raise ParameterError("rays", rays, "a whole number ≥ 1 (e.g. 1e6)")
-    return int(value)
-
-
-def _check_incidence(incidence_deg) -> float:
-    try:
-        value = float(incidence_deg)
-    except (TypeError, ValueError):
-        raise ParameterError("incidence_deg", incidence_deg, "a number in [0, 90) degrees") from None
-    if not (0.0 <= value < 90.0):
-        raise ParameterError("incidence_deg", incidence_deg, "a number in [0, 90) degrees")
-    return value
-
-
-def _check_seed(seed) -> int:
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or not (0 <= int(seed) < 2**64):
-        raise ParameterError("seed", seed, "an integer in [0, 2**64)")
-    return int(seed)
-
-
-def _check_threads(threads):
-    if threads is None:
-        return None
-    if isinstance(threads, bool) or not isinstance(threads, (int, np.integer)) or not (1 <= int(threads) <= 1024):
-        raise ParameterError("threads", threads, "None (all cores) or an integer in [1, 1024]")
-    return int(threads)
-
-
-def _check_choice(name, value, allowed):
-    if not isinstance(value, str) or value not in allowed:
-        raise ParameterError(name, value, "one of " + ", ".join(repr(a) for a in allowed))
-    return value
-
-
-#: Why the surface-layer models are not for wet sand yet (docs/geometry.md, "Wet sand").
-WET_TOP_LAYER = (
-    "memory='cut' or 'packed' and geometry='explicit' put the flat water surface of a water-filled "
-    "surface pore at the top of the surface layer, above the highest grain, so with water-filled pores "
-    "(saturation above film_saturation) they lose more light in the water bands than the classic model; "
-    "use memory='none' for wet sand (docs/geometry.md, 'Wet sand')"
-)
-
-
-def medium_factory(comp, *, geometry: str = "on-the-fly", memory: str | None = None, packing=None, seed: int = 0):
-    """A function of the wavelength (nm) giving the native medium to trace, and the packing.
-
-    For ``geometry="explicit"`` the packing (wavelength independent) is generated once, from
-    ``seed``, unless one is given (``sandlight.physics.packing.generate_packing``).
-    """
-    from sandlight.physics.packing import generate_packing, reference_grain_mm
-
-    geometry = _check_choice("geometry", geometry, GEOMETRIES)
-    memory = _check_choice("memory", DEFAULT_MEMORY if memory is None else memory, MEMORIES)
-    if comp.water_filled_probability > 0 and (memory in ("cut", "packed") or geometry == "explicit"):
-        warnings.warn(WET_TOP_LAYER, UserWarning, stacklevel=3)
-    if geometry == "on-the-fly":
-        return (lambda lam: native_medium(comp, lam, memory=memory)), None
-    if memory != "none":
-        raise ParameterError("memory", memory, "'none' with geometry='explicit' (memory models the on-the-fly engine)")
-    if packing is None:
-        packing = generate_packing(native_medium(comp, 550.0), reference_mm=reference_grain_mm(comp), seed=seed)
-    elif not isinstance(packing, _native.Packing):
-        raise ParameterError("packing", packing, "None or a sandlight._native.Packing (generate_packing)")
-    return (lambda lam: native_medium(comp, lam).explicit(packing, comp.depth_mm)), packing
-
-
-def _check_wavelengths(wavelengths_nm) -> np.ndarray:
-    wl = np.atleast_1d(np.asarray(wavelengths_nm, dtype=float))
-    if wl.ndim != 1 or wl.size == 0:
-        raise ParameterError("wavelengths_nm", wavelengths_nm, "a non-empty 1-D sequence of wavelengths in nm")
-    bad = ~np.isfinite(wl) | (wl < 350.0) | (wl > 2500.0)
-    if bad.any():
-        raise ParameterError("wavelengths_nm", float(wl[bad][0]), "finite wavelengths in [350, 2500] nm")
-    return wl
-
-
-def _trace(medium, *, rays, incidence_deg, seed, threads, max_events, label, progress, stream=0) -> dict:
+def _trace(
+    medium: _native.Medium,
+    *,
+    rays: int,
+    incidence_deg: float,
+    seed: int,
+    threads: int | None,
+    max_events: int,
+    label: str,
+    progress: bool,
+    stream: int = 0,
+) -> dict:
     counts = np.zeros(len(_COUNT_NAMES), dtype=np.uint64)
 
-    def batch(first, n):
+    def batch(first: int, n: int):
         counts[:] += np.array(
             medium.dhr(incidence_deg, seed, stream, first, n, max_events, MAX_INTERNAL_REFLECTIONS, threads),
             dtype=np.uint64,
@@ -166,7 +100,7 @@ class ReflectanceResult:
         """Rays stopped by the event cap, per wavelength (reported, never silently dropped)."""
         return self.counts["capped"]
 
-    def to_xarray(self):
+    def to_xarray(self) -> xr.Dataset:
         """An ``xarray.Dataset`` with units on every variable and the run's inputs as attributes."""
         import json
 
@@ -210,14 +144,14 @@ class ReflectanceResult:
         )
         return ds
 
-    def to_netcdf(self, path) -> None:
+    def to_netcdf(self, path: str | os.PathLike) -> None:
         """Writes the result as NetCDF (h5netcdf), atomically."""
         from sandlight.io import atomic_path
 
         with atomic_path(path) as tmp:
             self.to_xarray().to_netcdf(tmp, engine="h5netcdf")
 
-    def to_csv(self, path) -> None:
+    def to_csv(self, path: str | os.PathLike) -> None:
         """Writes ``wavelength_nm,reflectance,stderr,mean_events_per_ray,capped`` rows, atomically."""
         from sandlight.io import atomic_path
 
@@ -232,7 +166,7 @@ class ReflectanceResult:
                 comments="",
             )
 
-    def plot(self, path, *, title: str | None = None) -> None:
+    def plot(self, path: str | os.PathLike, *, title: str | None = None) -> None:
         """Plots the spectrum with ±2 standard-error band to a PNG."""
         from sandlight.plots import plot_spectrum
 
@@ -240,10 +174,10 @@ class ReflectanceResult:
 
 
 def reflectance(
-    sample,
-    wavelengths_nm,
+    sample: SandSample | str | Traceable,
+    wavelengths_nm: npt.ArrayLike,
     *,
-    rays,
+    rays: int,
     incidence_deg: float = 0.0,
     seed: int = 0,
     threads: int | None = None,
@@ -251,14 +185,16 @@ def reflectance(
     progress: bool = True,
     geometry: str = "on-the-fly",
     memory: str | None = None,
-    packing=None,
+    packing: _native.Packing | None = None,
 ) -> ReflectanceResult:
     """Monte Carlo directional-hemispherical reflectance of a sand sample.
 
     Parameters
     ----------
-    sample : SandSample or str
-        The sample, or the name of a preset (``SandSample.preset``).
+    sample : SandSample, str or Traceable
+        The sample, the name of a preset (``SandSample.preset``), or any Traceable medium
+        (``sandlight.physics.medium.Traceable``: a ``Powder``, a reference medium, a
+        ``SandMedium`` or ``PackedSand`` built beforehand), traced as it is.
     wavelengths_nm : array_like
         Vacuum wavelengths λ in nm, each in [350, 2500].
     rays : int
@@ -279,15 +215,19 @@ def reflectance(
         grains with the same per-particle physics; docs/geometry.md). With 'explicit',
         ``counts["transmitted"]`` counts rays that went below a finite sample.
     memory : {'none', 'channel', 'cut', 'packed'}, optional
-        Path memory of the on-the-fly engine (default ``DEFAULT_MEMORY``); must be 'none' for
+        Path memory of the on-the-fly engine (default ``sandlight.physics.media.DEFAULT_MEMORY``); 'none' for
         explicit geometry. 'packed' (the cut surface, the pore's walls and the packing's pair
         correlation) is the closest to the explicit reference (docs/geometry.md).
     packing : sandlight._native.Packing, optional
         A packing to trace (explicit geometry); generated from ``seed`` when None.
 
+    ``geometry``, ``memory`` and ``packing`` apply to a sample (``sandlight.physics.media.as_traceable``);
+    a Traceable carries its own.
+
     Returns
     -------
     ReflectanceResult
+        ``sample`` holds the medium's description, ``geometry`` and ``memory`` the engine's.
 
     Notes
     -----
@@ -295,26 +235,19 @@ def reflectance(
     Carlo noise is correlated across wavelengths and spectra come out smooth; each value's own
     standard error is unaffected.
     """
-    from sandlight.sample import SandSample
-
-    if isinstance(sample, str):
-        sample = SandSample.preset(sample)
-    if not isinstance(sample, SandSample):
-        raise ParameterError("sample", sample, "a SandSample or the name of a preset")
-    wl = _check_wavelengths(wavelengths_nm)
-    rays = _check_rays(rays)
-    incidence_deg = _check_incidence(incidence_deg)
-    seed = _check_seed(seed)
-    threads = _check_threads(threads)
-    max_events = _check_rays(max_events)
-    comp = compose(sample)
+    wl = check_wavelengths("wavelengths_nm", wavelengths_nm)
+    rays = check_count("rays", rays)
+    incidence_deg = check_incidence("incidence_deg", incidence_deg)
+    seed = check_seed("seed", seed)
+    threads = check_threads("threads", threads)
+    max_events = check_count("max_events", max_events)
     start = time.perf_counter()
-    make_medium, _ = medium_factory(comp, geometry=geometry, memory=memory, packing=packing, seed=seed)
+    traced = as_traceable(sample, geometry=geometry, memory=memory, packing=packing, seed=seed)
     rows = []
     for i, lam in enumerate(wl):
         rows.append(
             _trace(
-                make_medium(float(lam)),
+                traced.medium(float(lam)),
                 rays=rays,
                 incidence_deg=incidence_deg,
                 seed=seed,
@@ -326,6 +259,7 @@ def reflectance(
         )
     counts = {k: np.array([r[k] for r in rows], dtype=np.int64) for k in _COUNT_NAMES}
     rho = counts["escaped"] / counts["launched"]
+    description, traced_geometry, traced_memory = engine_settings(traced.describe())
     return ReflectanceResult(
         wavelengths=wl,
         values=rho,
@@ -335,17 +269,17 @@ def reflectance(
         incidence_deg=incidence_deg,
         seed=seed,
         max_events=max_events,
-        sample=sample.to_dict(),
+        sample=description,
         elapsed_s=time.perf_counter() - start,
-        geometry=geometry,
-        memory=DEFAULT_MEMORY if memory is None else memory,
+        geometry=traced_geometry,
+        memory=traced_memory,
     )
 
 
 def isotropic_halfspace(
     albedo: float,
     *,
-    rays,
+    rays: int,
     incidence_deg: float = 0.0,
     seed: int = 0,
     threads: int | None = None,
@@ -370,20 +304,15 @@ def isotropic_halfspace(
     -------
     (reflectance, stderr) : tuple of float
     """
-    rays = _check_rays(rays)
-    medium = _native.Medium.isotropic(float(albedo), float(depth))
     c = _trace(
-        medium,
-        rays=rays,
-        incidence_deg=_check_incidence(incidence_deg),
-        seed=_check_seed(seed),
-        threads=_check_threads(threads),
-        max_events=_check_rays(max_events),
+        IsotropicScatterers(albedo, depth).medium(0.0),
+        rays=check_count("rays", rays),
+        incidence_deg=check_incidence("incidence_deg", incidence_deg),
+        seed=check_seed("seed", seed),
+        threads=check_threads("threads", threads),
+        max_events=check_count("max_events", max_events),
         label="isotropic half-space",
         progress=False,
     )
     rho = c["escaped"] / c["launched"]
     return rho, math.sqrt(rho * (1 - rho) / c["launched"])
-
-
-__all__ = ["ReflectanceResult", "reflectance", "isotropic_halfspace"]

@@ -23,8 +23,17 @@ import argparse
 import shutil
 import sys
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import numpy as np
+
+    from sandlight.jobs.executors import Executor
+    from sandlight.predictor import Domain
+    from sandlight.predictor.training import TrainingRun
 
 ROOT = Path(__file__).resolve().parents[2]
 PACKAGE_DIR = ROOT / "python" / "sandlight" / "data" / "models"
@@ -72,13 +81,13 @@ class BankEntry:
         base = "reference sand (SandSample defaults)" if self.base is None else f"preset {self.base}"
         return f"{base}, {WATER_TEXT[self.water]}, iron oxide {100 * lo:.2g}-{100 * hi:.2g} %, any hematite ratio"
 
-    def fit_domain(self):
+    def fit_domain(self) -> Domain | None:
         """The sub-domain the model is fitted on and covers (None: the generation domain)."""
         if self.water == "film":
             return self.domain().restrict(saturation=(FILM_FROM, WATER["film"][1]))
         return None
 
-    def domain(self):
+    def domain(self) -> Domain:
         from sandlight.predictor import Dimension, Domain
         from sandlight.predictor.domain import REFERENCE_SAND
         from sandlight.sample import SandSample
@@ -97,7 +106,9 @@ class BankEntry:
         return Domain.reference(dims, forms=(preset.iron_oxide_form,), reference=fixed)
 
 
-def _narrow(name, water, base=None, iron_range=(0.001, 0.05), forms=3):
+def _narrow(
+    name: str, water: str, base: str | None = None, iron_range: tuple[float, float] = (0.001, 0.05), forms: int = 3
+):
     # 200 (dry: 2 parameters) or 300 (3 parameters) training samples per iron-oxide form, a
     # sixth as many hold-out samples: what met the target for the reference sand.
     per_form, holdout = (200, 40) if water == "dry" else (300, 50)
@@ -114,7 +125,7 @@ def _narrow(name, water, base=None, iron_range=(0.001, 0.05), forms=3):
     )
 
 
-def _preset_range(name, factor=3.0):
+def _preset_range(name: str, factor: float = 3.0):
     # Iron oxide within a factor 3 of the preset's, inside SandSample's range.
     from sandlight.sample import SandSample
 
@@ -136,8 +147,8 @@ BANK = (
 )
 
 
-def parse_args(argv=None):
-    from sandlight.engine import MEMORIES
+def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
+    from sandlight.physics.media import MEMORIES
 
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument(
@@ -171,7 +182,7 @@ def parse_args(argv=None):
     return p.parse_args(argv)
 
 
-def time_per_call(fn, repeat: int) -> float:
+def time_per_call(fn: Callable, repeat: int) -> float:
     best = float("inf")
     for _ in range(3):
         start = time.perf_counter()
@@ -181,7 +192,7 @@ def time_per_call(fn, repeat: int) -> float:
     return best
 
 
-def train_one(entry: BankEntry, args, executor):
+def train_one(entry: BankEntry, args: argparse.Namespace, executor: Executor | str | None) -> TrainingRun:
     import numpy as np
 
     from sandlight.predictor import train_spectral
@@ -270,14 +281,14 @@ def train_one(entry: BankEntry, args, executor):
     return run
 
 
-def run_noise(dataset_path):
+def run_noise(dataset_path: Path) -> np.ndarray:
     import xarray as xr
 
     with xr.open_dataset(dataset_path) as ds:
         return ds["stderr"].values
 
 
-def main(argv=None) -> int:
+def main(argv: list[str] | None = None) -> int:
     args = parse_args(argv)
     import sandlight
     from sandlight.io import write_atomically

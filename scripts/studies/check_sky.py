@@ -22,26 +22,29 @@ import time
 from pathlib import Path
 
 import numpy as np
+import numpy.typing as npt
 
 from sandlight.sky import PreethamSky, direction_from_angles, solar_declination, solar_time, sun_direction, sun_position
 from sandlight.sky import sun_spectrum as ss
-from sandlight.sky.preetham import _daylight_basis, daylight_m1_m2
+from sandlight.sky.preetham import daylight_basis, daylight_m1_m2
 
 VISIBLE_NM = np.arange(380.0, 781.0, 5.0)
 
 
-def cmfs(wavelength_nm):
+def cmfs(wavelength_nm: npt.ArrayLike) -> np.ndarray:
     import colour
 
     table = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
     return np.stack([np.interp(wavelength_nm, table.wavelengths, table.values[:, i]) for i in range(3)], axis=-1)
 
 
-def illuminance_lx(spectral_irradiance, wavelength_nm=VISIBLE_NM, step_nm=5.0):
+def illuminance_lx(
+    spectral_irradiance: np.ndarray, wavelength_nm: np.ndarray = VISIBLE_NM, step_nm: float = 5.0
+) -> np.ndarray:
     return 683.0 * spectral_irradiance @ cmfs(wavelength_nm)[:, 1] * step_nm
 
 
-def spencer_declination(day):
+def spencer_declination(day: np.ndarray) -> np.ndarray:
     g = 2.0 * np.pi / 365.0 * (day - 1.0)
     return (
         0.006918
@@ -54,18 +57,18 @@ def spencer_declination(day):
     )
 
 
-def spencer_equation_of_time_min(day):
+def spencer_equation_of_time_min(day: np.ndarray) -> np.ndarray:
     g = 2.0 * np.pi / 365.0 * (day - 1.0)
     return 229.18 * (
         0.000075 + 0.001868 * np.cos(g) - 0.032077 * np.sin(g) - 0.014615 * np.cos(2 * g) - 0.040849 * np.sin(2 * g)
     )
 
 
-def separation_deg(a, b):
+def separation_deg(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(np.sum(a * b, axis=-1), -1.0, 1.0)))
 
 
-def check_sun_position():
+def check_sun_position() -> None:
     print("== 1. Sun position (Preetham appendix)")
     day = np.arange(1.0, 366.0)
     decl_err = np.degrees(solar_declination(day) - spencer_declination(day))
@@ -139,7 +142,7 @@ def check_sun_position():
         )
 
 
-def check_sun_spectrum():
+def check_sun_spectrum() -> None:
     print("\n== 2. Direct-beam sun spectrum, T = 3, ozone 0.35 cm, water 2 cm")
     wl = np.array([400.0, 450.0, 500.0, 550.0, 600.0, 650.0, 700.0, 760.0, 800.0])
     print("ratio Preetham-1999 / Bird-Riordan-1986 (SPECTRL2), by wavelength (nm):")
@@ -189,7 +192,7 @@ def check_sun_spectrum():
     g173 = pvlib.spectrum.get_reference_spectra(standard="ASTM G173-03")
     grid = g173.index.to_numpy(dtype=float)
 
-    def band_mean(column, centre):  # 10 nm means: SPECTRL2's grid does not resolve lines
+    def band_mean(column: str, centre: float):  # 10 nm means: SPECTRL2's grid does not resolve lines
         mask = (grid >= centre - 5.0) & (grid <= centre + 5.0)
         return np.trapezoid(g173[column].to_numpy()[mask], grid[mask]) / 10.0
 
@@ -214,7 +217,7 @@ def check_sun_spectrum():
     )
 
 
-def check_sky():
+def check_sky() -> None:
     print("\n== 3. Preetham sky")
     print("zenith luminance Y_z (kcd/m^2) and chromaticity (x_z, y_z):")
     for turbidity in (2.0, 3.0, 6.0):
@@ -229,7 +232,7 @@ def check_sky():
     d = rng.normal(size=(2000, 3))
     d[:, 2] = np.abs(d[:, 2])
     d /= np.linalg.norm(d, axis=-1, keepdims=True)
-    grid, basis, _ = _daylight_basis()
+    grid, basis, _ = daylight_basis()
     weights = cmfs(VISIBLE_NM) * 683.0 * 5.0
     for rounded in (False, True):
         worst_xy = worst_y = 0.0
@@ -306,7 +309,7 @@ def check_sky():
     )
 
 
-def write_figures(directory: Path):
+def write_figures(directory: Path) -> None:
     from sandlight.sky.plots import plot_sky_day, plot_sky_dome
 
     directory.mkdir(parents=True, exist_ok=True)
@@ -319,7 +322,7 @@ def write_figures(directory: Path):
     print(f"\nwrote {dome} and {day}")
 
 
-def main():
+def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--figures", type=Path, help="directory for the example pictures")
     args = parser.parse_args()

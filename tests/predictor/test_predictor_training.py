@@ -442,3 +442,18 @@ class TestCommandLine:
         # it names the model that answered and its (here missing) hold-out score
         assert "model spectral: 13 parameters, 3 forms; no hold-out score" in result.output
         assert "extrapolated" not in result.output
+
+
+def test_the_engine_simulator_traces_any_traceable():
+    from sandlight import reflectance
+    from sandlight.physics.powder import Powder
+    from sandlight.predictor.training import engine_simulate
+
+    powder = Powder("goethite", 2.5)
+    got = engine_simulate(powder, np.array([450.0, 650.0]), rays=1000, seed=4)
+    want = reflectance(powder, [450.0, 650.0], rays=1000, seed=4, incidence_deg=0.0, threads=1, progress=False)
+    np.testing.assert_array_equal(got.values, want.values)
+    assert got.sample == powder.describe()
+    # A Traceable carries its own memory: asking for another is refused, not ignored.
+    with pytest.raises(ParameterError, match="geometry"):
+        engine_simulate(powder, np.array([450.0]), rays=10, seed=4, memory="cut")

@@ -219,3 +219,15 @@ def test_leave_one_out_cross_validation():
     assert [k for k, _ in results] == [1, 2, 3, 4]  # the end nodes are on the hull
     assert all(r.relative_rms < 0.1 for _, r in results)
     assert results[0][1].point == {"saturation": pytest.approx(0.2)}
+
+
+def test_the_engine_measure_traces_any_traceable():
+    from sandlight.gonio.measure import brdf
+    from sandlight.physics.media import LambertianSurface
+
+    wall = LambertianSurface(0.5)
+    kw = dict(rays=5000, seed=2, stacks=4, slices=4, threads=1)
+    counts = engine_measure(wall, 550.0, **kw)
+    np.testing.assert_array_equal(counts["counts"], brdf(wall, 550.0, progress=False, **kw).counts)
+    # A Lambertian surface absorbs the rest of its albedo and loses nothing.
+    assert counts["absorbed"].sum() > 0 and counts["lost"].sum() == 0

@@ -1,11 +1,13 @@
-"""Argument parsing shared by the command modules: samples, ranges, error reporting."""
+"""Shared by the command modules: loading the sample, reporting errors, option help texts.
+
+The checks of option values (counts, ranges) are in :mod:`sandlight.checks`.
+"""
 
 from __future__ import annotations
 
 import contextlib
 from pathlib import Path
 
-import numpy as np
 import typer
 from rich.console import Console
 
@@ -46,35 +48,3 @@ def load_sample(sample_file: Path | None, preset: str | None):
     if sample_file is not None:
         return SandSample.from_file(sample_file)
     return SandSample.preset(preset or "red-dune")
-
-
-def parse_range(text: str, name: str) -> np.ndarray:
-    """``start:stop:step`` (inclusive of stop when it falls on the grid), or comma-separated values."""
-    from sandlight.errors import ParameterError
-
-    try:
-        if ":" in text:
-            parts = [float(p) for p in text.split(":")]
-            if len(parts) != 3 or parts[2] <= 0 or parts[1] < parts[0]:
-                raise ValueError
-            start, stop, step = parts
-            n = int(np.floor((stop - start) / step + 1e-9)) + 1
-            return start + step * np.arange(n)
-        return np.array([float(p) for p in text.split(",")])
-    except ValueError:
-        raise ParameterError(
-            name, text, "start:stop:step with step > 0 and stop ≥ start (e.g. 400:700:20), or a comma-separated list"
-        ) from None
-
-
-def parse_count(text: str, name: str) -> int:
-    """A whole number that may be written like 1e6."""
-    from sandlight.errors import ParameterError
-
-    try:
-        v = float(text)
-    except ValueError:
-        raise ParameterError(name, text, "a whole number ≥ 1, e.g. 1e6") from None
-    if not np.isfinite(v) or v < 1 or v != int(v):
-        raise ParameterError(name, text, "a whole number ≥ 1, e.g. 1e6")
-    return int(v)

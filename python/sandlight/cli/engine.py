@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
 from rich.console import Console
 
+from sandlight.checks import check_count, parse_range
 from sandlight.cli._app import app
-from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count, parse_range, user_errors
+from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, user_errors
+
+if TYPE_CHECKING:
+    from sandlight.engine import ReflectanceResult
 
 console = Console()
 
@@ -40,7 +45,7 @@ def reflectance(
 
     with user_errors():
         sample = load_sample(sample_file, preset)
-        wl, n = parse_range(wavelengths, "--wavelengths"), parse_count(rays, "--rays")
+        wl, n = parse_range("--wavelengths", wavelengths), check_count("--rays", rays)
         console.print(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
         result = run(
             sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory, geometry=geometry
@@ -48,7 +53,7 @@ def reflectance(
         _report(result, output, plot, title=str(sample_file or preset or "red-dune"))
 
 
-def _report(result, output, plot, *, title):
+def _report(result: ReflectanceResult, output: Path | None, plot: Path | None, *, title: str):
     from rich.table import Table
 
     table = Table("λ (nm)", "reflectance", "± stderr", "events/ray", "capped")
@@ -88,8 +93,8 @@ def demo(
         console.print("[bold]sandlight demo[/]: red-dune sand, 400–2500 nm")
         result = run(
             sample,
-            parse_range("400:700:20", "wavelengths").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],
-            rays=parse_count(rays, "--rays"),
+            parse_range("wavelengths", "400:700:20").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],
+            rays=check_count("--rays", rays),
         )
         _report(
             result,

@@ -7,8 +7,9 @@ from pathlib import Path
 import typer
 from rich.console import Console
 
+from sandlight.checks import check_count
 from sandlight.cli._app import app
-from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count, user_errors
+from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, user_errors
 
 console = Console()
 
@@ -41,7 +42,7 @@ def brdf(
         result = measure(
             sample,
             wavelength,
-            rays=parse_count(rays, "--rays"),
+            rays=check_count("--rays", rays),
             stacks=stacks,
             slices=slices,
             seed=seed,

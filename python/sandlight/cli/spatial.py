@@ -8,8 +8,9 @@ import numpy as np
 import typer
 from rich.console import Console
 
+from sandlight.checks import check_count
 from sandlight.cli._app import app
-from sandlight.cli._common import MEMORY_HELP, load_sample, parse_count, user_errors
+from sandlight.cli._common import MEMORY_HELP, load_sample, user_errors
 
 console = Console()
 
@@ -125,7 +126,7 @@ def train_spatial_command(
 
             raise ParameterError("--holdout", missing[0], f"a value for each mesh parameter {mesh.parameters}")
         executor = None if fit_only else make_executor(workers, dask_local, scheduler)
-        n = parse_count(rays, "--rays")
+        n = check_count("--rays", rays)
         run = train_spatial(
             out,
             mesh,
@@ -133,7 +134,7 @@ def train_spatial_command(
             wavelength,
             seed,
             holdout=[[p[k] for k in mesh.parameters] for p in points],
-            holdout_rays=None if holdout_rays is None else parse_count(holdout_rays, "--holdout-rays"),
+            holdout_rays=None if holdout_rays is None else check_count("--holdout-rays", holdout_rays),
             stacks=stacks,
             slices=slices,
             method=method,

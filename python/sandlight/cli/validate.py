@@ -7,8 +7,9 @@ from pathlib import Path
 import typer
 from rich.console import Console
 
+from sandlight.checks import check_count
 from sandlight.cli._app import app
-from sandlight.cli._common import parse_count, user_errors
+from sandlight.cli._common import user_errors
 
 console = Console()
 
@@ -33,8 +34,8 @@ def validate(
     from sandlight import validation as v
 
     with user_errors():
-        n = parse_count(rays, "--rays")
-        nv = parse_count(variant_rays, "--variant-rays") if variant_rays is not None else max(1, n // 5)
+        n = check_count("--rays", rays)
+        nv = check_count("--variant-rays", variant_rays) if variant_rays is not None else max(1, n // 5)
         results = v.validate(sample or None, rays=n, seed=seed, progress=True)
         fig_paths = []
         for r in results:

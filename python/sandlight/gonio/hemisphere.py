@@ -17,10 +17,11 @@ cos θ, cut into ``slices`` azimuth slices φ ∈ [2πs/slices, 2π(s + 1)/slice
 from __future__ import annotations
 
 import functools
-import numbers
 
 import numpy as np
+import numpy.typing as npt
 
+from sandlight.checks import check_whole_number
 from sandlight.errors import ParameterError
 
 __all__ = ["CollectorHemisphere"]
@@ -38,12 +39,6 @@ def _geometry(stacks: int, slices: int) -> dict[str, np.ndarray]:
     for array in geometry.values():
         array.setflags(write=False)
     return geometry
-
-
-def _check_size(name: str, value, low: int, high: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral) or not low <= int(value) <= high:
-        raise ParameterError(name, value, f"must be an integer in [{low}, {high}]")
-    return int(value)
 
 
 class CollectorHemisphere:
@@ -92,8 +87,8 @@ class CollectorHemisphere:
     """Index of the cap patch (normal incidence / exit)."""
 
     def __init__(self, stacks: int = 31, slices: int = 30):
-        self.stacks = _check_size("stacks", stacks, 2, 10_000)
-        self.slices = _check_size("slices", slices, 1, 10_000)
+        self.stacks = check_whole_number("stacks", stacks, 2, 10_000)
+        self.slices = check_whole_number("slices", slices, 1, 10_000)
         geometry = _geometry(self.stacks, self.slices)
         self.centroids = geometry["centroids"]
         self.bounds = geometry["bounds"]
@@ -116,7 +111,7 @@ class CollectorHemisphere:
         first = np.concatenate([[0], 1 + self.slices * np.arange(self.n_bands)])
         return self.centroids[first, 2]
 
-    def patch_index(self, dirs) -> np.ndarray:
+    def patch_index(self, dirs: npt.ArrayLike) -> np.ndarray:
         """Patch holding each direction.
 
         Parameters
@@ -153,7 +148,7 @@ class CollectorHemisphere:
             )
         return _native.hemisphere_patch_index(self.stacks, self.slices, flat).reshape(d.shape[:-1])
 
-    def __eq__(self, other) -> bool:
+    def __eq__(self, other: object) -> bool:
         if not isinstance(other, CollectorHemisphere):
             return NotImplemented
         return (self.stacks, self.slices) == (other.stacks, other.slices)

@@ -1,5 +1,7 @@
 """Measuring a BRDF with the virtual goniophotometer (paper §3.2.1) by tracing trials through a
-sand sample, or through a reference medium with a known answer.
+sand sample, or through any Traceable medium (``sandlight.physics.medium.Traceable``), such as a
+reference medium with a known answer. Samples are resolved as by the engine
+(``sandlight.physics.media.as_traceable``).
 
 Uniform incidence (the paper's variant): every trial draws its incident direction uniformly over
 the hemisphere, and counters n[i, j] are kept for incoming patch i and outgoing patch j, with
@@ -15,79 +17,28 @@ import json
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from sandlight import _native
 from sandlight._runner import run_in_batches
-from sandlight.engine import (
-    DEFAULT_MAX_EVENTS,
-    MAX_INTERNAL_REFLECTIONS,
-    _check_incidence,
-    _check_rays,
-    _check_seed,
-    _check_threads,
-    _check_wavelengths,
-)
-from sandlight.errors import ModelFileError, ParameterError
+from sandlight.checks import check_count, check_incidence, check_real, check_seed, check_threads, check_wavelengths
+from sandlight.engine import DEFAULT_MAX_EVENTS, MAX_INTERNAL_REFLECTIONS
+from sandlight.errors import ModelFileError
 from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import reduce_fixed_incidence
 from sandlight.io import atomic_path
+from sandlight.physics.media import IsotropicScatterers, LambertianSurface, as_traceable
+from sandlight.physics.medium import Traceable
 
-
-@dataclass(frozen=True)
-class IsotropicScatterers:
-    """Reference medium: isotropic point scatterers of albedo ω (Chandrasekhar's half-space)."""
-
-    albedo: float
-
-    def medium(self, wavelength_nm):
-        return _native.Medium.isotropic(float(self.albedo))
-
-    def to_dict(self):
-        return {"reference": "isotropic scatterers", "albedo": float(self.albedo)}
-
-
-@dataclass(frozen=True)
-class LambertianSurface:
-    """Reference surface: ideal diffuse reflector of albedo a, f = a/π."""
-
-    albedo: float
-
-    def medium(self, wavelength_nm):
-        return _native.Medium.lambertian(float(self.albedo))
-
-    def to_dict(self):
-        return {"reference": "lambertian surface", "albedo": float(self.albedo)}
-
-
-def _resolve(sample, wavelength_nm, *, geometry="on-the-fly", memory=None, packing=None, seed=0):
-    """(native medium, metadata dict) for a SandSample, preset name or reference medium.
-
-    ``geometry``, ``memory`` and ``packing`` as in :func:`sandlight.reflectance` (sand only);
-    the metadata records geometry and memory when they are not the defaults.
-    """
-    from sandlight.engine import DEFAULT_MEMORY, medium_factory
-    from sandlight.physics.composition import compose
+if TYPE_CHECKING:
     from sandlight.sample import SandSample
 
-    if isinstance(sample, (IsotropicScatterers, LambertianSurface)):
-        if geometry != "on-the-fly" or memory not in (None, "none") or packing is not None:
-            raise ParameterError(
-                "geometry", geometry, "'on-the-fly' (with no memory or packing) for a reference medium"
-            )
-        return sample.medium(wavelength_nm), sample.to_dict()
-    if isinstance(sample, str):
-        sample = SandSample.preset(sample)
-    if not isinstance(sample, SandSample):
-        raise ParameterError("sample", sample, "a SandSample, a preset name, IsotropicScatterers or LambertianSurface")
-    make, _ = medium_factory(compose(sample), geometry=geometry, memory=memory, packing=packing, seed=seed)
-    meta = sample.to_dict()
-    mem = DEFAULT_MEMORY if memory is None else memory
-    if geometry != "on-the-fly" or mem != "none":
-        meta = {**meta, "geometry": geometry, "memory": mem}
-    return make(wavelength_nm), meta
+# The reference media live with the other media in sandlight.physics.media; they are named here
+# too because the goniophotometer is where they are used.
+__all__ = ["brdf", "fixed_incidence", "FixedIncidenceBRDF", "IsotropicScatterers", "LambertianSurface"]
 
 
 def _checkpoint_key(meta: dict) -> str:
@@ -117,28 +68,29 @@ def _save_checkpoint(path: Path, key: str, done: int, arrays: dict) -> None:
 
 
 def brdf(
-    sample,
+    sample: SandSample | str | Traceable,
     wavelength_nm: float = 550.0,
     *,
-    rays,
+    rays: int,
     stacks: int = 31,
     slices: int = 30,
     seed: int = 0,
     threads: int | None = None,
     method: str = "average",
     max_events: int = DEFAULT_MAX_EVENTS,
-    checkpoint=None,
+    checkpoint: str | os.PathLike | None = None,
     progress: bool = True,
     geometry: str = "on-the-fly",
     memory: str | None = None,
-    packing=None,
+    packing: _native.Packing | None = None,
 ) -> MeasuredBRDF:
     """Measures the BRDF of a sample with uniform incidence (paper §3.2.1).
 
     Parameters
     ----------
-    sample : SandSample, str, IsotropicScatterers or LambertianSurface
-        The sand sample (or preset name), or a reference medium.
+    sample : SandSample, str or Traceable
+        The sand sample (or preset name), or any Traceable medium, e.g. a reference medium
+        (``IsotropicScatterers``, ``LambertianSurface``) or a ``Powder``.
     wavelength_nm : float
         Vacuum wavelength λ (nm), in [350, 2500].
     rays : int
@@ -161,12 +113,13 @@ def brdf(
     MeasuredBRDF
         Raw counts, reduced and normalised values with standard errors, metadata.
     """
-    wl = float(_check_wavelengths([wavelength_nm])[0])
-    rays = _check_rays(rays)
-    seed = _check_seed(seed)
-    threads = _check_threads(threads)
+    wl = float(check_wavelengths("wavelength_nm", [wavelength_nm])[0])
+    rays = check_count("rays", rays)
+    seed = check_seed("seed", seed)
+    threads = check_threads("threads", threads)
     hemi = CollectorHemisphere(stacks, slices)  # validates stacks and slices
-    medium, meta = _resolve(sample, wl, geometry=geometry, memory=memory, packing=packing, seed=seed)
+    traced = as_traceable(sample, geometry=geometry, memory=memory, packing=packing, seed=seed)
+    medium, meta = traced.medium(wl), traced.describe()
     r = hemi.n_patches
     arrays = {
         "counts": np.zeros((r, r), np.uint64),
@@ -188,7 +141,7 @@ def brdf(
     checkpoint = Path(checkpoint) if checkpoint is not None else None
     done = _load_checkpoint(checkpoint, key, arrays) if checkpoint is not None else 0
 
-    def batch(first, n):
+    def batch(first: int, n: int):
         parts = medium.brdf_counts(
             stacks, slices, seed, 0, first, n, int(max_events), MAX_INTERNAL_REFLECTIONS, threads
         )
@@ -236,12 +189,12 @@ class FixedIncidenceBRDF:
 
 
 def fixed_incidence(
-    sample,
+    sample: SandSample | str | Traceable,
     wavelength_nm: float = 550.0,
     *,
     incidence_deg: float,
     azimuth_deg: float = 0.0,
-    rays,
+    rays: int,
     stacks: int = 31,
     slices: int = 30,
     seed: int = 0,
@@ -250,23 +203,23 @@ def fixed_incidence(
     progress: bool = True,
     geometry: str = "on-the-fly",
     memory: str | None = None,
-    packing=None,
+    packing: _native.Packing | None = None,
 ) -> FixedIncidenceBRDF:
     """The classic goniophotometer: f_j = n_j / (ω_p(j) N) for light from (θᵢ, φᵢ).
 
-    ``geometry``, ``memory`` and ``packing`` as in :func:`sandlight.reflectance`.
+    ``sample``, ``geometry``, ``memory`` and ``packing`` as in :func:`brdf`; ``azimuth_deg`` is the
+    azimuth φᵢ of the incident light (degrees, finite).
     """
-    wl = float(_check_wavelengths([wavelength_nm])[0])
-    rays, seed, threads = _check_rays(rays), _check_seed(seed), _check_threads(threads)
-    theta = _check_incidence(incidence_deg)
-    if not np.isfinite(azimuth_deg):
-        raise ParameterError("azimuth_deg", azimuth_deg, "a finite angle in degrees")
+    wl = float(check_wavelengths("wavelength_nm", [wavelength_nm])[0])
+    rays, seed, threads = check_count("rays", rays), check_seed("seed", seed), check_threads("threads", threads)
+    theta = check_incidence("incidence_deg", incidence_deg)
+    azimuth_deg = check_real("azimuth_deg", azimuth_deg)
     hemi = CollectorHemisphere(stacks, slices)
-    medium, _ = _resolve(sample, wl, geometry=geometry, memory=memory, packing=packing, seed=seed)
+    medium = as_traceable(sample, geometry=geometry, memory=memory, packing=packing, seed=seed).medium(wl)
     counts = np.zeros(hemi.n_patches, np.uint64)
     totals = np.zeros(3, np.uint64)
 
-    def batch(first, n):
+    def batch(first: int, n: int):
         c, a, l_, lost = medium.fixed_counts(
             stacks,
             slices,

@@ -29,6 +29,7 @@ water-filled with probability (S − S_f)/(1 − S_f).
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -95,9 +96,42 @@ class Composition:
         return [x / total for x in w]
 
 
-def _surface_per_volume(sizes: SizeDistribution, aspect_ratio: float) -> float:
-    # ⟨S⟩/⟨V⟩ = 6 f(ε) ⟨D²⟩_n/⟨D³⟩_n = 6 f(ε) E_m[1/D] (sphere: S/V = 6/D).
+def surface_per_volume_per_mm(sizes: SizeDistribution, aspect_ratio: float) -> float:
+    """⟨S⟩/⟨V⟩ (mm⁻¹) of prolate spheroids of aspect ratio ε with mass size distribution ``sizes``.
+
+    ⟨S⟩/⟨V⟩ = 6 f(ε) ⟨D²⟩_n/⟨D³⟩_n = 6 f(ε) E_m[1/D] (sphere: S/V = 6/D), f the spheroid's surface
+    over that of the sphere of equal volume.
+    """
     return 6.0 * spheroid_surface_factor(aspect_ratio) * sizes.mass_mean_inverse_diameter()
+
+
+def population(
+    name: str,
+    volume_fraction: float,
+    sizes: SizeDistribution,
+    aspect_ratio: float,
+    core: dict,
+    coating: dict | None = None,
+    coating_thickness_mm: float = 0.0,
+) -> Population:
+    """A :class:`Population` with its ⟨S⟩/⟨V⟩ computed from its sizes and shape."""
+    return Population(
+        name=name,
+        volume_fraction=volume_fraction,
+        sizes=sizes,
+        aspect_ratio=aspect_ratio,
+        core=core,
+        coating=coating or {},
+        coating_thickness_mm=coating_thickness_mm,
+        surface_per_volume_per_mm=surface_per_volume_per_mm(sizes, aspect_ratio),
+    )
+
+
+def mean_free_path_mm(populations: tuple | list, porosity: float) -> float:
+    """Mean free path in the pore space ℓ = 4φ / [(1 − φ) Σᵢ vᵢ ⟨Sᵢ⟩/⟨Vᵢ⟩] (mm; docs/model.md
+    §2.1), vᵢ the populations' volume fractions of the solids, φ the porosity."""
+    surface = sum(p.volume_fraction * p.surface_per_volume_per_mm for p in populations)
+    return 4.0 * porosity / ((1.0 - porosity) * surface)
 
 
 def compose(sample: SandSample) -> Composition:
@@ -138,8 +172,8 @@ def compose(sample: SandSample) -> Composition:
 
     quartz_core = {"quartz": 1.0}
     coating, t_coat = {}, 0.0
-    sv_sand = _surface_per_volume(sand_sizes, eps)
-    sv_silt = _surface_per_volume(silt_sizes, eps)
+    sv_sand = surface_per_volume_per_mm(sand_sizes, eps)
+    sv_silt = surface_per_volume_per_mm(silt_sizes, eps)
     if form == "mixed" and v_fe > 0:
         v_q = v_sand + v_silt
         total = v_q + v_fe
@@ -150,7 +184,7 @@ def compose(sample: SandSample) -> Composition:
         # sands sits in clay-sized coatings and aggregates, so clean white clay beside stained
         # grains is not what such sands are (docs/transport.md). Volumes are per gram of solids
         # (cm³) and S/V in mm⁻¹, so the volume unit cancels: t in mm.
-        host_surface = v_sand * sv_sand + v_silt * sv_silt + v_clay * _surface_per_volume(clay_sizes, eps)
+        host_surface = v_sand * sv_sand + v_silt * sv_silt + v_clay * surface_per_volume_per_mm(clay_sizes, eps)
         t_coat = v_coat / host_surface if host_surface > 0 else 0.0
         coating = {"hematite": v_hem / v_coat, "goethite": v_goe / v_coat, "kaolinite": (v_coat - v_fe) / v_coat}
 
@@ -166,9 +200,7 @@ def compose(sample: SandSample) -> Composition:
         t: float = 0.0,
     ) -> None:
         if volume > 0:
-            pops.append(
-                Population(name, volume, sizes, aspect, core, coat or {}, t, _surface_per_volume(sizes, aspect))
-            )
+            pops.append(population(name, volume, sizes, aspect, core, coat, t))
 
     add("quartz sand", v_sand, sand_sizes, eps, quartz_core, coating, t_coat)
     add("quartz silt", v_silt, silt_sizes, eps, quartz_core, coating, t_coat)
@@ -181,25 +213,19 @@ def compose(sample: SandSample) -> Composition:
         add("goethite particles", v_goe, pigment, 1.0, {"goethite": 1.0})
 
     v_total = sum(p.volume_fraction for p in pops)
-    pops = [
-        Population(
-            p.name,
-            p.volume_fraction / v_total,
-            p.sizes,
-            p.aspect_ratio,
-            p.core,
-            p.coating,
-            p.coating_thickness_mm,
-            p.surface_per_volume_per_mm,
-        )
-        for p in pops
-    ]
-    surface = sum(p.volume_fraction * p.surface_per_volume_per_mm for p in pops)
+    pops = [dataclasses.replace(p, volume_fraction=p.volume_fraction / v_total) for p in pops]
     phi = sample.porosity
-    ell = 4.0 * phi / ((1.0 - phi) * surface)
+    ell = mean_free_path_mm(pops, phi)
 
     s = sample.saturation
     s_film = min(s, sample.film_saturation)
     film = s_film * ell / 4.0
     filled = (s - s_film) / (1.0 - s_film) if s_film < 1.0 else 0.0
-    return Composition(tuple(pops), phi, ell, film, min(max(filled, 0.0), 1.0), sample.depth_mm)
+    return Composition(
+        populations=tuple(pops),
+        porosity=phi,
+        mean_free_path_mm=ell,
+        film_thickness_mm=film,
+        water_filled_probability=min(max(filled, 0.0), 1.0),
+        depth_mm=sample.depth_mm,
+    )

@@ -1,12 +1,22 @@
-"""The optical medium of a sample at one wavelength, as the native engine traces it.
+"""The optical medium the native engine traces, and the interface of everything traceable.
 
-Mixing rules (docs/transport.md): a core or coating made of several materials gets the
-volume-weighted mean of their complex indices, n̄ = Σ vⱼ nⱼ and k̄ = Σ vⱼ kⱼ, hence the
+:class:`Traceable` is what :func:`sandlight.reflectance`, :func:`sandlight.brdf` and
+:func:`sandlight.fixed_incidence` trace: anything that gives the native medium at a wavelength
+and describes itself for the results. Its variants (a sand sample's composition, an explicit
+packing, the isotropic and Lambertian references) are in :mod:`sandlight.physics.media`, the
+pure-material powder in :mod:`sandlight.physics.powder`.
+
+:func:`native_medium` builds the native particulate medium of a :class:`Composition` at one
+wavelength. Mixing rules (docs/transport.md): a core or coating made of several materials gets
+the volume-weighted mean of their complex indices, n̄ = Σ vⱼ nⱼ and k̄ = Σ vⱼ kⱼ, hence the
 volume-weighted absorption coefficient ᾱ = Σ vⱼ αⱼ — the dilute-inclusion limit of
 splits-model.md §2.4 (Maxwell Garnett is the refinement for dense inclusions).
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 
@@ -14,33 +24,64 @@ from sandlight import _native
 from sandlight.optics import complex_index
 from sandlight.physics.composition import Composition
 
+__all__ = ["Traceable", "OpticalConstants", "native_medium", "absorption_per_mm"]
+
+#: Optical constants as a function ``(material, wavelength_nm) -> n + ik`` (the default is
+#: :func:`sandlight.optics.complex_index`).
+OpticalConstants = Callable[[str, float], complex]
+
+
+@runtime_checkable
+class Traceable(Protocol):
+    """Anything the engine can trace: a native medium per wavelength, and a description.
+
+    Implemented by :class:`~sandlight.physics.media.SandMedium` (a sand sample's composition,
+    on the fly with a path memory), :class:`~sandlight.physics.media.PackedSand` (an explicit
+    packing), :class:`~sandlight.physics.media.IsotropicScatterers`,
+    :class:`~sandlight.physics.media.LambertianSurface` and
+    :class:`~sandlight.physics.powder.Powder`; a user class with these two methods works too.
+    """
+
+    def medium(self, wavelength_nm: float) -> _native.Medium:
+        """The native medium at vacuum wavelength ``wavelength_nm`` (nm)."""
+        ...
+
+    def describe(self) -> dict:
+        """What is traced, as a JSON-serialisable dict recorded in the results (a sand medium
+        adds ``geometry`` and ``memory`` when they are not the defaults)."""
+        ...
+
 
 def absorption_per_mm(k: float, wavelength_nm: float) -> float:
     """α = 4πk/λ in mm⁻¹ (λ in nm)."""
     return 4.0 * np.pi * k / (wavelength_nm * 1e-6)
 
 
-def _mix(materials: dict, wavelength_nm: float) -> complex:
-    return sum(v * complex(complex_index(m, wavelength_nm)) for m, v in materials.items())
+def _mix(materials: dict, wavelength_nm: float, index: OpticalConstants) -> complex:
+    return sum(v * complex(index(m, wavelength_nm)) for m, v in materials.items())
 
 
-def native_medium(comp: Composition, wavelength_nm: float, memory: str = "none") -> _native.Medium:
+def native_medium(
+    comp: Composition, wavelength_nm: float, memory: str = "none", *, optical_constants: OpticalConstants | None = None
+) -> _native.Medium:
     """The native medium of composition ``comp`` at ``wavelength_nm`` (nm, vacuum).
 
     ``memory`` is the on-the-fly engine's near-surface path memory, 'none' (the classic model),
-    'channel', 'cut' or 'packed' (docs/geometry.md).
+    'channel', 'cut' or 'packed' (docs/geometry.md). ``optical_constants`` replaces the shipped
+    tables (:func:`sandlight.optics.complex_index`), e.g. for a what-if run.
     """
+    index = complex_index if optical_constants is None else optical_constants
     probs = comp.encounter_probabilities()
     quantiles, aspect, core_n, core_k, core_a, coat_n, coat_a, coat_t = ([] for _ in range(8))
     for p in comp.populations:
-        core = _mix(p.core, wavelength_nm)
+        core = _mix(p.core, wavelength_nm, index)
         quantiles.append(p.sizes.encounter_quantiles().tolist())
         aspect.append(p.aspect_ratio)
         core_n.append(core.real)
         core_k.append(core.imag)
         core_a.append(absorption_per_mm(core.imag, wavelength_nm))
         if p.coating and p.coating_thickness_mm > 0:
-            c = _mix(p.coating, wavelength_nm)
+            c = _mix(p.coating, wavelength_nm, index)
             coat_n.append(c.real)
             coat_a.append(absorption_per_mm(c.imag, wavelength_nm))
             coat_t.append(p.coating_thickness_mm)
@@ -48,7 +89,7 @@ def native_medium(comp: Composition, wavelength_nm: float, memory: str = "none")
             coat_n.append(1.0)
             coat_a.append(0.0)
             coat_t.append(0.0)
-    water = complex(complex_index("water", wavelength_nm))
+    water = complex(index("water", wavelength_nm))
     return _native.Medium.particulate(
         probs,
         quantiles,

@@ -5,8 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import ArrayLike
+import numpy.typing as npt
 
+from sandlight.checks import check_whole_number
 from sandlight.errors import ParameterError
 
 __all__ = ["Camera"]
@@ -53,20 +54,20 @@ class Camera:
         if not (0.0 < float(self.fov_deg) < 170.0):
             raise ParameterError("camera.fov_deg", self.fov_deg, "a horizontal field of view in (0, 170) degrees")
         for name in ("width", "height"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 1 <= v <= MAX_PIXELS_PER_SIDE:
-                raise ParameterError(f"output.{name}", v, f"a whole number of pixels in [1, {MAX_PIXELS_PER_SIDE}]")
+            check_whole_number(
+                f"output.{name}", getattr(self, name), 1, MAX_PIXELS_PER_SIDE, noun="a whole number of pixels"
+            )
         object.__setattr__(self, "position", p)
         object.__setattr__(self, "forward", f)
 
     @classmethod
-    def look_at(cls, position: ArrayLike, target: ArrayLike, fov_deg: float, width: int, height: int) -> Camera:
+    def look_at(cls, position: npt.ArrayLike, target: npt.ArrayLike, fov_deg: float, width: int, height: int) -> Camera:
         d = np.asarray(target, dtype=float) - np.asarray(position, dtype=float)
         return cls(position, d, fov_deg, width, height)
 
     @classmethod
     def heading(
-        cls, position: ArrayLike, heading_deg: float, pitch_deg: float, fov_deg: float, width: int, height: int
+        cls, position: npt.ArrayLike, heading_deg: float, pitch_deg: float, fov_deg: float, width: int, height: int
     ) -> Camera:
         """Looking towards ``heading_deg`` (from north, clockwise) and ``pitch_deg`` above the
         horizontal (negative: down)."""

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from sandlight.checks import check_choice, check_whole_number
 from sandlight.errors import ParameterError
 from sandlight.render.camera import Camera
 from sandlight.render.light import Lighting
@@ -26,11 +27,11 @@ from sandlight.render.tables import BrdfTable
 from sandlight.render.terrain import HeightfieldTerrain, PlaneTerrain
 
 if TYPE_CHECKING:
-    import types
+    from types import FrameType
 
     from sandlight._native import RenderScene
 
-__all__ = ["RenderSettings", "RenderedImage", "render_image", "native_scene"]
+__all__ = ["RenderSettings", "RenderedImage", "render_image", "native_scene", "interrupt_requests"]
 
 ESTIMATORS = ("mis", "brdf", "light")
 SAMPLINGS = ("table", "cosine")
@@ -69,19 +70,14 @@ class RenderSettings:
     max_bounces: int = 1
     threads: int | None = None
 
-    def __post_init__(self):
-        def whole(name: str, v: object, lo: int, hi: int) -> None:
-            if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not lo <= v <= hi:
-                raise ParameterError(name, v, f"a whole number in [{lo}, {hi}]")
-
-        whole("spp", self.spp, 1, 1 << 20)
-        whole("seed", self.seed, 0, (1 << 64) - 1)
-        whole("max_bounces", self.max_bounces, 1, 64)
+    def __post_init__(self) -> None:
+        check_whole_number("spp", self.spp, 1, 1 << 20)
+        check_whole_number("seed", self.seed, 0, (1 << 64) - 1)
+        check_whole_number("max_bounces", self.max_bounces, 1, 64)
         if self.threads is not None:
-            whole("threads", self.threads, 1, 1024)
+            check_whole_number("threads", self.threads, 1, 1024)
         for name, options in (("estimator", ESTIMATORS), ("sampling", SAMPLINGS), ("heuristic", HEURISTICS)):
-            if getattr(self, name) not in options:
-                raise ParameterError(name, getattr(self, name), "one of " + ", ".join(repr(o) for o in options))
+            check_choice(name, getattr(self, name), options)
 
 
 @dataclass(frozen=True)
@@ -158,19 +154,21 @@ def native_scene(
 
 
 @contextlib.contextmanager
-def _interrupt_requests() -> Iterator[list[bool]]:
-    """Catch Ctrl-C as a flag checked between row batches.
+def interrupt_requests() -> Iterator[list[bool]]:
+    """Catch Ctrl-C as a flag checked between row batches (a context manager yielding
+    ``[interrupted]``; also used by :mod:`sandlight.render.animation` between frames).
 
     Python's default handler raises ``KeyboardInterrupt`` wherever the interpreter happens to
     be, and one raised inside a garbage-collection callback is printed and dropped: a single
-    Ctrl-C could be lost. The flag is honoured at the next batch boundary instead.
+    Ctrl-C could be lost. The flag is honoured at the next batch boundary instead. Outside the
+    main thread no handler can be installed and the flag stays False.
     """
     flag = [False]
     if threading.current_thread() is not threading.main_thread():
         yield flag
         return
 
-    def handler(signum: int, frame: types.FrameType | None) -> None:
+    def handler(signum: int, frame: FrameType | None):
         flag[0] = True
 
     previous = signal.signal(signal.SIGINT, handler)
@@ -211,8 +209,7 @@ def render_image(
     -------
     RenderedImage
     """
-    if isinstance(frame, bool) or not isinstance(frame, (int, np.integer)) or frame < 0:
-        raise ParameterError("frame", frame, "a whole number ≥ 0")
+    check_whole_number("frame", frame, 0)
     scene = native_scene(camera, terrain, table, lighting, material, settings)
     h, w, nb = camera.height, camera.width, lighting.wavelength_nm.size
     radiance = np.empty((h, w, nb), dtype=np.float32)
@@ -233,7 +230,7 @@ def render_image(
         task = bar.add_task("rows", total=h)
     start = time.perf_counter()
     try:
-        with _interrupt_requests() as interrupted:
+        with interrupt_requests() as interrupted:
             row, batch = 0, 1
             while row < h:
                 if interrupted[0]:

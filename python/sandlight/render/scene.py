@@ -24,20 +24,18 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
-from numpy.typing import ArrayLike
 
+from sandlight.checks import Table, check_choice, check_whole_number
 from sandlight.errors import ModelFileError, ParameterError
-from sandlight.render._checks import Table
 from sandlight.render.camera import Camera
 from sandlight.render.image import ESTIMATORS, HEURISTICS, SAMPLINGS, RenderSettings
 from sandlight.render.light import DEFAULT_SKY_RESOLUTION, Lighting
 from sandlight.render.maps import MaterialMap, Waterlines
 from sandlight.render.post import HIGHLIGHTS
 from sandlight.render.tables import BrdfTable
-from sandlight.render.terrain import PlaneTerrain, dune_field, heightfield_from_image
+from sandlight.render.terrain import HeightfieldTerrain, PlaneTerrain, dune_field, heightfield_from_image
 
 if TYPE_CHECKING:
-    from sandlight.render.terrain import HeightfieldTerrain
     from sandlight.sample import SandSample
 
 __all__ = ["Scene", "shipped_scenes", "scene_path"]
@@ -392,11 +390,9 @@ class Scene:
         )
         for key, lo, hi in (("width", 1, 16384), ("height", 1, 16384), ("frames", 1, 100000)):
             if key in changes:
-                v = changes[key]
-                if isinstance(v, bool) or not isinstance(v, int) or not lo <= v <= hi:
-                    raise ParameterError(key, v, f"a whole number in [{lo}, {hi}]")
-        if "write_linear" in changes and changes["write_linear"] not in LINEAR_OUTPUTS:
-            raise ParameterError("linear", changes["write_linear"], "one of " + ", ".join(LINEAR_OUTPUTS))
+                check_whole_number(key, changes[key], lo, hi)
+        if "write_linear" in changes:
+            check_choice("linear", changes["write_linear"], LINEAR_OUTPUTS)
         unknown = set(changes) - {"width", "height", "frames", "write_linear"}
         if unknown:
             raise ParameterError(
@@ -630,7 +626,7 @@ def _parse_texture(t: Table, base_dir: Path) -> dict | None:
     return spec
 
 
-def _appearance_table(sample: SandSample, vary: str | None, levels: ArrayLike, wavelength_nm: ArrayLike) -> BrdfTable:
+def _appearance_table(sample: SandSample, vary: str | None, levels: np.ndarray, wavelength_nm: np.ndarray) -> BrdfTable:
     """`SandAppearance` of the sample (of each level's sample when ``vary`` is set), tabulated
     exactly on its own nodes (`BrdfTable.from_appearance`) and stacked."""
     from sandlight.appearance import SandAppearance

@@ -73,7 +73,7 @@ def standin_reflectance(
     """Normal-incidence reflectance (n_levels, n_wavelengths) of ``sample`` with ``vary`` set to
     each level value: from the shipped CSV when it holds exactly this preset, parameter, levels
     and wavelengths, else computed with the engine (common random numbers across levels)."""
-    import sandlight
+    from sandlight.engine import reflectance
 
     levels = np.atleast_1d(np.asarray(level_values, dtype=float))
     wl = np.asarray(wavelength_nm, dtype=float)
@@ -91,7 +91,7 @@ def standin_reflectance(
     out = []
     for v in levels:
         s = sample if vary is None else sample.replace(**{vary: float(v)})
-        out.append(sandlight.reflectance(s, wl, rays=rays, seed=seed, progress=progress).values)
+        out.append(reflectance(s, wl, rays=rays, seed=seed, progress=progress).values)
     return np.array(out)
 
 
@@ -123,7 +123,7 @@ def standin_table(
 def generate(path: str | os.PathLike | None = None) -> str:
     """Recompute the shipped spectra (SHIPPED_RAYS rays per band and level) and return the CSV
     text; written to ``path`` (atomically) when given."""
-    import sandlight
+    from sandlight.engine import reflectance
     from sandlight.sample import SandSample
 
     lines = [
@@ -138,7 +138,7 @@ def generate(path: str | os.PathLike | None = None) -> str:
     for preset, vary, values in SHIPPED:
         base = SandSample.preset(preset)
         for v in values:
-            r = sandlight.reflectance(
+            r = reflectance(
                 base.replace(**{vary: float(v)}), WAVELENGTHS_NM, rays=SHIPPED_RAYS, seed=SHIPPED_SEED, progress=False
             ).values
             lines.append(f"{preset},{vary},{v:g}," + ",".join(f"{x:.5f}" for x in r))

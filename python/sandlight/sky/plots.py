@@ -31,12 +31,12 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike
+import numpy.typing as npt
 
+from sandlight.checks import check_real, check_real_array, check_whole_number
 from sandlight.errors import ParameterError
 from sandlight.io import write_atomically
 from sandlight.sky import sun as _sun
-from sandlight.sky._checks import real_array, real_scalar
 from sandlight.sky.preetham import LUMINOUS_EFFICACY_LM_W, TURBIDITY_RANGE, PreethamSky
 
 if TYPE_CHECKING:
@@ -54,9 +54,7 @@ _ROWS_PER_CHUNK = 64
 
 
 def _check_size(size: int) -> int:
-    if isinstance(size, bool) or not isinstance(size, (int, np.integer)) or not 16 <= size <= 4096:
-        raise ParameterError("size", size, "an integer number of pixels in [16, 4096]")
-    return int(size)
+    return check_whole_number("size", size, 16, 4096, noun="a whole number of pixels")
 
 
 def fisheye_directions(size: int) -> tuple[np.ndarray, np.ndarray]:
@@ -124,7 +122,7 @@ def sky_dome_xyz(sky: PreethamSky, size: int = 512) -> tuple[np.ndarray, np.ndar
     return xyz, inside
 
 
-def xyz_to_display_srgb(xyz: ArrayLike, exposure_cd_m2: float) -> np.ndarray:
+def xyz_to_display_srgb(xyz: np.ndarray, exposure_cd_m2: float | None) -> np.ndarray:
     """Display-encoded sRGB in [0, 1] from absolute XYZ.
 
     Parameters
@@ -141,7 +139,7 @@ def xyz_to_display_srgb(xyz: ArrayLike, exposure_cd_m2: float) -> np.ndarray:
     """
     import colour
 
-    exposure = real_scalar("exposure_cd_m2", exposure_cd_m2, 0.0, None, low_open=True)
+    exposure = check_real("exposure_cd_m2", exposure_cd_m2, 0.0, None, low_open=True)
     linear = colour.XYZ_to_RGB(
         np.asarray(xyz, dtype=np.float64) / exposure,
         colour.RGB_COLOURSPACES["sRGB"],
@@ -262,14 +260,14 @@ def plot_sky_dome(
 
 
 def plot_sky_day(
-    latitude_deg: float,
-    day_of_year: float | datetime.date,
-    times_h: ArrayLike,
+    latitude_deg: npt.ArrayLike,
+    day_of_year: npt.ArrayLike | datetime.date,
+    times_h: npt.ArrayLike,
     path: str | os.PathLike,
     *,
     turbidity: float = 3.0,
-    longitude_deg: float | None = None,
-    utc_offset_h: float | None = None,
+    longitude_deg: npt.ArrayLike | None = None,
+    utc_offset_h: npt.ArrayLike | None = None,
     size: int = 256,
     exposure_cd_m2: float | None = None,
     columns: int = 6,
@@ -313,11 +311,10 @@ def plot_sky_day(
     import matplotlib.pyplot as plt
 
     size = _check_size(size)
-    times = real_array("times_h", times_h, 0.0, 24.0).reshape(-1)
-    if isinstance(columns, bool) or not isinstance(columns, (int, np.integer)) or columns < 1:
-        raise ParameterError("columns", columns, "a positive integer")
-    latitude = real_scalar("latitude_deg", latitude_deg, -90.0, 90.0)
-    turbidity = real_scalar("turbidity", turbidity, *TURBIDITY_RANGE)
+    times = check_real_array("times_h", times_h, 0.0, 24.0).reshape(-1)
+    check_whole_number("columns", columns, 1)
+    latitude = check_real("latitude_deg", latitude_deg, -90.0, 90.0)
+    turbidity = check_real("turbidity", turbidity, *TURBIDITY_RANGE)
     directions = _sun.sun_direction(
         latitude, day_of_year, times, longitude_deg=longitude_deg, utc_offset_h=utc_offset_h
     )
@@ -333,7 +330,7 @@ def plot_sky_day(
         else:
             exposure = 1.0  # nothing to expose: every panel is empty
     else:
-        exposure = real_scalar("exposure_cd_m2", exposure_cd_m2, 0.0, None, low_open=True)
+        exposure = check_real("exposure_cd_m2", exposure_cd_m2, 0.0, None, low_open=True)
 
     columns = min(int(columns), times.size)
     rows = -(-times.size // columns)
@@ -372,7 +369,7 @@ def plot_sky_day(
             _draw_dome(axes, image, sky, size, f"{label}\nsun elevation {elevation:.1f}°")
         figure.suptitle(
             f"Preetham sky, T = {float(turbidity):g}, latitude {latitude:g}°, "
-            f"day {_sun._day_array(day_of_year).item():g} ({kind}); "
+            f"day {_sun.day_array(day_of_year).item():g} ({kind}); "
             f"white = {exposure / 1000.0:.3g} kcd/m²",
             fontsize=10,
         )

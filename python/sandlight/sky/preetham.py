@@ -6,6 +6,8 @@ Public objects
   directions and wavelengths.
 - :data:`TURBIDITY_RANGE` : admissible turbidity.
 - :data:`LUMINOUS_EFFICACY_LM_W` : K_m = 683 lm W⁻¹.
+- :func:`daylight_basis`, :func:`daylight_m1_m2` : the CIE daylight basis S0, S1, S2 and its
+  weights for a chromaticity (the spectral radiance of the sky).
 
 Model
 -----
@@ -69,17 +71,24 @@ import functools
 from typing import TYPE_CHECKING
 
 import numpy as np
-from numpy.typing import ArrayLike
+import numpy.typing as npt
 
+from sandlight.checks import check_real, check_real_array, check_unit_vectors
 from sandlight.errors import ParameterError
 from sandlight.sky import sun as _sun
 from sandlight.sky import sun_spectrum as _sun_spectrum
-from sandlight.sky._checks import real_array, real_scalar, unit_vectors
 
 if TYPE_CHECKING:
     import datetime
 
-__all__ = ["PreethamSky", "TURBIDITY_RANGE", "LUMINOUS_EFFICACY_LM_W", "SKY_WAVELENGTH_RANGE_NM"]
+__all__ = [
+    "PreethamSky",
+    "TURBIDITY_RANGE",
+    "LUMINOUS_EFFICACY_LM_W",
+    "SKY_WAVELENGTH_RANGE_NM",
+    "daylight_basis",
+    "daylight_m1_m2",
+]
 
 #: Admissible turbidity of the sky model (see module docstring, "Validity").
 TURBIDITY_RANGE = (1.7, 10.0)
@@ -113,7 +122,7 @@ _COS_FLOOR = 1e-300
 
 
 @functools.lru_cache(maxsize=1)
-def _daylight_basis():
+def daylight_basis() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """CIE daylight basis S0, S1, S2 (5 nm, 300–830 nm) and their ȳ-weighted integrals.
 
     Returns
@@ -142,7 +151,7 @@ def _daylight_basis():
     return wavelengths, basis, y_integrals
 
 
-def _perez(coefficients: ArrayLike, cos_theta: ArrayLike, gamma: ArrayLike, cos_gamma: ArrayLike) -> np.ndarray:
+def _perez(coefficients: np.ndarray, cos_theta: np.ndarray, gamma: np.ndarray, cos_gamma: np.ndarray):
     """Perez et al. (1993) distribution F(θ, γ); ``coefficients`` is (A, B, C, D, E)."""
     a, b, c, d, e = coefficients
     gradation = 1.0 + a * np.exp(b / np.maximum(cos_theta, _COS_FLOOR))
@@ -150,7 +159,7 @@ def _perez(coefficients: ArrayLike, cos_theta: ArrayLike, gamma: ArrayLike, cos_
     return gradation * indicatrix
 
 
-def daylight_m1_m2(x: ArrayLike, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+def daylight_m1_m2(x: npt.ArrayLike, y: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """CIE daylight factors M1, M2 from chromaticity (x, y), unrounded (CIE 015:2018).
 
     Parameters
@@ -211,9 +220,9 @@ class PreethamSky:
     (2, 3)
     """
 
-    def __init__(self, turbidity: float, sun_direction: ArrayLike) -> None:
-        self.turbidity = real_scalar("turbidity", turbidity, *TURBIDITY_RANGE)
-        direction = unit_vectors("sun_direction", sun_direction)
+    def __init__(self, turbidity: float, sun_direction: npt.ArrayLike):
+        self.turbidity = check_real("turbidity", turbidity, *TURBIDITY_RANGE)
+        direction = check_unit_vectors("sun_direction", sun_direction)
         if direction.shape != (3,):
             raise ParameterError(
                 "sun_direction", f"array of shape {direction.shape}", "a single 3-vector (x east, y north, z up)"
@@ -248,13 +257,13 @@ class PreethamSky:
     def from_location(
         cls,
         turbidity: float,
-        latitude_deg: float,
-        day_of_year: float | datetime.date,
-        time_h: float,
+        latitude_deg: npt.ArrayLike,
+        day_of_year: npt.ArrayLike | datetime.date,
+        time_h: npt.ArrayLike,
         *,
-        longitude_deg: float | None = None,
-        utc_offset_h: float | None = None,
-    ) -> PreethamSky:
+        longitude_deg: npt.ArrayLike | None = None,
+        utc_offset_h: npt.ArrayLike | None = None,
+    ):
         """Sky for a place and time; the sun direction comes from :func:`sandlight.sky.sun_direction`.
 
         Parameters
@@ -290,9 +299,9 @@ class PreethamSky:
 
     # --- sky -----------------------------------------------------------------------------------
 
-    def _angles(self, directions: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def _angles(self, directions: npt.ArrayLike):
         """cos θ, γ and cos γ of directions, below-horizon ones moved onto the horizon."""
-        d = unit_vectors("directions", directions)
+        d = check_unit_vectors("directions", directions)
         below = d[..., 2] < 0.0
         if below.any():
             horizontal = d[..., :2].copy()
@@ -309,7 +318,7 @@ class PreethamSky:
         cos_gamma = np.clip(d @ self.sun_direction, -1.0, 1.0)
         return cos_theta, np.arccos(cos_gamma), cos_gamma
 
-    def _yxy(self, directions: ArrayLike) -> np.ndarray:
+    def _yxy(self, directions: npt.ArrayLike):
         """(..., 3) array of (Y [kcd m⁻²], x, y) for each direction."""
         cos_theta, gamma, cos_gamma = self._angles(directions)
         values = [
@@ -320,7 +329,7 @@ class PreethamSky:
         ]
         return np.stack(values, axis=-1)
 
-    def luminance(self, directions: ArrayLike) -> np.ndarray:
+    def luminance(self, directions: npt.ArrayLike) -> np.ndarray:
         """Sky luminance Y (Perez distribution scaled to the zenith value Y_z).
 
         Parameters
@@ -340,7 +349,7 @@ class PreethamSky:
             / self._zenith_perez[0]
         )
 
-    def chromaticity(self, directions: ArrayLike) -> np.ndarray:
+    def chromaticity(self, directions: npt.ArrayLike) -> np.ndarray:
         """CIE 1931 chromaticity (x, y) of the sky.
 
         Parameters
@@ -355,7 +364,7 @@ class PreethamSky:
         """
         return self._yxy(directions)[..., 1:]
 
-    def radiance(self, directions: ArrayLike, wavelengths_nm: ArrayLike) -> np.ndarray:
+    def radiance(self, directions: npt.ArrayLike, wavelengths_nm: npt.ArrayLike) -> np.ndarray:
         """Spectral sky radiance.
 
         Parameters
@@ -378,14 +387,14 @@ class PreethamSky:
         (e.g. −0.09 W m⁻² sr⁻¹ nm⁻¹ at 400 nm next to a sun 4.7° up, T = 3, where the maximum is
         0.41). A negative radiance is unphysical, so those values are set to 0.
         """
-        wavelengths = real_array("wavelengths_nm", wavelengths_nm, *SKY_WAVELENGTH_RANGE_NM)
+        wavelengths = check_real_array("wavelengths_nm", wavelengths_nm, *SKY_WAVELENGTH_RANGE_NM)
         if wavelengths.ndim > 1:
             raise ParameterError(
                 "wavelengths_nm", f"array of shape {wavelengths.shape}", "a scalar or a 1-D array of wavelengths in nm"
             )
         yxy = self._yxy(directions)
         m1, m2 = daylight_m1_m2(yxy[..., 1], yxy[..., 2])
-        grid, basis, y_integrals = _daylight_basis()
+        grid, basis, y_integrals = daylight_basis()
         s0, s1, s2 = (np.interp(wavelengths, grid, row) for row in basis)
         # Scale so that K_m ∫ L ȳ dλ = Y (kcd m⁻² → cd m⁻²).
         scale = (
@@ -397,7 +406,7 @@ class PreethamSky:
 
     # --- sun -----------------------------------------------------------------------------------
 
-    def sun_radiance(self, wavelengths_nm: ArrayLike, *, method: str = "Preetham 1999") -> np.ndarray:
+    def sun_radiance(self, wavelengths_nm: npt.ArrayLike, *, method: str = "Preetham 1999") -> np.ndarray:
         """Spectral radiance of the solar disc for this sky's turbidity and sun zenith angle.
 
         See :func:`sandlight.sky.sun_spectral_radiance` (ozone 0.35 cm, water 2 cm).
@@ -415,7 +424,7 @@ class PreethamSky:
         """
         return _sun_spectrum.sun_spectral_radiance(self.sun_zenith_rad, wavelengths_nm, self.turbidity, method=method)
 
-    def sun_irradiance(self, wavelengths_nm: ArrayLike, *, method: str = "Preetham 1999") -> np.ndarray:
+    def sun_irradiance(self, wavelengths_nm: npt.ArrayLike, *, method: str = "Preetham 1999") -> np.ndarray:
         """Direct normal spectral irradiance of the sun, W m⁻² nm⁻¹ (radiance × solid angle).
 
         Parameters and shape as :meth:`sun_radiance`.

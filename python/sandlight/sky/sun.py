@@ -3,6 +3,7 @@
 Public objects
 --------------
 - :func:`day_of_year` : day number (1 = 1 January) of a :class:`datetime.date`.
+- :func:`day_array` : day numbers given as numbers, arrays or a date, checked.
 - :func:`solar_time` : local apparent solar time from standard (clock) time.
 - :func:`solar_declination` : declination of the sun.
 - :func:`sun_position` : sun zenith and azimuth angles.
@@ -38,13 +39,14 @@ from __future__ import annotations
 import datetime as _dt
 
 import numpy as np
-from numpy.typing import ArrayLike
+import numpy.typing as npt
 
+from sandlight.checks import check_real_array, check_unit_vectors
 from sandlight.errors import ParameterError
-from sandlight.sky._checks import real_array, unit_vectors
 
 __all__ = [
     "day_of_year",
+    "day_array",
     "solar_time",
     "solar_declination",
     "sun_position",
@@ -73,15 +75,19 @@ def day_of_year(date: _dt.date) -> int:
     return date.timetuple().tm_yday
 
 
-def _day_array(value: ArrayLike | _dt.date) -> np.ndarray:
-    """Day of year as float array; accepts numbers, arrays or a single datetime.date."""
+def day_array(value: object) -> np.ndarray:
+    """Day of year J as a float array, checked in [1, 366]; accepts numbers, arrays or a single
+    ``datetime.date``."""
     if isinstance(value, _dt.date):
         return np.asarray(float(day_of_year(value)))
-    return real_array("day_of_year", value, 1.0, 366.0)
+    return check_real_array("day_of_year", value, 1.0, 366.0)
 
 
 def solar_time(
-    standard_time_h: ArrayLike, day_of_year: ArrayLike | _dt.date, longitude_deg: ArrayLike, utc_offset_h: ArrayLike
+    standard_time_h: npt.ArrayLike,
+    day_of_year: npt.ArrayLike | _dt.date,
+    longitude_deg: npt.ArrayLike,
+    utc_offset_h: npt.ArrayLike,
 ) -> np.ndarray:
     """Local apparent solar time from standard (clock) time.
 
@@ -108,10 +114,10 @@ def solar_time(
         Solar time t in hours (may lie slightly outside [0, 24] near midnight; the sun formulas
         are 24 h periodic).
     """
-    ts = real_array("standard_time_h", standard_time_h, 0.0, 24.0)
-    j = _day_array(day_of_year)
-    lon = real_array("longitude_deg", longitude_deg, -180.0, 180.0)
-    offset = real_array("utc_offset_h", utc_offset_h, -12.0, 14.0)
+    ts = check_real_array("standard_time_h", standard_time_h, 0.0, 24.0)
+    j = day_array(day_of_year)
+    lon = check_real_array("longitude_deg", longitude_deg, -180.0, 180.0)
+    offset = check_real_array("utc_offset_h", utc_offset_h, -12.0, 14.0)
     # Equation of time, Preetham appendix (hours).
     equation_of_time_h = 0.170 * np.sin(4.0 * np.pi * (j - 80.0) / 373.0) - 0.129 * np.sin(
         2.0 * np.pi * (j - 8.0) / 355.0
@@ -121,7 +127,7 @@ def solar_time(
     return ts + equation_of_time_h + meridian_correction_h
 
 
-def solar_declination(day_of_year: ArrayLike | _dt.date) -> np.ndarray:
+def solar_declination(day_of_year: npt.ArrayLike | _dt.date) -> np.ndarray:
     """Solar declination δ in radians (Preetham et al. 1999, appendix).
 
     δ = 0.4093 sin(2π(J − 81)/368).
@@ -136,17 +142,17 @@ def solar_declination(day_of_year: ArrayLike | _dt.date) -> np.ndarray:
     numpy.ndarray
         Declination in radians, within ±0.4093 (±23.45°).
     """
-    j = _day_array(day_of_year)
+    j = day_array(day_of_year)
     return 0.4093 * np.sin(2.0 * np.pi * (j - 81.0) / 368.0)
 
 
 def sun_position(
-    latitude_deg: ArrayLike,
-    day_of_year: ArrayLike | _dt.date,
-    time_h: ArrayLike,
+    latitude_deg: npt.ArrayLike,
+    day_of_year: npt.ArrayLike | _dt.date,
+    time_h: npt.ArrayLike,
     *,
-    longitude_deg: ArrayLike | None = None,
-    utc_offset_h: ArrayLike | None = None,
+    longitude_deg: npt.ArrayLike | None = None,
+    utc_offset_h: npt.ArrayLike | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Zenith and azimuth angles of the sun (Preetham et al. 1999, appendix).
 
@@ -185,7 +191,7 @@ def sun_position(
     >>> round(float(np.degrees(zenith)), 1), round(float(np.degrees(azimuth)), 1)
     (6.6, 180.0)
     """
-    lat = np.radians(real_array("latitude_deg", latitude_deg, -90.0, 90.0))
+    lat = np.radians(check_real_array("latitude_deg", latitude_deg, -90.0, 90.0))
     if (longitude_deg is None) != (utc_offset_h is None):
         given, missing = (
             ("longitude_deg", "utc_offset_h") if utc_offset_h is None else ("utc_offset_h", "longitude_deg")
@@ -197,9 +203,9 @@ def sun_position(
             "solar time; omit both to give solar time directly)",
         )
     if longitude_deg is None:
-        t = real_array("time_h", time_h, 0.0, 24.0)
+        t = check_real_array("time_h", time_h, 0.0, 24.0)
     else:
-        real_array("time_h", time_h, 0.0, 24.0)
+        check_real_array("time_h", time_h, 0.0, 24.0)
         t = solar_time(time_h, day_of_year, longitude_deg, utc_offset_h)
     delta = solar_declination(day_of_year)
     hour_angle = np.pi * t / 12.0  # Preetham's πt/12 (π at solar noon)
@@ -220,12 +226,12 @@ def sun_position(
 
 
 def sun_direction(
-    latitude_deg: ArrayLike,
-    day_of_year: ArrayLike | _dt.date,
-    time_h: ArrayLike,
+    latitude_deg: npt.ArrayLike,
+    day_of_year: npt.ArrayLike | _dt.date,
+    time_h: npt.ArrayLike,
     *,
-    longitude_deg: ArrayLike | None = None,
-    utc_offset_h: ArrayLike | None = None,
+    longitude_deg: npt.ArrayLike | None = None,
+    utc_offset_h: npt.ArrayLike | None = None,
 ) -> np.ndarray:
     """Unit vector towards the sun in the local frame (x east, y north, z up).
 
@@ -249,7 +255,7 @@ def sun_direction(
     return direction_from_angles(zenith, azimuth)
 
 
-def direction_from_angles(zenith_rad: ArrayLike, azimuth_rad: ArrayLike) -> np.ndarray:
+def direction_from_angles(zenith_rad: npt.ArrayLike, azimuth_rad: npt.ArrayLike) -> np.ndarray:
     """Unit vectors from zenith and compass azimuth angles.
 
     x = sin θ sin φ (east), y = sin θ cos φ (north), z = cos θ (up).
@@ -266,13 +272,13 @@ def direction_from_angles(zenith_rad: ArrayLike, azimuth_rad: ArrayLike) -> np.n
     numpy.ndarray
         Shape (..., 3), broadcast over the inputs.
     """
-    theta = real_array("zenith_rad", zenith_rad, 0.0, np.pi)
-    phi = real_array("azimuth_rad", azimuth_rad)
+    theta = check_real_array("zenith_rad", zenith_rad, 0.0, np.pi)
+    phi = check_real_array("azimuth_rad", azimuth_rad)
     sin_theta = np.sin(theta)
     return np.stack(np.broadcast_arrays(sin_theta * np.sin(phi), sin_theta * np.cos(phi), np.cos(theta)), axis=-1)
 
 
-def angles_from_direction(direction: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+def angles_from_direction(direction: npt.ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Zenith angle and compass azimuth of direction vectors (inverse of
     :func:`direction_from_angles`).
 
@@ -288,7 +294,7 @@ def angles_from_direction(direction: ArrayLike) -> tuple[np.ndarray, np.ndarray]
     azimuth_rad : numpy.ndarray
         From north, clockwise, in [0, 2π); 0 for vertical vectors.
     """
-    d = unit_vectors("direction", direction)
+    d = check_unit_vectors("direction", direction)
     zenith = np.arccos(np.clip(d[..., 2], -1.0, 1.0))
     azimuth = np.mod(np.arctan2(d[..., 0], d[..., 1]), 2.0 * np.pi)
     return zenith, azimuth

@@ -74,10 +74,10 @@ import functools
 import importlib
 
 import numpy as np
-from numpy.typing import ArrayLike
+import numpy.typing as npt
 
+from sandlight.checks import check_real, check_real_array
 from sandlight.errors import ParameterError
-from sandlight.sky._checks import real_array, real_scalar
 
 __all__ = [
     "SUN_SOLID_ANGLE_SR",
@@ -121,7 +121,7 @@ WAVELENGTH_RANGE_NM = (300.0, 4000.0)
 _SEA_LEVEL_PRESSURE_PA = 101_325.0
 
 
-def angstrom_beta(turbidity: ArrayLike) -> np.ndarray:
+def angstrom_beta(turbidity: npt.ArrayLike) -> np.ndarray:
     """Ångström turbidity coefficient β from the turbidity T.
 
     β = 0.04608365822050 T − 0.04586025928522 (Preetham et al. 1999, appendix; the digits are
@@ -137,11 +137,11 @@ def angstrom_beta(turbidity: ArrayLike) -> np.ndarray:
     numpy.ndarray
         β, dimensionless (aerosol optical depth at 1 µm).
     """
-    t = real_array("turbidity", turbidity, *TURBIDITY_RANGE)
+    t = check_real_array("turbidity", turbidity, *TURBIDITY_RANGE)
     return 0.04608365822050 * t - 0.04586025928522
 
 
-def relative_optical_mass(zenith_rad: ArrayLike) -> np.ndarray:
+def relative_optical_mass(zenith_rad: npt.ArrayLike) -> np.ndarray:
     """Relative optical air mass m of Kasten (1966), as used by Preetham et al. (1999).
 
     m = 1 / (cos θ + 0.15 (93.885 − θ[deg])^−1.253). Finite at the horizon (m ≈ 36.3 at 90°).
@@ -156,11 +156,11 @@ def relative_optical_mass(zenith_rad: ArrayLike) -> np.ndarray:
     numpy.ndarray
         m, dimensionless (1 at the zenith).
     """
-    theta = real_array("zenith_rad", zenith_rad, 0.0, np.pi / 2.0)
+    theta = check_real_array("zenith_rad", zenith_rad, 0.0, np.pi / 2.0)
     return 1.0 / (np.cos(theta) + 0.15 * (93.885 - np.degrees(theta)) ** -1.253)
 
 
-def earth_sun_distance_factor(day_of_year: ArrayLike) -> np.ndarray:
+def earth_sun_distance_factor(day_of_year: npt.ArrayLike) -> np.ndarray:
     """Eccentricity correction (r0/r)² of the Earth–Sun distance (Spencer 1971; Iqbal eq. 1.2.1).
 
     E0 = 1.000110 + 0.034221 cos Γ + 0.001280 sin Γ + 0.000719 cos 2Γ + 0.000077 sin 2Γ,
@@ -176,7 +176,7 @@ def earth_sun_distance_factor(day_of_year: ArrayLike) -> np.ndarray:
     numpy.ndarray
         Dimensionless factor in about [0.967, 1.035] (1 at the mean distance).
     """
-    j = real_array("day_of_year", day_of_year, 1.0, 366.0)
+    j = check_real_array("day_of_year", day_of_year, 1.0, 366.0)
     gamma = 2.0 * np.pi * (j - 1.0) / 365.0
     return (
         1.000110
@@ -218,8 +218,8 @@ def _tables() -> dict[str, np.ndarray]:
     return out
 
 
-def _wavelengths(wavelength_nm: ArrayLike) -> np.ndarray:
-    wavelength = real_array("wavelength_nm", wavelength_nm, *WAVELENGTH_RANGE_NM)
+def _wavelengths(wavelength_nm: npt.ArrayLike) -> np.ndarray:
+    wavelength = check_real_array("wavelength_nm", wavelength_nm, *WAVELENGTH_RANGE_NM)
     if wavelength.ndim > 1:
         raise ParameterError(
             "wavelength_nm", f"array of shape {wavelength.shape}", "a scalar or a 1-D array of wavelengths in nm"
@@ -227,7 +227,7 @@ def _wavelengths(wavelength_nm: ArrayLike) -> np.ndarray:
     return wavelength
 
 
-def extraterrestrial_spectral_irradiance(wavelength_nm: ArrayLike) -> np.ndarray:
+def extraterrestrial_spectral_irradiance(wavelength_nm: npt.ArrayLike) -> np.ndarray:
     """Solar spectral irradiance above the atmosphere at the mean Earth–Sun distance.
 
     Linear interpolation of the SPECTRL2 table (Bird & Riordan 1986, via pvlib).
@@ -247,17 +247,17 @@ def extraterrestrial_spectral_irradiance(wavelength_nm: ArrayLike) -> np.ndarray
     return np.interp(wavelength, table["wavelength"], table["spectral_irradiance_et"])
 
 
-def _check_atmosphere(turbidity: float, ozone_cm: float, water_vapour_cm: float) -> tuple[float, float, float]:
-    t = real_scalar("turbidity", turbidity, *TURBIDITY_RANGE)
-    ozone = real_scalar("ozone_cm", ozone_cm, 0.0, 1.0)
-    water = real_scalar("water_vapour_cm", water_vapour_cm, 0.0, 10.0)
+def _check_atmosphere(turbidity: float, ozone_cm: float, water_vapour_cm: float):
+    t = check_real("turbidity", turbidity, *TURBIDITY_RANGE)
+    ozone = check_real("ozone_cm", ozone_cm, 0.0, 1.0)
+    water = check_real("water_vapour_cm", water_vapour_cm, 0.0, 10.0)
     return t, ozone, water
 
 
 def transmittance_components(
-    zenith_rad: ArrayLike,
-    wavelength_nm: ArrayLike,
-    turbidity: float,
+    zenith_rad: npt.ArrayLike,
+    wavelength_nm: npt.ArrayLike,
+    turbidity: npt.ArrayLike,
     *,
     ozone_cm: float = OZONE_CM,
     water_vapour_cm: float = WATER_VAPOUR_CM,
@@ -309,9 +309,9 @@ def transmittance_components(
 
 
 def sun_transmittance(
-    zenith_rad: ArrayLike,
-    wavelength_nm: ArrayLike,
-    turbidity: float,
+    zenith_rad: npt.ArrayLike,
+    wavelength_nm: npt.ArrayLike,
+    turbidity: npt.ArrayLike,
     *,
     ozone_cm: float = OZONE_CM,
     water_vapour_cm: float = WATER_VAPOUR_CM,
@@ -350,11 +350,11 @@ def sun_transmittance(
 
 
 def _spectrl2_transmittance(
-    zenith_rad: ArrayLike, wavelength_nm: ArrayLike, turbidity: float, ozone_cm: float, water_vapour_cm: float
-) -> np.ndarray:
+    zenith_rad: npt.ArrayLike, wavelength_nm: npt.ArrayLike, turbidity: float, ozone_cm: float, water_vapour_cm: float
+):
     """Direct-beam transmittance of pvlib's SPECTRL2 for Preetham's atmosphere."""
     t, ozone, water = _check_atmosphere(turbidity, ozone_cm, water_vapour_cm)
-    theta = real_array("zenith_rad", zenith_rad, 0.0, np.pi / 2.0)
+    theta = check_real_array("zenith_rad", zenith_rad, 0.0, np.pi / 2.0)
     wavelength = _wavelengths(wavelength_nm)
     table = _tables()  # also reports a missing pvlib clearly
     import pvlib
@@ -391,13 +391,13 @@ def _spectrl2_transmittance(
 
 
 def sun_spectral_irradiance(
-    zenith_rad: ArrayLike,
-    wavelength_nm: ArrayLike,
-    turbidity: float,
+    zenith_rad: npt.ArrayLike,
+    wavelength_nm: npt.ArrayLike,
+    turbidity: npt.ArrayLike,
     *,
     ozone_cm: float = OZONE_CM,
     water_vapour_cm: float = WATER_VAPOUR_CM,
-    day_of_year: ArrayLike | None = None,
+    day_of_year: npt.ArrayLike | None = None,
     method: str = "Preetham 1999",
 ) -> np.ndarray:
     """Direct normal spectral irradiance of the sun at sea level.
@@ -438,9 +438,9 @@ def sun_spectral_irradiance(
 
 
 def sun_spectral_radiance(
-    zenith_rad: ArrayLike,
-    wavelength_nm: ArrayLike,
-    turbidity: float,
+    zenith_rad: npt.ArrayLike,
+    wavelength_nm: npt.ArrayLike,
+    turbidity: npt.ArrayLike,
     *,
     ozone_cm: float = OZONE_CM,
     water_vapour_cm: float = WATER_VAPOUR_CM,

@@ -29,13 +29,16 @@ from __future__ import annotations
 
 import functools
 import json
+import os
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
+from sandlight.checks import check_whole_number
 from sandlight.errors import ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
@@ -46,6 +49,12 @@ from sandlight.jobs import Job, JobStatus, derive_seed
 from sandlight.jobs.executors import resolve_executor
 from sandlight.spatial.mesh import Mesh
 from sandlight.spatial.model import SpatialModel
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from sandlight.jobs.executors import Executor
+    from sandlight.physics.medium import Traceable
 
 __all__ = [
     "node_job",
@@ -66,7 +75,7 @@ HOLDOUT_MAX_RELATIVE_STDERR = 0.02
 
 
 def engine_measure(
-    params: dict,
+    params: Mapping | Traceable,
     wavelength_nm: float,
     *,
     rays: int,
@@ -74,18 +83,21 @@ def engine_measure(
     stacks: int,
     slices: int,
     threads: int,
-    checkpoint=None,
+    checkpoint: str | os.PathLike | None = None,
     memory: str = "none",
 ) -> dict:
     """Goniophotometer counts of one sample with sandlight's engine (the default ``measure``).
 
-    Returns ``{"counts", "absorbed", "launched", "lost"}`` as integer arrays.
+    ``params`` is a node's SandSample parameters (a job's payload) or any Traceable medium
+    (``sandlight.physics.medium.Traceable``; then ``memory`` must be 'none', the medium carries
+    its own). Returns ``{"counts", "absorbed", "launched", "lost"}`` as integer arrays.
     """
     from sandlight.gonio.measure import brdf
+    from sandlight.physics.medium import Traceable
     from sandlight.sample import SandSample
 
     b = brdf(
-        SandSample.from_dict(params),
+        params if isinstance(params, Traceable) else SandSample.from_dict(params),
         wavelength_nm,
         rays=rays,
         stacks=stacks,
@@ -113,8 +125,8 @@ def node_task(
     stacks: int,
     slices: int,
     threads: int,
-    checkpoint_dir=None,
-    measure=None,
+    checkpoint_dir: str | os.PathLike | None = None,
+    measure: Callable | None = None,
     memory: str = "none",
 ) -> dict:
     """Job task: goniophotometer counts of one node (runs on a worker)."""
@@ -144,21 +156,15 @@ def node_task(
     }
 
 
-def _measure_name(measure) -> str:
+def _measure_name(measure: Callable | None) -> str:
     measure = engine_measure if measure is None else measure
     inner = measure.func if isinstance(measure, functools.partial) else measure
     return f"{getattr(inner, '__module__', '?')}.{getattr(inner, '__qualname__', repr(inner))}"
 
 
-def _check_count(name: str, value) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
-        raise ParameterError(name, value, "an integer >= 1")
-    return int(value)
-
-
 def node_job(
-    path,
-    mesh_or_samples,
+    path: str | os.PathLike,
+    mesh_or_samples: Mesh | Sequence[Mapping],
     wavelength_nm: float,
     rays: int,
     seed: int,
@@ -167,7 +173,7 @@ def node_job(
     slices: int = 30,
     threads: int = 1,
     checkpoint: bool = True,
-    measure=None,
+    measure: Callable | None = None,
     kind: str = "nodes",
     memory: str = "none",
 ) -> Job:
@@ -206,8 +212,8 @@ def node_job(
     from sandlight.predictor.training import check_engine_memory, engine_memory_record
 
     CollectorHemisphere(stacks, slices)  # validates the geometry
-    rays = _check_count("rays", rays)
-    threads = _check_count("threads", threads)
+    rays = check_whole_number("rays", rays, 1)
+    threads = check_whole_number("threads", threads, 1)
     memory = check_engine_memory(memory, measure, "measure")
     with_memory = engine_memory_record(memory)
     try:
@@ -284,12 +290,12 @@ def node_job(
 
 
 def measure_nodes(
-    path,
+    path: str | os.PathLike,
     mesh: Mesh,
     wavelength_nm: float,
     rays: int,
     seed: int,
-    executor=None,
+    executor: Executor | str | None = None,
     *,
     progress: bool = True,
     max_tasks: int | None = None,
@@ -307,7 +313,7 @@ def measure_nodes(
     )
 
 
-def node_brdfs(dataset, method: str = "average") -> list[MeasuredBRDF]:
+def node_brdfs(dataset: str | os.PathLike | xr.Dataset, method: str = "average") -> list[MeasuredBRDF]:
     """The `MeasuredBRDF` of every node of a node dataset (path, store directory or Dataset).
 
     Parameters
@@ -538,7 +544,7 @@ class TrainingRun:
 
 
 def train_spatial(
-    out_dir,
+    out_dir: str | os.PathLike,
     mesh: Mesh,
     rays: int,
     wavelength_nm: float = 550.0,
@@ -549,11 +555,11 @@ def train_spatial(
     stacks: int = 31,
     slices: int = 30,
     method: str = "average",
-    executor=None,
+    executor: Executor | str | None = None,
     threads: int = 1,
     checkpoint: bool = True,
     fit_only: bool = False,
-    measure=None,
+    measure: Callable | None = None,
     progress: bool = True,
     max_tasks: int | None = None,
     model_params: Mapping | None = None,

@@ -1,0 +1,426 @@
+"""Argument checks shared by every layer of sandlight.
+
+Every check takes the parameter's name and value, returns the value in the type the caller
+works with, and on bad input raises :class:`~sandlight.errors.ParameterError` ``(name, value,
+allowed)``: the message names the parameter, the offending value and what is allowed, e.g.
+``rays = 0 is not allowed: a whole number ≥ 1 (e.g. 1e6)``. Intervals are written one way
+everywhere (:func:`interval_text`): ``in [0, 90)``, ``≥ 1``, ``> 0``.
+
+Public objects
+--------------
+interval_text
+    The admissible interval as text.
+check_real_array, check_real
+    Finite real numbers (array or one number) within an interval.
+check_unit_vectors
+    Direction vectors of shape (..., 3), normalised.
+check_whole_number
+    An integer (not a bool, not a float) within an interval.
+check_count
+    A count ≥ 1 that may be written like ``1e6`` (rays, events, trials).
+check_seed, check_threads
+    The engine's master seed and worker-thread count.
+check_choice
+    One of a fixed set of names.
+check_wavelengths, check_incidence
+    The engine's wavelengths (nm) and incidence zenith angle (degrees).
+parse_range
+    ``start:stop:step`` or a comma-separated list, as typed on the command line.
+Table
+    A table of a configuration file (TOML/JSON) read key by key with these checks.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from sandlight.errors import ParameterError
+
+#: Wavelengths the engine's optical constants cover (nm).
+WAVELENGTH_RANGE_NM = (350.0, 2500.0)
+
+__all__ = [
+    "WAVELENGTH_RANGE_NM",
+    "interval_text",
+    "is_number",
+    "check_real_array",
+    "check_real",
+    "check_unit_vectors",
+    "check_whole_number",
+    "check_count",
+    "check_seed",
+    "check_threads",
+    "check_choice",
+    "check_wavelengths",
+    "check_incidence",
+    "parse_range",
+    "Table",
+]
+
+
+def interval_text(
+    low: float | None = None, high: float | None = None, low_open: bool = False, high_open: bool = False
+) -> str:
+    """The interval [low, high] as text with a leading space (``" in [0, 24]"``, ``" ≥ 1"``),
+    or ``""`` when both bounds are None; ``low_open``/``high_open`` exclude the bound.
+
+    Integer bounds are written in full, other numbers in ``%g``.
+    """
+    if low is None and high is None:
+        return ""
+    if high is None:
+        return f" {'>' if low_open else '≥'} {_number_text(low)}"
+    if low is None:
+        return f" {'<' if high_open else '≤'} {_number_text(high)}"
+    return f" in {'(' if low_open else '['}{_number_text(low)}, {_number_text(high)}{')' if high_open else ']'}"
+
+
+def _number_text(x: float) -> str:
+    # Integers in full (a seed bound of 2**64 - 1 must not read 1.84467e+19), other numbers in %g.
+    return str(int(x)) if isinstance(x, (int, np.integer)) else f"{x:g}"
+
+
+def is_number(value: Any) -> bool:
+    """Whether ``value`` is a Python or numpy real number (a bool is not)."""
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
+def check_real_array(
+    name: str,
+    value: Any,
+    low: float | None = None,
+    high: float | None = None,
+    *,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> np.ndarray:
+    """``value`` as a float64 array whose every element is finite and in the interval.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : array_like
+        Scalar or array of real numbers.
+    low, high : float, optional
+        Bounds of the admissible interval (None: unbounded on that side).
+    low_open, high_open : bool
+        Whether the bound itself is excluded.
+
+    Raises
+    ------
+    ParameterError
+        If ``value`` is not numeric, contains NaN or infinities, is empty, or leaves the interval.
+        The reported value is the first offending element.
+    """
+    interval = interval_text(low, high, low_open, high_open)
+    if isinstance(value, (str, bytes)):
+        raise ParameterError(name, value, f"a real number{interval}")
+    try:
+        array = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, f"a real number{interval}") from None
+    if array.size == 0:
+        raise ParameterError(name, value, f"at least one real number{interval}")
+    bad = ~np.isfinite(array)
+    if low is not None:
+        bad |= (array <= low) if low_open else (array < low)
+    if high is not None:
+        bad |= (array >= high) if high_open else (array > high)
+    if bad.any():
+        first = array.reshape(-1)[np.flatnonzero(bad.reshape(-1))[0]]
+        reported = first.item() if array.ndim else value
+        raise ParameterError(name, reported, f"a finite real number{interval}")
+    return array
+
+
+def check_real(
+    name: str,
+    value: Any,
+    low: float | None = None,
+    high: float | None = None,
+    *,
+    low_open: bool = False,
+    high_open: bool = False,
+) -> float:
+    """Like :func:`check_real_array` but requires a single number and returns a Python float."""
+    array = check_real_array(name, value, low, high, low_open=low_open, high_open=high_open)
+    if array.ndim != 0:
+        raise ParameterError(name, value, "a single real number, not an array")
+    return float(array)
+
+
+def check_unit_vectors(name: str, value: Any) -> np.ndarray:
+    """``value`` (shape (..., 3)) normalised to unit length.
+
+    Raises
+    ------
+    ParameterError
+        If the last axis is not of length 3, an element is not finite, or a vector has zero length.
+    """
+    try:
+        array = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, "an array of shape (..., 3) of real numbers") from None
+    if array.ndim == 0 or array.shape[-1] != 3:
+        raise ParameterError(
+            name,
+            f"array of shape {array.shape}",
+            "an array of shape (..., 3): direction vectors (x east, y north, z up)",
+        )
+    if not np.isfinite(array).all():
+        raise ParameterError(name, "an array containing NaN or infinity", "finite direction vectors")
+    norm = np.linalg.norm(array, axis=-1, keepdims=True)
+    if (norm <= 1e-12).any():
+        raise ParameterError(name, "an array containing a zero-length vector", "non-zero direction vectors")
+    return array / norm
+
+
+def check_whole_number(
+    name: str, value: Any, low: int | None = None, high: int | None = None, *, noun: str = "a whole number"
+) -> int:
+    """``value`` as an int: a Python or numpy integer (not a bool, not a float) in [low, high].
+
+    ``noun`` starts the message (e.g. ``"a whole number of pixels"``).
+    """
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, (int, np.integer))
+        or (low is not None and value < low)
+        or (high is not None and value > high)
+    ):
+        raise ParameterError(name, value, noun + interval_text(low, high))
+    return int(value)
+
+
+def check_count(name: str, value: Any) -> int:
+    """A count ≥ 1 (rays, events, trials) as an int; integral floats and numeric text such as
+    ``1e6`` or ``"1e6"`` are accepted."""
+    allowed = "a whole number ≥ 1 (e.g. 1e6)"
+    try:
+        number = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, allowed) from None
+    if not math.isfinite(number) or number < 1 or number != int(number) or isinstance(value, bool):
+        raise ParameterError(name, value, allowed)
+    return int(number)
+
+
+def check_seed(name: str, value: Any) -> int:
+    """A master seed of the counter-based random streams: an integer in [0, 2**64)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not (0 <= int(value) < 2**64):
+        raise ParameterError(name, value, "an integer in [0, 2**64)")
+    return int(value)
+
+
+def check_threads(name: str, value: Any) -> int | None:
+    """Worker threads: None (all cores) or an integer in [1, 1024]."""
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not (1 <= int(value) <= 1024):
+        raise ParameterError(name, value, "None (all cores) or an integer in [1, 1024]")
+    return int(value)
+
+
+def check_choice(name: str, value: Any, allowed: Sequence[str]) -> str:
+    """``value`` if it is one of the names ``allowed`` (compared exactly, as strings)."""
+    if not isinstance(value, str) or value not in allowed:
+        raise ParameterError(name, value, "one of " + ", ".join(repr(a) for a in allowed))
+    return value
+
+
+def check_wavelengths(name: str, value: Any) -> np.ndarray:
+    """Vacuum wavelengths (nm) for the engine: a non-empty 1-D float array, each finite and in
+    :data:`WAVELENGTH_RANGE_NM` (a scalar becomes one wavelength)."""
+    wl = np.atleast_1d(np.asarray(value, dtype=float))
+    if wl.ndim != 1 or wl.size == 0:
+        raise ParameterError(name, value, "a non-empty 1-D sequence of wavelengths in nm")
+    low, high = WAVELENGTH_RANGE_NM
+    bad = ~np.isfinite(wl) | (wl < low) | (wl > high)
+    if bad.any():
+        raise ParameterError(name, float(wl[bad][0]), f"finite wavelengths in [{low:g}, {high:g}] nm")
+    return wl
+
+
+def check_incidence(name: str, value: Any) -> float:
+    """Zenith angle θᵢ of incident light as a float, in [0, 90) degrees."""
+    allowed = "a number in [0, 90) degrees"
+    try:
+        angle = float(value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, allowed) from None
+    if not (0.0 <= angle < 90.0):
+        raise ParameterError(name, value, allowed)
+    return angle
+
+
+def parse_range(name: str, text: str) -> np.ndarray:
+    """``start:stop:step`` (inclusive of stop when it falls on the grid), or comma-separated values,
+    as typed on the command line (``name`` is the option, e.g. ``--wavelengths``)."""
+    try:
+        if ":" in text:
+            parts = [float(p) for p in text.split(":")]
+            if len(parts) != 3 or parts[2] <= 0 or parts[1] < parts[0]:
+                raise ValueError
+            start, stop, step = parts
+            n = int(np.floor((stop - start) / step + 1e-9)) + 1
+            return start + step * np.arange(n)
+        return np.array([float(p) for p in text.split(",")])
+    except ValueError:
+        raise ParameterError(
+            name, text, "start:stop:step with step > 0 and stop ≥ start (e.g. 400:700:20), or a comma-separated list"
+        ) from None
+
+
+class Table:
+    """A table of a configuration file (TOML or JSON) being read, key by key, with checks.
+
+    A bad value is reported as a :class:`~sandlight.errors.ParameterError` whose name is the dotted
+    key (``camera.fov_deg``), with the value, the allowed range and the file it came from. Keys
+    never read are refused by :meth:`finish` with the list of allowed ones (a typo must not be
+    silently ignored).
+
+    Parameters
+    ----------
+    data : mapping or None
+        The table's keys and values (None: empty).
+    prefix : str
+        Its dotted name ('' for the top level).
+    source : str
+        The file it came from, quoted in messages ('' for none).
+    """
+
+    def __init__(self, data: Any, prefix: str, source: str = "") -> None:
+        self.prefix = prefix
+        self.source = source
+        if data is None:
+            data = {}
+        if not isinstance(data, Mapping):
+            raise self.error(prefix or "scene", data, "a table of keys and values")
+        self.data = dict(data)
+        self.used: set[str] = set()
+
+    def name(self, key: str) -> str:
+        """The dotted name of ``key`` in this table."""
+        return f"{self.prefix}.{key}" if self.prefix else key
+
+    def error(self, name: str, value: Any, allowed: str) -> ParameterError:
+        """The error for a bad ``value`` of ``name``, naming the file it came from."""
+        where = f" (in {self.source})" if self.source else ""
+        return ParameterError(name, value, allowed + where)
+
+    def has(self, key: str) -> bool:
+        """Whether the table holds ``key``."""
+        return key in self.data
+
+    def raw(self, key: str, default: Any = None) -> Any:
+        """The value of ``key`` unchecked (``default`` if absent); the key counts as read."""
+        self.used.add(key)
+        return self.data.get(key, default)
+
+    def table(self, key: str) -> Table:
+        """The sub-table ``key`` (empty if absent)."""
+        self.used.add(key)
+        return Table(self.data.get(key), self.name(key), self.source)
+
+    def number(
+        self,
+        key: str,
+        default: float | None = None,
+        lo: float | None = None,
+        hi: float | None = None,
+        *,
+        lo_open: bool = False,
+        hi_open: bool = False,
+    ) -> float:
+        """A finite number in the interval; required when ``default`` is None."""
+        value = self.raw(key, default)
+        interval = interval_text(lo, hi, lo_open, hi_open)
+        if value is None:
+            raise self.error(self.name(key), "missing", "a number" + interval)
+        if not is_number(value) or not math.isfinite(float(value)):
+            raise self.error(self.name(key), value, "a finite number" + interval)
+        v = float(value)
+        if (lo is not None and (v < lo or (lo_open and v == lo))) or (
+            hi is not None and (v > hi or (hi_open and v == hi))
+        ):
+            raise self.error(self.name(key), value, "a number" + interval)
+        return v
+
+    def integer(self, key: str, default: int | None = None, lo: int | None = None, hi: int | None = None) -> int:
+        """A whole number in [lo, hi] (integral floats such as 2.0 are accepted)."""
+        value = self.raw(key, default)
+        allowed = "a whole number" + interval_text(lo, hi)
+        if value is None:
+            raise self.error(self.name(key), "missing", allowed)
+        if isinstance(value, bool) or not is_number(value) or float(value) != int(value):
+            raise self.error(self.name(key), value, allowed)
+        v = int(value)
+        if (lo is not None and v < lo) or (hi is not None and v > hi):
+            raise self.error(self.name(key), value, allowed)
+        return v
+
+    def boolean(self, key: str, default: bool) -> bool:
+        """true or false."""
+        value = self.raw(key, default)
+        if not isinstance(value, bool):
+            raise self.error(self.name(key), value, "true or false")
+        return value
+
+    def string(self, key: str, default: str | None = None) -> str:
+        """A non-empty string; required when ``default`` is None."""
+        value = self.raw(key, default)
+        if not isinstance(value, str) or not value:
+            raise self.error(self.name(key), value if value is not None else "missing", "a non-empty string")
+        return value
+
+    def choice(self, key: str, options: Sequence[str], default: str | None = None) -> str:
+        """One of ``options``; required when ``default`` is None."""
+        value = self.raw(key, default)
+        if value not in options:
+            raise self.error(
+                self.name(key),
+                value if value is not None else "missing",
+                "one of " + ", ".join(repr(o) for o in options),
+            )
+        return value
+
+    def vector(
+        self,
+        key: str,
+        length: int | Sequence[int],
+        default: Sequence[float] | None = None,
+        lo: float | None = None,
+        hi: float | None = None,
+    ) -> np.ndarray:
+        """A list of ``length`` (or one of several lengths) finite numbers in [lo, hi]."""
+        value = self.raw(key, default)
+        lengths = (length,) if isinstance(length, int) else tuple(length)
+        allowed = f"a list of {' or '.join(map(str, lengths))} finite numbers" + interval_text(lo, hi)
+        if value is None:
+            raise self.error(self.name(key), "missing", allowed)
+        if (
+            not isinstance(value, (list, tuple))
+            or len(value) not in lengths
+            or not all(is_number(v) and math.isfinite(float(v)) for v in value)
+        ):
+            raise self.error(self.name(key), value, allowed)
+        array = np.array([float(v) for v in value])
+        if (lo is not None and (array < lo).any()) or (hi is not None and (array > hi).any()):
+            raise self.error(self.name(key), value, allowed)
+        return array
+
+    def finish(self) -> None:
+        """Refuse keys that were never read (typos, options of another type)."""
+        unknown = sorted(set(self.data) - self.used)
+        if unknown:
+            allowed = ", ".join(sorted(self.used)) or "no keys"
+            raise self.error(
+                self.name(unknown[0]),
+                self.data[unknown[0]],
+                f"a known key; unknown key {unknown[0]!r} (allowed here: {allowed})",
+            )
