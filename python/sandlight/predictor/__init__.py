@@ -16,7 +16,8 @@ generate_training_set, fit_training_set, train_spectral
 
 from sandlight.predictor.bank import ModelBank, default_model
 from sandlight.predictor.domain import Dimension, Domain
-from sandlight.predictor.spectral import HoldoutReport, ModelVersionWarning, SpectralModel, evaluate
+from sandlight.predictor.model_file import ModelVersionWarning
+from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
 from sandlight.predictor.training import fit_training_set, generate_training_set, train_spectral, wavelength_grid
 
 __all__ = [

@@ -15,10 +15,8 @@ SpectralModel
 evaluate, HoldoutReport
     Error of a model against Monte Carlo hold-out samples, per wavelength, next to the Monte
     Carlo noise of those samples.
-default_model
-    The bank of models shipped in the package (:mod:`sandlight.predictor.bank`).
-ModelVersionWarning
-    A model file written by another sandlight version was loaded.
+MODEL_FILE
+    The model-file format (:mod:`sandlight.predictor.model_file`).
 
 The iron-oxide form (categorical) is handled either by one regression per form
 (``forms="separate"``, the default: W has one slice per form, the PCA basis is shared) or by
@@ -43,13 +41,9 @@ from pathlib import Path
 import numpy as np
 
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
-from sandlight.io import read_model_npz, write_model_npz
 from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
+from sandlight.predictor.model_file import ModelFileFormat, jsonable, warn_if_other_version
 
-MODEL_FORMAT = "sandlight-spectral-model"
-#: 2: log scales take an offset (Dimension.offset); models carry a name and a description.
-#: Format-1 files (sqrt-scaled concentrations, no name) still load.
-MODEL_FORMAT_VERSION = 2
 _ARRAYS = (
     "wavelengths_nm",
     "mean",
@@ -60,21 +54,14 @@ _ARRAYS = (
     "powers",
     "W",
 )
+#: Version 2: log scales take an offset (Dimension.offset); models carry a name and a
+#: description. Format-1 files (sqrt-scaled concentrations, no name) still load.
+MODEL_FILE = ModelFileFormat("sandlight-spectral-model", 2, "spectral model", _ARRAYS)
+MODEL_FORMAT, MODEL_FORMAT_VERSION = MODEL_FILE.name, MODEL_FILE.version
 #: Samples per block of the fast evaluator: the block's monomials (m × block doubles, 4.5 MB
 #: for the 560 cubic monomials of 13 parameters) stay in cache between the products and the
 #: matrix product that consumes them.
 _BLOCK = 1024
-
-
-class ModelVersionWarning(UserWarning):
-    """A model file written by another sandlight version was loaded (it may predict differently
-    from a model trained with this version's engine)."""
-
-
-def _sandlight_version() -> str:
-    import sandlight
-
-    return sandlight.__version__
 
 
 # ---- inputs -----------------------------------------------------------------------------------
@@ -410,7 +397,7 @@ class SpectralModel:
             if domain is None and "domain" in X.attrs:
                 domain = Domain.from_dict(json.loads(X.attrs["domain"]))
             info = {
-                k: _plain(X.attrs[k])
+                k: jsonable(X.attrs[k])
                 for k in ("n_samples", "seed", "rays", "design", "sandlight_version", "simulator")
                 if k in X.attrs
             }
@@ -575,9 +562,6 @@ class SpectralModel:
     # -- persistence --------------------------------------------------------------------------
     def _metadata(self) -> dict:
         return {
-            "format": MODEL_FORMAT,
-            "format_version": MODEL_FORMAT_VERSION,
-            "sandlight_version": _sandlight_version(),
             "name": self.name_,
             "description": self.description_,
             "params": self.get_params(),
@@ -609,7 +593,7 @@ class SpectralModel:
             "powers": self.powers_,
             "W": self.W_,
         }
-        return write_model_npz(path, _plain(self._metadata()), arrays)
+        return MODEL_FILE.write(path, self._metadata(), arrays)
 
     @classmethod
     def load(cls, path) -> SpectralModel:
@@ -627,28 +611,16 @@ class SpectralModel:
             The file was written by another sandlight version.
         """
         path = Path(path)
-        meta, data = read_model_npz(
-            path, kind="spectral model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION
-        )
+        meta, data = MODEL_FILE.read(path)
         try:
             model = cls._from_parts(meta, data, default_name=path.stem)
         except (KeyError, TypeError, ValueError) as exc:
             raise ModelFileError(f"{path} is an incomplete or inconsistent spectral model file: {exc}") from exc
-        if meta.get("sandlight_version") != _sandlight_version():
-            warnings.warn(
-                f"{path} was written by sandlight {meta.get('sandlight_version')}, "
-                f"this is sandlight {_sandlight_version()}: predictions follow the "
-                f"engine that trained the model",
-                ModelVersionWarning,
-                stacklevel=2,
-            )
+        warn_if_other_version(path, meta)
         return model
 
     @classmethod
     def _from_parts(cls, meta: dict, data: dict, default_name: str) -> SpectralModel:
-        missing = [a for a in _ARRAYS if a not in data]
-        if missing:
-            raise KeyError(f"missing arrays {missing}")
         model = cls(**meta["params"])
         model._validate_params()
         domain = Domain.from_dict(meta["domain"])
@@ -724,19 +696,6 @@ def _least_squares(Phi: np.ndarray, T: np.ndarray, ridge: float) -> np.ndarray:
         T = np.vstack([T, np.zeros((m - 1, T.shape[1]))])
     W, *_ = np.linalg.lstsq(Phi, T, rcond=None)
     return W
-
-
-def _plain(value):
-    """JSON-able copy of metadata (numpy scalars and arrays become Python values)."""
-    if isinstance(value, dict):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _plain(value.tolist())
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
 
 
 # ---- hold-out evaluation ----------------------------------------------------------------------

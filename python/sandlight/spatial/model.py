@@ -57,8 +57,7 @@ from sandlight.errors import ModelFileError, ParameterError, SandlightError
 from sandlight.gonio.brdf import MeasuredBRDF, band_grid, band_grid_f
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.symmetry import EquivalenceClasses
-from sandlight.io import read_model_npz, write_model_npz
-from sandlight.predictor.spectral import ModelVersionWarning, _plain
+from sandlight.predictor.model_file import ModelFileFormat, jsonable, warn_if_other_version
 from sandlight.spatial.mesh import Mesh
 
 __all__ = [
@@ -71,8 +70,6 @@ __all__ = [
     "MODEL_FORMAT_VERSION",
 ]
 
-MODEL_FORMAT = "sandlight-spatial-model"
-MODEL_FORMAT_VERSION = 1
 _ARRAYS = (
     "mean",
     "components",
@@ -82,6 +79,10 @@ _ARRAYS = (
     "node_scores",
     "node_normal_reflectance",
 )
+MODEL_FILE = ModelFileFormat(
+    "sandlight-spatial-model", 1, "spatial model", _ARRAYS, optional=("signal_variance_ratio",), compressed=True
+)
+MODEL_FORMAT, MODEL_FORMAT_VERSION = MODEL_FILE.name, MODEL_FILE.version
 FIXED_POLICIES = ("warn", "ignore", "error")
 SCALINGS = ("relative", "none", "noise")
 
@@ -90,12 +91,6 @@ class SpatialApproximationWarning(UserWarning):
     """A sample differs from the spatial model's base sample in a parameter the mesh does not
     vary: its BRDF shape is taken at its mesh coordinates with the base's other parameters (the
     paper's assumption for its beach scene, §4.2.2)."""
-
-
-def _sandlight_version() -> str:
-    import sandlight
-
-    return sandlight.__version__
 
 
 @dataclass(frozen=True, eq=False)
@@ -342,7 +337,7 @@ class SpatialModel:
         self.scale_ = scale
         self.reconstruction_rms_ = float(np.sqrt(np.mean(((recon - X) / scale) ** 2)))
         self.node_noise_rms_ = None if stderr is None else float(np.sqrt(np.mean((stderr / scale) ** 2)))
-        self.training_set_ = _plain(dict(training_set or {}))
+        self.training_set_ = jsonable(dict(training_set or {}))
         self.holdout_scores_ = None
         return self
 
@@ -441,9 +436,6 @@ class SpatialModel:
 
     def _metadata(self) -> dict:
         return {
-            "format": MODEL_FORMAT,
-            "format_version": MODEL_FORMAT_VERSION,
-            "sandlight_version": _sandlight_version(),
             "params": self.get_params(),
             "mesh": {"parameters": list(self.mesh_.parameters), "base": self.mesh_.base},
             "stacks": self.stacks_,
@@ -481,7 +473,7 @@ class SpatialModel:
         }
         if self.signal_variance_ratio_ is not None:
             arrays["signal_variance_ratio"] = self.signal_variance_ratio_
-        return write_model_npz(path, _plain(self._metadata()), arrays, compressed=True)
+        return MODEL_FILE.write(path, self._metadata(), arrays)
 
     @classmethod
     def load(cls, path) -> SpatialModel:
@@ -499,27 +491,16 @@ class SpatialModel:
             The file was written by another sandlight version.
         """
         path = Path(path)
-        meta, data = read_model_npz(
-            path, kind="spatial model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION
-        )
+        meta, data = MODEL_FILE.read(path)
         try:
             model = cls._from_parts(meta, data)
         except (KeyError, TypeError, ValueError) as exc:  # ParameterError is a ValueError
             raise ModelFileError(f"{path} is an incomplete or inconsistent spatial model file: {exc}") from exc
-        if meta.get("sandlight_version") != _sandlight_version():
-            warnings.warn(
-                f"{path} was written by sandlight {meta.get('sandlight_version')}, this is sandlight "
-                f"{_sandlight_version()}: predictions follow the engine that measured the model",
-                ModelVersionWarning,
-                stacklevel=2,
-            )
+        warn_if_other_version(path, meta)
         return model
 
     @classmethod
     def _from_parts(cls, meta: dict, data: dict) -> SpatialModel:
-        missing = [a for a in _ARRAYS if a not in data]
-        if missing:
-            raise KeyError(f"missing arrays {missing}")
         model = cls(**meta["params"])
         model._validate_params()
         stacks, slices = int(meta["stacks"]), int(meta["slices"])
