@@ -71,7 +71,7 @@ class ModelBank:
         if not models:
             raise ParameterError("models", [], "at least one fitted SpectralModel")
         for m in models:
-            m._check_is_fitted()
+            m.check_is_fitted()
         wl = np.asarray(models[0].wavelengths_)
         for m in models[1:]:
             if m.wavelengths_.shape != wl.shape or not np.allclose(m.wavelengths_, wl):

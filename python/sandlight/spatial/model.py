@@ -49,15 +49,19 @@ import functools
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from numbers import Integral, Real
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 
-from sandlight.errors import ModelFileError, ParameterError, SandlightError
+from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF, band_grid, band_grid_f
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.symmetry import EquivalenceClasses
-from sandlight.predictor.model_file import ModelFileFormat, jsonable, warn_if_other_version
+from sandlight.predictor.estimator import Estimator, Interval, StrOptions
+from sandlight.predictor.model_file import ModelFileFormat, jsonable
+from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
 from sandlight.spatial.mesh import Mesh
 
 __all__ = [
@@ -148,7 +152,7 @@ class SpatialBRDF:
         return band_grid_f(self.hemisphere, self.unique_values, wi, wo)
 
 
-class SpatialModel:
+class SpatialModel(Estimator):
     """Normalised-BRDF predictor over a mesh of sample parameters (paper §3.2).
 
     Parameters
@@ -205,41 +209,19 @@ class SpatialModel:
         Held-out comparison attached by `sandlight.spatial.training.evaluate`.
     """
 
-    def __init__(self, n_components=None, variance_threshold=0.999, scaling="relative"):
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "n_components": [None, Interval(Integral, 1, None)],
+        "variance_threshold": [Interval(Real, 0, 1, closed="right")],
+        "scaling": [StrOptions(SCALINGS)],
+    }
+    _model_file = MODEL_FILE
+
+    def __init__(
+        self, n_components: int | None = None, variance_threshold: float = 0.999, scaling: str = "relative"
+    ) -> None:
         self.n_components = n_components
         self.variance_threshold = variance_threshold
         self.scaling = scaling
-
-    def get_params(self, deep=True) -> dict:
-        return {
-            "n_components": self.n_components,
-            "variance_threshold": self.variance_threshold,
-            "scaling": self.scaling,
-        }
-
-    def set_params(self, **params) -> SpatialModel:
-        for k, v in params.items():
-            if k not in self.get_params():
-                raise ParameterError(k, v, f"one of {sorted(self.get_params())}")
-            setattr(self, k, v)
-        return self
-
-    def __repr__(self):
-        changed = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items() if v != type(self)().get_params()[k])
-        return f"SpatialModel({changed})"
-
-    def _validate_params(self):
-        k, t = self.n_components, self.variance_threshold
-        if k is not None and not (isinstance(k, (int, np.integer)) and not isinstance(k, bool) and k >= 1):
-            raise ParameterError("n_components", k, "None or an integer >= 1")
-        if isinstance(t, bool) or not (isinstance(t, (int, float)) and 0 < t <= 1):
-            raise ParameterError("variance_threshold", t, "a number in (0, 1]")
-        if self.scaling not in SCALINGS:
-            raise ParameterError("scaling", self.scaling, f"one of {SCALINGS}")
-
-    def _check_is_fitted(self):
-        if not hasattr(self, "node_scores_"):
-            raise SandlightError("this SpatialModel is not fitted yet: call fit() or SpatialModel.load()")
 
     def _scale(self, mean: np.ndarray, stderr) -> np.ndarray:
         """Per-value scale of the PCA (module docstring), floored at 10⁻³ of its median."""
@@ -275,7 +257,7 @@ class SpatialModel:
         -------
         self
         """
-        self._validate_params()
+        self.validate_params()
         if not isinstance(mesh, Mesh):
             raise ParameterError("mesh", type(mesh).__name__, "a sandlight.spatial.Mesh")
         brdfs = list(brdfs)
@@ -304,16 +286,13 @@ class SpatialModel:
         mean = X.mean(axis=0)
         scale = self._scale(mean, stderr)
         G = (X - mean) / scale
-        _, s, vt = np.linalg.svd(G, full_matrices=False)
-        variance = s**2 / max(n - 1, 1)
-        total = variance.sum()
-        ratio = variance / total if total > 0 else np.r_[1.0, np.zeros(len(s) - 1)]
-        signal_ratio = None if stderr is None else _signal_variance_ratio(variance, stderr / scale)
+        variance, vt = principal_directions(G)
+        ratio = variance_ratio(variance)
+        signal_ratio = None if stderr is None else signal_variance_ratio(variance, _noise_floor(stderr / scale))
         rank = max(n - 1, 1)  # centred data have rank ≤ n − 1
         if self.n_components is None:
             chosen = ratio if signal_ratio is None else signal_ratio
-            k = int(np.searchsorted(np.cumsum(chosen), self.variance_threshold * (1 - 1e-12))) + 1
-            k = min(k, rank)
+            k = n_components_for(chosen, self.variance_threshold, rank)
         else:
             k = int(self.n_components)
             if k > rank:
@@ -403,7 +382,7 @@ class SpatialModel:
         ParameterError
             A sample outside the mesh.
         """
-        self._check_is_fitted()
+        self.check_is_fitted()
         _, idx, w, _ = self._locate(samples, fixed)
         return np.einsum("kv,kvl->kl", w, self.node_scores_[idx])
 
@@ -417,7 +396,7 @@ class SpatialModel:
 
     def brdf(self, sample, *, fixed: str = "warn") -> SpatialBRDF:
         """The predicted BRDF of one sample (or one point of mesh coordinates) as a `SpatialBRDF`."""
-        self._check_is_fitted()
+        self.check_is_fitted()
         x, idx, w, many = self._locate(sample, fixed)
         if x.shape[0] != 1:
             raise ParameterError("sample", f"{x.shape[0]} samples", "one sample (use predict for many)")
@@ -455,13 +434,7 @@ class SpatialModel:
             },
         }
 
-    def save(self, path) -> Path:
-        """Write the model as plain arrays + JSON metadata in an ``.npz`` file (never pickle).
-
-        Written atomically (temporary file, then rename). Returns the path.
-        """
-        self._check_is_fitted()
-        path = Path(path)
+    def _arrays(self) -> dict[str, np.ndarray]:
         arrays = {
             "mean": self.mean_,
             "components": self.components_,
@@ -473,36 +446,12 @@ class SpatialModel:
         }
         if self.signal_variance_ratio_ is not None:
             arrays["signal_variance_ratio"] = self.signal_variance_ratio_
-        return MODEL_FILE.write(path, self._metadata(), arrays)
+        return arrays
 
     @classmethod
-    def load(cls, path) -> SpatialModel:
-        """Read a model written by `save`.
-
-        Raises
-        ------
-        ModelFileError
-            The file is missing, truncated, corrupt, not a sandlight spatial model, of a newer
-            format version, or internally inconsistent.
-
-        Warns
-        -----
-        ModelVersionWarning
-            The file was written by another sandlight version.
-        """
-        path = Path(path)
-        meta, data = MODEL_FILE.read(path)
-        try:
-            model = cls._from_parts(meta, data)
-        except (KeyError, TypeError, ValueError) as exc:  # ParameterError is a ValueError
-            raise ModelFileError(f"{path} is an incomplete or inconsistent spatial model file: {exc}") from exc
-        warn_if_other_version(path, meta)
-        return model
-
-    @classmethod
-    def _from_parts(cls, meta: dict, data: dict) -> SpatialModel:
+    def _from_parts(cls, meta: Mapping, data: Mapping[str, np.ndarray], path: Path) -> SpatialModel:
         model = cls(**meta["params"])
-        model._validate_params()
+        model.validate_params()
         stacks, slices = int(meta["stacks"]), int(meta["slices"])
         m = EquivalenceClasses(CollectorHemisphere(stacks, slices)).n_classes
         mesh = Mesh(tuple(meta["mesh"]["parameters"]), data["node_coordinates"], meta["mesh"]["base"])
@@ -544,23 +493,16 @@ class SpatialModel:
         return model
 
 
-def _signal_variance_ratio(variance: np.ndarray, stderr: np.ndarray) -> np.ndarray:
-    """Share of the noise-free variance along each principal direction.
+def _noise_floor(stderr: np.ndarray) -> float:
+    """Monte Carlo noise variance along each principal direction of the node BRDFs.
 
     With n node BRDFs of m ≫ n unique values each, independent noise of variances σ_j² does not
     favour any direction of the (n − 1)-dimensional space the centred nodes span: each principal
     direction picks up ≈ Σ_j σ_j² / (n − 1) of noise variance (the centred noise matrix E has
-    E Eᵀ ≈ Σ_j σ_j² (I − 11ᵀ/n) when m ≫ n). That floor is subtracted from every component's
-    variance (clamped at 0) before the shares are taken. σ_j² is the mean squared standard error
-    of value j over the nodes.
+    E Eᵀ ≈ Σ_j σ_j² (I − 11ᵀ/n) when m ≫ n). σ_j² is the mean squared standard error of value j
+    over the nodes.
     """
-    n = stderr.shape[0]
-    floor = float(np.sum(np.mean(stderr**2, axis=0))) / max(n - 1, 1)
-    signal = np.maximum(variance - floor, 0.0)
-    total = signal.sum()
-    if total <= 0:  # all variance is noise: nothing beyond the mean is resolved
-        return np.r_[1.0, np.zeros(len(variance) - 1)]
-    return signal / total
+    return float(np.sum(np.mean(stderr**2, axis=0))) / max(stderr.shape[0] - 1, 1)
 
 
 # ---- the shipped model -------------------------------------------------------------------------
