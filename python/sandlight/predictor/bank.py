@@ -26,7 +26,8 @@ import numpy as np
 
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER
-from sandlight.predictor.spectral import SpectralModel, _columns
+from sandlight.predictor.samples import sample_columns
+from sandlight.predictor.spectral import SpectralModel
 
 #: File names of shipped spectral models inside ``sandlight/data/models``.
 SHIPPED_PATTERN = "spectral-*.npz"
@@ -139,9 +140,7 @@ class ModelBank:
                 "DataFrame or an xarray.Dataset): the models of a bank take "
                 "different parameters; use bank.model(name).predict for arrays",
             )
-        columns = _columns(samples)
-        if FORM_PARAMETER not in columns:
-            raise ParameterError(FORM_PARAMETER, None, "the iron-oxide form of every sample")
+        columns = sample_columns(samples)  # parameters not given take SandSample's defaults
         names, index = np.unique(np.asarray(columns[FORM_PARAMETER]).astype(str), return_inverse=True)
         return columns, names, index.reshape(-1)
 
@@ -156,8 +155,8 @@ class ModelBank:
         covers it.
 
         A model covers a sample when every input parameter is inside its training range, every
-        parameter it fixes has that value (a missing one does not match) and the form is one it
-        was trained on.
+        parameter it fixes has that value and the form is one it was trained on; a parameter the
+        samples do not give takes its SandSample default (:mod:`sandlight.predictor.samples`).
         """
         return self._select(*self._named_columns(samples))
 
@@ -165,8 +164,6 @@ class ModelBank:
         choice = np.full(index.shape[0], -1, dtype=np.intp)
         for rank, m in enumerate(self.models):
             domain = m.domain_
-            if any(n not in columns for n in (*domain.names, *domain.fixed)):
-                continue
             free = np.flatnonzero((choice < 0) & (self._codes(m, names, index) >= 0))
             if not free.size:
                 continue
@@ -179,9 +176,10 @@ class ModelBank:
 
         Parameters
         ----------
-        samples : SandSample, list of SandSample or dict, structured array, DataFrame or
-                  xarray.Dataset
-            Samples with named parameters, including ``iron_oxide_form``.
+        samples : SandSample, list of SandSample or dict, dict of columns, structured array,
+                  DataFrame or xarray.Dataset
+            Samples with named parameters (:func:`sandlight.predictor.samples.sample_columns`:
+            scalars hold for every sample, parameters not given take SandSample's defaults).
         extrapolate : bool
             Predict samples that no model covers with ``fallback`` (its polynomial is then
             evaluated outside its domain) instead of raising.
@@ -196,8 +194,8 @@ class ModelBank:
         ------
         ParameterError
             A sample outside every model's domain (naming the parameter, its value and the range
-            of the broadest model) unless ``extrapolate``; a missing parameter, NaN or an unknown
-            form always.
+            of the broadest model) unless ``extrapolate``; NaN, an unknown form, or input that can
+            be read more than one way (arrays of different lengths, 2-D arrays) always.
         """
         columns, names, index = self._named_columns(samples)
         choice = self._select(columns, names, index)
@@ -225,11 +223,6 @@ class ModelBank:
             f"no model of the bank {names} covers this sample (pass extrapolate=True to use "
             f"{self.fallback.name_!r} outside its domain)"
         )
-        for name, value in self.fallback.domain_.fixed.items():
-            if name not in row:
-                raise ParameterError(
-                    name, None, f"a value ({self.fallback.name_!r} is trained at {name} = {value:g}); {hint}"
-                )
         try:
             # The broadest model names the parameter out of its range (or a missing one, NaN).
             self.fallback.predict(row)

@@ -33,7 +33,7 @@ from __future__ import annotations
 import json
 import math
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from numbers import Integral, Real
 from pathlib import Path
@@ -46,6 +46,7 @@ from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
 from sandlight.predictor.estimator import Estimator, Interval, StrOptions
 from sandlight.predictor.model_file import ModelFileFormat, jsonable
 from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
+from sandlight.predictor.samples import sample_columns
 
 _ARRAYS = (
     "wavelengths_nm",
@@ -68,35 +69,6 @@ _BLOCK = 1024
 
 
 # ---- inputs -----------------------------------------------------------------------------------
-def _columns(X) -> dict:
-    """Named columns of a batch of samples given in any supported container."""
-    if hasattr(X, "data_vars") and hasattr(X, "variables"):  # xarray.Dataset
-        return {str(k): np.asarray(X[k].values) for k in X.variables}
-    if hasattr(X, "columns") and hasattr(X, "to_numpy"):  # pandas.DataFrame
-        return {str(c): X[c].to_numpy() for c in X.columns}
-    if isinstance(X, np.ndarray) and X.dtype.names is not None:  # structured array
-        return {n: np.atleast_1d(X[n]) for n in X.dtype.names}
-    if hasattr(X, "to_dict") and not isinstance(X, Mapping):  # one SandSample
-        X = [X]
-    if isinstance(X, Mapping):
-        if all(np.ndim(v) == 0 for v in X.values()):
-            X = [X]  # one sample as a dict of scalars
-        else:
-            return {str(k): np.atleast_1d(np.asarray(v)) for k, v in X.items()}
-    if isinstance(X, Sequence) and not isinstance(X, (str, bytes)):
-        rows = [x.to_dict() if hasattr(x, "to_dict") else x for x in X]
-        if not rows or not all(isinstance(r, Mapping) for r in rows):
-            raise ParameterError("samples", type(X).__name__, "a non-empty list of SandSample or of parameter dicts")
-        keys = set().union(*rows)
-        return {k: np.asarray([r.get(k, np.nan) for r in rows]) for k in keys}
-    raise ParameterError(
-        "samples",
-        type(X).__name__,
-        "SandSample(s), dict(s) of parameters, a structured array, a DataFrame, "
-        "an xarray.Dataset, or an (n, n_parameters) float array with form codes",
-    )
-
-
 def _form_codes(forms, n: int, known: tuple) -> np.ndarray:
     """Integer codes (indices into ``known``) of form names or codes, one per sample."""
     if forms is None:
@@ -297,26 +269,23 @@ class SpectralModel(Estimator):
                 raise ParameterError("X", values.shape, f"(n, {len(names)}) with columns {names}")
             codes = _form_codes(forms, values.shape[0], known_forms)
         else:
-            columns = _columns(X)
-            missing = [n for n in names if n not in columns]
-            if missing:
-                raise ParameterError(missing[0], None, f"a value for every input parameter {names}")
-            values = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])
-            if FORM_PARAMETER in columns and forms is not None:
-                raise ParameterError("forms", forms, f"None when the samples give {FORM_PARAMETER}")
-            codes = _form_codes(columns.get(FORM_PARAMETER, forms), values.shape[0], known_forms)
+            if forms is not None:
+                raise ParameterError(
+                    "forms", forms, f"None for named samples: they give {FORM_PARAMETER} (or take its default)"
+                )
+            columns = sample_columns(X)  # parameters not given take SandSample's defaults
+            values = np.column_stack([columns[n] for n in names])
+            codes = _form_codes(columns[FORM_PARAMETER], values.shape[0], known_forms)
             if not extrapolate:
                 for name, fixed in domain.fixed.items():
-                    if name in columns:
-                        col = np.asarray(columns[name], dtype=float)
-                        bad = ~at_fixed_value(col, fixed)
-                        if bad.any():
-                            raise ParameterError(
-                                name,
-                                float(col[np.argmax(bad)]),
-                                f"{fixed:g}, the value it was fixed at in the training domain "
-                                f"(pass extrapolate=True to ignore it)",
-                            )
+                    bad = ~at_fixed_value(columns[name], fixed)
+                    if bad.any():
+                        raise ParameterError(
+                            name,
+                            float(columns[name][np.argmax(bad)]),
+                            f"{fixed:g}, the value it was fixed at in the training domain "
+                            f"(pass extrapolate=True to ignore it)",
+                        )
         domain.check(values, extrapolate=extrapolate)
         return values, codes
 
@@ -509,12 +478,16 @@ class SpectralModel(Estimator):
 
         Parameters
         ----------
-        samples : SandSample, list of SandSample or dict, structured array, DataFrame,
-                  xarray.Dataset, or float array (n, n_parameters)
-            The samples. A plain float array has the columns ``parameter_names_`` (raw units,
-            e.g. grain_size in mm) and needs ``forms`` unless the model has a single form.
+        samples : SandSample, list of SandSample or dict, dict of columns, structured array,
+                  DataFrame, xarray.Dataset, or float array (n, n_parameters)
+            The samples. Named ones follow :func:`sandlight.predictor.samples.sample_columns`
+            (scalars hold for every sample; parameters not given take SandSample's defaults,
+            which must then lie in the training domain). A plain float array has the columns
+            ``parameter_names_`` (raw units, e.g. grain_size in mm) and needs ``forms`` unless
+            the model has a single form.
         forms : array_like of str or int, or str, optional
-            Iron-oxide form of each row of a plain array: names, or codes into ``forms_``.
+            Iron-oxide form of each row of a plain array: names, or codes into ``forms_``
+            (named samples give theirs).
         extrapolate : bool
             Evaluate inputs outside the training domain (the polynomial is then unreliable)
             instead of raising; fixed parameters of the domain (e.g. depth_mm) are then ignored.
@@ -528,7 +501,8 @@ class SpectralModel(Estimator):
         ------
         ParameterError
             An input outside the training domain (naming the parameter, its value and the
-            range) unless ``extrapolate``; NaN, a missing parameter or an unknown form always.
+            range) unless ``extrapolate``; NaN, an unknown form, or input that can be read more
+            than one way (arrays of different lengths, 2-D arrays) always.
         """
         self.check_is_fitted()
         values, codes = self._inputs(samples, forms, self.domain_, self.forms_, extrapolate)
