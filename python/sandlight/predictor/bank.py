@@ -19,8 +19,9 @@ default_model, default_model_dir
 from __future__ import annotations
 
 import functools
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -97,11 +98,11 @@ class ModelBank:
         self.wavelengths_ = wl
         self.fallback = max(self.models, key=lambda m: len(m.parameter_names_))
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"ModelBank({', '.join(m.name_ for m in self.models)})"
 
     @classmethod
-    def load(cls, paths) -> ModelBank:
+    def load(cls, paths: Iterable[str | Path]) -> ModelBank:
         """A bank of the model files ``paths`` (see :meth:`SpectralModel.load` for errors)."""
         return cls([SpectralModel.load(p) for p in paths])
 
@@ -112,7 +113,7 @@ class ModelBank:
                 return m
         raise ParameterError("model", name, f"one of {[m.name_ for m in self.models]}")
 
-    def describe(self, which) -> str:
+    def describe(self, which: int | str) -> str:
         """One line on a model (given by name or rank): its name, domain size and hold-out error."""
         m = self.models[which] if isinstance(which, (int, np.integer)) else self.model(which)
         scores = m.holdout_scores_ or {}
@@ -130,7 +131,7 @@ class ModelBank:
         return f"{text}; {m.description_}" if m.description_ else text
 
     # -- prediction ------------------------------------------------------------------------------
-    def _named_columns(self, samples) -> tuple[dict, np.ndarray, np.ndarray]:
+    def _named_columns(self, samples: Any) -> tuple[dict, np.ndarray, np.ndarray]:
         """Columns by name, the distinct form names and each sample's index into them."""
         if isinstance(samples, np.ndarray) and samples.dtype.names is None:
             raise ParameterError(
@@ -150,7 +151,7 @@ class ModelBank:
         lookup = np.array([model.forms_.index(f) if f in model.forms_ else -1 for f in names], dtype=np.intp)
         return lookup[index]
 
-    def select(self, samples) -> np.ndarray:
+    def select(self, samples: Any) -> np.ndarray:
         """Rank (index into ``models``) of the model that predicts each sample, −1 where none
         covers it.
 
@@ -171,7 +172,9 @@ class ModelBank:
             choice[free[domain.contains(sub)]] = rank
         return choice
 
-    def predict(self, samples, *, extrapolate: bool = False, return_models: bool = False):
+    def predict(
+        self, samples: Any, *, extrapolate: bool = False, return_models: bool = False
+    ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
         """Predicted directional-hemispherical reflectance at normal incidence.
 
         Parameters
@@ -216,7 +219,7 @@ class ModelBank:
         names = np.array([m.name_ for m in self.models] + [self.fallback.name_])
         return out, names[np.where(choice < 0, len(self.models), choice)]
 
-    def _raise_uncovered(self, row: dict):
+    def _raise_uncovered(self, row: dict) -> None:
         """Raise a ParameterError naming why the first of ``row``'s samples is not covered."""
         names = [m.name_ for m in self.models]
         hint = (
@@ -231,7 +234,7 @@ class ModelBank:
         raise ParameterError("sample", {k: _scalar(v[0]) for k, v in row.items()}, hint)
 
 
-def _scalar(value):
+def _scalar(value: Any) -> Any:
     return value.item() if isinstance(value, np.generic) else value
 
 

@@ -37,9 +37,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from numbers import Integral, Real
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
@@ -47,6 +48,9 @@ from sandlight.predictor.estimator import Estimator, Interval, StrOptions
 from sandlight.predictor.model_file import ModelFileFormat, jsonable
 from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
 from sandlight.predictor.samples import sample_columns
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 _ARRAYS = (
     "wavelengths_nm",
@@ -69,7 +73,7 @@ _BLOCK = 1024
 
 
 # ---- inputs -----------------------------------------------------------------------------------
-def _form_codes(forms, n: int, known: tuple) -> np.ndarray:
+def _form_codes(forms: ArrayLike | None, n: int, known: tuple[str, ...]) -> np.ndarray:
     """Integer codes (indices into ``known``) of form names or codes, one per sample."""
     if forms is None:
         if len(known) == 1:
@@ -721,7 +725,7 @@ class HoldoutReport:
         return "\n".join(lines)
 
 
-def evaluate(model: SpectralModel, holdout, *, attach: bool = False) -> HoldoutReport:
+def evaluate(model: SpectralModel, holdout: str | Path | xr.Dataset, *, attach: bool = False) -> HoldoutReport:
     """Compare a model with Monte Carlo reflectance of samples not used in fitting.
 
     Parameters

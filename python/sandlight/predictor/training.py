@@ -30,17 +30,25 @@ import functools
 import hashlib
 import json
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.io import write_atomically
 from sandlight.jobs import Job, JobStatus, derive_seed
-from sandlight.jobs.executors import resolve_executor
+from sandlight.jobs.executors import Executor, resolve_executor
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
 from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from sandlight.engine import ReflectanceResult
 
 TRAINING_SET_FORMAT = "sandlight-spectral-training-set"
 TRAINING_SET_FORMAT_VERSION = 1
@@ -49,7 +57,7 @@ TRAINING_SET_FORMAT_VERSION = 1
 ENGINE_SETTINGS = {"incidence_deg": 0.0, "threads": 1}
 
 
-def wavelength_grid(spec) -> np.ndarray:
+def wavelength_grid(spec: str | ArrayLike) -> np.ndarray:
     """Wavelengths in nm from ``"start:stop:step"`` (stop included) or ``"w1,w2,..."``.
 
     Examples
@@ -78,7 +86,9 @@ def wavelength_grid(spec) -> np.ndarray:
     return grid
 
 
-def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed: int, memory: str = "none"):
+def engine_simulate(
+    params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed: int, memory: str = "none"
+) -> ReflectanceResult:
     """Run sandlight's Monte Carlo engine on one sample at normal incidence.
 
     Parameters
@@ -104,7 +114,15 @@ def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed
     )
 
 
-def reflectance_task(payload: dict, seed: int, *, wavelengths_nm, rays: int, simulate=None, memory: str = "none"):
+def reflectance_task(
+    payload: dict,
+    seed: int,
+    *,
+    wavelengths_nm: ArrayLike,
+    rays: int,
+    simulate: Callable | None = None,
+    memory: str = "none",
+) -> dict[str, np.ndarray]:
     """Job task: reflectance and standard error of one sample (runs on a worker)."""
     wavelengths = np.asarray(wavelengths_nm, dtype=float)
     if simulate is None:
@@ -118,7 +136,7 @@ def reflectance_task(payload: dict, seed: int, *, wavelengths_nm, rays: int, sim
     return {"reflectance": values, "stderr": stderr}
 
 
-def _simulator_name(simulate) -> str:
+def _simulator_name(simulate: Callable | None) -> str:
     simulate = engine_simulate if simulate is None else simulate
     inner = simulate.func if isinstance(simulate, functools.partial) else simulate
     return f"{getattr(inner, '__module__', '?')}.{getattr(inner, '__qualname__', repr(inner))}"
@@ -133,7 +151,7 @@ def _check_domain_against_sample(domain: Domain) -> None:
     domain.check_covers(PARAMETERS)
 
 
-def check_engine_memory(memory, custom=None, custom_name: str = "simulate") -> str:
+def check_engine_memory(memory: str, custom: Callable | None = None, custom_name: str = "simulate") -> str:
     """``memory`` checked as the path memory of sandlight's engine; only 'none' goes with a
     ``custom`` function (named ``custom_name``) standing in for the engine."""
     if custom is not None:
@@ -159,15 +177,15 @@ def engine_memory_record(memory: str) -> dict:
 
 
 def training_job(
-    path,
+    path: str | Path,
     n_samples: int,
-    wavelengths_nm,
+    wavelengths_nm: str | ArrayLike,
     rays: int,
     seed: int,
     *,
     domain: Domain | None = None,
     design: str = "lhs",
-    simulate=None,
+    simulate: Callable | None = None,
     memory: str = "none",
 ) -> Job:
     """The job behind :func:`generate_training_set` (same arguments), without running it."""
@@ -232,16 +250,16 @@ def training_job(
 
 
 def generate_training_set(
-    path,
+    path: str | Path,
     n_samples: int,
-    wavelengths_nm,
+    wavelengths_nm: str | ArrayLike,
     rays: int,
     seed: int,
-    executor=None,
+    executor: Executor | str | None = None,
     *,
     domain: Domain | None = None,
     design: str = "lhs",
-    simulate=None,
+    simulate: Callable | None = None,
     progress: bool = True,
     max_tasks: int | None = None,
     max_retries: int = 2,
@@ -300,7 +318,7 @@ def generate_training_set(
     )
 
 
-def file_sha256(path) -> str:
+def file_sha256(path: str | Path) -> str:
     h = hashlib.sha256()
     with open(path, "rb") as fh:
         for block in iter(lambda: fh.read(1 << 20), b""):
@@ -308,7 +326,7 @@ def file_sha256(path) -> str:
     return h.hexdigest()
 
 
-def _samples_inside(ds, domain: Domain):
+def _samples_inside(ds: xr.Dataset, domain: Domain) -> xr.Dataset:
     """The samples of a training-set dataset that lie inside ``domain``."""
     columns = {n: ds[n].values for n in (*domain.names, *domain.fixed)}
     keep = np.flatnonzero(domain.contains(columns, ds[FORM_PARAMETER].values.astype(str)))
@@ -318,13 +336,13 @@ def _samples_inside(ds, domain: Domain):
 
 
 def fit_training_set(
-    path,
-    holdout=None,
+    path: str | Path,
+    holdout: str | Path | None = None,
     *,
     name: str = "spectral",
     description: str = "",
     fit_domain: Domain | None = None,
-    **model_params,
+    **model_params: Any,
 ) -> tuple[SpectralModel, HoldoutReport | None]:
     """Fit a SpectralModel on a training-set dataset and score it on a hold-out dataset.
 
@@ -368,7 +386,7 @@ def fit_training_set(
     return model, report
 
 
-def _dataset_file(path) -> Path:
+def _dataset_file(path: str | Path) -> Path:
     path = Path(path)
     if path.is_dir():
         path = path / "dataset.nc"
@@ -397,17 +415,17 @@ class TrainingRun:
 
 
 def train_spectral(
-    out_dir,
+    out_dir: str | Path,
     n_samples: int,
     rays: int,
-    wavelengths_nm="400:700:20",
+    wavelengths_nm: str | ArrayLike = "400:700:20",
     seed: int = 0,
     *,
     n_holdout: int | None = None,
-    executor=None,
+    executor: Executor | str | None = None,
     domain: Domain | None = None,
     fit_only: bool = False,
-    simulate=None,
+    simulate: Callable | None = None,
     progress: bool = True,
     max_tasks: int | None = None,
     model_params: dict | None = None,

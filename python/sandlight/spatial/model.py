@@ -51,9 +51,10 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from numbers import Integral, Real
 from pathlib import Path
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF, band_grid, band_grid_f
@@ -141,7 +142,7 @@ class SpatialBRDF:
         """Node values F[b_i, b_o, k] of the continuous BRDF, (stacks, stacks, slices), sr⁻¹."""
         return band_grid(self.hemisphere, self.unique_values)
 
-    def f(self, wi, wo) -> np.ndarray:
+    def f(self, wi: ArrayLike, wo: ArrayLike) -> np.ndarray:
         """Continuous normalised BRDF f̂(ω_i, ω_o) in sr⁻¹ (`sandlight.gonio.brdf.band_grid_f`).
 
         Parameters
@@ -223,7 +224,7 @@ class SpatialModel(Estimator):
         self.variance_threshold = variance_threshold
         self.scaling = scaling
 
-    def _scale(self, mean: np.ndarray, stderr) -> np.ndarray:
+    def _scale(self, mean: np.ndarray, stderr: np.ndarray | None) -> np.ndarray:
         """Per-value scale of the PCA (module docstring), floored at 10⁻³ of its median."""
         if self.scaling == "none":
             return np.ones_like(mean)
@@ -321,7 +322,7 @@ class SpatialModel(Estimator):
         return self
 
     # ---- prediction --------------------------------------------------------------------------
-    def _locate(self, samples, fixed: str):
+    def _locate(self, samples: Any, fixed: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, list | None]:
         if fixed not in FIXED_POLICIES:
             raise ParameterError("fixed", fixed, f"one of {FIXED_POLICIES}")
         from sandlight.sample import SandSample
@@ -362,7 +363,7 @@ class SpatialModel(Estimator):
         idx, w = self.mesh_.locate(x)
         return x, idx, w, many
 
-    def scores(self, samples, *, fixed: str = "warn") -> np.ndarray:
+    def scores(self, samples: Any, *, fixed: str = "warn") -> np.ndarray:
         """Principal components f̃ = Σ α_i f̃_i of samples (paper eqs. 6–7).
 
         Parameters
@@ -386,7 +387,7 @@ class SpatialModel(Estimator):
         _, idx, w, _ = self._locate(samples, fixed)
         return np.einsum("kv,kvl->kl", w, self.node_scores_[idx])
 
-    def predict(self, samples, *, fixed: str = "warn") -> np.ndarray:
+    def predict(self, samples: Any, *, fixed: str = "warn") -> np.ndarray:
         """Normalised BRDFs f = f̄ + s ⊙ V_ℓᵀ f̃ as unique values (paper eq. 5), shape (k, m), sr⁻¹.
 
         Parameters are those of `scores`.
@@ -394,7 +395,7 @@ class SpatialModel(Estimator):
         scores = self.scores(samples, fixed=fixed)
         return self.mean_ + scores @ self.components_
 
-    def brdf(self, sample, *, fixed: str = "warn") -> SpatialBRDF:
+    def brdf(self, sample: Any, *, fixed: str = "warn") -> SpatialBRDF:
         """The predicted BRDF of one sample (or one point of mesh coordinates) as a `SpatialBRDF`."""
         self.check_is_fitted()
         x, idx, w, many = self._locate(sample, fixed)
