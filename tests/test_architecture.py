@@ -56,9 +56,6 @@ KNOWN_VIOLATIONS: frozenset[str] = frozenset(
         # Rust: medium holds the SurfaceLayer, which builds on packing, which builds on medium
         # (issue 18 §2: populations.rs and a memory module wrapping the medium).
         "cycle(rust): medium, packing, surface_layer",
-        # Helpers shared between modules under a private name.
-        "private: sandlight.predictor.bank uses sandlight.predictor.spectral._columns",
-        "private: sandlight.spatial.model uses sandlight.predictor.spectral._plain",
     }
 )
 

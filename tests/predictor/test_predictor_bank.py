@@ -60,11 +60,16 @@ class TestSelection:
         assert bank.select([{**sample, "saturation": 0.3}])[0] == 1  # broad
         assert bank.select([{**sample, "saturation": 0.0}])[0] == 0  # narrow
 
-    def test_a_missing_fixed_parameter_is_not_covered(self, bank):
-        sample = samples_of(NARROW, 1, seed=7)[0]
-        del sample["depth_mm"]
+    def test_a_missing_parameter_takes_the_sandsample_default(self, bank):
+        full = samples_of(NARROW, 1, seed=7)[0]
+        # depth_mm: the default (inf) is the value both models are fixed at.
+        sample = {k: v for k, v in full.items() if k != "depth_mm"}
+        assert bank.select([sample])[0] == bank.select([full])[0] == 0
+        np.testing.assert_array_equal(bank.predict([sample]), bank.predict([full]))
+        # coating_iron_share: the default (0.2) is not the 0.5 both models are fixed at.
+        sample = {k: v for k, v in full.items() if k != "coating_iron_share"}
         assert bank.select([sample])[0] == -1
-        with pytest.raises(ParameterError, match="depth_mm.*no model of the bank"):
+        with pytest.raises(ParameterError, match=r"coating_iron_share = 0\.2.*no model of the bank"):
             bank.predict([sample])
 
 
@@ -91,11 +96,10 @@ class TestInputs:
         with pytest.raises(ParameterError, match="named parameters"):
             bank.predict(np.zeros((2, len(SMALL.names))))
 
-    def test_form_is_required(self, bank):
+    def test_a_missing_form_is_the_default_coating(self, bank):
         sample = samples_of(NARROW, 1, seed=10)[0]
         del sample["iron_oxide_form"]
-        with pytest.raises(ParameterError, match="iron_oxide_form"):
-            bank.predict([sample])
+        np.testing.assert_array_equal(bank.predict([sample]), bank.predict([{**sample, "iron_oxide_form": "coating"}]))
 
     def test_models_must_share_wavelengths_and_names(self, models):
         broad, narrow = models

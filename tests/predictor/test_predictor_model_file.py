@@ -1,16 +1,21 @@
 """Model files: save → load → identical predictions; damaged or foreign files refused."""
 
+import io
 import json
+import os
 import zipfile
 
 import numpy as np
 import pytest
+import xarray as xr
 from test_predictor_spectral import SMALL, WL, exact_cubic_problem
 
 import sandlight
 import sandlight.predictor.bank as bank
 from sandlight.errors import ModelFileError, SandlightError
 from sandlight.predictor import Dimension, Domain, ModelVersionWarning, SpectralModel, default_model
+from sandlight.predictor.model_file import MAX_ARRAY_BYTES, MAX_JSON_DEPTH, json_depth
+from sandlight.spatial import SpatialModel
 
 
 @pytest.fixture(scope="module")
@@ -169,6 +174,122 @@ class TestRefused:
         path = rewrite(saved, tmp_path / "x.npz", lambda k, a: np.full_like(a, np.nan) if k == "mean" else a)
         with pytest.raises(ModelFileError, match="NaN"):
             SpectralModel.load(path)
+
+
+def repack(src, dst, add=None, declared=None):
+    """Copy a model file member by member (plain zipfile, no zip64), adding members ``add``
+    (name → bytes) and making the central directory declare ``declared`` (name → uncompressed
+    size) for the members named."""
+    with zipfile.ZipFile(src) as z:
+        members = {i.filename: z.read(i) for i in z.infolist()}
+    members.update(add or {})
+    with zipfile.ZipFile(dst, "w") as z:
+        for name, data in members.items():
+            z.writestr(name, data)
+    raw = bytearray(dst.read_bytes())
+    for name, size in (declared or {}).items():
+        # central directory entry: signature PK\1\2, uncompressed size at 24, name at 46
+        entry = raw.index(b"PK\x01\x02")
+        while bytes(raw[entry + 46 : entry + 46 + len(name)]) != name.encode():
+            entry = raw.index(b"PK\x01\x02", entry + 4)
+        raw[entry + 24 : entry + 28] = size.to_bytes(4, "little")
+    dst.write_bytes(bytes(raw))
+    return dst
+
+
+def npy_bytes(array):
+    buffer = io.BytesIO()
+    np.save(buffer, array)
+    return buffer.getvalue()
+
+
+@pytest.fixture
+def opened(monkeypatch):
+    """Names of the zip members read (zipfile.ZipFile.open calls) during a test."""
+    names = []
+    original = zipfile.ZipFile.open
+
+    def spy(self, name, *args, **kwargs):
+        names.append(name.filename if isinstance(name, zipfile.ZipInfo) else name)
+        return original(self, name, *args, **kwargs)
+
+    monkeypatch.setattr(zipfile.ZipFile, "open", spy)
+    return names
+
+
+class TestUntrustedFiles:
+    """Issue 24 #8 and #15: the zip directory and the headers are checked before anything is read,
+    and a file that is not a model file is called what it is not."""
+
+    def test_unknown_member_refused_before_reading_anything(self, saved, tmp_path, opened):
+        path = repack(saved, tmp_path / "x.npz", add={"payload.npy": npy_bytes(np.zeros(1000))})
+        opened.clear()
+        with pytest.raises(ModelFileError, match=r"members \['payload.npy'\] that a spectral model file does not"):
+            SpectralModel.load(path)
+        assert opened == []
+
+    def test_oversize_member_refused_before_reading_anything(self, saved, tmp_path, opened):
+        # A 3 GB member, as the central directory declares it (the file itself stays small).
+        path = repack(saved, tmp_path / "x.npz", declared={"W.npy": 3_000_000_000})
+        opened.clear()
+        with pytest.raises(ModelFileError, match=f"W.npy declares 3000000000 bytes, more than the {MAX_ARRAY_BYTES}"):
+            SpectralModel.load(path)
+        assert opened == []
+
+    def test_array_header_larger_than_the_member_is_refused(self, saved, tmp_path):
+        # An .npy header announcing 10⁹ doubles before the 8 bytes the member holds: refused from
+        # the header, before numpy would allocate 8 GB for it.
+        buffer = io.BytesIO()
+        np.lib.format.write_array_header_1_0(buffer, {"descr": "<f8", "fortran_order": False, "shape": (10**9,)})
+        path = repack(saved, tmp_path / "x.npz", add={"W.npy": buffer.getvalue() + bytes(8)})
+        with pytest.raises(ModelFileError, match=r"W.npy declares an array of \(1000000000,\) float64"):
+            SpectralModel.load(path)
+
+    def test_deeply_nested_metadata_is_refused_without_recursion(self, tmp_path):
+        path = tmp_path / "deep.npz"
+        np.savez(path, metadata=np.array("[" * 100_000 + "]" * 100_000))
+        with pytest.raises(ModelFileError, match=f"nested 100000 levels deep.*at most {MAX_JSON_DEPTH}"):
+            SpectralModel.load(path)
+
+    def test_nesting_within_the_limit_loads(self, saved, tmp_path, model):
+        deep = [[[[[[[[[[{"x": "]]]] brackets in strings do not count [[[["}]]]]]]]]]]
+        path = with_metadata(saved, tmp_path / "x.npz", training_set={"nested": deep})
+        np.testing.assert_array_equal(SpectralModel.load(path).W_, model.W_)
+
+    def test_json_depth(self):
+        assert [json_depth(t) for t in ("1", "[]", '{"a": [1, {"b": []}]}', '["[[[", "\\"]"]')] == [0, 1, 4, 1]
+
+    @pytest.mark.parametrize("load", [SpectralModel.load, SpatialModel.load], ids=["spectral", "spatial"])
+    @pytest.mark.parametrize(
+        "content, what",
+        [
+            (os.urandom(4096), "not a zip"),
+            ("netcdf", "not a zip.*NetCDF"),
+            (npy_bytes(np.ones(3)), "not a zip.*single numpy array"),
+        ],
+        ids=["random-bytes", "netcdf", "npy"],
+    )
+    def test_not_a_model_file_says_what_it_is_not(self, tmp_path, load, content, what):
+        path = tmp_path / "model.npz"
+        if content == "netcdf":
+            xr.Dataset({"reflectance": ("wavelength", np.ones(3))}).to_netcdf(path)
+        else:
+            path.write_bytes(content)
+        with pytest.raises(ModelFileError, match=what) as info:
+            load(path)
+        assert "allow_pickle" not in str(info.value)
+
+    @pytest.mark.parametrize("load", [SpectralModel.load, SpatialModel.load], ids=["spectral", "spatial"])
+    def test_pickled_member_is_refused_without_inviting_to_unpickle(self, tmp_path, load):
+        path = tmp_path / "pickled.npz"
+        np.savez(path, metadata=np.array([{"format": "sandlight-spectral-model"}], dtype=object))
+        with pytest.raises(ModelFileError, match="holds Python objects") as info:
+            load(path)
+        assert "allow_pickle" not in str(info.value)
+
+    def test_a_directory_is_not_a_model_file(self, tmp_path):
+        with pytest.raises(ModelFileError, match="not a regular file"):
+            SpectralModel.load(tmp_path)
 
 
 def test_other_sandlight_version_warns(model, saved, tmp_path):

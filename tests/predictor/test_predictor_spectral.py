@@ -182,9 +182,10 @@ class TestInputs:
             model.predict(X, "mixed")
         with pytest.raises(ParameterError, match="iron_oxide_form = 7"):
             model.predict(X, 7)
-        missing = {k: v for k, v in samples[0].items() if k != "saturation"}
-        with pytest.raises(ParameterError, match="saturation"):
-            model.predict(missing)
+        missing = {k: v for k, v in samples[0].items() if k != "saturation"}  # takes the default, 0
+        np.testing.assert_array_equal(model.predict(missing), model.predict({**missing, "saturation": 0.0}))
+        with pytest.raises(ParameterError, match="forms = 'coating'.*named samples"):
+            model.predict(samples, "coating")
         with pytest.raises(ParameterError, match="samples"):
             model.predict("red-dune")
         with pytest.raises(SandlightError, match="not fitted"):

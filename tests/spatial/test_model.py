@@ -246,3 +246,15 @@ def test_shipped_default_model():
     assert model.mesh_.base == SandSample().to_dict()
     assert model.wavelength_nm_ == 550.0 and (model.stacks_, model.slices_) == (31, 30)
     assert model.holdout_scores_ and model.holdout_scores_[0]["point"] == {"saturation": 0.5}
+
+
+def test_unknown_member_is_refused(beach_model, tmp_path):
+    # Issue 24 #8: a member the format does not declare (here a large one) is refused unread.
+    good = beach_model.save(tmp_path / "good.npz")
+    bad = tmp_path / "bad.npz"
+    with zipfile.ZipFile(good) as z, zipfile.ZipFile(bad, "w", zipfile.ZIP_DEFLATED) as out:
+        for info in z.infolist():
+            out.writestr(info.filename, z.read(info))
+        out.writestr("extra.npy", bytes(10**7))
+    with pytest.raises(ModelFileError, match=r"members \['extra.npy'\] that a spatial model file does not have"):
+        SpatialModel.load(bad)

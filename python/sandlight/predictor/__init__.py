@@ -12,11 +12,20 @@ Domain, Dimension
 generate_training_set, fit_training_set, train_spectral
     Training data (a restartable job) and the fitting pipeline
     (:mod:`sandlight.predictor.training`).
+ModelVersionWarning
+    A model file written by another sandlight version was loaded.
+
+Shared by the spectral and the spatial predictor: the estimator base (parameters, constraints,
+fitted state, save/load: :mod:`sandlight.predictor.estimator`), the model-file format
+(:mod:`sandlight.predictor.model_file`), PCA of noisy Monte Carlo data
+(:mod:`sandlight.predictor.pca`) and batches of samples as columns
+(:mod:`sandlight.predictor.samples`).
 """
 
 from sandlight.predictor.bank import ModelBank, default_model
 from sandlight.predictor.domain import Dimension, Domain
-from sandlight.predictor.spectral import HoldoutReport, ModelVersionWarning, SpectralModel, evaluate
+from sandlight.predictor.model_file import ModelVersionWarning
+from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
 from sandlight.predictor.training import fit_training_set, generate_training_set, train_spectral, wavelength_grid
 
 __all__ = [

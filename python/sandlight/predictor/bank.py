@@ -19,14 +19,16 @@ default_model, default_model_dir
 from __future__ import annotations
 
 import functools
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER
-from sandlight.predictor.spectral import SpectralModel, _columns
+from sandlight.predictor.samples import sample_columns
+from sandlight.predictor.spectral import SpectralModel
 
 #: File names of shipped spectral models inside ``sandlight/data/models``.
 SHIPPED_PATTERN = "spectral-*.npz"
@@ -71,7 +73,7 @@ class ModelBank:
         if not models:
             raise ParameterError("models", [], "at least one fitted SpectralModel")
         for m in models:
-            m._check_is_fitted()
+            m.check_is_fitted()
         wl = np.asarray(models[0].wavelengths_)
         for m in models[1:]:
             if m.wavelengths_.shape != wl.shape or not np.allclose(m.wavelengths_, wl):
@@ -96,11 +98,11 @@ class ModelBank:
         self.wavelengths_ = wl
         self.fallback = max(self.models, key=lambda m: len(m.parameter_names_))
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"ModelBank({', '.join(m.name_ for m in self.models)})"
 
     @classmethod
-    def load(cls, paths) -> ModelBank:
+    def load(cls, paths: Iterable[str | Path]) -> ModelBank:
         """A bank of the model files ``paths`` (see :meth:`SpectralModel.load` for errors)."""
         return cls([SpectralModel.load(p) for p in paths])
 
@@ -111,7 +113,7 @@ class ModelBank:
                 return m
         raise ParameterError("model", name, f"one of {[m.name_ for m in self.models]}")
 
-    def describe(self, which) -> str:
+    def describe(self, which: int | str) -> str:
         """One line on a model (given by name or rank): its name, domain size and hold-out error."""
         m = self.models[which] if isinstance(which, (int, np.integer)) else self.model(which)
         scores = m.holdout_scores_ or {}
@@ -129,7 +131,7 @@ class ModelBank:
         return f"{text}; {m.description_}" if m.description_ else text
 
     # -- prediction ------------------------------------------------------------------------------
-    def _named_columns(self, samples) -> tuple[dict, np.ndarray, np.ndarray]:
+    def _named_columns(self, samples: Any) -> tuple[dict, np.ndarray, np.ndarray]:
         """Columns by name, the distinct form names and each sample's index into them."""
         if isinstance(samples, np.ndarray) and samples.dtype.names is None:
             raise ParameterError(
@@ -139,9 +141,7 @@ class ModelBank:
                 "DataFrame or an xarray.Dataset): the models of a bank take "
                 "different parameters; use bank.model(name).predict for arrays",
             )
-        columns = _columns(samples)
-        if FORM_PARAMETER not in columns:
-            raise ParameterError(FORM_PARAMETER, None, "the iron-oxide form of every sample")
+        columns = sample_columns(samples)  # parameters not given take SandSample's defaults
         names, index = np.unique(np.asarray(columns[FORM_PARAMETER]).astype(str), return_inverse=True)
         return columns, names, index.reshape(-1)
 
@@ -151,13 +151,13 @@ class ModelBank:
         lookup = np.array([model.forms_.index(f) if f in model.forms_ else -1 for f in names], dtype=np.intp)
         return lookup[index]
 
-    def select(self, samples) -> np.ndarray:
+    def select(self, samples: Any) -> np.ndarray:
         """Rank (index into ``models``) of the model that predicts each sample, −1 where none
         covers it.
 
         A model covers a sample when every input parameter is inside its training range, every
-        parameter it fixes has that value (a missing one does not match) and the form is one it
-        was trained on.
+        parameter it fixes has that value and the form is one it was trained on; a parameter the
+        samples do not give takes its SandSample default (:mod:`sandlight.predictor.samples`).
         """
         return self._select(*self._named_columns(samples))
 
@@ -165,8 +165,6 @@ class ModelBank:
         choice = np.full(index.shape[0], -1, dtype=np.intp)
         for rank, m in enumerate(self.models):
             domain = m.domain_
-            if any(n not in columns for n in (*domain.names, *domain.fixed)):
-                continue
             free = np.flatnonzero((choice < 0) & (self._codes(m, names, index) >= 0))
             if not free.size:
                 continue
@@ -174,14 +172,17 @@ class ModelBank:
             choice[free[domain.contains(sub)]] = rank
         return choice
 
-    def predict(self, samples, *, extrapolate: bool = False, return_models: bool = False):
+    def predict(
+        self, samples: Any, *, extrapolate: bool = False, return_models: bool = False
+    ) -> np.ndarray | tuple[np.ndarray, np.ndarray]:
         """Predicted directional-hemispherical reflectance at normal incidence.
 
         Parameters
         ----------
-        samples : SandSample, list of SandSample or dict, structured array, DataFrame or
-                  xarray.Dataset
-            Samples with named parameters, including ``iron_oxide_form``.
+        samples : SandSample, list of SandSample or dict, dict of columns, structured array,
+                  DataFrame or xarray.Dataset
+            Samples with named parameters (:func:`sandlight.predictor.samples.sample_columns`:
+            scalars hold for every sample, parameters not given take SandSample's defaults).
         extrapolate : bool
             Predict samples that no model covers with ``fallback`` (its polynomial is then
             evaluated outside its domain) instead of raising.
@@ -196,8 +197,8 @@ class ModelBank:
         ------
         ParameterError
             A sample outside every model's domain (naming the parameter, its value and the range
-            of the broadest model) unless ``extrapolate``; a missing parameter, NaN or an unknown
-            form always.
+            of the broadest model) unless ``extrapolate``; NaN, an unknown form, or input that can
+            be read more than one way (arrays of different lengths, 2-D arrays) always.
         """
         columns, names, index = self._named_columns(samples)
         choice = self._select(columns, names, index)
@@ -218,18 +219,13 @@ class ModelBank:
         names = np.array([m.name_ for m in self.models] + [self.fallback.name_])
         return out, names[np.where(choice < 0, len(self.models), choice)]
 
-    def _raise_uncovered(self, row: dict):
+    def _raise_uncovered(self, row: dict) -> None:
         """Raise a ParameterError naming why the first of ``row``'s samples is not covered."""
         names = [m.name_ for m in self.models]
         hint = (
             f"no model of the bank {names} covers this sample (pass extrapolate=True to use "
             f"{self.fallback.name_!r} outside its domain)"
         )
-        for name, value in self.fallback.domain_.fixed.items():
-            if name not in row:
-                raise ParameterError(
-                    name, None, f"a value ({self.fallback.name_!r} is trained at {name} = {value:g}); {hint}"
-                )
         try:
             # The broadest model names the parameter out of its range (or a missing one, NaN).
             self.fallback.predict(row)
@@ -238,7 +234,7 @@ class ModelBank:
         raise ParameterError("sample", {k: _scalar(v[0]) for k, v in row.items()}, hint)
 
 
-def _scalar(value):
+def _scalar(value: Any) -> Any:
     return value.item() if isinstance(value, np.generic) else value
 
 

@@ -68,13 +68,15 @@ cubic has few monomials and fits the engine much more closely.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError, SandlightError
-from sandlight.sample import PARAMETERS
+from sandlight.sample import PARAMETERS, Parameter
 
 #: Forms of the iron oxide, the values of SandSample.iron_oxide_form.
 FORMS = ("coating", "mixed", "particles")
@@ -141,7 +143,7 @@ class Dimension:
         if self.scale == "sqrt" and self.low < 0:
             raise ParameterError(self.name, (self.low, self.high), "low >= 0 on a sqrt scale")
 
-    def forward(self, x):
+    def forward(self, x: ArrayLike) -> np.ndarray | float:
         """Transformed value (the scale's coordinate)."""
         if self.scale == "log":
             return np.log(np.add(x, self.offset)) if self.offset else np.log(x)
@@ -149,14 +151,14 @@ class Dimension:
             return np.sqrt(x)
         return np.asarray(x, dtype=float)
 
-    def inverse(self, t):
+    def inverse(self, t: ArrayLike) -> np.ndarray | float:
         if self.scale == "log":
             return np.exp(t) - self.offset if self.offset else np.exp(t)
         if self.scale == "sqrt":
             return np.square(t)
         return t
 
-    def from_unit(self, u):
+    def from_unit(self, u: ArrayLike) -> np.ndarray:
         """Value at fraction ``u`` ∈ [0, 1] of the transformed range (clipped to [low, high])."""
         t0, t1 = self.forward(self.low), self.forward(self.high)
         # Clip: exp/square of the end points may round a hair outside the range.
@@ -259,7 +261,9 @@ class Domain:
         return cls()
 
     @classmethod
-    def reference(cls, dimensions, forms=FORMS, reference: Mapping | None = None) -> Domain:
+    def reference(
+        cls, dimensions: Iterable[Dimension], forms: Iterable[str] = FORMS, reference: Mapping | None = None
+    ) -> Domain:
         """A narrow domain: ``dimensions`` vary, every other parameter is fixed at the
         reference sand.
 
@@ -286,7 +290,9 @@ class Domain:
         fixed = {k: float(v) for k, v in reference.items() if k not in varied}
         return cls(dimensions, tuple(forms), fixed, SAND_CLASS_LIMIT)
 
-    def restrict(self, *, forms=None, texture_limit=None, **changes) -> Domain:
+    def restrict(
+        self, *, forms: Iterable[str] | None = None, texture_limit: float | None = None, **changes: Any
+    ) -> Domain:
         """A smaller domain.
 
         Parameters
@@ -378,7 +384,7 @@ class Domain:
             float(d["texture_limit"]),
         )
 
-    def check_covers(self, parameters) -> None:
+    def check_covers(self, parameters: Iterable[Parameter]) -> None:
         """Check this domain against SandSample's parameter table.
 
         Every float parameter must be a dimension (with a range inside the parameter's), fixed,
@@ -444,7 +450,7 @@ class Domain:
             samples.append(s)
         return samples
 
-    def draw_arrays(self, n: int, seed: int, design: str = "lhs"):
+    def draw_arrays(self, n: int, seed: int, design: str = "lhs") -> tuple[np.ndarray, np.ndarray]:
         """The draws of :meth:`draw` as arrays: values (n, n_dimensions) in ``names`` order and
         form codes (n,) indexing ``forms`` (the input of ``SpectralModel.predict``)."""
         from scipy.stats import qmc
@@ -531,7 +537,7 @@ class Domain:
         """silt + 1.5·clay of each row (texture dimensions only)."""
         return values[:, self.names.index("silt")] + CLAY_WEIGHT * values[:, self.names.index("clay")]
 
-    def contains(self, columns: Mapping, forms=None) -> np.ndarray:
+    def contains(self, columns: Mapping, forms: ArrayLike | None = None) -> np.ndarray:
         """Which samples lie inside this domain (the test of :meth:`check`, without raising).
 
         Parameters
@@ -581,7 +587,7 @@ class Domain:
         return (t0 + t1) / 2, (t1 - t0) / 2
 
 
-def at_fixed_value(values, fixed) -> np.ndarray:
+def at_fixed_value(values: np.ndarray, fixed: ArrayLike) -> np.ndarray:
     """Values equal to the value a domain fixes (broadcasting): equal, or within 1e-9 relative
     for the round-off of values written to text and read back; inf matches inf, NaN nothing."""
     fixed = np.asarray(fixed, dtype=float)

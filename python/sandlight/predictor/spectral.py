@@ -15,10 +15,8 @@ SpectralModel
 evaluate, HoldoutReport
     Error of a model against Monte Carlo hold-out samples, per wavelength, next to the Monte
     Carlo noise of those samples.
-default_model
-    The bank of models shipped in the package (:mod:`sandlight.predictor.bank`).
-ModelVersionWarning
-    A model file written by another sandlight version was loaded.
+MODEL_FILE
+    The model-file format (:mod:`sandlight.predictor.model_file`).
 
 The iron-oxide form (categorical) is handled either by one regression per form
 (``forms="separate"``, the default: W has one slice per form, the PCA basis is shared) or by
@@ -32,24 +30,28 @@ training data come from sandlight's SPLITS-like transport engine instead of SPLI
 
 from __future__ import annotations
 
-import inspect
 import json
 import math
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
+from numbers import Integral, Real
 from pathlib import Path
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from sandlight.errors import ModelFileError, ParameterError, SandlightError
-from sandlight.io import read_model_npz, write_model_npz
+from sandlight.errors import ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
+from sandlight.predictor.estimator import Estimator, Interval, StrOptions
+from sandlight.predictor.model_file import ModelFileFormat, jsonable
+from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
+from sandlight.predictor.samples import sample_columns
 
-MODEL_FORMAT = "sandlight-spectral-model"
-#: 2: log scales take an offset (Dimension.offset); models carry a name and a description.
-#: Format-1 files (sqrt-scaled concentrations, no name) still load.
-MODEL_FORMAT_VERSION = 2
+if TYPE_CHECKING:
+    import xarray as xr
+
 _ARRAYS = (
     "wavelengths_nm",
     "mean",
@@ -60,54 +62,18 @@ _ARRAYS = (
     "powers",
     "W",
 )
+#: Version 2: log scales take an offset (Dimension.offset); models carry a name and a
+#: description. Format-1 files (sqrt-scaled concentrations, no name) still load.
+MODEL_FILE = ModelFileFormat("sandlight-spectral-model", 2, "spectral model", _ARRAYS)
+MODEL_FORMAT, MODEL_FORMAT_VERSION = MODEL_FILE.name, MODEL_FILE.version
 #: Samples per block of the fast evaluator: the block's monomials (m × block doubles, 4.5 MB
 #: for the 560 cubic monomials of 13 parameters) stay in cache between the products and the
 #: matrix product that consumes them.
 _BLOCK = 1024
 
 
-class ModelVersionWarning(UserWarning):
-    """A model file written by another sandlight version was loaded (it may predict differently
-    from a model trained with this version's engine)."""
-
-
-def _sandlight_version() -> str:
-    import sandlight
-
-    return sandlight.__version__
-
-
 # ---- inputs -----------------------------------------------------------------------------------
-def _columns(X) -> dict:
-    """Named columns of a batch of samples given in any supported container."""
-    if hasattr(X, "data_vars") and hasattr(X, "variables"):  # xarray.Dataset
-        return {str(k): np.asarray(X[k].values) for k in X.variables}
-    if hasattr(X, "columns") and hasattr(X, "to_numpy"):  # pandas.DataFrame
-        return {str(c): X[c].to_numpy() for c in X.columns}
-    if isinstance(X, np.ndarray) and X.dtype.names is not None:  # structured array
-        return {n: np.atleast_1d(X[n]) for n in X.dtype.names}
-    if hasattr(X, "to_dict") and not isinstance(X, Mapping):  # one SandSample
-        X = [X]
-    if isinstance(X, Mapping):
-        if all(np.ndim(v) == 0 for v in X.values()):
-            X = [X]  # one sample as a dict of scalars
-        else:
-            return {str(k): np.atleast_1d(np.asarray(v)) for k, v in X.items()}
-    if isinstance(X, Sequence) and not isinstance(X, (str, bytes)):
-        rows = [x.to_dict() if hasattr(x, "to_dict") else x for x in X]
-        if not rows or not all(isinstance(r, Mapping) for r in rows):
-            raise ParameterError("samples", type(X).__name__, "a non-empty list of SandSample or of parameter dicts")
-        keys = set().union(*rows)
-        return {k: np.asarray([r.get(k, np.nan) for r in rows]) for k in keys}
-    raise ParameterError(
-        "samples",
-        type(X).__name__,
-        "SandSample(s), dict(s) of parameters, a structured array, a DataFrame, "
-        "an xarray.Dataset, or an (n, n_parameters) float array with form codes",
-    )
-
-
-def _form_codes(forms, n: int, known: tuple) -> np.ndarray:
+def _form_codes(forms: ArrayLike | None, n: int, known: tuple[str, ...]) -> np.ndarray:
     """Integer codes (indices into ``known``) of form names or codes, one per sample."""
     if forms is None:
         if len(known) == 1:
@@ -197,7 +163,7 @@ def _monomials(XT: np.ndarray, plan: tuple, m: int, out: np.ndarray) -> np.ndarr
 
 
 # ---- the estimator ----------------------------------------------------------------------------
-class SpectralModel:
+class SpectralModel(Estimator):
     """Spectral reflectance predictor r(x) ≈ r̄ + U_k Wᵀ φ(x) (paper §3.1, eq. 4).
 
     Parameters
@@ -270,50 +236,33 @@ class SpectralModel:
     array([[0.21, 0.22, ...]])
     """
 
-    def __init__(self, n_components=None, variance_threshold=0.999, degree=3, ridge=0.0, forms="separate"):
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "n_components": [None, Interval(Integral, 1, None)],
+        "variance_threshold": [Interval(Real, 0, 1, closed="right")],
+        "degree": [Interval(Integral, 1, 4)],
+        "ridge": [Interval(Real, 0, None)],
+        "forms": [StrOptions(("separate", "onehot"))],
+    }
+    _model_file = MODEL_FILE
+
+    def __init__(
+        self,
+        n_components: int | None = None,
+        variance_threshold: float = 0.999,
+        degree: int = 3,
+        ridge: float = 0.0,
+        forms: str = "separate",
+    ) -> None:
         self.n_components = n_components
         self.variance_threshold = variance_threshold
         self.degree = degree
         self.ridge = ridge
         self.forms = forms
 
-    # -- scikit-learn estimator protocol (without importing scikit-learn at import time) --------
-    def get_params(self, deep=True) -> dict:
-        names = [p for p in inspect.signature(type(self).__init__).parameters if p != "self"]
-        return {n: getattr(self, n) for n in names}
-
-    def set_params(self, **params) -> SpectralModel:
-        valid = self.get_params()
-        for k, v in params.items():
-            if k not in valid:
-                raise ParameterError(k, v, f"one of {sorted(valid)}")
-            setattr(self, k, v)
-        return self
-
-    def __repr__(self):
-        defaults = type(self)().get_params()
-        changed = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items() if v != defaults[k])
-        return f"{type(self).__name__}({changed})"
-
-    def _validate_params(self):
-        k, t, g, lam, forms = (self.n_components, self.variance_threshold, self.degree, self.ridge, self.forms)
-        if k is not None and not (isinstance(k, (int, np.integer)) and k >= 1):
-            raise ParameterError("n_components", k, "None or an integer >= 1")
-        if not (isinstance(t, (int, float)) and 0 < t <= 1):
-            raise ParameterError("variance_threshold", t, "a number in (0, 1]")
-        if not (isinstance(g, (int, np.integer)) and 1 <= g <= 4):
-            raise ParameterError("degree", g, "an integer in 1..4")
-        if not (isinstance(lam, (int, float)) and math.isfinite(lam) and lam >= 0):
-            raise ParameterError("ridge", lam, "a finite number >= 0")
-        if forms not in ("separate", "onehot"):
-            raise ParameterError("forms", forms, "'separate' or 'onehot'")
-
-    def _check_is_fitted(self):
-        if not hasattr(self, "W_"):
-            raise SandlightError(f"this {type(self).__name__} is not fitted yet: call fit() or SpectralModel.load()")
-
     # -- inputs -------------------------------------------------------------------------------
-    def _inputs(self, X, forms, domain: Domain, known_forms: tuple, extrapolate: bool):
+    def _inputs(
+        self, X: Any, forms: Any, domain: Domain, known_forms: tuple[str, ...], extrapolate: bool
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(values (n, d) raw, form codes (n,)) from any supported input, checked."""
         names = domain.names
         if isinstance(X, np.ndarray) and X.dtype.names is None and X.dtype.kind in "fiu":
@@ -324,30 +273,27 @@ class SpectralModel:
                 raise ParameterError("X", values.shape, f"(n, {len(names)}) with columns {names}")
             codes = _form_codes(forms, values.shape[0], known_forms)
         else:
-            columns = _columns(X)
-            missing = [n for n in names if n not in columns]
-            if missing:
-                raise ParameterError(missing[0], None, f"a value for every input parameter {names}")
-            values = np.column_stack([np.asarray(columns[n], dtype=float) for n in names])
-            if FORM_PARAMETER in columns and forms is not None:
-                raise ParameterError("forms", forms, f"None when the samples give {FORM_PARAMETER}")
-            codes = _form_codes(columns.get(FORM_PARAMETER, forms), values.shape[0], known_forms)
+            if forms is not None:
+                raise ParameterError(
+                    "forms", forms, f"None for named samples: they give {FORM_PARAMETER} (or take its default)"
+                )
+            columns = sample_columns(X)  # parameters not given take SandSample's defaults
+            values = np.column_stack([columns[n] for n in names])
+            codes = _form_codes(columns[FORM_PARAMETER], values.shape[0], known_forms)
             if not extrapolate:
                 for name, fixed in domain.fixed.items():
-                    if name in columns:
-                        col = np.asarray(columns[name], dtype=float)
-                        bad = ~at_fixed_value(col, fixed)
-                        if bad.any():
-                            raise ParameterError(
-                                name,
-                                float(col[np.argmax(bad)]),
-                                f"{fixed:g}, the value it was fixed at in the training domain "
-                                f"(pass extrapolate=True to ignore it)",
-                            )
+                    bad = ~at_fixed_value(columns[name], fixed)
+                    if bad.any():
+                        raise ParameterError(
+                            name,
+                            float(columns[name][np.argmax(bad)]),
+                            f"{fixed:g}, the value it was fixed at in the training domain "
+                            f"(pass extrapolate=True to ignore it)",
+                        )
         domain.check(values, extrapolate=extrapolate)
         return values, codes
 
-    def _design(self, values, codes, domain, n_forms):
+    def _design(self, values: np.ndarray, codes: np.ndarray, domain: Domain, n_forms: int) -> np.ndarray:
         """Inputs of the monomials: scaled parameters, plus form indicators for one-hot."""
         Xs = domain.scaled(values)
         if self.forms == "onehot" and n_forms > 1:
@@ -358,13 +304,13 @@ class SpectralModel:
     # -- fitting ------------------------------------------------------------------------------
     def fit(
         self,
-        X,
-        R=None,
+        X: Any,
+        R: Any = None,
         *,
-        stderr=None,
-        wavelengths_nm=None,
+        stderr: Any = None,
+        wavelengths_nm: Any = None,
         domain: Domain | None = None,
-        forms=None,
+        forms: Any = None,
         training_set: Mapping | None = None,
         name: str = "spectral",
         description: str = "",
@@ -396,9 +342,38 @@ class SpectralModel:
         -------
         self
         """
-        from sklearn.preprocessing import PolynomialFeatures
+        self.validate_params()
+        data = self._training_data(X, R, stderr, wavelengths_nm, domain, forms)
+        mean, components, ratio, signal_ratio = self._principal_components(data.R, data.stderr)
+        scores = (data.R - mean) @ components.T  # principal components r̃ of each sample (eq. 2)
+        Xs = self._design(data.values, data.codes, data.domain, len(data.domain.forms))
+        Phi, powers = self._monomial_features(Xs)
+        W = self._solve(Phi, scores, data.codes, data.domain.forms)
 
-        self._validate_params()
+        self.wavelengths_ = data.wavelengths
+        self.domain_ = data.domain
+        self.parameter_names_ = data.domain.names
+        self.forms_ = tuple(data.domain.forms)
+        self.n_features_in_ = len(data.domain.names)
+        self.n_components_ = components.shape[0]
+        self.mean_ = mean
+        self.components_ = components
+        self.explained_variance_ratio_ = ratio
+        self.signal_variance_ratio_ = signal_ratio
+        self.scale_center_, self.scale_halfwidth_ = data.domain.scaling()
+        self.powers_ = powers
+        self.W_ = W
+        self.training_set_ = {**data.info, **dict(training_set or {})}
+        self.holdout_scores_ = None
+        self.name_, self.description_ = str(name), str(description)
+        self._plan = _monomial_plan(self.powers_)
+        self.training_rms_, self.reconstruction_rms_ = self._training_errors(Xs, data.codes, data.R, scores)
+        return self
+
+    def _training_data(
+        self, X: Any, R: Any, stderr: Any, wavelengths_nm: Any, domain: Domain | None, forms: Any
+    ) -> _TrainingData:
+        """The arguments of :meth:`fit`, taken from a training-set dataset where not given, checked."""
         info = {}
         if hasattr(X, "data_vars") and "reflectance" in X.data_vars:
             if R is None:
@@ -410,7 +385,7 @@ class SpectralModel:
             if domain is None and "domain" in X.attrs:
                 domain = Domain.from_dict(json.loads(X.attrs["domain"]))
             info = {
-                k: _plain(X.attrs[k])
+                k: jsonable(X.attrs[k])
                 for k in ("n_samples", "seed", "rays", "design", "sandlight_version", "simulator")
                 if k in X.attrs
             }
@@ -431,41 +406,49 @@ class SpectralModel:
         wavelengths = np.asarray(wavelengths_nm, dtype=float)
         if wavelengths.shape != (R.shape[1],):
             raise ParameterError("wavelengths_nm", wavelengths.shape, f"({R.shape[1]},), one per column of R")
-        known = domain.forms
-        values, codes = self._inputs(X, forms, domain, known, extrapolate=False)
-        n = values.shape[0]
-        if n != R.shape[0]:
-            raise ParameterError("R", R.shape, f"one row per sample ({n})")
+        values, codes = self._inputs(X, forms, domain, domain.forms, extrapolate=False)
+        if values.shape[0] != R.shape[0]:
+            raise ParameterError("R", R.shape, f"one row per sample ({values.shape[0]})")
+        return _TrainingData(values, codes, R, stderr, wavelengths, domain, info)
 
-        # PCA (paper §3.1.1) by SVD of the centred data: R − r̄ = U S Vᵀ, rows of Vᵀ are the
-        # principal directions, S²/ΣS² the explained variance ratios.
+    def _principal_components(
+        self, R: np.ndarray, stderr: np.ndarray | None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+        """PCA (paper §3.1.1) of the training spectra: mean r̄, the k kept directions U_kᵀ, the
+        explained and (with ``stderr``) signal variance ratios."""
         mean = R.mean(axis=0)
-        _, s, vt = np.linalg.svd(R - mean, full_matrices=False)
-        variance = s**2 / max(n - 1, 1)  # unbiased, like the noise estimate it is compared with
-        ratio = variance / variance.sum() if variance.sum() > 0 else np.r_[1.0, 0 * s[1:]]
+        variance, directions = principal_directions(R - mean)
+        ratio = variance_ratio(variance)
         signal_ratio = None
         if stderr is not None:
-            signal_ratio = _signal_variance_ratio(variance, vt, stderr, R.shape)
+            # Variance of Monte Carlo noise along direction u: Σ_λ u_λ² ⟨σ²_λ⟩, ⟨σ²⟩ the mean
+            # squared standard error per wavelength (exact for noise independent between them).
+            signal_ratio = signal_variance_ratio(variance, (directions**2) @ np.mean(stderr**2, axis=0))
         if self.n_components is None:
             # Monte Carlo noise spreads over all directions; with stderr given, k is chosen on
             # the noise-free (signal) variance so that noise does not inflate k.
             chosen = ratio if signal_ratio is None else signal_ratio
-            k = int(np.searchsorted(np.cumsum(chosen), self.variance_threshold * (1 - 1e-12)))
-            k = min(k + 1, len(ratio))
+            k = n_components_for(chosen, self.variance_threshold, len(ratio))
         else:
             k = int(self.n_components)
             if k > len(ratio):
                 raise ParameterError("n_components", k, f"<= min(n_samples, n_wavelengths) = {len(ratio)}")
-        components = vt[:k]
-        scores = (R - mean) @ components.T  # principal components r̃ of each sample (eq. 2)
+        return mean, directions[:k], ratio, signal_ratio
 
-        # Regression (paper §3.1.2): r̃ ≈ Wᵀ φ(x), φ the monomials of degree <= `degree`.
-        Xs = self._design(values, codes, domain, len(known))
+    def _monomial_features(self, Xs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """φ(x), the monomials of degree <= ``degree`` of the design (paper §3.1.2), and their
+        exponents (PolynomialFeatures order)."""
+        from sklearn.preprocessing import PolynomialFeatures
+
         poly = PolynomialFeatures(degree=self.degree, include_bias=True).fit(Xs)
-        Phi = poly.transform(Xs)
-        m = Phi.shape[1]
+        return poly.transform(Xs), poly.powers_.astype(np.int64)
+
+    def _solve(self, Phi: np.ndarray, scores: np.ndarray, codes: np.ndarray, known: tuple[str, ...]) -> np.ndarray:
+        """Regression (paper §3.1.2, eq. 3) r̃ ≈ Wᵀ φ(x): W (groups, m, k), one slice per form
+        (``forms="separate"``) or one for all (``"onehot"``)."""
+        n, m = Phi.shape
         groups = range(len(known)) if self.forms == "separate" else [None]
-        W = np.empty((len(groups), m, k))
+        W = np.empty((len(groups), m, scores.shape[1]))
         for g in groups:
             rows = slice(None) if g is None else codes == g
             n_rows = n if g is None else int(rows.sum())
@@ -479,45 +462,36 @@ class SpectralModel:
                     f"{n_rows} training samples for {m} monomial features"
                     f"{'' if g is None else f' (form {known[g]})'}: the least-squares "
                     f"problem is underdetermined; add samples or set ridge > 0",
-                    stacklevel=2,
+                    stacklevel=3,
                 )
             W[0 if g is None else g] = _least_squares(Phi[rows], scores[rows], self.ridge)
+        return W
 
-        self.wavelengths_ = wavelengths
-        self.domain_ = domain
-        self.parameter_names_ = domain.names
-        self.forms_ = tuple(known)
-        self.n_features_in_ = len(domain.names)
-        self.n_components_ = k
-        self.mean_ = mean
-        self.components_ = components
-        self.explained_variance_ratio_ = ratio
-        self.signal_variance_ratio_ = signal_ratio
-        self.scale_center_, self.scale_halfwidth_ = domain.scaling()
-        self.powers_ = poly.powers_.astype(np.int64)
-        self.W_ = W
-        self.training_set_ = {**info, **dict(training_set or {})}
-        self.holdout_scores_ = None
-        self.name_, self.description_ = str(name), str(description)
-        self._plan = _monomial_plan(self.powers_)
+    def _training_errors(
+        self, Xs: np.ndarray, codes: np.ndarray, R: np.ndarray, scores: np.ndarray
+    ) -> tuple[float, float]:
+        """RMS errors over the training set of the fitted model and of the rank-k PCA
+        reconstruction (the floor of the former)."""
         residual = self._evaluate(Xs, codes) - R
-        self.training_rms_ = float(np.sqrt(np.mean(residual**2)))
-        recon = mean + scores @ components
-        self.reconstruction_rms_ = float(np.sqrt(np.mean((recon - R) ** 2)))
-        return self
+        recon = self.mean_ + scores @ self.components_
+        return float(np.sqrt(np.mean(residual**2))), float(np.sqrt(np.mean((recon - R) ** 2)))
 
     # -- prediction ---------------------------------------------------------------------------
-    def predict(self, samples, forms=None, *, extrapolate: bool = False) -> np.ndarray:
+    def predict(self, samples: Any, forms: Any = None, *, extrapolate: bool = False) -> np.ndarray:
         """Predicted directional-hemispherical reflectance at normal incidence.
 
         Parameters
         ----------
-        samples : SandSample, list of SandSample or dict, structured array, DataFrame,
-                  xarray.Dataset, or float array (n, n_parameters)
-            The samples. A plain float array has the columns ``parameter_names_`` (raw units,
-            e.g. grain_size in mm) and needs ``forms`` unless the model has a single form.
+        samples : SandSample, list of SandSample or dict, dict of columns, structured array,
+                  DataFrame, xarray.Dataset, or float array (n, n_parameters)
+            The samples. Named ones follow :func:`sandlight.predictor.samples.sample_columns`
+            (scalars hold for every sample; parameters not given take SandSample's defaults,
+            which must then lie in the training domain). A plain float array has the columns
+            ``parameter_names_`` (raw units, e.g. grain_size in mm) and needs ``forms`` unless
+            the model has a single form.
         forms : array_like of str or int, or str, optional
-            Iron-oxide form of each row of a plain array: names, or codes into ``forms_``.
+            Iron-oxide form of each row of a plain array: names, or codes into ``forms_``
+            (named samples give theirs).
         extrapolate : bool
             Evaluate inputs outside the training domain (the polynomial is then unreliable)
             instead of raising; fixed parameters of the domain (e.g. depth_mm) are then ignored.
@@ -531,9 +505,10 @@ class SpectralModel:
         ------
         ParameterError
             An input outside the training domain (naming the parameter, its value and the
-            range) unless ``extrapolate``; NaN, a missing parameter or an unknown form always.
+            range) unless ``extrapolate``; NaN, an unknown form, or input that can be read more
+            than one way (arrays of different lengths, 2-D arrays) always.
         """
-        self._check_is_fitted()
+        self.check_is_fitted()
         values, codes = self._inputs(samples, forms, self.domain_, self.forms_, extrapolate)
         return self._evaluate(self._design(values, codes, self.domain_, len(self.forms_)), codes)
 
@@ -573,11 +548,8 @@ class SpectralModel:
         return (self.training_set_.get("engine") or {}).get("memory", "none")
 
     # -- persistence --------------------------------------------------------------------------
-    def _metadata(self) -> dict:
+    def _metadata(self) -> dict[str, Any]:
         return {
-            "format": MODEL_FORMAT,
-            "format_version": MODEL_FORMAT_VERSION,
-            "sandlight_version": _sandlight_version(),
             "name": self.name_,
             "description": self.description_,
             "params": self.get_params(),
@@ -592,14 +564,8 @@ class SpectralModel:
             "units": {"wavelengths_nm": "nm", "reflectance": "1 (fraction)"},
         }
 
-    def save(self, path) -> Path:
-        """Write the model as plain arrays + JSON metadata in an ``.npz`` file (never pickle).
-
-        The file is written atomically (temporary file, then rename). Returns the path.
-        """
-        self._check_is_fitted()
-        path = Path(path)
-        arrays = {
+    def _arrays(self) -> dict[str, np.ndarray]:
+        return {
             "wavelengths_nm": self.wavelengths_,
             "mean": self.mean_,
             "components": self.components_,
@@ -609,48 +575,11 @@ class SpectralModel:
             "powers": self.powers_,
             "W": self.W_,
         }
-        return write_model_npz(path, _plain(self._metadata()), arrays)
 
     @classmethod
-    def load(cls, path) -> SpectralModel:
-        """Read a model written by :meth:`save`.
-
-        Raises
-        ------
-        ModelFileError
-            The file is missing, truncated, corrupt, not a sandlight spectral model, written by
-            a newer format version, or internally inconsistent.
-
-        Warns
-        -----
-        ModelVersionWarning
-            The file was written by another sandlight version.
-        """
-        path = Path(path)
-        meta, data = read_model_npz(
-            path, kind="spectral model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION
-        )
-        try:
-            model = cls._from_parts(meta, data, default_name=path.stem)
-        except (KeyError, TypeError, ValueError) as exc:
-            raise ModelFileError(f"{path} is an incomplete or inconsistent spectral model file: {exc}") from exc
-        if meta.get("sandlight_version") != _sandlight_version():
-            warnings.warn(
-                f"{path} was written by sandlight {meta.get('sandlight_version')}, "
-                f"this is sandlight {_sandlight_version()}: predictions follow the "
-                f"engine that trained the model",
-                ModelVersionWarning,
-                stacklevel=2,
-            )
-        return model
-
-    @classmethod
-    def _from_parts(cls, meta: dict, data: dict, default_name: str) -> SpectralModel:
-        missing = [a for a in _ARRAYS if a not in data]
-        if missing:
-            raise KeyError(f"missing arrays {missing}")
+    def _from_parts(cls, meta: Mapping, data: Mapping[str, np.ndarray], path: Path) -> SpectralModel:
         model = cls(**meta["params"])
-        model._validate_params()
+        model.validate_params()
         domain = Domain.from_dict(meta["domain"])
         wl, mean, comps, ratio = (data[a] for a in _ARRAYS[:4])
         center, halfwidth, powers, W = (data[a] for a in _ARRAYS[4:])
@@ -693,22 +622,23 @@ class SpectralModel:
         model.holdout_scores_ = meta.get("holdout_scores")
         model.training_rms_ = meta.get("training_rms")
         model.reconstruction_rms_ = meta.get("reconstruction_rms")
-        model.name_ = str(meta.get("name") or default_name)  # format 1 had no name
+        model.name_ = str(meta.get("name") or path.stem)  # format 1 had no name
         model.description_ = str(meta.get("description", ""))
         model._plan = _monomial_plan(model.powers_)
         return model
 
 
-def _signal_variance_ratio(variance, vt, stderr, shape) -> np.ndarray:
-    """Share of the noise-free variance along each principal direction (see the attribute
-    ``signal_variance_ratio_``)."""
-    noise = np.mean(stderr**2, axis=0)  # ⟨σ²⟩ per wavelength
-    # Variance of Monte Carlo noise along direction u: Σ_λ u_λ² ⟨σ²_λ⟩ (independent noise).
-    signal = np.maximum(variance - (vt**2) @ noise, 0.0)
-    total = signal.sum()
-    if total <= 0:  # all variance is noise: nothing beyond the mean is resolved
-        return np.r_[1.0, np.zeros(len(variance) - 1)]
-    return signal / total
+@dataclass(frozen=True)
+class _TrainingData:
+    """The checked arguments of :meth:`SpectralModel.fit`."""
+
+    values: np.ndarray  # (n, d) raw parameter values
+    codes: np.ndarray  # (n,) form codes into domain.forms
+    R: np.ndarray  # (n, n_wl) reflectance
+    stderr: np.ndarray | None  # (n, n_wl) its Monte Carlo standard errors
+    wavelengths: np.ndarray  # (n_wl,) nm
+    domain: Domain
+    info: dict  # the training-set reference from a dataset's attributes
 
 
 def _least_squares(Phi: np.ndarray, T: np.ndarray, ridge: float) -> np.ndarray:
@@ -724,19 +654,6 @@ def _least_squares(Phi: np.ndarray, T: np.ndarray, ridge: float) -> np.ndarray:
         T = np.vstack([T, np.zeros((m - 1, T.shape[1]))])
     W, *_ = np.linalg.lstsq(Phi, T, rcond=None)
     return W
-
-
-def _plain(value):
-    """JSON-able copy of metadata (numpy scalars and arrays become Python values)."""
-    if isinstance(value, dict):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, (list, tuple)):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.ndarray):
-        return _plain(value.tolist())
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
 
 
 # ---- hold-out evaluation ----------------------------------------------------------------------
@@ -808,7 +725,7 @@ class HoldoutReport:
         return "\n".join(lines)
 
 
-def evaluate(model: SpectralModel, holdout, *, attach: bool = False) -> HoldoutReport:
+def evaluate(model: SpectralModel, holdout: str | Path | xr.Dataset, *, attach: bool = False) -> HoldoutReport:
     """Compare a model with Monte Carlo reflectance of samples not used in fitting.
 
     Parameters

@@ -33,7 +33,7 @@ import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -42,7 +42,7 @@ from sandlight.checks import check_choice, check_whole_number
 from sandlight.errors import ParameterError
 from sandlight.io import write_atomically
 from sandlight.jobs import Job, JobStatus, derive_seed
-from sandlight.jobs.executors import resolve_executor
+from sandlight.jobs.executors import Executor, resolve_executor
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
 from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
 
@@ -349,7 +349,7 @@ def fit_training_set(
     name: str = "spectral",
     description: str = "",
     fit_domain: Domain | None = None,
-    **model_params,
+    **model_params: Any,
 ) -> tuple[SpectralModel, HoldoutReport | None]:
     """Fit a SpectralModel on a training-set dataset and score it on a hold-out dataset.
 

@@ -49,16 +49,20 @@ import functools
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from numbers import Integral, Real
 from pathlib import Path
+from typing import Any, ClassVar
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from sandlight.errors import ModelFileError, ParameterError, SandlightError
+from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF, band_grid, band_grid_f
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.symmetry import EquivalenceClasses
-from sandlight.io import read_model_npz, write_model_npz
-from sandlight.predictor.spectral import ModelVersionWarning, _plain
+from sandlight.predictor.estimator import Estimator, Interval, StrOptions
+from sandlight.predictor.model_file import ModelFileFormat, jsonable
+from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
 from sandlight.spatial.mesh import Mesh
 
 __all__ = [
@@ -71,8 +75,6 @@ __all__ = [
     "MODEL_FORMAT_VERSION",
 ]
 
-MODEL_FORMAT = "sandlight-spatial-model"
-MODEL_FORMAT_VERSION = 1
 _ARRAYS = (
     "mean",
     "components",
@@ -82,6 +84,10 @@ _ARRAYS = (
     "node_scores",
     "node_normal_reflectance",
 )
+MODEL_FILE = ModelFileFormat(
+    "sandlight-spatial-model", 1, "spatial model", _ARRAYS, optional=("signal_variance_ratio",), compressed=True
+)
+MODEL_FORMAT, MODEL_FORMAT_VERSION = MODEL_FILE.name, MODEL_FILE.version
 FIXED_POLICIES = ("warn", "ignore", "error")
 SCALINGS = ("relative", "none", "noise")
 
@@ -90,12 +96,6 @@ class SpatialApproximationWarning(UserWarning):
     """A sample differs from the spatial model's base sample in a parameter the mesh does not
     vary: its BRDF shape is taken at its mesh coordinates with the base's other parameters (the
     paper's assumption for its beach scene, §4.2.2)."""
-
-
-def _sandlight_version() -> str:
-    import sandlight
-
-    return sandlight.__version__
 
 
 @dataclass(frozen=True, eq=False)
@@ -142,7 +142,7 @@ class SpatialBRDF:
         """Node values F[b_i, b_o, k] of the continuous BRDF, (stacks, stacks, slices), sr⁻¹."""
         return band_grid(self.hemisphere, self.unique_values)
 
-    def f(self, wi, wo) -> np.ndarray:
+    def f(self, wi: ArrayLike, wo: ArrayLike) -> np.ndarray:
         """Continuous normalised BRDF f̂(ω_i, ω_o) in sr⁻¹ (`sandlight.gonio.brdf.band_grid_f`).
 
         Parameters
@@ -153,7 +153,7 @@ class SpatialBRDF:
         return band_grid_f(self.hemisphere, self.unique_values, wi, wo)
 
 
-class SpatialModel:
+class SpatialModel(Estimator):
     """Normalised-BRDF predictor over a mesh of sample parameters (paper §3.2).
 
     Parameters
@@ -210,43 +210,21 @@ class SpatialModel:
         Held-out comparison attached by `sandlight.spatial.training.evaluate`.
     """
 
-    def __init__(self, n_components=None, variance_threshold=0.999, scaling="relative"):
+    _parameter_constraints: ClassVar[dict[str, list]] = {
+        "n_components": [None, Interval(Integral, 1, None)],
+        "variance_threshold": [Interval(Real, 0, 1, closed="right")],
+        "scaling": [StrOptions(SCALINGS)],
+    }
+    _model_file = MODEL_FILE
+
+    def __init__(
+        self, n_components: int | None = None, variance_threshold: float = 0.999, scaling: str = "relative"
+    ) -> None:
         self.n_components = n_components
         self.variance_threshold = variance_threshold
         self.scaling = scaling
 
-    def get_params(self, deep=True) -> dict:
-        return {
-            "n_components": self.n_components,
-            "variance_threshold": self.variance_threshold,
-            "scaling": self.scaling,
-        }
-
-    def set_params(self, **params) -> SpatialModel:
-        for k, v in params.items():
-            if k not in self.get_params():
-                raise ParameterError(k, v, f"one of {sorted(self.get_params())}")
-            setattr(self, k, v)
-        return self
-
-    def __repr__(self):
-        changed = ", ".join(f"{k}={v!r}" for k, v in self.get_params().items() if v != type(self)().get_params()[k])
-        return f"SpatialModel({changed})"
-
-    def _validate_params(self):
-        k, t = self.n_components, self.variance_threshold
-        if k is not None and not (isinstance(k, (int, np.integer)) and not isinstance(k, bool) and k >= 1):
-            raise ParameterError("n_components", k, "None or an integer >= 1")
-        if isinstance(t, bool) or not (isinstance(t, (int, float)) and 0 < t <= 1):
-            raise ParameterError("variance_threshold", t, "a number in (0, 1]")
-        if self.scaling not in SCALINGS:
-            raise ParameterError("scaling", self.scaling, f"one of {SCALINGS}")
-
-    def _check_is_fitted(self):
-        if not hasattr(self, "node_scores_"):
-            raise SandlightError("this SpatialModel is not fitted yet: call fit() or SpatialModel.load()")
-
-    def _scale(self, mean: np.ndarray, stderr) -> np.ndarray:
+    def _scale(self, mean: np.ndarray, stderr: np.ndarray | None) -> np.ndarray:
         """Per-value scale of the PCA (module docstring), floored at 10⁻³ of its median."""
         if self.scaling == "none":
             return np.ones_like(mean)
@@ -280,7 +258,7 @@ class SpatialModel:
         -------
         self
         """
-        self._validate_params()
+        self.validate_params()
         if not isinstance(mesh, Mesh):
             raise ParameterError("mesh", type(mesh).__name__, "a sandlight.spatial.Mesh")
         brdfs = list(brdfs)
@@ -309,16 +287,13 @@ class SpatialModel:
         mean = X.mean(axis=0)
         scale = self._scale(mean, stderr)
         G = (X - mean) / scale
-        _, s, vt = np.linalg.svd(G, full_matrices=False)
-        variance = s**2 / max(n - 1, 1)
-        total = variance.sum()
-        ratio = variance / total if total > 0 else np.r_[1.0, np.zeros(len(s) - 1)]
-        signal_ratio = None if stderr is None else _signal_variance_ratio(variance, stderr / scale)
+        variance, vt = principal_directions(G)
+        ratio = variance_ratio(variance)
+        signal_ratio = None if stderr is None else signal_variance_ratio(variance, _noise_floor(stderr / scale))
         rank = max(n - 1, 1)  # centred data have rank ≤ n − 1
         if self.n_components is None:
             chosen = ratio if signal_ratio is None else signal_ratio
-            k = int(np.searchsorted(np.cumsum(chosen), self.variance_threshold * (1 - 1e-12))) + 1
-            k = min(k, rank)
+            k = n_components_for(chosen, self.variance_threshold, rank)
         else:
             k = int(self.n_components)
             if k > rank:
@@ -342,12 +317,12 @@ class SpatialModel:
         self.scale_ = scale
         self.reconstruction_rms_ = float(np.sqrt(np.mean(((recon - X) / scale) ** 2)))
         self.node_noise_rms_ = None if stderr is None else float(np.sqrt(np.mean((stderr / scale) ** 2)))
-        self.training_set_ = _plain(dict(training_set or {}))
+        self.training_set_ = jsonable(dict(training_set or {}))
         self.holdout_scores_ = None
         return self
 
     # ---- prediction --------------------------------------------------------------------------
-    def _locate(self, samples, fixed: str):
+    def _locate(self, samples: Any, fixed: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, list | None]:
         if fixed not in FIXED_POLICIES:
             raise ParameterError("fixed", fixed, f"one of {FIXED_POLICIES}")
         from sandlight.sample import SandSample
@@ -388,7 +363,7 @@ class SpatialModel:
         idx, w = self.mesh_.locate(x)
         return x, idx, w, many
 
-    def scores(self, samples, *, fixed: str = "warn") -> np.ndarray:
+    def scores(self, samples: Any, *, fixed: str = "warn") -> np.ndarray:
         """Principal components f̃ = Σ α_i f̃_i of samples (paper eqs. 6–7).
 
         Parameters
@@ -408,11 +383,11 @@ class SpatialModel:
         ParameterError
             A sample outside the mesh.
         """
-        self._check_is_fitted()
+        self.check_is_fitted()
         _, idx, w, _ = self._locate(samples, fixed)
         return np.einsum("kv,kvl->kl", w, self.node_scores_[idx])
 
-    def predict(self, samples, *, fixed: str = "warn") -> np.ndarray:
+    def predict(self, samples: Any, *, fixed: str = "warn") -> np.ndarray:
         """Normalised BRDFs f = f̄ + s ⊙ V_ℓᵀ f̃ as unique values (paper eq. 5), shape (k, m), sr⁻¹.
 
         Parameters are those of `scores`.
@@ -420,9 +395,9 @@ class SpatialModel:
         scores = self.scores(samples, fixed=fixed)
         return self.mean_ + scores @ self.components_
 
-    def brdf(self, sample, *, fixed: str = "warn") -> SpatialBRDF:
+    def brdf(self, sample: Any, *, fixed: str = "warn") -> SpatialBRDF:
         """The predicted BRDF of one sample (or one point of mesh coordinates) as a `SpatialBRDF`."""
-        self._check_is_fitted()
+        self.check_is_fitted()
         x, idx, w, many = self._locate(sample, fixed)
         if x.shape[0] != 1:
             raise ParameterError("sample", f"{x.shape[0]} samples", "one sample (use predict for many)")
@@ -441,9 +416,6 @@ class SpatialModel:
 
     def _metadata(self) -> dict:
         return {
-            "format": MODEL_FORMAT,
-            "format_version": MODEL_FORMAT_VERSION,
-            "sandlight_version": _sandlight_version(),
             "params": self.get_params(),
             "mesh": {"parameters": list(self.mesh_.parameters), "base": self.mesh_.base},
             "stacks": self.stacks_,
@@ -463,13 +435,7 @@ class SpatialModel:
             },
         }
 
-    def save(self, path) -> Path:
-        """Write the model as plain arrays + JSON metadata in an ``.npz`` file (never pickle).
-
-        Written atomically (temporary file, then rename). Returns the path.
-        """
-        self._check_is_fitted()
-        path = Path(path)
+    def _arrays(self) -> dict[str, np.ndarray]:
         arrays = {
             "mean": self.mean_,
             "components": self.components_,
@@ -481,47 +447,12 @@ class SpatialModel:
         }
         if self.signal_variance_ratio_ is not None:
             arrays["signal_variance_ratio"] = self.signal_variance_ratio_
-        return write_model_npz(path, _plain(self._metadata()), arrays, compressed=True)
+        return arrays
 
     @classmethod
-    def load(cls, path) -> SpatialModel:
-        """Read a model written by `save`.
-
-        Raises
-        ------
-        ModelFileError
-            The file is missing, truncated, corrupt, not a sandlight spatial model, of a newer
-            format version, or internally inconsistent.
-
-        Warns
-        -----
-        ModelVersionWarning
-            The file was written by another sandlight version.
-        """
-        path = Path(path)
-        meta, data = read_model_npz(
-            path, kind="spatial model", format_name=MODEL_FORMAT, max_version=MODEL_FORMAT_VERSION
-        )
-        try:
-            model = cls._from_parts(meta, data)
-        except (KeyError, TypeError, ValueError) as exc:  # ParameterError is a ValueError
-            raise ModelFileError(f"{path} is an incomplete or inconsistent spatial model file: {exc}") from exc
-        if meta.get("sandlight_version") != _sandlight_version():
-            warnings.warn(
-                f"{path} was written by sandlight {meta.get('sandlight_version')}, this is sandlight "
-                f"{_sandlight_version()}: predictions follow the engine that measured the model",
-                ModelVersionWarning,
-                stacklevel=2,
-            )
-        return model
-
-    @classmethod
-    def _from_parts(cls, meta: dict, data: dict) -> SpatialModel:
-        missing = [a for a in _ARRAYS if a not in data]
-        if missing:
-            raise KeyError(f"missing arrays {missing}")
+    def _from_parts(cls, meta: Mapping, data: Mapping[str, np.ndarray], path: Path) -> SpatialModel:
         model = cls(**meta["params"])
-        model._validate_params()
+        model.validate_params()
         stacks, slices = int(meta["stacks"]), int(meta["slices"])
         m = EquivalenceClasses(CollectorHemisphere(stacks, slices)).n_classes
         mesh = Mesh(tuple(meta["mesh"]["parameters"]), data["node_coordinates"], meta["mesh"]["base"])
@@ -563,23 +494,16 @@ class SpatialModel:
         return model
 
 
-def _signal_variance_ratio(variance: np.ndarray, stderr: np.ndarray) -> np.ndarray:
-    """Share of the noise-free variance along each principal direction.
+def _noise_floor(stderr: np.ndarray) -> float:
+    """Monte Carlo noise variance along each principal direction of the node BRDFs.
 
     With n node BRDFs of m ≫ n unique values each, independent noise of variances σ_j² does not
     favour any direction of the (n − 1)-dimensional space the centred nodes span: each principal
     direction picks up ≈ Σ_j σ_j² / (n − 1) of noise variance (the centred noise matrix E has
-    E Eᵀ ≈ Σ_j σ_j² (I − 11ᵀ/n) when m ≫ n). That floor is subtracted from every component's
-    variance (clamped at 0) before the shares are taken. σ_j² is the mean squared standard error
-    of value j over the nodes.
+    E Eᵀ ≈ Σ_j σ_j² (I − 11ᵀ/n) when m ≫ n). σ_j² is the mean squared standard error of value j
+    over the nodes.
     """
-    n = stderr.shape[0]
-    floor = float(np.sum(np.mean(stderr**2, axis=0))) / max(n - 1, 1)
-    signal = np.maximum(variance - floor, 0.0)
-    total = signal.sum()
-    if total <= 0:  # all variance is noise: nothing beyond the mean is resolved
-        return np.r_[1.0, np.zeros(len(variance) - 1)]
-    return signal / total
+    return float(np.sum(np.mean(stderr**2, axis=0))) / max(stderr.shape[0] - 1, 1)
 
 
 # ---- the shipped model -------------------------------------------------------------------------
