@@ -26,6 +26,8 @@ check_wavelengths, check_incidence
     The engine's wavelengths (nm) and incidence zenith angle (degrees).
 parse_range
     ``start:stop:step`` or a comma-separated list, as typed on the command line.
+Interval, StrOptions
+    Declared constraints (what a parameter may be), for the predictors' parameter tables.
 Table
     A table of a configuration file (TOML/JSON) read key by key with these checks.
 """
@@ -33,7 +35,9 @@ Table
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -58,6 +62,8 @@ __all__ = [
     "check_wavelengths",
     "check_incidence",
     "parse_range",
+    "Interval",
+    "StrOptions",
     "Table",
 ]
 
@@ -274,6 +280,69 @@ def parse_range(name: str, text: str) -> np.ndarray:
         raise ParameterError(
             name, text, "start:stop:step with step > 0 and stop ≥ start (e.g. 400:700:20), or a comma-separated list"
         ) from None
+
+
+# Declared constraints: a table of what each parameter may be (scikit-learn's
+# ``_parameter_constraints``), used by the predictors' estimator base.
+
+
+@dataclass(frozen=True)
+class Interval:
+    """Finite integers (``kind=numbers.Integral``) or real numbers (``numbers.Real``) in an interval.
+
+    Parameters
+    ----------
+    kind : numbers.Integral or numbers.Real
+        Integral admits Python and numpy integers; Real also floats. Never bool.
+    low, high : float or None
+        Bounds; None for no bound (the value must still be finite).
+    closed : {"both", "left", "right", "neither"}
+        Which bounds belong to the interval.
+    """
+
+    kind: type
+    low: float | None
+    high: float | None
+    closed: str = "both"
+
+    def admits(self, value: Any) -> bool:
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, self.kind):
+            return False
+        if not isinstance(value, numbers.Integral) and not math.isfinite(value):
+            return False
+        inclusive_low, inclusive_high = self.closed in ("both", "left"), self.closed in ("both", "right")
+        above = self.low is None or (value >= self.low if inclusive_low else value > self.low)
+        below = self.high is None or (value <= self.high if inclusive_high else value < self.high)
+        return above and below
+
+    def __str__(self) -> str:
+        integer = self.kind is numbers.Integral
+        inclusive_low, inclusive_high = self.closed in ("both", "left"), self.closed in ("both", "right")
+        noun = "an integer" if integer else "a number"
+        if self.low is not None and self.high is not None:
+            if integer and inclusive_low and inclusive_high:
+                return f"{noun} in {self.low:g}..{self.high:g}"
+            left, right = "[" if inclusive_low else "(", "]" if inclusive_high else ")"
+            return f"{noun} in {left}{self.low:g}, {self.high:g}{right}"
+        finite = noun if integer else "a finite number"
+        if self.low is not None:
+            return f"{finite} {'>=' if inclusive_low else '>'} {self.low:g}"
+        if self.high is not None:
+            return f"{finite} {'<=' if inclusive_high else '<'} {self.high:g}"
+        return finite
+
+
+@dataclass(frozen=True)
+class StrOptions:
+    """One of a few strings."""
+
+    options: tuple[str, ...]
+
+    def admits(self, value: Any) -> bool:
+        return isinstance(value, str) and value in self.options
+
+    def __str__(self) -> str:
+        return f"one of {self.options}"
 
 
 class Table:

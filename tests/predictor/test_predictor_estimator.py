@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 from sklearn.base import clone
 
+from sandlight.checks import Interval, StrOptions
 from sandlight.errors import ParameterError, SandlightError
 from sandlight.predictor import SpectralModel
-from sandlight.predictor.estimator import Estimator, Interval, StrOptions
+from sandlight.predictor.estimator import Estimator
 from sandlight.spatial import SpatialModel
 
 MODELS = [SpectralModel, SpatialModel]

@@ -6,8 +6,9 @@ A predictor subclasses `Estimator`:
   the parameter names are read from its signature (``inspect.signature``, as scikit-learn's
   ``BaseEstimator._get_param_names``), which gives ``get_params``, ``set_params`` (hence
   ``sklearn.base.clone``) and ``__repr__``;
-- ``_parameter_constraints`` declares, for every parameter, what it may be: `Interval`,
-  `StrOptions` or ``None``, as scikit-learn's table of the same name. ``fit`` calls
+- ``_parameter_constraints`` declares, for every parameter, what it may be:
+  `sandlight.checks.Interval`, `sandlight.checks.StrOptions` or ``None``, as scikit-learn's
+  table of the same name. ``fit`` calls
   `Estimator.validate_params`, which raises `sandlight.errors.ParameterError` naming the
   parameter, the value and everything allowed. A bool is never a number (``n_components=True``
   is refused);
@@ -19,78 +20,17 @@ A predictor subclasses `Estimator`:
 from __future__ import annotations
 
 import inspect
-import math
-import numbers
 from collections.abc import Mapping
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, ClassVar, Self
 
 import numpy as np
 
+from sandlight.checks import Interval, StrOptions
 from sandlight.errors import ModelFileError, ParameterError, SandlightError
 from sandlight.predictor.model_file import ModelFileFormat, warn_if_other_version
 
-__all__ = ["Estimator", "Interval", "StrOptions"]
-
-
-@dataclass(frozen=True)
-class Interval:
-    """Finite integers (``kind=numbers.Integral``) or real numbers (``numbers.Real``) in an interval.
-
-    Parameters
-    ----------
-    kind : numbers.Integral or numbers.Real
-        Integral admits Python and numpy integers; Real also floats. Never bool.
-    low, high : float or None
-        Bounds; None for no bound (the value must still be finite).
-    closed : {"both", "left", "right", "neither"}
-        Which bounds belong to the interval.
-    """
-
-    kind: type
-    low: float | None
-    high: float | None
-    closed: str = "both"
-
-    def admits(self, value: Any) -> bool:
-        if isinstance(value, (bool, np.bool_)) or not isinstance(value, self.kind):
-            return False
-        if not isinstance(value, numbers.Integral) and not math.isfinite(value):
-            return False
-        inclusive_low, inclusive_high = self.closed in ("both", "left"), self.closed in ("both", "right")
-        above = self.low is None or (value >= self.low if inclusive_low else value > self.low)
-        below = self.high is None or (value <= self.high if inclusive_high else value < self.high)
-        return above and below
-
-    def __str__(self) -> str:
-        integer = self.kind is numbers.Integral
-        inclusive_low, inclusive_high = self.closed in ("both", "left"), self.closed in ("both", "right")
-        noun = "an integer" if integer else "a number"
-        if self.low is not None and self.high is not None:
-            if integer and inclusive_low and inclusive_high:
-                return f"{noun} in {self.low:g}..{self.high:g}"
-            left, right = "[" if inclusive_low else "(", "]" if inclusive_high else ")"
-            return f"{noun} in {left}{self.low:g}, {self.high:g}{right}"
-        finite = noun if integer else "a finite number"
-        if self.low is not None:
-            return f"{finite} {'>=' if inclusive_low else '>'} {self.low:g}"
-        if self.high is not None:
-            return f"{finite} {'<=' if inclusive_high else '<'} {self.high:g}"
-        return finite
-
-
-@dataclass(frozen=True)
-class StrOptions:
-    """One of a few strings."""
-
-    options: tuple[str, ...]
-
-    def admits(self, value: Any) -> bool:
-        return isinstance(value, str) and value in self.options
-
-    def __str__(self) -> str:
-        return f"one of {self.options}"
+__all__ = ["Estimator"]
 
 
 def _admits(constraint: Interval | StrOptions | None, value: Any) -> bool:

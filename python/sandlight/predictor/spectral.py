@@ -42,9 +42,10 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from sandlight.checks import Interval, StrOptions
 from sandlight.errors import ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
-from sandlight.predictor.estimator import Estimator, Interval, StrOptions
+from sandlight.predictor.estimator import Estimator
 from sandlight.predictor.model_file import ModelFileFormat, jsonable
 from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
 from sandlight.predictor.samples import sample_columns

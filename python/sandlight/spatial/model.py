@@ -56,11 +56,12 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from sandlight.checks import Interval, StrOptions
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF, band_grid, band_grid_f
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.symmetry import EquivalenceClasses
-from sandlight.predictor.estimator import Estimator, Interval, StrOptions
+from sandlight.predictor.estimator import Estimator
 from sandlight.predictor.model_file import ModelFileFormat, jsonable
 from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
 from sandlight.spatial.mesh import Mesh
