@@ -86,9 +86,12 @@ pub struct MieSolution {
     x: f64,
     a: Vec<Complex64>,
     b: Vec<Complex64>,
-    /// (2n+1)/(n(n+1)) a_n and b_n, the weights of π_n and τ_n in S1 and S2 (BH eq. 4.74).
-    sa: Vec<Complex64>,
-    sb: Vec<Complex64>,
+    /// (2n+1)/(n(n+1)) (a_n ± b_n): S1 ± S2 = Σ (2n+1)/(n(n+1)) (a_n ± b_n)(π_n ± τ_n) (BH eq.
+    /// 4.74), half the products of S1 and S2 summed separately.
+    s_plus: Vec<Complex64>,
+    s_minus: Vec<Complex64>,
+    /// ((2n+1)/n, (n+1)/n): the π_n recurrence without a division per term.
+    pi_recurrence: Vec<(f64, f64)>,
     efficiencies: Efficiencies,
 }
 
@@ -216,13 +219,14 @@ impl MieSolution {
             sum_g += (2.0 * nf + 1.0) / (nf * (nf + 1.0)) * (a[i] * b[i].conj()).re;
         }
         let g = 2.0 * scale * sum_g / q_sca;
-        let weight = |i: usize| {
-            let nf = (i + 1) as f64;
-            (2.0 * nf + 1.0) / (nf * (nf + 1.0))
-        };
-        let sa = a.iter().enumerate().map(|(i, v)| v * weight(i)).collect();
-        let sb = b.iter().enumerate().map(|(i, v)| v * weight(i)).collect();
-        MieSolution { x, a, b, sa, sb, efficiencies: Efficiencies { q_ext, q_sca, q_abs, g, albedo: q_sca / q_ext } }
+        let order = |i: usize| (i + 1) as f64;
+        let weight = |i: usize| (2.0 * order(i) + 1.0) / (order(i) * (order(i) + 1.0));
+        let s_plus = (0..n_terms).map(|i| (a[i] + b[i]) * weight(i)).collect();
+        let s_minus = (0..n_terms).map(|i| (a[i] - b[i]) * weight(i)).collect();
+        let pi_recurrence =
+            (0..n_terms).map(|i| ((2.0 * order(i) + 1.0) / order(i), (order(i) + 1.0) / order(i))).collect();
+        let efficiencies = Efficiencies { q_ext, q_sca, q_abs, g, albedo: q_sca / q_ext };
+        MieSolution { x, a, b, s_plus, s_minus, pi_recurrence, efficiencies }
     }
 
     pub fn x(&self) -> f64 {
@@ -249,23 +253,32 @@ impl MieSolution {
     /// τ_n = n μ π_n − (n+1) π_{n−1}. Dimensionless; dC_sca/dΩ = (|S1|² + |S2|²)/(2k²) for
     /// unpolarised light, k the wavenumber in the host.
     pub fn amplitudes(&self, mu: f64) -> (Complex64, Complex64) {
-        let (mut s1, mut s2) = (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
+        let (plus, minus) = self.amplitude_sum_and_difference(mu);
+        ((plus + minus) * 0.5, (plus - minus) * 0.5)
+    }
+
+    /// (S1 + S2, S1 − S2) at `mu`.
+    #[inline]
+    fn amplitude_sum_and_difference(&self, mu: f64) -> (Complex64, Complex64) {
+        let (mut plus, mut minus) = (Complex64::new(0.0, 0.0), Complex64::new(0.0, 0.0));
         let (mut pi_prev, mut pi) = (0.0, 1.0);
-        for (i, (sa, sb)) in self.sa.iter().zip(&self.sb).enumerate() {
+        let terms = self.s_plus.iter().zip(&self.s_minus).zip(&self.pi_recurrence);
+        for (i, ((sp, sm), &(c1, c2))) in terms.enumerate() {
             let nf = (i + 1) as f64;
             let tau = nf * mu * pi - (nf + 1.0) * pi_prev;
-            s1 += sa * pi + sb * tau;
-            s2 += sa * tau + sb * pi;
-            (pi_prev, pi) = (pi, ((2.0 * nf + 1.0) * mu * pi - (nf + 1.0) * pi_prev) / nf);
+            plus += sp * (pi + tau);
+            minus += sm * (pi - tau);
+            (pi_prev, pi) = (pi, c1 * mu * pi - c2 * pi_prev);
         }
-        (s1, s2)
+        (plus, minus)
     }
 
     /// Phase function p(μ) in sr⁻¹ for unpolarised light, normalised to ∫ p dΩ = 1:
     /// p = (|S1|² + |S2|²)/(2π x² Q_sca), since C_sca = Q_sca πa² and x = ka.
     pub fn phase_function(&self, mu: f64) -> f64 {
-        let (s1, s2) = self.amplitudes(mu);
-        (s1.norm_sqr() + s2.norm_sqr()) / (2.0 * std::f64::consts::PI * self.x * self.x * self.efficiencies.q_sca)
+        // |S1|² + |S2|² = (|S1 + S2|² + |S1 − S2|²)/2.
+        let (plus, minus) = self.amplitude_sum_and_difference(mu);
+        (plus.norm_sqr() + minus.norm_sqr()) / (4.0 * std::f64::consts::PI * self.x * self.x * self.efficiencies.q_sca)
     }
 
     /// The phase function tabulated for sampling scattering angles (`PhaseTable`): nodes equally
