@@ -51,6 +51,18 @@ fn mie_efficiencies<'py>(
     ))
 }
 
+/// `f(solution, μ)` for one sphere at each of the cosines `mu`, with the GIL released.
+fn at_cosines<T: Send>(
+    py: Python<'_>,
+    (m_re, m_im, x): (f64, f64, f64),
+    mu: &PyReadonlyArray1<'_, f64>,
+    f: impl Fn(&MieSolution, f64) -> T + Sync,
+) -> PyResult<Vec<T>> {
+    let s = solve(py, m_re, m_im, x)?;
+    let mu = mu.as_slice()?;
+    Ok(py.detach(|| mu.iter().map(|&v| f(&s, v)).collect()))
+}
+
 /// Scattering amplitudes (S1, S2) of one sphere at the cosines `mu` (complex arrays, Bohren &
 /// Huffman's convention).
 #[pyfunction]
@@ -61,9 +73,8 @@ fn mie_amplitudes<'py>(
     x: f64,
     mu: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<(ComplexArray<'py>, ComplexArray<'py>)> {
-    let s = solve(py, m_re, m_im, x)?;
-    let mu = mu.as_slice()?;
-    let (s1, s2): (Vec<Complex64>, Vec<Complex64>) = py.detach(|| mu.iter().map(|&v| s.amplitudes(v)).unzip());
+    let (s1, s2): (Vec<Complex64>, Vec<Complex64>) =
+        at_cosines(py, (m_re, m_im, x), &mu, |s, v| s.amplitudes(v))?.into_iter().unzip();
     Ok((s1.into_pyarray(py), s2.into_pyarray(py)))
 }
 
@@ -76,10 +87,7 @@ fn mie_phase_function<'py>(
     x: f64,
     mu: PyReadonlyArray1<'py, f64>,
 ) -> PyResult<Array<'py>> {
-    let s = solve(py, m_re, m_im, x)?;
-    let mu = mu.as_slice()?;
-    let p: Vec<f64> = py.detach(|| mu.iter().map(|&v| s.phase_function(v)).collect());
-    Ok(p.into_pyarray(py))
+    Ok(at_cosines(py, (m_re, m_im, x), &mu, |s, v| s.phase_function(v))?.into_pyarray(py))
 }
 
 /// The sampling table of one sphere's phase function (`MieSolution::phase_table`): nodes μ_i,
