@@ -229,8 +229,8 @@ def scattering_amplitudes(m, x, mu) -> tuple[np.ndarray, np.ndarray]:
     Examples
     --------
     >>> s1, s2 = scattering_amplitudes(1.5 + 1.0j, 1.0, [1.0, -1.0])
-    >>> s1.round(6)
-    array([0.58408 -0.190515j, 0.348844-0.146829j])
+    >>> s1.round(6).tolist()
+    [(0.58408-0.190515j), (0.348844-0.146829j)]
     """
     m, x = _scalar_sphere(m, x)
     mu = _cosines(mu)
@@ -267,8 +267,8 @@ def phase_function(m, x, mu) -> np.ndarray:
     Examples
     --------
     >>> p = phase_function(1.54, 1e-3, [-1.0, 0.0, 1.0])   # Rayleigh: 3(1 + μ²)/(16π)
-    >>> (p * 16 * np.pi / 3).round(4)
-    array([2., 1., 2.])
+    >>> (p * 16 * np.pi / 3).round(4).tolist()
+    [2.0, 1.0, 2.0]
     """
     m, x = _scalar_sphere(m, x)
     mu = _cosines(mu)
