@@ -4,7 +4,9 @@
 //! `sizes` → `particle` (one grain's interaction) → `medium`, `transport` (free paths, boundary)
 //! → `driver` (parallel runs and tallies). `surface_layer`: the cut-plane top layer of path memory. `packing`, `deposition` and `explicit`: the
 //! explicit-geometry reference (a stored random packing, cut or with a gravity-settled surface,
-//! traced with the same per-particle interaction). No PyO3 here: bindings live in `sandlight-py`.
+//! traced with the same per-particle interaction). `mie` (Lorenz–Mie solution of a sphere) and
+//! `phase_table` (sampling a tabulated phase function): fine-particle optics, not yet used by the
+//! transport. No PyO3 here: bindings live in `sandlight-py`.
 
 pub mod appearance;
 pub mod deposition;
@@ -16,9 +18,11 @@ pub mod gonio;
 pub mod layers;
 pub mod math;
 pub mod medium;
+pub mod mie;
 pub mod packing;
 pub mod pair_correlation;
 pub mod particle;
+pub mod phase_table;
 pub mod render;
 pub mod rng;
 pub mod sizes;

@@ -7,6 +7,7 @@ mod appearance;
 mod errors;
 mod gonio;
 mod medium;
+mod mie;
 mod pool;
 mod render;
 
@@ -18,5 +19,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     gonio::register(m)?;
     render::register(m)?;
     appearance::register(m)?;
+    mie::register(m)?;
     Ok(())
 }
