@@ -88,8 +88,8 @@ class Parameter:
         Raises
         ------
         ParameterError
-            If `value` is missing (None), of the wrong type (strings for numbers, bools),
-            NaN, or outside the domain; the message names parameter, value and domain.
+            If `value` is missing (None), of the wrong type (strings for numbers, bools,
+            arrays), NaN, or outside the domain; the message names parameter, value and domain.
         """
         if self.kind == "choice":
             if isinstance(value, str) and value in self.choices:
@@ -97,7 +97,7 @@ class Parameter:
             raise ParameterError(self.name, value, self.allowed)
         # Strict JSON has no infinity, so an infinite value is written as the string "inf"
         # (see SandSample.to_dict) and read back here, only where +inf is in the domain.
-        if value == "inf" and self.high == math.inf:
+        if isinstance(value, str) and value == "inf" and self.high == math.inf:
             return math.inf
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
             raise ParameterError(self.name, value, self.allowed)
