@@ -12,21 +12,33 @@ from __future__ import annotations
 import contextlib
 import os
 import uuid
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from pathlib import Path
 
 #: Temporary files end with this suffix (stores clean up leftovers of killed writers by it).
 TEMPORARY_SUFFIX = ".part"
 
+#: Bytes of the target's name kept in a temporary name. With the process id, the token and the
+#: suffix a temporary name stays far below the 255-byte limit of a file name, whatever the
+#: target's length (the whole name was kept, so a legal 230-byte name could not be written).
+_NAME_BYTES = 64
 
-def temporary_sibling(path) -> Path:
-    """A fresh, unique temporary name in the directory of ``path``."""
+
+def _name_prefix(name: str) -> str:
+    # Cut in bytes, as the file system counts; a character cut in two decodes to surrogate
+    # escapes, which os.fsencode turns back into the same bytes.
+    return os.fsdecode(os.fsencode(name)[:_NAME_BYTES])
+
+
+def temporary_sibling(path: str | os.PathLike[str]) -> Path:
+    """A fresh, unique temporary name in the directory of ``path``: the first 64 bytes of its
+    name, the process id and a random token (at most about 100 bytes in all)."""
     path = Path(path)
-    return path.with_name(f".{path.name}.{os.getpid()}.{uuid.uuid4().hex[:12]}{TEMPORARY_SUFFIX}")
+    return path.with_name(f".{_name_prefix(path.name)}.{os.getpid()}.{uuid.uuid4().hex[:12]}{TEMPORARY_SUFFIX}")
 
 
 @contextlib.contextmanager
-def atomic_path(path, *, make_dirs: bool = True):
+def atomic_path(path: str | os.PathLike[str], *, make_dirs: bool = True) -> Iterator[Path]:
     """Yields a temporary path beside ``path``; on success it is renamed over ``path``.
 
     Parameters
@@ -52,14 +64,14 @@ def atomic_path(path, *, make_dirs: bool = True):
         raise
 
 
-def write_atomically(path, write: Callable[[Path], object], *, make_dirs: bool = True) -> Path:
+def write_atomically(path: str | os.PathLike[str], write: Callable[[Path], object], *, make_dirs: bool = True) -> Path:
     """Calls ``write(tmp)`` on a temporary path beside ``path``, then renames it onto ``path``."""
     with atomic_path(path, make_dirs=make_dirs) as tmp:
         write(tmp)
     return Path(path)
 
 
-def write_model_npz(path, metadata: dict, arrays: dict, *, compressed: bool = False) -> Path:
+def write_model_npz(path: str | os.PathLike[str], metadata: dict, arrays: dict, *, compressed: bool = False) -> Path:
     """Writes a trained model as plain arrays plus a JSON ``metadata`` entry (never pickle),
     atomically; :func:`read_model_npz` reads it back."""
     import json
@@ -69,14 +81,14 @@ def write_model_npz(path, metadata: dict, arrays: dict, *, compressed: bool = Fa
     meta = np.array(json.dumps(metadata, sort_keys=True))
     save = np.savez_compressed if compressed else np.savez
 
-    def write(tmp):
+    def write(tmp: Path) -> None:
         with open(tmp, "wb") as fh:
             save(fh, metadata=meta, **arrays)
 
     return write_atomically(path, write)
 
 
-def read_model_npz(path, *, kind: str, format_name: str, max_version: int) -> tuple[dict, dict]:
+def read_model_npz(path: str | os.PathLike[str], *, kind: str, format_name: str, max_version: int) -> tuple[dict, dict]:
     """Reads a trained model stored as plain arrays plus a JSON ``metadata`` entry (never pickle).
 
     Every member is read in full, so zipfile checks its CRC-32 and a flipped bit anywhere is
