@@ -5,12 +5,17 @@ place with ``os.replace``, atomic on one file system: a reader sees the old file
 new one, never a partial write; a failed or interrupted write leaves no debris. The temporary
 name is unique per call and created by the writer itself, so the final file gets the usual
 permissions (umask), not the private mode of ``mkstemp``.
+
+A writer killed outright (``kill -9``, power loss) cannot remove its temporary file. The name
+holds the writer's process id, so the next write of the same target removes temporaries whose
+writer is gone (:func:`remove_stale_temporaries`; job stores do the same for their directories).
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import re
 import uuid
 from collections.abc import Callable, Iterator
 from pathlib import Path
@@ -22,6 +27,13 @@ TEMPORARY_SUFFIX = ".part"
 #: suffix a temporary name stays far below the 255-byte limit of a file name, whatever the
 #: target's length (the whole name was kept, so a legal 230-byte name could not be written).
 _NAME_BYTES = 64
+
+#: ".<name prefix>.<pid>.<12 hex digits>.part", as made by `temporary_sibling`.
+_TEMPORARY_RE = re.compile(r"^\.(?P<prefix>.*)\.(?P<pid>\d+)\.[0-9a-f]{12}" + re.escape(TEMPORARY_SUFFIX) + "$", re.S)
+
+#: Slack of the comparison between a file's modification time and a process's start time (the
+#: start time is derived from the boot time, which the kernel gives to the second).
+_CLOCK_SLACK_S = 2.0
 
 
 def _name_prefix(name: str) -> str:
@@ -35,6 +47,41 @@ def temporary_sibling(path: str | os.PathLike[str]) -> Path:
     name, the process id and a random token (at most about 100 bytes in all)."""
     path = Path(path)
     return path.with_name(f".{_name_prefix(path.name)}.{os.getpid()}.{uuid.uuid4().hex[:12]}{TEMPORARY_SUFFIX}")
+
+
+def is_stale_temporary(path: str | os.PathLike[str]) -> bool:
+    """True if ``path`` is a temporary file of `temporary_sibling` whose writer is gone: no
+    process has its id, or the process that has it started after the file was last written
+    (process ids are reused). A temporary of a live writer is being written: False."""
+    import psutil
+
+    path = Path(path)
+    match = _TEMPORARY_RE.match(path.name)
+    if match is None:
+        return False
+    try:
+        started = psutil.Process(int(match["pid"])).create_time()
+        modified = path.stat().st_mtime
+    except psutil.NoSuchProcess:
+        return True
+    except (psutil.Error, OSError):  # not ours to judge (another user's process) or already gone
+        return False
+    return modified < started - _CLOCK_SLACK_S
+
+
+def remove_stale_temporaries(directory: str | os.PathLike[str], target: str | None = None) -> int:
+    """Remove the stale temporaries (see `is_stale_temporary`) in ``directory``: those of the
+    file named ``target``, or all of them if ``target`` is None. Returns how many were removed."""
+    prefix = None if target is None else _name_prefix(target)
+    removed = 0
+    with contextlib.suppress(OSError), os.scandir(directory) as entries:
+        for entry in entries:
+            match = _TEMPORARY_RE.match(entry.name)
+            if match and prefix in (None, match["prefix"]) and is_stale_temporary(entry.path):
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(entry.path)
+                    removed += 1
+    return removed
 
 
 @contextlib.contextmanager
@@ -55,6 +102,7 @@ def atomic_path(path: str | os.PathLike[str], *, make_dirs: bool = True) -> Iter
         parent.mkdir(parents=True, exist_ok=True)
     elif not parent.is_dir():
         raise FileNotFoundError(f"Output directory {str(parent)!r} does not exist (writing {str(path)!r}).")
+    remove_stale_temporaries(parent, path.name)
     tmp = temporary_sibling(path)
     try:
         yield tmp

@@ -19,12 +19,17 @@ import json
 import math
 import os
 import re
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from sandlight.io import TEMPORARY_SUFFIX, write_atomically
+from sandlight.io import remove_stale_temporaries, write_atomically
 from sandlight.jobs.errors import JobError, JobSettingsError
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 STORE_FORMAT = "sandlight-job-store"
 STORE_FORMAT_VERSION = 1
@@ -32,21 +37,9 @@ SETTINGS_FILE = "job.json"
 DATASET_FILE = "dataset.nc"
 SHARD_DIR = "shards"
 _SHARD_RE = re.compile(r"^shard-(\d{6,})\.nc$")
-# sandlight.io.temporary_sibling names: ".<name>.<pid>.<hex>.part".
-_TMP_RE = re.compile(r"^\..+\.(\d+)\.[0-9a-f]+" + re.escape(TEMPORARY_SUFFIX) + "$")
 
 
-def _process_alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:  # exists, owned by someone else
-        return True
-    return True
-
-
-def to_json_value(value):
+def to_json_value(value: Any) -> Any:
     """Convert settings to plain JSON types (numpy scalars and arrays, tuples, paths)."""
     if isinstance(value, dict):
         return {str(k): to_json_value(v) for k, v in value.items()}
@@ -63,12 +56,12 @@ def to_json_value(value):
     raise TypeError(f"setting value {value!r} of type {type(value).__name__} is not JSON-able")
 
 
-def dumps(value) -> str:
+def dumps(value: Any) -> str:
     """Canonical JSON (sorted keys; inf written as ``Infinity``, which Python reads back)."""
     return json.dumps(to_json_value(value), sort_keys=True, separators=(",", ":"))
 
 
-def _first_difference(stored, requested, prefix=""):
+def _first_difference(stored: Any, requested: Any, prefix: str = "") -> tuple[str, Any, Any] | None:
     """Dotted path and both values of the first difference between two JSON trees, or None."""
     if isinstance(stored, dict) and isinstance(requested, dict):
         for key in sorted(set(stored) | set(requested)):
@@ -106,7 +99,7 @@ class ShardStore:
 
     # ---- creation and validation -------------------------------------------------------------
     @classmethod
-    def open(cls, path, settings: dict) -> ShardStore:
+    def open(cls, path: str | os.PathLike[str], settings: dict) -> ShardStore:
         """Create the store at ``path`` or reopen it, checking that its settings equal ``settings``.
 
         Raises
@@ -158,17 +151,14 @@ class ShardStore:
         # live process's temporaries are being written right now (e.g. a job running while
         # another process asks for its status): leave them.
         for directory in (self.path, self.shard_dir):
-            for p in directory.iterdir():
-                m = _TMP_RE.match(p.name)
-                if m and not _process_alive(int(m.group(1))):
-                    p.unlink(missing_ok=True)
+            remove_stale_temporaries(directory)
 
     def _shards(self) -> list[Path]:
         return sorted(p for p in self.shard_dir.iterdir() if _SHARD_RE.match(p.name))
 
     # ---- reading ----------------------------------------------------------------------------
     @staticmethod
-    def _read(path: Path, names=None) -> dict:
+    def _read(path: Path, names: list[str] | None = None) -> dict:
         import xarray as xr
 
         try:
@@ -212,7 +202,7 @@ class ShardStore:
         return index, {k: np.concatenate([p[k] for p in parts])[first] for k in names}
 
     # ---- writing ----------------------------------------------------------------------------
-    def write_shard(self, indices, results: dict[str, np.ndarray], dims: dict[str, tuple]) -> Path:
+    def write_shard(self, indices: Sequence[int], results: dict[str, np.ndarray], dims: dict[str, tuple]) -> Path:
         """Write one shard holding the results of tasks ``indices`` (atomic)."""
         import xarray as xr
 
@@ -226,7 +216,7 @@ class ShardStore:
         write_atomically(path, ds.to_netcdf)
         return path
 
-    def write_dataset(self, ds) -> Path:
+    def write_dataset(self, ds: xr.Dataset) -> Path:
         """Write the consolidated dataset (atomic), then drop the shards it supersedes."""
         write_atomically(self.dataset_path, ds.to_netcdf)
         for shard in self._shards():
