@@ -1,17 +1,10 @@
-"""Argument parsing shared by the command modules: samples, ranges, error reporting."""
+"""Argument parsing shared by the command modules: samples, ranges."""
 
 from __future__ import annotations
 
-import contextlib
 from pathlib import Path
 
 import numpy as np
-import typer
-from rich.console import Console
-
-from sandlight.errors import SandlightError
-
-err_console = Console(stderr=True)
 
 #: Help of the --memory and --geometry options of the commands that trace rays.
 MEMORY_HELP = (
@@ -19,19 +12,6 @@ MEMORY_HELP = (
     "(closest to the explicit reference; docs/geometry.md)."
 )
 GEOMETRY_HELP = "on-the-fly (fast, default) or explicit (the slow reference: a stored packing; docs/geometry.md)."
-
-
-@contextlib.contextmanager
-def user_errors():
-    """Turns sandlight's user-facing errors into a one-line message and exit code 2."""
-    try:
-        yield
-    except (SandlightError, FileNotFoundError) as e:
-        err_console.print(f"[bold red]error:[/] {e}", soft_wrap=True)
-        raise typer.Exit(2) from None
-    except KeyboardInterrupt:
-        err_console.print("[yellow]interrupted: nothing was written[/]")
-        raise typer.Exit(130) from None
 
 
 def load_sample(sample_file: Path | None, preset: str | None):

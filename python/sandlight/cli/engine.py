@@ -3,14 +3,16 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import typer
-from rich.console import Console
 
 from sandlight.cli._app import app
-from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count, parse_range, user_errors
+from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count, parse_range
+from sandlight.cli._output import echo, table
 
-console = Console()
+if TYPE_CHECKING:
+    from sandlight.engine import ReflectanceResult
 
 
 @app.command()
@@ -18,7 +20,7 @@ def version() -> None:
     """Print the sandlight version."""
     import sandlight
 
-    print(sandlight.__version__)
+    echo(sandlight.__version__)
 
 
 @app.command()
@@ -38,39 +40,33 @@ def reflectance(
     """Monte Carlo directional-hemispherical reflectance of a sand sample."""
     from sandlight.engine import reflectance as run
 
-    with user_errors():
-        sample = load_sample(sample_file, preset)
-        wl, n = parse_range(wavelengths, "--wavelengths"), parse_count(rays, "--rays")
-        console.print(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
-        result = run(
-            sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory, geometry=geometry
+    sample = load_sample(sample_file, preset)
+    wl, n = parse_range(wavelengths, "--wavelengths"), parse_count(rays, "--rays")
+    echo(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
+    result = run(
+        sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory, geometry=geometry
+    )
+    _report(result, output, plot, title=str(sample_file or preset or "red-dune"))
+
+
+def _report(result: ReflectanceResult, output: Path | None, plot: Path | None, *, title: str) -> None:
+    rows = [
+        (f"{wl:g}", f"{v:.4f}", f"{e:.4f}", f"{events:.1f}", str(int(capped)))
+        for wl, v, e, events, capped in zip(
+            result.wavelengths, result.values, result.stderr, result.mean_events_per_ray, result.capped
         )
-        _report(result, output, plot, title=str(sample_file or preset or "red-dune"))
-
-
-def _report(result, output, plot, *, title):
-    from rich.table import Table
-
-    table = Table("λ (nm)", "reflectance", "± stderr", "events/ray", "capped")
-    for i, wl in enumerate(result.wavelengths):
-        table.add_row(
-            f"{wl:g}",
-            f"{result.values[i]:.4f}",
-            f"{result.stderr[i]:.4f}",
-            f"{result.mean_events_per_ray[i]:.1f}",
-            str(int(result.capped[i])),
-        )
-    console.print(table)
-    console.print(f"{result.rays:,} rays per wavelength in {result.elapsed_s:.1f} s")
+    ]
+    table(("λ (nm)", "reflectance", "± stderr", "events/ray", "capped"), rows)
+    echo(f"{result.rays:,} rays per wavelength in {result.elapsed_s:.1f} s")
     if output is not None:
         if output.suffix.lower() == ".csv":
             result.to_csv(output)
         else:
             result.to_netcdf(output)
-        console.print(f"wrote {output}")
+        echo(f"wrote {output}")
     if plot is not None:
         result.plot(plot, title=title)
-        console.print(f"wrote {plot}")
+        echo(f"wrote {plot}")
 
 
 @app.command()
@@ -83,17 +79,16 @@ def demo(
     from sandlight.engine import reflectance as run
     from sandlight.sample import SandSample
 
-    with user_errors():
-        sample = SandSample.preset("red-dune")
-        console.print("[bold]sandlight demo[/]: red-dune sand, 400–2500 nm")
-        result = run(
-            sample,
-            parse_range("400:700:20", "wavelengths").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],
-            rays=parse_count(rays, "--rays"),
-        )
-        _report(
-            result,
-            output_dir / "red-dune.nc",
-            output_dir / "red-dune.png",
-            title="red-dune sand (sandlight Monte Carlo)",
-        )
+    sample = SandSample.preset("red-dune")
+    echo("sandlight demo: red-dune sand, 400–2500 nm")
+    result = run(
+        sample,
+        parse_range("400:700:20", "wavelengths").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],
+        rays=parse_count(rays, "--rays"),
+    )
+    _report(
+        result,
+        output_dir / "red-dune.nc",
+        output_dir / "red-dune.png",
+        title="red-dune sand (sandlight Monte Carlo)",
+    )

@@ -5,12 +5,10 @@ from __future__ import annotations
 from pathlib import Path
 
 import typer
-from rich.console import Console
 
 from sandlight.cli._app import app
-from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count, user_errors
-
-console = Console()
+from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count
+from sandlight.cli._output import echo
 
 
 @app.command()
@@ -36,23 +34,22 @@ def brdf(
     from sandlight.gonio.measure import brdf as measure
     from sandlight.gonio.plots import save_overview_png
 
-    with user_errors():
-        sample = load_sample(sample_file, preset)
-        result = measure(
-            sample,
-            wavelength,
-            rays=parse_count(rays, "--rays"),
-            stacks=stacks,
-            slices=slices,
-            seed=seed,
-            threads=threads,
-            method=method,
-            checkpoint=output.with_name(output.name + ".checkpoint.npz"),
-            memory=memory,
-            geometry=geometry,
-        )
-        to_netcdf(result, output)
-        console.print(f"normal-incidence reflectance {result.normal_reflectance:.4f}; wrote {output}")
-        if plot is not None:
-            save_overview_png(result, plot)
-            console.print(f"wrote {plot}")
+    sample = load_sample(sample_file, preset)
+    result = measure(
+        sample,
+        wavelength,
+        rays=parse_count(rays, "--rays"),
+        stacks=stacks,
+        slices=slices,
+        seed=seed,
+        threads=threads,
+        method=method,
+        checkpoint=output.with_name(output.name + ".checkpoint.npz"),
+        memory=memory,
+        geometry=geometry,
+    )
+    to_netcdf(result, output)
+    echo(f"normal-incidence reflectance {result.normal_reflectance:.4f}; wrote {output}")
+    if plot is not None:
+        save_overview_png(result, plot)
+        echo(f"wrote {plot}")

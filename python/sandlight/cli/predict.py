@@ -2,18 +2,13 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import typer
 
 from sandlight.cli._app import app
 from sandlight.cli._common import MEMORY_HELP
-
-
-def _fail(message: str, code: int = 1):
-    typer.echo(f"error: {message}", err=True)
-    raise typer.Exit(code)
+from sandlight.cli._output import echo, fail, show, table
 
 
 @app.command("train-spectral")
@@ -45,51 +40,43 @@ def train_spectral_command(
 ) -> None:
     """Generate a training set with the engine and fit the spectral predictor (resumable:
     run the same command again to continue after an interruption)."""
-    from sandlight.errors import Cancelled, SandlightError
     from sandlight.jobs import make_executor
     from sandlight.predictor.training import train_spectral
 
-    try:
-        executor = None if fit_only else make_executor(workers, dask_local, scheduler)
-        run = train_spectral(
-            out,
-            samples,
-            rays,
-            wavelengths,
-            seed,
-            n_holdout=holdout,
-            executor=executor,
-            fit_only=fit_only,
-            progress=progress,
-            holdout_rays=holdout_rays,
-            memory=memory,
-            model_params={
-                "n_components": n_components,
-                "variance_threshold": variance,
-                "ridge": ridge,
-                "forms": forms,
-                "degree": degree,
-            },
-        )
-    except Cancelled as exc:
-        _fail(str(exc), 130)
-    except SandlightError as exc:
-        _fail(str(exc))
+    executor = None if fit_only else make_executor(workers, dask_local, scheduler)
+    run = train_spectral(
+        out,
+        samples,
+        rays,
+        wavelengths,
+        seed,
+        n_holdout=holdout,
+        executor=executor,
+        fit_only=fit_only,
+        progress=progress,
+        holdout_rays=holdout_rays,
+        memory=memory,
+        model_params={
+            "n_components": n_components,
+            "variance_threshold": variance,
+            "ridge": ridge,
+            "forms": forms,
+            "degree": degree,
+        },
+    )
     model, report = run.model, run.report
     ratio = model.explained_variance_ratio_
-    typer.echo(
-        f"training set: {run.training.dataset_path} ({run.training.n_total} samples, engine memory {model.memory_!r})"
-    )
-    typer.echo(
+    echo(f"training set: {run.training.dataset_path} ({run.training.n_total} samples, engine memory {model.memory_!r})")
+    echo(
         f"principal components: k = {model.n_components_}, explained variance "
         f"{ratio[: model.n_components_].sum():.5%} "
         f"(per component: {', '.join(f'{r:.4%}' for r in ratio[: model.n_components_])})"
     )
-    typer.echo(f"training RMS error {model.training_rms_:.5f} (PCA floor {model.reconstruction_rms_:.5f})")
+    echo(f"training RMS error {model.training_rms_:.5f} (PCA floor {model.reconstruction_rms_:.5f})")
     if report is not None:
-        typer.echo(report.table())
-    typer.echo(f"times: generation {run.generation_s:.1f} s (this run), fit {run.fit_s:.2f} s")
-    typer.echo(f"model: {run.model_path}")
+        show(report.table())
+    echo(f"times: generation {run.generation_s:.1f} s (this run), fit {run.fit_s:.2f} s")
+    echo(f"model: {run.model_path}")
 
 
 def _load_sample(sample_file: Path | None, preset: str | None):
@@ -98,14 +85,14 @@ def _load_sample(sample_file: Path | None, preset: str | None):
     from sandlight.sample import SandSample
 
     if (sample_file is None) == (preset is None):
-        _fail("give a sample file (SAMPLE.toml) or --preset NAME, not both or neither", 2)
+        fail("give a sample file (SAMPLE.toml) or --preset NAME, not both or neither")
     if preset is not None:
         return SandSample.preset(preset), preset
     try:
         with open(sample_file, "rb") as fh:
             data = tomllib.load(fh)
     except (OSError, tomllib.TOMLDecodeError) as exc:
-        _fail(f"cannot read {sample_file}: {exc}", 2)
+        fail(f"cannot read {sample_file}: {exc}")
     # Accept the parameters at the top level or in a [sample] table.
     data = data.get("sample", data) if isinstance(data.get("sample"), dict) else data
     return SandSample.from_dict(data), sample_file.stem
@@ -125,19 +112,15 @@ def predict(
     Without --model, the most accurate shipped model whose training domain contains the sample
     answers; the command says which one and its hold-out error.
     """
-    from sandlight.errors import SandlightError
     from sandlight.predictor.bank import ModelBank, default_model
     from sandlight.predictor.spectral import SpectralModel
 
-    try:
-        bank = default_model() if model_path is None else ModelBank([SpectralModel.load(model_path)])
-        sample, label = _load_sample(sample_file, preset)
-        values, used = bank.predict([sample], extrapolate=extrapolate, return_models=True)
-    except SandlightError as exc:
-        _fail(str(exc))
+    bank = default_model() if model_path is None else ModelBank([SpectralModel.load(model_path)])
+    sample, label = _load_sample(sample_file, preset)
+    values, used = bank.predict([sample], extrapolate=extrapolate, return_models=True)
     reflectance, model = values[0], bank.model(str(used[0]))
     outside = bank.select([sample])[0] < 0  # no model covers it: the fallback extrapolated
-    typer.echo(
+    echo(
         f"model {bank.describe(model.name_)}" + (" [extrapolated: the sample is outside its domain]" if outside else "")
     )
     wavelengths = model.wavelengths_
@@ -148,15 +131,8 @@ def predict(
         text = "\n".join(lines) + "\n"
         write_atomically(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
     else:
-        from rich.console import Console
-        from rich.table import Table
-
-        table = Table(title=f"reflectance of {label}")
-        table.add_column("wavelength (nm)", justify="right")
-        table.add_column("reflectance", justify="right")
-        for w, r in zip(wavelengths, reflectance):
-            table.add_row(f"{w:g}", f"{r:.4f}")
-        Console(file=sys.stdout).print(table)
+        rows = [(f"{w:g}", f"{r:.4f}") for w, r in zip(wavelengths, reflectance)]
+        table(("wavelength (nm)", "reflectance"), rows, title=f"reflectance of {label}")
     if plot is not None:
         import matplotlib
 

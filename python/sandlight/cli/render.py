@@ -12,7 +12,7 @@ from pathlib import Path
 import typer
 
 from sandlight.cli._app import app
-from sandlight.cli._common import user_errors
+from sandlight.cli._output import echo
 
 
 @app.command()
@@ -39,20 +39,17 @@ def render(
     from sandlight.render.animation import render_scene
     from sandlight.render.scene import Scene
 
-    with user_errors():
-        parsed = Scene.load(scene).with_overrides(
-            width=width, height=height, frames=frames, spp=spp, seed=seed, threads=threads, write_linear=linear
-        )
-        try:
-            run = render_scene(parsed, output, video=video, progress=progress, log=typer.echo)
-        except KeyboardInterrupt:
-            kept = len(list(Path(output).glob("frame_*.png")))
-            typer.echo(
-                f"interrupted: the {kept} finished frame(s) in {output} are complete; no video was written", err=True
-            )
-            raise typer.Exit(130) from None
-        total = sum(run.render_seconds)
-        typer.echo(
-            f"{len(run.pngs)} frame(s) in {output} ({total:.1f} s rendering, {run.elapsed_s:.1f} s in all)"
-            + (f"; video {run.video}" if run.video else "")
-        )
+    parsed = Scene.load(scene).with_overrides(
+        width=width, height=height, frames=frames, spp=spp, seed=seed, threads=threads, write_linear=linear
+    )
+    try:
+        run = render_scene(parsed, output, video=video, progress=progress, log=echo)
+    except KeyboardInterrupt:
+        kept = len(list(Path(output).glob("frame_*.png")))
+        echo(f"interrupted: the {kept} finished frame(s) in {output} are complete; no video was written", err=True)
+        raise typer.Exit(130) from None
+    total = sum(run.render_seconds)
+    echo(
+        f"{len(run.pngs)} frame(s) in {output} ({total:.1f} s rendering, {run.elapsed_s:.1f} s in all)"
+        + (f"; video {run.video}" if run.video else "")
+    )

@@ -8,6 +8,7 @@ from pathlib import Path
 import typer
 
 from sandlight.cli._app import app
+from sandlight.cli._output import echo
 
 
 def _parse_times(text: str) -> list[float]:
@@ -73,7 +74,7 @@ def sky(
                 turbidity, latitude, day, time, longitude_deg=longitude, utc_offset_h=utc_offset
             )
             path = plot_sky_dome(model, output, size=size, exposure_cd_m2=exposure_cd_m2)
-            typer.echo(
+            echo(
                 f"sun elevation {elevation:.2f}°, azimuth "
                 f"{math.degrees(float(azimuth)):.2f}° (from north, "
                 f"clockwise); zenith luminance {model.zenith_luminance_kcd_m2:.3f} kcd/m²"
@@ -104,4 +105,4 @@ def sky(
             "exposure_cd_m2": "--exposure",
         }.get(error.name)
         raise typer.BadParameter(str(error), param_hint=option) from None
-    typer.echo(f"wrote {path}")
+    echo(f"wrote {path}")

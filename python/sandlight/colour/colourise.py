@@ -33,7 +33,7 @@ from sandlight.colour.sample_colour import sample_rgb
 from sandlight.colour.spectrum import DEFAULT_ILLUMINANT, DEFAULT_OBSERVER, PREDICTOR_WAVELENGTHS_NM
 from sandlight.colour.srgb import srgb_to_uint8
 from sandlight.colour.swatches import GridAxis, framed_size_px, grid_samples, save_grid_png
-from sandlight.errors import ParameterError, SandlightError
+from sandlight.errors import ModelFileError, ParameterError
 from sandlight.io import write_atomically
 
 __all__ = [
@@ -72,7 +72,7 @@ def load_image(path: str | os.PathLike) -> NDArray[np.float64]:
     ------
     FileNotFoundError
         No file at ``path`` (the message names it).
-    SandlightError
+    ModelFileError
         The file exists but is not a readable image (the message names it).
     """
     from PIL import Image
@@ -81,7 +81,7 @@ def load_image(path: str | os.PathLike) -> NDArray[np.float64]:
     if not p.exists():
         raise FileNotFoundError(errno.ENOENT, "Image file not found", str(p))
     if not p.is_file():
-        raise SandlightError(f"Cannot read image {str(p)!r}: not a regular file.")
+        raise ModelFileError(f"Cannot read image {str(p)!r}: not a regular file.")
     try:
         with Image.open(p) as im:
             im.load()
@@ -92,7 +92,7 @@ def load_image(path: str | os.PathLike) -> NDArray[np.float64]:
     except (OSError, ValueError, SyntaxError, Image.DecompressionBombError) as exc:
         # Pillow reports unknown formats as UnidentifiedImageError (an OSError), truncated files
         # as OSError, and some corrupt headers as ValueError or SyntaxError.
-        raise SandlightError(f"Cannot read image {str(p)!r}: {exc}") from exc
+        raise ModelFileError(f"Cannot read image {str(p)!r}: {exc}") from exc
 
 
 def save_image(path: str | os.PathLike, rgb: ArrayLike) -> Path:

@@ -111,7 +111,7 @@ def _progress_bar(enabled: bool, description: str, total: int, completed: int, u
     )
 
     columns = (
-        TextColumn("{task.description}"),
+        TextColumn("{task.description}", markup=False),
         BarColumn(),
         MofNCompleteColumn(),
         _rate_column(unit),
