@@ -1,5 +1,5 @@
-"""What the command line prints: user text verbatim, no rich markup, no highlighting (issue 24 #1
-and the tour)."""
+"""What the command line prints: user text verbatim (no rich markup, no highlighting), no
+control characters from files (issue 24 #1, #13 and the tour)."""
 
 import os
 import subprocess
@@ -28,6 +28,20 @@ def test_markup_in_a_value_and_in_a_message_is_printed_verbatim(tmp_path):
     res = runner.invoke(app, ["reflectance", str(sample), "-n", "10"])
     assert res.exit_code == 2, res.output
     assert "note = '[/]' is not allowed: no keys are allowed outside the [sample] table" in res.output
+
+
+def test_control_characters_read_from_a_model_file_are_not_printed(tmp_path):
+    import copy
+
+    from sandlight.predictor import default_model
+
+    model = copy.deepcopy(default_model().models[0])  # the shipped bank is shared: not changed
+    model.name_ = "\x1b[2J\x1b]0;pwned\x07dune\rmodel"  # clear screen, set the title, overwrite the line
+    path = model.save(tmp_path / "evil.npz")
+    res = runner.invoke(app, ["predict", "--preset", "red-dune", "--model", str(path), "--extrapolate"])
+    assert res.exit_code == 0, res.output
+    assert "[2J]0;pwneddunemodel" in res.output
+    assert not any(c in res.output for c in "\x1b\x07\r")
 
 
 def test_digits_inside_names_are_not_highlighted(tmp_path):
