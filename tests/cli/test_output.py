@@ -1,5 +1,5 @@
 """What the command line prints: user text verbatim (no rich markup, no highlighting), no
-control characters from files (issue 24 #1, #13 and the tour)."""
+control characters from files, warnings as one plain line (issue 24 #1, #13 and the tour)."""
 
 import os
 import subprocess
@@ -42,6 +42,16 @@ def test_control_characters_read_from_a_model_file_are_not_printed(tmp_path):
     assert res.exit_code == 0, res.output
     assert "[2J]0;pwneddunemodel" in res.output
     assert not any(c in res.output for c in "\x1b\x07\r")
+
+
+def test_warnings_are_shown_as_one_plain_line(tmp_path):
+    sample = tmp_path / "wet.toml"
+    sample.write_text('preset = "red-dune"\nsaturation = 0.6\n')
+    res = runner.invoke(app, ["reflectance", str(sample), "-w", "550", "-n", "200", "--memory", "cut"])
+    assert res.exit_code == 0, res.output
+    lines = [line for line in res.output.splitlines() if "warning" in line.lower()]
+    assert len(lines) == 1 and lines[0].startswith("warning: "), res.output
+    assert "UserWarning" not in res.output and "warnings.warn" not in res.output and ".py:" not in res.output
 
 
 def test_digits_inside_names_are_not_highlighted(tmp_path):

@@ -1,15 +1,16 @@
 """The typer application object shared by every command module, and what every command runs
-inside: sandlight's errors become one-line messages and exit codes."""
+inside: sandlight's errors become one-line messages and exit codes, warnings one line each."""
 
 from __future__ import annotations
 
+import warnings
 from typing import Any
 
 import click
 import typer
 from typer.core import TyperGroup
 
-from sandlight.cli._output import echo, error
+from sandlight.cli._output import echo, error, show_warning
 from sandlight.errors import Cancelled, ParameterError, SandlightError
 
 
@@ -25,22 +26,24 @@ def exit_code(exc: BaseException) -> int:
 
 
 class _Commands(TyperGroup):
-    """Runs each command, turning sandlight's errors, OS errors (a directory where a file was
-    expected, a read-only directory) and Ctrl-C into a message and an exit code instead of a
-    traceback."""
+    """Runs each command with plain one-line warnings and turns sandlight's errors, OS errors
+    (a directory where a file was expected, a read-only directory) and Ctrl-C into a message
+    and an exit code instead of a traceback."""
 
     def invoke(self, ctx: click.Context) -> Any:
-        try:
-            return super().invoke(ctx)
-        except Cancelled as exc:
-            echo(f"interrupted: {exc}", err=True)
-            raise typer.Exit(exit_code(exc)) from None
-        except KeyboardInterrupt as exc:
-            echo("interrupted: every file written so far is complete; nothing else was written", err=True)
-            raise typer.Exit(exit_code(exc)) from None
-        except (SandlightError, OSError) as exc:
-            error(exc)
-            raise typer.Exit(exit_code(exc)) from None
+        with warnings.catch_warnings():
+            warnings.showwarning = show_warning
+            try:
+                return super().invoke(ctx)
+            except Cancelled as exc:
+                echo(f"interrupted: {exc}", err=True)
+                raise typer.Exit(exit_code(exc)) from None
+            except KeyboardInterrupt as exc:
+                echo("interrupted: every file written so far is complete; nothing else was written", err=True)
+                raise typer.Exit(exit_code(exc)) from None
+            except (SandlightError, OSError) as exc:
+                error(exc)
+                raise typer.Exit(exit_code(exc)) from None
 
 
 app = typer.Typer(

@@ -74,3 +74,16 @@ def table(columns: Sequence[str], rows: Iterable[Sequence[object]], *, title: ob
 def show(renderable: RenderableType) -> None:
     """Print a rich renderable made by sandlight (e.g. a report's table); a string is plain text."""
     _stdout.print(Text(printable(renderable)) if isinstance(renderable, str) else renderable)
+
+
+def show_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: object = None,
+    line: str | None = None,
+) -> None:
+    """`warnings.showwarning` of the command line: one ``warning: message`` line, without the
+    file, line number and source line Python prints by default."""
+    warning(message)

@@ -189,11 +189,9 @@ def appearance(
     from sandlight.spatial import SpatialApproximationWarning
 
     sample = load_sample(sample_file, preset)
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always", SpatialApproximationWarning)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", SpatialApproximationWarning)  # shown on every run, as one line
         app_ = SandAppearance(sample, spectral_model, spatial_model, combination=combination)
-    for w in caught:
-        echo(f"note: {w.message}")
     angles = np.array([0.0, 30.0, 60.0, 80.0, 89.0])
     t = np.radians(angles)
     albedo = app_.albedo(np.stack([np.sin(t), 0 * t, np.cos(t)], axis=1))
