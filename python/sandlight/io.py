@@ -17,8 +17,10 @@ import contextlib
 import os
 import re
 import uuid
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
+
+from sandlight.errors import ParameterError
 
 #: Temporary files end with this suffix (stores clean up leftovers of killed writers by it).
 TEMPORARY_SUFFIX = ".part"
@@ -82,6 +84,79 @@ def remove_stale_temporaries(directory: str | os.PathLike[str], target: str | No
                     os.unlink(entry.path)
                     removed += 1
     return removed
+
+
+def _existing_ancestor(path: Path) -> Path:
+    """``path`` or its nearest ancestor that exists (``.`` for a relative path)."""
+    for candidate in (path, *path.parents):
+        if candidate.exists():
+            return candidate
+    return Path(".")
+
+
+def _check_writable_directory(directory: Path, name: str, target: Path) -> None:
+    if not directory.is_dir():
+        raise ParameterError(name, str(target), f"a path in a directory, but {str(directory)!r} is a file")
+    if not os.access(directory, os.W_OK | os.X_OK):
+        raise ParameterError(name, str(target), f"a path in a directory you can write to ({str(directory)!r} is not)")
+
+
+def check_output_file(
+    path: str | os.PathLike[str], name: str, suffixes: Sequence[str] | None = None, *, make_dirs: bool = False
+) -> Path:
+    """Refuse, before any work is done, an output file that cannot be written.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        The file a command will write (and overwrite if it exists).
+    name : str
+        The option or parameter naming it in messages, e.g. ``"--output"``.
+    suffixes : sequence of str, optional
+        The allowed suffixes, lower case with the dot (e.g. ``(".nc", ".csv")``): the format
+        written is the one the suffix says.
+    make_dirs : bool
+        The writer creates missing directories (`atomic_path`): then the nearest existing one
+        must be writable; otherwise the file's directory must exist and be writable.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    ParameterError
+        Wrong suffix, a directory where the file should be, a missing, non-directory or
+        unwritable directory.
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise ParameterError(name, str(path), "a file, but this is a directory")
+    if suffixes is not None and path.suffix.lower() not in suffixes:
+        raise ParameterError(name, str(path), "a file name ending in " + " or ".join(suffixes))
+    parent = path.parent
+    if not make_dirs and not parent.exists():
+        raise ParameterError(name, str(path), f"a path in an existing directory ({str(parent)!r} does not exist)")
+    _check_writable_directory(_existing_ancestor(parent), name, path)
+    return path
+
+
+def check_output_directory(path: str | os.PathLike[str], name: str) -> Path:
+    """Refuse, before any work is done, an output directory that cannot be written: an
+    existing file, or a path whose nearest existing directory is not writable (missing
+    directories are created by the writers).
+
+    Raises
+    ------
+    ParameterError
+        The message names ``name`` (e.g. ``"--out"``), the path and what is wrong.
+    """
+    path = Path(path)
+    existing = _existing_ancestor(path)
+    if existing == path and not path.is_dir():
+        raise ParameterError(name, str(path), "a directory, but this is a file")
+    _check_writable_directory(existing, name, path)
+    return path
 
 
 @contextlib.contextmanager

@@ -16,6 +16,7 @@ import typer
 from sandlight.cli._app import app
 from sandlight.cli._output import echo, fail
 from sandlight.errors import SandlightError
+from sandlight.io import check_output_file
 
 _GRID_HELP = "NAME=start:stop:count (inclusive), e.g. iron_oxide=0.001:0.05:8"
 
@@ -81,7 +82,7 @@ def _grid_axes(x: str | None, y: str | None):
 
 @app.command("swatches")
 def swatches_command(
-    output: Path = typer.Option(..., "-o", "--output", help="PNG file to write."),
+    output: Path = typer.Option(..., "-o", "--output", help="PNG file to write (.png, overwritten if it exists)."),
     figure: PaperFigure | None = typer.Option(
         None,
         "--figure",
@@ -100,8 +101,7 @@ def swatches_command(
     """Swatch grid of sand colours as two sample parameters vary (paper Figures 6 and 7)."""
     from sandlight.colour.swatches import figure6, figure7, swatch_grid
 
-    if output.suffix.lower() != ".png":
-        fail(f"--output {str(output)!r} is not allowed: swatches are written as .png")
+    check_output_file(output, "--output", (".png",))
     if figure is not None and x is not None:
         fail("give --figure or --x/--y, not both")
     size_px = _parse_size(size, "--size")
@@ -130,7 +130,12 @@ def colourise_command(
     image: Path | None = typer.Argument(
         None, help="Photo of sand (any format pillow reads). Default: the shipped texture."
     ),
-    output: Path = typer.Option(..., "-o", "--output", help="Image file to write."),
+    output: Path = typer.Option(
+        ...,
+        "-o",
+        "--output",
+        help="Image file to write, in the format its suffix says (.png, .jpg, .tif, ...; overwritten if it exists).",
+    ),
     preset: str | None = typer.Option(None, "--preset", help="Sample preset, e.g. red-dune."),
     sample: Path | None = typer.Option(None, "--sample", help="Sample TOML/JSON file."),
     grid: bool = typer.Option(
@@ -151,9 +156,17 @@ def colourise_command(
         colourise,
         colourise_grid,
         default_texture_path,
+        image_format,
         load_image,
         save_image,
     )
+
+    if grid and labels:
+        if output.suffix.lower() != ".png":
+            fail(f"--output {str(output)!r}: a labelled grid is written as .png (or use --no-labels)")
+    else:
+        image_format(output)
+    check_output_file(output, "--output")
 
     if grid:
         if x is None or y is None:
@@ -176,7 +189,5 @@ def colourise_command(
     result = colourise_grid(
         photo, base, axes[0], axes[1], tile_px=tile_px, mode=mode.value, linear=linear, reflectance=provider
     )
-    if labels and output.suffix.lower() != ".png":
-        fail(f"--output {str(output)!r}: a labelled grid is written as .png (or use --no-labels)")
     result.save_png(output, labels=labels)
     echo(f"wrote {output} ({len(axes[0].values)}×{len(axes[1].values)} tiles)")

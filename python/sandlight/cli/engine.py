@@ -10,6 +10,7 @@ import typer
 from sandlight.cli._app import app
 from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count, parse_range
 from sandlight.cli._output import echo, table
+from sandlight.io import check_output_directory, check_output_file
 
 if TYPE_CHECKING:
     from sandlight.engine import ReflectanceResult
@@ -32,14 +33,19 @@ def reflectance(
     incidence: float = typer.Option(0.0, "--incidence", help="Incidence zenith angle (degrees)."),
     seed: int = typer.Option(0, "--seed"),
     threads: int | None = typer.Option(None, "--threads", help="Worker threads (default: all cores)."),
-    output: Path | None = typer.Option(None, "-o", "--output", help="Write .nc (NetCDF) or .csv."),
-    plot: Path | None = typer.Option(None, "--plot", help="Write a PNG plot of the spectrum."),
+    output: Path | None = typer.Option(
+        None, "-o", "--output", help="Write .nc (NetCDF) or .csv, as the suffix says (overwritten if it exists)."
+    ),
+    plot: Path | None = typer.Option(
+        None, "--plot", help="Write a PNG plot of the spectrum (.png, overwritten if it exists)."
+    ),
     memory: str | None = typer.Option(None, "--memory", help=MEMORY_HELP),
     geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
 ) -> None:
     """Monte Carlo directional-hemispherical reflectance of a sand sample."""
     from sandlight.engine import reflectance as run
 
+    _check_outputs(output, plot)
     sample = load_sample(sample_file, preset)
     wl, n = parse_range(wavelengths, "--wavelengths"), parse_count(rays, "--rays")
     echo(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
@@ -47,6 +53,14 @@ def reflectance(
         sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory, geometry=geometry
     )
     _report(result, output, plot, title=str(sample_file or preset or "red-dune"))
+
+
+def _check_outputs(output: Path | None, plot: Path | None) -> None:
+    """Refuse unwritable outputs before the computation."""
+    if output is not None:
+        check_output_file(output, "--output", (".nc", ".csv"), make_dirs=True)
+    if plot is not None:
+        check_output_file(plot, "--plot", (".png",), make_dirs=True)
 
 
 def _report(result: ReflectanceResult, output: Path | None, plot: Path | None, *, title: str) -> None:
@@ -71,7 +85,12 @@ def _report(result: ReflectanceResult, output: Path | None, plot: Path | None, *
 
 @app.command()
 def demo(
-    output_dir: Path = typer.Option(Path("sandlight-demo"), "-o", "--output-dir", help="Where to write the results."),
+    output_dir: Path = typer.Option(
+        Path("sandlight-demo"),
+        "-o",
+        "--output-dir",
+        help="Where to write red-dune.nc and red-dune.png (created if missing; the files are overwritten).",
+    ),
     rays: str = typer.Option("2e5", "--rays", "-n", help="Rays per wavelength."),
 ) -> None:
     """The main job on its embedded default: the reflectance spectrum of a red dune sand,
@@ -79,6 +98,7 @@ def demo(
     from sandlight.engine import reflectance as run
     from sandlight.sample import SandSample
 
+    check_output_directory(output_dir, "--output-dir")
     sample = SandSample.preset("red-dune")
     echo("sandlight demo: red-dune sand, 400–2500 nm")
     result = run(

@@ -9,6 +9,7 @@ import typer
 from sandlight.cli._app import app
 from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count
 from sandlight.cli._output import echo
+from sandlight.io import check_output_file
 
 
 @app.command()
@@ -22,8 +23,12 @@ def brdf(
     seed: int = typer.Option(0, "--seed"),
     threads: int | None = typer.Option(None, "--threads"),
     method: str = typer.Option("average", "--method", help="average (the paper) or pooled."),
-    output: Path = typer.Option(Path("brdf.nc"), "-o", "--output", help="NetCDF output."),
-    plot: Path | None = typer.Option(None, "--plot", help="PNG: polar map at 30° and principal-plane curves."),
+    output: Path = typer.Option(
+        Path("brdf.nc"), "-o", "--output", help="NetCDF output (.nc, overwritten if it exists)."
+    ),
+    plot: Path | None = typer.Option(
+        None, "--plot", help="PNG: polar map at 30° and principal-plane curves (.png, overwritten if it exists)."
+    ),
     memory: str | None = typer.Option(None, "--memory", help=MEMORY_HELP),
     geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
 ) -> None:
@@ -34,6 +39,9 @@ def brdf(
     from sandlight.gonio.measure import brdf as measure
     from sandlight.gonio.plots import save_overview_png
 
+    check_output_file(output, "--output", (".nc",))
+    if plot is not None:
+        check_output_file(plot, "--plot", (".png",))
     sample = load_sample(sample_file, preset)
     result = measure(
         sample,

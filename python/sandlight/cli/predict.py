@@ -9,11 +9,16 @@ import typer
 from sandlight.cli._app import app
 from sandlight.cli._common import MEMORY_HELP
 from sandlight.cli._output import echo, fail, show, table
+from sandlight.io import check_output_directory, check_output_file
 
 
 @app.command("train-spectral")
 def train_spectral_command(
-    out: Path = typer.Option(..., "--out", help="Output directory (job stores, model, report)."),
+    out: Path = typer.Option(
+        ...,
+        "--out",
+        help="Output directory: job stores (resumed), model and report (overwritten).",
+    ),
     samples: int = typer.Option(3000, "--samples", help="Training samples (paper: 3000)."),
     rays: int = typer.Option(100_000, "--rays", help="Rays per sample and wavelength."),
     wavelengths: str = typer.Option(
@@ -43,6 +48,7 @@ def train_spectral_command(
     from sandlight.jobs import make_executor
     from sandlight.predictor.training import train_spectral
 
+    check_output_directory(out, "--out")
     executor = None if fit_only else make_executor(workers, dask_local, scheduler)
     run = train_spectral(
         out,
@@ -103,8 +109,12 @@ def predict(
     sample_file: Path | None = typer.Argument(None, help="Sample parameters (TOML)."),
     preset: str | None = typer.Option(None, "--preset", help="A named SandSample preset."),
     model_path: Path | None = typer.Option(None, "--model", help="Model file (default: the shipped model)."),
-    output: Path | None = typer.Option(None, "-o", "--output", help="Write a CSV file."),
-    plot: Path | None = typer.Option(None, "--plot", help="Save a plot (PNG, PDF, SVG)."),
+    output: Path | None = typer.Option(
+        None, "-o", "--output", help="Write a CSV file (.csv, overwritten if it exists)."
+    ),
+    plot: Path | None = typer.Option(
+        None, "--plot", help="Save a plot: .png, .pdf or .svg, as the suffix says (overwritten if it exists)."
+    ),
     extrapolate: bool = typer.Option(False, "--extrapolate", help="Allow samples outside the training domain."),
 ) -> None:
     """Predict the spectral reflectance of a sand sample in microseconds.
@@ -115,6 +125,10 @@ def predict(
     from sandlight.predictor.bank import ModelBank, default_model
     from sandlight.predictor.spectral import SpectralModel
 
+    if output is not None:
+        check_output_file(output, "--output", (".csv",), make_dirs=True)
+    if plot is not None:
+        check_output_file(plot, "--plot", (".png", ".pdf", ".svg"), make_dirs=True)
     bank = default_model() if model_path is None else ModelBank([SpectralModel.load(model_path)])
     sample, label = _load_sample(sample_file, preset)
     values, used = bank.predict([sample], extrapolate=extrapolate, return_models=True)

@@ -9,6 +9,7 @@ import typer
 
 from sandlight.cli._app import app
 from sandlight.cli._output import echo
+from sandlight.io import check_output_file
 
 
 def _parse_times(text: str) -> list[float]:
@@ -45,7 +46,7 @@ def sky(
     exposure: float | None = typer.Option(
         None, help="Luminance shown as white, kcd/m^2 (default: twice the median sky luminance)."
     ),
-    output: Path = typer.Option(..., "--output", "-o", help="Output PNG file."),
+    output: Path = typer.Option(..., "--output", "-o", help="Output PNG file (.png, overwritten if it exists)."),
 ) -> None:
     """Draw the Preetham et al. (1999) clear sky as an equidistant fisheye PNG (looking up:
     north at the top, east on the left), the sun marked."""
@@ -53,6 +54,7 @@ def sky(
     from sandlight.sky import PreethamSky, sun_position
     from sandlight.sky.plots import plot_sky_day, plot_sky_dome
 
+    check_output_file(output, "--output", (".png",), make_dirs=True)
     if (time is None) == (times is None):
         raise typer.BadParameter(
             "give exactly one of --time (one dome) or --times (a strip)", param_hint="--time/--times"

@@ -10,6 +10,7 @@ import typer
 from sandlight.cli._app import app
 from sandlight.cli._common import MEMORY_HELP, load_sample, parse_count
 from sandlight.cli._output import echo, show
+from sandlight.io import check_output_directory, check_output_file
 
 
 def _axis(text: str):
@@ -61,7 +62,11 @@ def train_spatial_command(
         None, help="Base sample (TOML/JSON) giving the parameters the mesh does not vary (default: SandSample())."
     ),
     preset: str | None = typer.Option(None, "--preset", help="Base sample: a named preset."),
-    out: Path = typer.Option(..., "--out", help="Output directory (job stores, model, report)."),
+    out: Path = typer.Option(
+        ...,
+        "--out",
+        help="Output directory: job stores (resumed), model and report (overwritten).",
+    ),
     axis: list[str] = typer.Option(
         None,
         "--axis",
@@ -105,6 +110,7 @@ def train_spatial_command(
     from sandlight.sample import SandSample
     from sandlight.spatial import Mesh, train_spatial
 
+    check_output_directory(out, "--out")
     base = SandSample() if sample_file is None and preset is None else load_sample(sample_file, preset)
     if nodes is not None:
         if axis:
@@ -168,7 +174,9 @@ def appearance(
     sample_file: Path | None = typer.Argument(None, help="Sample description (TOML or JSON)."),
     preset: str | None = typer.Option(None, "--preset", help="Named preset instead of a file."),
     table: Path | None = typer.Option(
-        None, "--table", help="Write the BRDF table (NetCDF, format sandlight-brdf-table)."
+        None,
+        "--table",
+        help="Write the BRDF table (.nc: NetCDF, format sandlight-brdf-table; overwritten if it exists).",
     ),
     n_mu: int = typer.Option(32, "--n-mu", help="Table points in cos θ_i and cos θ_o (uniform on [0, 1])."),
     n_dphi: int = typer.Option(32, "--n-dphi", help="Table points in Δφ (uniform on [0, π])."),
@@ -188,6 +196,8 @@ def appearance(
     from sandlight.appearance import SandAppearance
     from sandlight.spatial import SpatialApproximationWarning
 
+    if table is not None:
+        check_output_file(table, "--table", (".nc",), make_dirs=True)
     sample = load_sample(sample_file, preset)
     with warnings.catch_warnings():
         warnings.simplefilter("always", SpatialApproximationWarning)  # shown on every run, as one line

@@ -9,13 +9,18 @@ import typer
 from sandlight.cli._app import app
 from sandlight.cli._common import parse_count
 from sandlight.cli._output import echo
+from sandlight.io import check_output_directory, check_output_file
 
 
 @app.command()
 def validate(
     rays: str = typer.Option("1e5", "--rays", "-n", help="Rays per wavelength for the validation runs."),
-    output: Path = typer.Option(Path("docs/validation.md"), "-o", "--output", help="The Markdown report."),
-    figures: Path = typer.Option(Path("docs/img"), "--figures", help="Folder for the PNG plots."),
+    output: Path = typer.Option(
+        Path("docs/validation.md"), "-o", "--output", help="The Markdown report (.md, overwritten if it exists)."
+    ),
+    figures: Path = typer.Option(
+        Path("docs/img"), "--figures", help="Folder for the PNG plots (created; plots overwritten)."
+    ),
     sample: list[str] | None = typer.Option(None, "--sample", help="Validate only this sample (repeatable)."),
     variant_rays: str | None = typer.Option(
         None, "--variant-rays", help="Rays per wavelength for the diagnostic variants and Figure 3 (default: rays / 5)."
@@ -30,6 +35,8 @@ def validate(
 
     from sandlight import validation as v
 
+    check_output_file(output, "--output", (".md",), make_dirs=True)
+    check_output_directory(figures, "--figures")
     n = parse_count(rays, "--rays")
     nv = parse_count(variant_rays, "--variant-rays") if variant_rays is not None else max(1, n // 5)
     results = v.validate(sample or None, rays=n, seed=seed, progress=True)

@@ -95,6 +95,25 @@ def load_image(path: str | os.PathLike) -> NDArray[np.float64]:
         raise ModelFileError(f"Cannot read image {str(p)!r}: {exc}") from exc
 
 
+def image_format(path: str | os.PathLike) -> str:
+    """The pillow format name that the suffix of ``path`` says (e.g. "PNG" for .png, "JPEG" for .jpg).
+
+    Raises
+    ------
+    ParameterError
+        Pillow cannot write a format of that suffix.
+    """
+    from PIL import Image
+
+    p = Path(path)
+    fmt = Image.registered_extensions().get(p.suffix.lower())
+    if fmt is None or fmt not in Image.SAVE:
+        raise ParameterError(
+            "output", str(p), "a file name ending in .png, .jpg, .tif or another extension pillow can write"
+        )
+    return fmt
+
+
 def save_image(path: str | os.PathLike, rgb: ArrayLike) -> Path:
     """Write encoded sRGB in [0, 1] as an 8-bit image, atomically; format from the extension.
 
@@ -113,11 +132,7 @@ def save_image(path: str | os.PathLike, rgb: ArrayLike) -> Path:
     from PIL import Image
 
     p = Path(path)
-    fmt = Image.registered_extensions().get(p.suffix.lower())
-    if fmt is None or fmt not in Image.SAVE:
-        raise ParameterError(
-            "output", str(p), "a file name ending in .png, .jpg, .tif or another extension pillow can write"
-        )
+    fmt = image_format(p)
     arr = np.asarray(rgb)
     if arr.ndim != 3 or arr.shape[-1] != 3:
         raise ParameterError("rgb", f"array of shape {arr.shape}", "shape (H, W, 3)")
