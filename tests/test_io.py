@@ -64,3 +64,21 @@ def _own_start_time() -> float:
     import psutil
 
     return psutil.Process().create_time()
+
+
+def test_read_regular_file_reads_a_file_and_refuses_the_rest(tmp_path):
+    from sandlight.errors import ParameterError
+    from sandlight.io import read_regular_file
+
+    (tmp_path / "s.toml").write_bytes(b"a = 1\n")
+    (tmp_path / "link.toml").symlink_to(tmp_path / "s.toml")
+    assert read_regular_file(tmp_path / "link.toml", "sample file", max_bytes=6) == b"a = 1\n"
+    with pytest.raises(ParameterError, match="at most 5 bytes"):
+        read_regular_file(tmp_path / "s.toml", "sample file", max_bytes=5)
+    os.mkfifo(tmp_path / "fifo")  # opening it blocking would wait for a writer
+    (tmp_path / "zero").symlink_to("/dev/zero")
+    for special in (tmp_path, tmp_path / "fifo", tmp_path / "zero"):
+        with pytest.raises(ParameterError, match="a regular file"):
+            read_regular_file(special, "sample file", max_bytes=100)
+    with pytest.raises(FileNotFoundError):
+        read_regular_file(tmp_path / "missing", "sample file", max_bytes=100)

@@ -398,6 +398,18 @@ def test_from_dict_refuses_non_mappings_and_unknown_keys():
     assert_names(info.value, "grainsize", 0.5, "grain_size")
 
 
+def test_a_sample_file_must_be_a_regular_file_of_bounded_size(tmp_path):
+    from sandlight.sample import MAX_SAMPLE_FILE_BYTES
+
+    (tmp_path / "dir.toml").mkdir()
+    with pytest.raises(ParameterError, match="a regular file"):
+        SandSample.from_file(tmp_path / "dir.toml")
+    big = tmp_path / "big.toml"
+    big.write_text("# padding\n" * (MAX_SAMPLE_FILE_BYTES // 10 + 1))
+    with pytest.raises(ParameterError, match="at most"):
+        SandSample.from_file(big)
+
+
 def test_missing_file(tmp_path):
     path = tmp_path / "nowhere.toml"
     with pytest.raises(FileNotFoundError) as info:

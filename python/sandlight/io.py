@@ -16,6 +16,7 @@ from __future__ import annotations
 import contextlib
 import os
 import re
+import stat
 import uuid
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
@@ -84,6 +85,44 @@ def remove_stale_temporaries(directory: str | os.PathLike[str], target: str | No
                     os.unlink(entry.path)
                     removed += 1
     return removed
+
+
+def read_regular_file(path: str | os.PathLike[str], what: str, *, max_bytes: int) -> bytes:
+    """The bytes of the regular file at ``path`` (a symlink is followed), at most ``max_bytes``.
+
+    Anything else is refused without being read: a directory, a device (a symlink to
+    ``/dev/zero`` was read until memory ran out), a FIFO (reading one waits for a writer for
+    ever), a socket. The file is opened without blocking and checked on the open descriptor,
+    so it cannot be swapped for something else between the check and the read.
+
+    Parameters
+    ----------
+    what : str
+        What the file is, for messages (e.g. ``"sample file"``).
+
+    Raises
+    ------
+    FileNotFoundError
+        Nothing at ``path``.
+    ParameterError
+        Not a regular file, or larger than ``max_bytes``.
+    """
+    path = Path(path)
+    fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise ParameterError(what, str(path), "a regular file (not a directory, device, pipe or socket)")
+        data = bytearray()
+        while len(data) <= max_bytes:  # one byte more than allowed tells a file that is too large
+            chunk = os.read(fd, max_bytes + 1 - len(data))
+            if not chunk:
+                break
+            data += chunk
+    finally:
+        os.close(fd)
+    if len(data) > max_bytes:
+        raise ParameterError(what, str(path), f"a file of at most {max_bytes:,} bytes")
+    return bytes(data)
 
 
 def _existing_ancestor(path: Path) -> Path:

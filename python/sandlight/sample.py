@@ -32,8 +32,12 @@ from pathlib import Path
 from typing import Any
 
 from sandlight.errors import ModelFileError, ParameterError
+from sandlight.io import read_regular_file
 
-__all__ = ["Parameter", "PARAMETERS", "SandSample", "SEPARATES_TOLERANCE"]
+__all__ = ["Parameter", "PARAMETERS", "SandSample", "SEPARATES_TOLERANCE", "MAX_SAMPLE_FILE_BYTES"]
+
+#: Largest sample file read (a complete, commented sample is about 2 kB).
+MAX_SAMPLE_FILE_BYTES = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -333,6 +337,9 @@ class SandSample:
         ------
         FileNotFoundError
             If `path` does not exist.
+        ParameterError
+            If `path` is not a regular file (a directory, a device, a pipe) or is larger than
+            `MAX_SAMPLE_FILE_BYTES`; it is not read.
         ModelFileError
             If the suffix is neither .toml nor .json, or the file does not parse; the message
             names the file and the parse problem.
@@ -345,7 +352,7 @@ class SandSample:
             raise ModelFileError(
                 f"{path}: cannot tell the format of a sample file from the suffix {path.suffix!r}; use .toml or .json"
             )
-        raw = path.read_bytes()
+        raw = read_regular_file(path, "sample file", max_bytes=MAX_SAMPLE_FILE_BYTES)
         try:
             text = raw.decode("utf-8")
             doc = tomllib.loads(text) if suffix == ".toml" else json.loads(text) if text.strip() else {}
