@@ -9,14 +9,14 @@ from __future__ import annotations
 
 from enum import StrEnum
 from pathlib import Path
-from typing import Any
 
 import typer
 
 from sandlight.cli._app import app
+from sandlight.cli._common import load_sample
 from sandlight.cli._output import echo, fail
-from sandlight.errors import SandlightError
 from sandlight.io import check_output_file
+from sandlight.sample import SandSample
 
 _GRID_HELP = "NAME=start:stop:count (inclusive), e.g. iron_oxide=0.001:0.05:8"
 
@@ -38,21 +38,6 @@ def _parse_size(text: str | None, option: str) -> tuple[int, int] | None:
     if len(parts) != 2 or not all(p.strip().isdigit() for p in parts):
         fail(f"{option} {text!r} is not allowed: WIDTHxHEIGHT in pixels, e.g. 800x600")
     return int(parts[0]), int(parts[1])
-
-
-def _load_sample(preset: str | None, sample_file: Path | None) -> Any:
-    """The base sample: a preset, a TOML/JSON file, or ``SandSample()``."""
-    if preset is not None and sample_file is not None:
-        fail("give --preset NAME or --sample FILE, not both")
-    try:
-        from sandlight.sample import SandSample
-    except ImportError as exc:
-        raise SandlightError(f"sandlight.sample.SandSample is not available ({exc})") from exc
-    if preset is not None:
-        return SandSample.preset(preset)
-    if sample_file is not None:
-        return SandSample.from_file(sample_file)
-    return SandSample()
 
 
 _ENGINE_HELP = (
@@ -108,7 +93,7 @@ def swatches_command(
     axes = _grid_axes(x, y) if (x is not None or y is not None) else None
     provider = _provider(engine_rays)
 
-    base = _load_sample(preset, sample)
+    base = load_sample(sample, preset, default=SandSample(), file_option="--sample")
     if axes is not None:
         grid = swatch_grid(base, axes[0], axes[1], mode=mode.value, reflectance=provider)
         title = f"sRGB ({mode.value}), D50, CIE 1964 10°"
@@ -181,7 +166,7 @@ def colourise_command(
     provider = _provider(engine_rays)
     photo = load_image(default_texture_path() if image is None else image)
 
-    base = _load_sample(preset, sample)
+    base = load_sample(sample, preset, default=SandSample(), file_option="--sample")
     if not grid:
         save_image(output, colourise(photo, base, mode=mode.value, linear=linear, reflectance=provider))
         echo(f"wrote {output} ({photo.shape[1]}×{photo.shape[0]})")

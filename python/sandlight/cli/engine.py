@@ -8,7 +8,14 @@ from typing import TYPE_CHECKING
 import typer
 
 from sandlight.cli._app import app
-from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, parse_count, parse_range
+from sandlight.cli._common import (
+    DEFAULT_PRESET,
+    GEOMETRY_HELP,
+    MEMORY_HELP,
+    load_sample,
+    parse_count,
+    parse_range,
+)
 from sandlight.cli._output import echo, table
 from sandlight.io import check_output_directory, check_output_file
 
@@ -52,7 +59,7 @@ def reflectance(
     result = run(
         sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory, geometry=geometry
     )
-    _report(result, output, plot, title=str(sample_file or preset or "red-dune"))
+    _report(result, output, plot, title=str(sample_file or preset or DEFAULT_PRESET))
 
 
 def _check_outputs(output: Path | None, plot: Path | None) -> None:
@@ -99,8 +106,8 @@ def demo(
     from sandlight.sample import SandSample
 
     check_output_directory(output_dir, "--output-dir")
-    sample = SandSample.preset("red-dune")
-    echo("sandlight demo: red-dune sand, 400–2500 nm")
+    sample = SandSample.preset(DEFAULT_PRESET)
+    echo(f"sandlight demo: {DEFAULT_PRESET} sand, 400–2500 nm")
     result = run(
         sample,
         parse_range("400:700:20", "wavelengths").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],

@@ -7,9 +7,9 @@ from pathlib import Path
 import typer
 
 from sandlight.cli._app import app
-from sandlight.cli._common import MEMORY_HELP
-from sandlight.cli._output import echo, fail, show, table
-from sandlight.io import check_output_directory, check_output_file
+from sandlight.cli._common import MEMORY_HELP, load_sample
+from sandlight.cli._output import echo, show, table
+from sandlight.io import check_output_directory, check_output_file, write_atomically
 
 
 @app.command("train-spectral")
@@ -85,28 +85,9 @@ def train_spectral_command(
     echo(f"model: {run.model_path}")
 
 
-def _load_sample(sample_file: Path | None, preset: str | None):
-    import tomllib
-
-    from sandlight.sample import SandSample
-
-    if (sample_file is None) == (preset is None):
-        fail("give a sample file (SAMPLE.toml) or --preset NAME, not both or neither")
-    if preset is not None:
-        return SandSample.preset(preset), preset
-    try:
-        with open(sample_file, "rb") as fh:
-            data = tomllib.load(fh)
-    except (OSError, tomllib.TOMLDecodeError) as exc:
-        fail(f"cannot read {sample_file}: {exc}")
-    # Accept the parameters at the top level or in a [sample] table.
-    data = data.get("sample", data) if isinstance(data.get("sample"), dict) else data
-    return SandSample.from_dict(data), sample_file.stem
-
-
 @app.command()
 def predict(
-    sample_file: Path | None = typer.Argument(None, help="Sample parameters (TOML)."),
+    sample_file: Path | None = typer.Argument(None, help="Sample description (TOML or JSON)."),
     preset: str | None = typer.Option(None, "--preset", help="A named SandSample preset."),
     model_path: Path | None = typer.Option(None, "--model", help="Model file (default: the shipped model)."),
     output: Path | None = typer.Option(
@@ -129,8 +110,9 @@ def predict(
         check_output_file(output, "--output", (".csv",), make_dirs=True)
     if plot is not None:
         check_output_file(plot, "--plot", (".png", ".pdf", ".svg"), make_dirs=True)
+    sample = load_sample(sample_file, preset, default=None)
+    label = preset if sample_file is None else sample_file.stem
     bank = default_model() if model_path is None else ModelBank([SpectralModel.load(model_path)])
-    sample, label = _load_sample(sample_file, preset)
     values, used = bank.predict([sample], extrapolate=extrapolate, return_models=True)
     reflectance, model = values[0], bank.model(str(used[0]))
     outside = bank.select([sample])[0] < 0  # no model covers it: the fallback extrapolated
@@ -139,8 +121,6 @@ def predict(
     )
     wavelengths = model.wavelengths_
     if output is not None:
-        from sandlight.io import write_atomically
-
         lines = ["wavelength_nm,reflectance"] + [f"{w:g},{r:.6f}" for w, r in zip(wavelengths, reflectance)]
         text = "\n".join(lines) + "\n"
         write_atomically(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
@@ -163,5 +143,5 @@ def predict(
         )
         ax.grid(alpha=0.3)
         fig.tight_layout()
-        fig.savefig(plot)
+        write_atomically(plot, lambda tmp: fig.savefig(tmp, format=plot.suffix[1:].lower()))
         plt.close(fig)

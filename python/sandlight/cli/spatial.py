@@ -111,7 +111,7 @@ def train_spatial_command(
     from sandlight.spatial import Mesh, train_spatial
 
     check_output_directory(out, "--out")
-    base = SandSample() if sample_file is None and preset is None else load_sample(sample_file, preset)
+    base = load_sample(sample_file, preset, default=SandSample())
     if nodes is not None:
         if axis:
             from sandlight.errors import ParameterError
