@@ -65,6 +65,16 @@ def test_wavelength_grid():
             wavelength_grid(bad)
 
 
+@pytest.mark.parametrize("spec", ["400:inf:20", "400:700:1e-9", "nan:700:20", ",".join(["500"] * 10_001)])
+def test_wavelength_grid_is_bounded_before_it_is_allocated(spec):
+    # "400:inf:20" raised OverflowError, "400:700:1e-9" MemoryError (a 2 TiB grid).
+    from sandlight.optics import MAX_WAVELENGTHS
+
+    with pytest.raises(ParameterError, match="wavelengths"):
+        wavelength_grid(spec)
+    assert wavelength_grid(f"400:{400 + MAX_WAVELENGTHS - 1}:1").size == MAX_WAVELENGTHS
+
+
 class TestDataset:
     def test_contents(self, reference):
         ds, _ = reference

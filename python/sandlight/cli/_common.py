@@ -53,22 +53,32 @@ def load_sample(
 
 
 def parse_range(text: str, name: str) -> np.ndarray:
-    """``start:stop:step`` (inclusive of stop when it falls on the grid), or comma-separated values."""
+    """``start:stop:step`` (inclusive of stop when it falls on the grid), or comma-separated values;
+    at most `sandlight.optics.MAX_WAVELENGTHS` values."""
     from sandlight.errors import ParameterError
+    from sandlight.optics import MAX_WAVELENGTHS
 
+    allowed = (
+        "start:stop:step with finite start, stop, step > 0 and stop ≥ start (e.g. 400:700:20), or a "
+        f"comma-separated list, of at most {MAX_WAVELENGTHS:,} values"
+    )
     try:
         if ":" in text:
             parts = [float(p) for p in text.split(":")]
-            if len(parts) != 3 or parts[2] <= 0 or parts[1] < parts[0]:
+            if len(parts) != 3 or not np.all(np.isfinite(parts)) or parts[2] <= 0 or parts[1] < parts[0]:
                 raise ValueError
             start, stop, step = parts
+            # The count is checked as a float, before anything is allocated (400:700:1e-9).
+            if (stop - start) / step >= MAX_WAVELENGTHS:
+                raise ValueError
             n = int(np.floor((stop - start) / step + 1e-9)) + 1
             return start + step * np.arange(n)
-        return np.array([float(p) for p in text.split(",")])
+        values = text.split(",")
+        if len(values) > MAX_WAVELENGTHS:
+            raise ValueError
+        return np.array([float(p) for p in values])
     except ValueError:
-        raise ParameterError(
-            name, text, "start:stop:step with step > 0 and stop ≥ start (e.g. 400:700:20), or a comma-separated list"
-        ) from None
+        raise ParameterError(name, text, allowed) from None
 
 
 def parse_count(text: str, name: str) -> int:

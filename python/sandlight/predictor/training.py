@@ -29,18 +29,34 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
+import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.io import write_atomically
 from sandlight.jobs import Job, JobStatus, derive_seed
-from sandlight.jobs.executors import resolve_executor
+from sandlight.jobs.executors import Executor, resolve_executor
+from sandlight.optics import MAX_WAVELENGTHS
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
 from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+    from sandlight.engine import ReflectanceResult
+
+PathLike = str | os.PathLike[str]
+#: Wavelengths in nm: a spec "start:stop:step" or "w1,w2,..." (see wavelength_grid), or values.
+WavelengthSpec = str | ArrayLike
+#: ``simulate(params, wavelengths_nm, *, rays, seed)`` standing in for the engine (tests).
+Simulator = Callable[..., Any]
 
 TRAINING_SET_FORMAT = "sandlight-spectral-training-set"
 TRAINING_SET_FORMAT_VERSION = 1
@@ -49,7 +65,7 @@ TRAINING_SET_FORMAT_VERSION = 1
 ENGINE_SETTINGS = {"incidence_deg": 0.0, "threads": 1}
 
 
-def wavelength_grid(spec) -> np.ndarray:
+def wavelength_grid(spec: WavelengthSpec) -> np.ndarray:
     """Wavelengths in nm from ``"start:stop:step"`` (stop included) or ``"w1,w2,..."``.
 
     Examples
@@ -64,8 +80,11 @@ def wavelength_grid(spec) -> np.ndarray:
             start, stop, step = (float(x) for x in spec.split(":"))
         except ValueError:
             raise ParameterError("wavelengths", spec, "'start:stop:step' in nm, e.g. '400:700:20'") from None
-        if step <= 0 or stop < start:
-            raise ParameterError("wavelengths", spec, "start <= stop and step > 0")
+        if not (np.isfinite([start, stop, step]).all() and step > 0 and stop >= start):
+            raise ParameterError("wavelengths", spec, "finite start <= stop and step > 0")
+        # The count is checked before anything is allocated ('400:700:1e-9': 3e11 wavelengths).
+        if (stop - start) / step >= MAX_WAVELENGTHS:
+            raise ParameterError("wavelengths", spec, f"a grid of at most {MAX_WAVELENGTHS:,} wavelengths")
         # stop is included: half a step of slack against round-off
         grid = np.arange(start, stop + step / 2, step)
     else:
@@ -73,12 +92,16 @@ def wavelength_grid(spec) -> np.ndarray:
             grid = np.array([float(x) for x in spec.split(",")])
         except ValueError:
             raise ParameterError("wavelengths", spec, "'start:stop:step' or a comma-separated list in nm") from None
+    if grid.size > MAX_WAVELENGTHS:
+        raise ParameterError("wavelengths", spec, f"at most {MAX_WAVELENGTHS:,} wavelengths")
     if grid.ndim != 1 or grid.size == 0 or not np.all(np.isfinite(grid)) or np.any(np.diff(grid) <= 0) or grid[0] <= 0:
         raise ParameterError("wavelengths", spec, "increasing positive wavelengths in nm")
     return grid
 
 
-def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed: int, memory: str = "none"):
+def engine_simulate(
+    params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed: int, memory: str = "none"
+) -> ReflectanceResult:
     """Run sandlight's Monte Carlo engine on one sample at normal incidence.
 
     Parameters
@@ -104,7 +127,15 @@ def engine_simulate(params: dict, wavelengths_nm: np.ndarray, *, rays: int, seed
     )
 
 
-def reflectance_task(payload: dict, seed: int, *, wavelengths_nm, rays: int, simulate=None, memory: str = "none"):
+def reflectance_task(
+    payload: dict,
+    seed: int,
+    *,
+    wavelengths_nm: ArrayLike,
+    rays: int,
+    simulate: Simulator | None = None,
+    memory: str = "none",
+) -> dict[str, np.ndarray]:
     """Job task: reflectance and standard error of one sample (runs on a worker)."""
     wavelengths = np.asarray(wavelengths_nm, dtype=float)
     if simulate is None:
@@ -118,7 +149,7 @@ def reflectance_task(payload: dict, seed: int, *, wavelengths_nm, rays: int, sim
     return {"reflectance": values, "stderr": stderr}
 
 
-def _simulator_name(simulate) -> str:
+def _simulator_name(simulate: Simulator | None) -> str:
     simulate = engine_simulate if simulate is None else simulate
     inner = simulate.func if isinstance(simulate, functools.partial) else simulate
     return f"{getattr(inner, '__module__', '?')}.{getattr(inner, '__qualname__', repr(inner))}"
@@ -133,7 +164,7 @@ def _check_domain_against_sample(domain: Domain) -> None:
     domain.check_covers(PARAMETERS)
 
 
-def check_engine_memory(memory, custom=None, custom_name: str = "simulate") -> str:
+def check_engine_memory(memory: object, custom: object = None, custom_name: str = "simulate") -> str:
     """``memory`` checked as the path memory of sandlight's engine; only 'none' goes with a
     ``custom`` function (named ``custom_name``) standing in for the engine."""
     if custom is not None:
@@ -159,15 +190,15 @@ def engine_memory_record(memory: str) -> dict:
 
 
 def training_job(
-    path,
+    path: PathLike,
     n_samples: int,
-    wavelengths_nm,
+    wavelengths_nm: WavelengthSpec,
     rays: int,
     seed: int,
     *,
     domain: Domain | None = None,
     design: str = "lhs",
-    simulate=None,
+    simulate: Simulator | None = None,
     memory: str = "none",
 ) -> Job:
     """The job behind :func:`generate_training_set` (same arguments), without running it."""
@@ -232,16 +263,16 @@ def training_job(
 
 
 def generate_training_set(
-    path,
+    path: PathLike,
     n_samples: int,
-    wavelengths_nm,
+    wavelengths_nm: WavelengthSpec,
     rays: int,
     seed: int,
-    executor=None,
+    executor: Executor | str | None = None,
     *,
     domain: Domain | None = None,
     design: str = "lhs",
-    simulate=None,
+    simulate: Simulator | None = None,
     progress: bool = True,
     max_tasks: int | None = None,
     max_retries: int = 2,
@@ -300,7 +331,7 @@ def generate_training_set(
     )
 
 
-def file_sha256(path) -> str:
+def file_sha256(path: PathLike) -> str:
     h = hashlib.sha256()
     with open(path, "rb") as fh:
         for block in iter(lambda: fh.read(1 << 20), b""):
@@ -308,7 +339,7 @@ def file_sha256(path) -> str:
     return h.hexdigest()
 
 
-def _samples_inside(ds, domain: Domain):
+def _samples_inside(ds: xr.Dataset, domain: Domain) -> xr.Dataset:
     """The samples of a training-set dataset that lie inside ``domain``."""
     columns = {n: ds[n].values for n in (*domain.names, *domain.fixed)}
     keep = np.flatnonzero(domain.contains(columns, ds[FORM_PARAMETER].values.astype(str)))
@@ -318,8 +349,8 @@ def _samples_inside(ds, domain: Domain):
 
 
 def fit_training_set(
-    path,
-    holdout=None,
+    path: PathLike,
+    holdout: PathLike | None = None,
     *,
     name: str = "spectral",
     description: str = "",
@@ -368,7 +399,7 @@ def fit_training_set(
     return model, report
 
 
-def _dataset_file(path) -> Path:
+def _dataset_file(path: PathLike) -> Path:
     path = Path(path)
     if path.is_dir():
         path = path / "dataset.nc"
@@ -397,17 +428,17 @@ class TrainingRun:
 
 
 def train_spectral(
-    out_dir,
+    out_dir: PathLike,
     n_samples: int,
     rays: int,
-    wavelengths_nm="400:700:20",
+    wavelengths_nm: WavelengthSpec = "400:700:20",
     seed: int = 0,
     *,
     n_holdout: int | None = None,
-    executor=None,
+    executor: Executor | str | None = None,
     domain: Domain | None = None,
     fit_only: bool = False,
-    simulate=None,
+    simulate: Simulator | None = None,
     progress: bool = True,
     max_tasks: int | None = None,
     model_params: dict | None = None,
