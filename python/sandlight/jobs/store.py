@@ -5,6 +5,7 @@ Layout of a store directory::
     STORE/job.json              format, version and the settings the job was made with
     STORE/shards/shard-NNNNNN.nc  results of the tasks finished so far (NetCDF, one file per flush)
     STORE/dataset.nc            the consolidated dataset, written once every task is done
+    STORE/lock                  held by the run working on the store (:mod:`sandlight.jobs.lock`)
 
 Every file is written to a temporary name in the same directory and moved into place with
 ``os.replace``, which is atomic on POSIX and Windows: a reader (or a resumed job) sees either the
@@ -27,6 +28,7 @@ import numpy as np
 
 from sandlight.io import remove_stale_temporaries, write_atomically
 from sandlight.jobs.errors import JobError, JobSettingsError
+from sandlight.jobs.lock import LOCK_FILE
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -125,7 +127,7 @@ class ShardStore:
             if diff:
                 raise JobSettingsError(path, *diff)
         else:
-            if path.exists() and any(p.name != SHARD_DIR for p in path.iterdir()):
+            if path.exists() and any(p.name not in (SHARD_DIR, LOCK_FILE) for p in path.iterdir()):
                 raise JobError(
                     f"{path} exists, is not empty and is not a sandlight job store; choose another output directory"
                 )

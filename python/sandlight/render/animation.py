@@ -9,9 +9,12 @@ the frame in progress and the video are not written.
 
 from __future__ import annotations
 
+import os
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -19,6 +22,13 @@ from sandlight.errors import ParameterError
 from sandlight.render import post
 from sandlight.render.image import _interrupt_requests, render_image
 from sandlight.render.scene import Scene
+
+if TYPE_CHECKING:
+    from rich.progress import Progress, TaskID
+
+    from sandlight.render.camera import Camera
+    from sandlight.render.tables import BrdfTable
+    from sandlight.render.terrain import HeightfieldTerrain, PlaneTerrain
 
 __all__ = ["render_scene", "SceneRun"]
 
@@ -58,7 +68,14 @@ def _texture(scene: Scene, height: int, width: int) -> np.ndarray | None:
     return post.fit_to(q, height, width, t["fit"])
 
 
-def render_scene(scene: Scene, out_dir, *, video=None, progress: bool = True, log=None) -> SceneRun:
+def render_scene(
+    scene: Scene,
+    out_dir: str | os.PathLike[str],
+    *,
+    video: str | os.PathLike[str] | None = None,
+    progress: bool = True,
+    log: Callable[[str], object] | None = None,
+) -> SceneRun:
     """Render every frame of ``scene`` into ``out_dir`` (created if needed) and optionally an MP4.
 
     Parameters
@@ -134,7 +151,21 @@ def render_scene(scene: Scene, out_dir, *, video=None, progress: bool = True, lo
     return run
 
 
-def _render_frames(scene, out, run, camera, terrain, table, quotient, grain, fixed_white, bar, task, interrupted, log):
+def _render_frames(
+    scene: Scene,
+    out: Path,
+    run: SceneRun,
+    camera: Camera,
+    terrain: PlaneTerrain | HeightfieldTerrain,
+    table: BrdfTable,
+    quotient: np.ndarray | None,
+    grain: np.ndarray | None,
+    fixed_white: float | None,
+    bar: Progress | None,
+    task: TaskID | None,
+    interrupted: list[bool],
+    log: Callable[[str], object] | None,
+) -> None:
     """The frame loop of :func:`render_scene`; a Ctrl-C between frames is honoured before the next."""
     wl = scene.wavelength_nm
     for k, (t, frac) in enumerate(zip(scene.times_h(), scene.day_fractions())):
