@@ -287,7 +287,7 @@ class Job:
                 f"job {self.path} is not complete ({status.n_done} of "
                 f"{status.n_total} tasks done); run it again to finish it"
             )
-        with xr.open_dataset(status.dataset_path) as ds:
+        with xr.open_dataset(status.dataset_path) as ds:  # checked readable by status()
             return ds.load()
 
     # ---- running -----------------------------------------------------------------------------
@@ -369,6 +369,7 @@ class Job:
         stop: threading.Event,
     ) -> None:
         schema = store.result_schema()
+        stored = schema is not None  # the shape of the stored results: a mismatch is the store's
         queue = deque(todo)
         in_flight: dict = {}  # future -> task index
         attempts: dict[int, int] = {}
@@ -393,7 +394,8 @@ class Job:
                         continue
                     if index in done or index in batch:
                         continue  # a duplicate (e.g. a task rerun by the scheduler): same values
-                    schema = self._check_schema(index, result, schema)
+                    schema = self._check_schema(index, result, schema, store if stored else None)
+                    stored = False
                     batch[index] = result
                 if batch:
                     self._write(store, batch)
@@ -417,12 +419,20 @@ class Job:
             ) from exc
 
     @staticmethod
-    def _check_schema(index: int, result: dict[str, np.ndarray], schema: dict | None) -> dict:
+    def _check_schema(
+        index: int, result: dict[str, np.ndarray], schema: dict | None, store: ShardStore | None = None
+    ) -> dict:
+        """The schema of the results so far; ``store`` when ``schema`` is that of its shards."""
         got = {k: (v.dtype.kind, v.shape) for k, v in result.items()}
         for name, (kind, _) in got.items():
             if kind not in "biuf":
                 raise JobError(f"task {index} returned {name!r} of dtype kind {kind!r}; results must be numeric arrays")
         if schema is not None and {k: s for k, (_, s) in got.items()} != {k: s for k, (_, s) in schema.items()}:
+            if store is not None:
+                raise JobError(
+                    f"the shards in {store.shard_dir} hold results {schema}, but this job's tasks return {got}: "
+                    f"they are not of this job; use another output directory"
+                )
             raise JobError(
                 f"task {index} returned results {got}, but earlier tasks returned "
                 f"{schema}; a task function must return the same names and shapes"

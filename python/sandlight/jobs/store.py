@@ -39,6 +39,8 @@ SETTINGS_FILE = "job.json"
 DATASET_FILE = "dataset.nc"
 SHARD_DIR = "shards"
 _SHARD_RE = re.compile(r"^shard-(\d{6,})\.nc$")
+_DAMAGED = "the store is damaged or not of this job: use another output directory"
+_DATASET_ADVICE = "delete it and run the job again (every task is recomputed), or use another output directory"
 
 
 def to_json_value(value: Any) -> Any:
@@ -114,11 +116,18 @@ class ShardStore:
         path = Path(path)
         requested = json.loads(dumps(settings))
         settings_file = path / SETTINGS_FILE
+        if path.exists() and not path.is_dir():
+            raise JobError(f"{path} is a file, not a job store directory; choose another output directory")
         if settings_file.exists():
             try:
                 header = json.loads(settings_file.read_text(encoding="utf-8"))
             except (OSError, ValueError) as exc:
                 raise JobError(f"{settings_file} is not a readable job settings file: {exc}") from exc
+            if not isinstance(header, dict):
+                raise JobError(
+                    f"{settings_file} is not a sandlight job settings file (it holds a JSON "
+                    f"{type(header).__name__}, not an object); choose another output directory"
+                )
             if header.get("format") != STORE_FORMAT:
                 raise JobError(f"{path} is not a sandlight job store (format {header.get('format')!r})")
             if header.get("format_version") != STORE_FORMAT_VERSION:
@@ -136,6 +145,8 @@ class ShardStore:
             text = json.dumps(header, indent=1, sort_keys=True) + "\n"
             write_atomically(settings_file, lambda tmp: tmp.write_text(text, encoding="utf-8"))
         store = cls(path, requested)
+        if store.shard_dir.exists() and not store.shard_dir.is_dir():
+            raise JobError(f"{store.shard_dir} is a file, not the shard directory of a job store; {_DAMAGED}")
         store.shard_dir.mkdir(exist_ok=True)
         store._remove_stale_temporaries()
         return store
@@ -173,14 +184,62 @@ class ShardStore:
             ) from exc
 
     def done_indices(self) -> set[int]:
-        """Indices of the tasks whose results are stored."""
+        """Indices of the tasks whose results are stored.
+
+        Raises
+        ------
+        JobError
+            The dataset or a shard is unreadable or not of this job: a dataset made with other
+            settings, a shard with task indices outside the job, or shards of different results.
+        """
+        n_tasks = int(self.settings["n_tasks"])
         if self.dataset_path.exists():
             # Written only once every task was done; its shards are gone.
-            return set(range(int(self.settings["n_tasks"])))
+            self._check_dataset(n_tasks)
+            return set(range(n_tasks))
         done: set[int] = set()
+        first = None
         for shard in self._shards():
-            done.update(self._read(shard, ["index"])["index"].tolist())
+            index, schema = self._shard_summary(shard)
+            if index.dtype.kind not in "iu" or (index.size and not (index.min() >= 0 and index.max() < n_tasks)):
+                raise JobError(
+                    f"the shard {shard} holds task indices {index[:5].tolist()}... outside 0..{n_tasks - 1}: it is "
+                    f"not of this job. Delete it (its tasks are recomputed) and run the job again"
+                )
+            if first is not None and schema != first[1]:
+                raise JobError(
+                    f"the shards {first[0].name} and {shard.name} in {self.shard_dir} hold different results "
+                    f"({first[1]} and {schema}); {_DAMAGED}"
+                )
+            first = first or (shard, schema)
+            done.update(index.tolist())
         return done
+
+    def _shard_summary(self, path: Path) -> tuple[np.ndarray, dict]:
+        """The task indices of a shard and ``{name: (dtype kind, shape)}`` of its results."""
+        import xarray as xr
+
+        try:
+            with xr.open_dataset(path) as ds:
+                schema = {k: (v.dtype.kind, v.shape[1:]) for k, v in ds.data_vars.items() if k != "index"}
+                return ds["index"].values, schema
+        except Exception as exc:  # any reader failure means the file cannot be trusted
+            raise JobError(
+                f"cannot read job file {path} ({exc}); delete it and run the job again (its tasks will be recomputed)"
+            ) from exc
+
+    def _check_dataset(self, n_tasks: int) -> None:
+        """Refuse a dataset that is unreadable or was not consolidated from this store's job."""
+        import xarray as xr
+
+        try:
+            with xr.open_dataset(self.dataset_path) as ds:
+                settings = ds.attrs.get("job_settings")
+                sizes = set(ds.sizes.values())
+        except Exception as exc:  # any reader failure means the file cannot be trusted
+            raise JobError(f"{self.dataset_path} is not a readable dataset ({exc}); {_DATASET_ADVICE}") from exc
+        if settings != dumps(self.settings) or n_tasks not in sizes:
+            raise JobError(f"{self.dataset_path} is not the dataset of this job store's job; {_DATASET_ADVICE}")
 
     def result_schema(self) -> dict | None:
         """``{name: (dtype kind, shape)}`` of the stored per-task results, or None if none stored."""

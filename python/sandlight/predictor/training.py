@@ -43,7 +43,7 @@ from sandlight.errors import ParameterError
 from sandlight.io import write_atomically
 from sandlight.jobs import Job, JobStatus, derive_seed
 from sandlight.jobs.executors import Executor, resolve_executor
-from sandlight.optics import MAX_WAVELENGTHS
+from sandlight.optics import MAX_WAVELENGTHS, WAVELENGTH_RANGE_NM
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
 from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
 
@@ -182,6 +182,21 @@ def check_engine_memory(memory: object, custom: object = None, custom_name: str 
     return _check_choice("memory", memory, MEMORIES)
 
 
+def check_engine_wavelengths(wavelengths_nm: np.ndarray, custom: object = None, name: str = "wavelengths") -> None:
+    """With sandlight's engine (no ``custom`` function standing in for it), every wavelength
+    must lie in the range of the optical constants, `sandlight.optics.WAVELENGTH_RANGE_NM`.
+    Checked before a job starts: inside the tasks it failed every task after every retry."""
+    if custom is not None:
+        return
+    low, high = WAVELENGTH_RANGE_NM
+    wl = np.atleast_1d(np.asarray(wavelengths_nm, dtype=float))
+    outside = ~((wl >= low) & (wl <= high))
+    if outside.any():
+        raise ParameterError(
+            name, float(wl[outside][0]), f"wavelengths in [{low:g}, {high:g}] nm (the range of the optical constants)"
+        )
+
+
 def engine_memory_record(memory: str) -> dict:
     """The engine memory as recorded in datasets, job settings and models: by omission for the
     classic model ('none'), as in everything written before path memory existed, so that those
@@ -206,8 +221,11 @@ def training_job(
 
     domain = Domain.default() if domain is None else domain
     wavelengths = wavelength_grid(wavelengths_nm)
+    check_engine_wavelengths(wavelengths, simulate)
     if not (isinstance(rays, (int, np.integer)) and rays >= 1):
         raise ParameterError("rays", rays, "an integer >= 1")
+    if isinstance(seed, bool) or not (isinstance(seed, (int, np.integer)) and seed >= 0):
+        raise ParameterError("seed", seed, "an integer >= 0")
     memory = check_engine_memory(memory, simulate)
     if simulate is None:
         _check_domain_against_sample(domain)
@@ -474,6 +492,9 @@ def train_spectral(
     Other parameters are those of :func:`generate_training_set`.
     """
     out = Path(out_dir)
+    if n_holdout is not None and not (isinstance(n_holdout, (int, np.integer)) and n_holdout >= 0):
+        # -1 silently meant no hold-out set
+        raise ParameterError("n_holdout", n_holdout, "an integer >= 0 (0: no hold-out set), or None for the default")
     n_holdout = max(20, int(n_samples) // 10) if n_holdout is None else int(n_holdout)
     jobs = [
         training_job(

@@ -29,10 +29,12 @@ from __future__ import annotations
 
 import functools
 import json
+import os
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -43,9 +45,16 @@ from sandlight.gonio.reduction import REDUCTION_METHODS
 from sandlight.gonio.symmetry import EquivalenceClasses
 from sandlight.io import write_atomically
 from sandlight.jobs import Job, JobStatus, derive_seed
-from sandlight.jobs.executors import resolve_executor
+from sandlight.jobs.executors import Executor, resolve_executor
 from sandlight.spatial.mesh import Mesh
 from sandlight.spatial.model import SpatialModel
+
+if TYPE_CHECKING:
+    import xarray as xr
+
+#: ``measure(params, wavelength_nm, *, rays, seed, stacks, slices, threads, checkpoint)``
+#: returning goniophotometer counts, standing in for the engine (tests).
+Measure = Callable[..., Any]
 
 __all__ = [
     "node_job",
@@ -74,7 +83,7 @@ def engine_measure(
     stacks: int,
     slices: int,
     threads: int,
-    checkpoint=None,
+    checkpoint: str | os.PathLike[str] | None = None,
     memory: str = "none",
 ) -> dict:
     """Goniophotometer counts of one sample with sandlight's engine (the default ``measure``).
@@ -113,8 +122,8 @@ def node_task(
     stacks: int,
     slices: int,
     threads: int,
-    checkpoint_dir=None,
-    measure=None,
+    checkpoint_dir: str | None = None,
+    measure: Measure | None = None,
     memory: str = "none",
 ) -> dict:
     """Job task: goniophotometer counts of one node (runs on a worker)."""
@@ -144,21 +153,21 @@ def node_task(
     }
 
 
-def _measure_name(measure) -> str:
+def _measure_name(measure: Measure | None) -> str:
     measure = engine_measure if measure is None else measure
     inner = measure.func if isinstance(measure, functools.partial) else measure
     return f"{getattr(inner, '__module__', '?')}.{getattr(inner, '__qualname__', repr(inner))}"
 
 
-def _check_count(name: str, value) -> int:
+def _check_count(name: str, value: object) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
         raise ParameterError(name, value, "an integer >= 1")
     return int(value)
 
 
 def node_job(
-    path,
-    mesh_or_samples,
+    path: str | os.PathLike[str],
+    mesh_or_samples: Mesh | Sequence[Mapping],
     wavelength_nm: float,
     rays: int,
     seed: int,
@@ -167,7 +176,7 @@ def node_job(
     slices: int = 30,
     threads: int = 1,
     checkpoint: bool = True,
-    measure=None,
+    measure: Measure | None = None,
     kind: str = "nodes",
     memory: str = "none",
 ) -> Job:
@@ -203,7 +212,7 @@ def node_job(
         refused. Only with the default ``measure``.
     """
     from sandlight import __version__
-    from sandlight.predictor.training import check_engine_memory, engine_memory_record
+    from sandlight.predictor.training import check_engine_memory, check_engine_wavelengths, engine_memory_record
 
     CollectorHemisphere(stacks, slices)  # validates the geometry
     rays = _check_count("rays", rays)
@@ -214,6 +223,7 @@ def node_job(
         wl = float(wavelength_nm)
     except (TypeError, ValueError):
         raise ParameterError("wavelength_nm", wavelength_nm, "a wavelength in nm") from None
+    check_engine_wavelengths(wl, measure, "wavelength_nm")
     if isinstance(mesh_or_samples, Mesh):
         samples = [mesh_or_samples.sample_dict(x) for x in mesh_or_samples.nodes]
         mesh_dict = mesh_or_samples.to_dict()
@@ -284,12 +294,12 @@ def node_job(
 
 
 def measure_nodes(
-    path,
+    path: str | os.PathLike[str],
     mesh: Mesh,
     wavelength_nm: float,
     rays: int,
     seed: int,
-    executor=None,
+    executor: Executor | str | None = None,
     *,
     progress: bool = True,
     max_tasks: int | None = None,
@@ -307,7 +317,7 @@ def measure_nodes(
     )
 
 
-def node_brdfs(dataset, method: str = "average") -> list[MeasuredBRDF]:
+def node_brdfs(dataset: str | os.PathLike[str] | xr.Dataset, method: str = "average") -> list[MeasuredBRDF]:
     """The `MeasuredBRDF` of every node of a node dataset (path, store directory or Dataset).
 
     Parameters
@@ -538,7 +548,7 @@ class TrainingRun:
 
 
 def train_spatial(
-    out_dir,
+    out_dir: str | os.PathLike[str],
     mesh: Mesh,
     rays: int,
     wavelength_nm: float = 550.0,
@@ -549,11 +559,11 @@ def train_spatial(
     stacks: int = 31,
     slices: int = 30,
     method: str = "average",
-    executor=None,
+    executor: Executor | str | None = None,
     threads: int = 1,
     checkpoint: bool = True,
     fit_only: bool = False,
-    measure=None,
+    measure: Measure | None = None,
     progress: bool = True,
     max_tasks: int | None = None,
     model_params: Mapping | None = None,
