@@ -11,15 +11,25 @@ from sandlight.cli._common import parse_count
 from sandlight.cli._output import echo
 from sandlight.io import check_output_directory, check_output_file
 
+#: The report by default: a new folder in the working directory (it was docs/validation.md, so a
+#: run from a checkout overwrote the shipped docs).
+DEFAULT_REPORT = Path("sandlight-validation") / "validation.md"
+
 
 @app.command()
 def validate(
     rays: str = typer.Option("1e5", "--rays", "-n", help="Rays per wavelength for the validation runs."),
     output: Path = typer.Option(
-        Path("docs/validation.md"), "-o", "--output", help="The Markdown report (.md, overwritten if it exists)."
+        DEFAULT_REPORT,
+        "-o",
+        "--output",
+        help="The Markdown report (.md; its folder is created). An existing report is overwritten between its "
+        "BEGIN/END markers, the text outside them kept.",
     ),
-    figures: Path = typer.Option(
-        Path("docs/img"), "--figures", help="Folder for the PNG plots (created; plots overwritten)."
+    figures: Path | None = typer.Option(
+        None,
+        "--figures",
+        help="Folder for the PNG plots (default: img beside the report; created; plots overwritten).",
     ),
     sample: list[str] | None = typer.Option(None, "--sample", help="Validate only this sample (repeatable)."),
     variant_rays: str | None = typer.Option(
@@ -35,6 +45,7 @@ def validate(
 
     from sandlight import validation as v
 
+    figures = output.parent / "img" if figures is None else figures
     check_output_file(output, "--output", (".md",), make_dirs=True)
     check_output_directory(figures, "--figures")
     n = parse_count(rays, "--rays")
