@@ -106,3 +106,17 @@ def test_a_video_into_a_read_only_directory_is_refused_before_rendering(places):
 def test_help_says_outputs_are_overwritten(command):
     res = runner.invoke(app, [command, "--help"], env={"COLUMNS": "200"})
     assert res.exit_code == 0 and "overwritten" in res.output, res.output
+
+
+def test_an_os_error_during_the_work_is_a_message_not_a_traceback(places, monkeypatch):
+    # Checks before the work cannot foresee everything (a disk that fills up, a file system
+    # remounted read-only): such OS errors were tracebacks.
+    from sandlight.engine import ReflectanceResult
+
+    def refuse(self, path):
+        raise PermissionError(13, "Permission denied", str(path))
+
+    monkeypatch.setattr(ReflectanceResult, "to_netcdf", refuse)
+    res = runner.invoke(app, ["reflectance", *RUN, "-w", "550", "-o", "r.nc"])
+    assert res.exit_code == 2, res.output
+    assert "error: [Errno 13] Permission denied: 'r.nc'" in res.output and "Traceback" not in res.output
