@@ -166,6 +166,15 @@ def test_depth_accepts_inf_and_the_string_inf_only():
             SandSample(depth_mm=bad)
 
 
+@pytest.mark.parametrize("name", ["iron_oxide", "depth_mm", "iron_oxide_form"])
+@pytest.mark.parametrize("value", [np.array([0.01, 0.02]), np.array(["coating", "mixed"]), [0.01], np.array([])])
+def test_arrays_and_lists_are_refused_with_a_parameter_error(name, value):
+    # One sample holds one value per parameter (issue 24 #16: numpy's "truth value ... ambiguous").
+    with pytest.raises(ParameterError) as info:
+        SandSample(**{name: value})
+    assert info.value.name == name and info.value.value is value
+
+
 def test_numbers_of_other_types_are_converted():
     s = SandSample(grain_size=np.float32(0.5), porosity=np.float64(0.3), sand=1, silt=0, clay=0)
     assert type(s.grain_size) is float and s.grain_size == 0.5
@@ -387,6 +396,18 @@ def test_from_dict_refuses_non_mappings_and_unknown_keys():
     with pytest.raises(ParameterError) as info:
         SandSample.from_dict({"porosity": 0.3, "grainsize": 0.5})
     assert_names(info.value, "grainsize", 0.5, "grain_size")
+
+
+def test_a_sample_file_must_be_a_regular_file_of_bounded_size(tmp_path):
+    from sandlight.sample import MAX_SAMPLE_FILE_BYTES
+
+    (tmp_path / "dir.toml").mkdir()
+    with pytest.raises(ParameterError, match="a regular file"):
+        SandSample.from_file(tmp_path / "dir.toml")
+    big = tmp_path / "big.toml"
+    big.write_text("# padding\n" * (MAX_SAMPLE_FILE_BYTES // 10 + 1))
+    with pytest.raises(ParameterError, match="at most"):
+        SandSample.from_file(big)
 
 
 def test_missing_file(tmp_path):

@@ -6,6 +6,8 @@ MATERIALS
     Names of the tabulated materials.
 WAVELENGTH_RANGE_NM
     The wavelength domain every table covers, (350, 2500) nm.
+MAX_WAVELENGTHS
+    The most wavelengths a wavelength grid may hold.
 DENSITY_G_CM3
     Grain (mineral) densities in g cm⁻³, for converting mass fractions to volume fractions.
 complex_index
@@ -46,11 +48,13 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
+from sandlight.checks import MAX_WAVELENGTHS, WAVELENGTH_RANGE_NM
 from sandlight.errors import ModelFileError, ParameterError
 
 __all__ = [
     "MATERIALS",
     "WAVELENGTH_RANGE_NM",
+    "MAX_WAVELENGTHS",
     "DENSITY_G_CM3",
     "complex_index",
     "absorption_coefficient_per_mm",
@@ -60,7 +64,6 @@ __all__ = [
 
 MATERIALS: tuple[str, ...] = ("quartz", "hematite", "goethite", "magnetite", "kaolinite", "water")
 
-WAVELENGTH_RANGE_NM: tuple[float, float] = (350.0, 2500.0)
 
 DENSITY_G_CM3 = MappingProxyType(
     {

@@ -32,8 +32,12 @@ from pathlib import Path
 from typing import Any
 
 from sandlight.errors import ModelFileError, ParameterError
+from sandlight.io import read_regular_file
 
-__all__ = ["Parameter", "PARAMETERS", "SandSample", "SEPARATES_TOLERANCE"]
+__all__ = ["Parameter", "PARAMETERS", "SandSample", "SEPARATES_TOLERANCE", "MAX_SAMPLE_FILE_BYTES"]
+
+#: Largest sample file read (a complete, commented sample is about 2 kB).
+MAX_SAMPLE_FILE_BYTES = 1 << 20
 
 
 @dataclass(frozen=True)
@@ -88,8 +92,8 @@ class Parameter:
         Raises
         ------
         ParameterError
-            If `value` is missing (None), of the wrong type (strings for numbers, bools),
-            NaN, or outside the domain; the message names parameter, value and domain.
+            If `value` is missing (None), of the wrong type (strings for numbers, bools,
+            arrays), NaN, or outside the domain; the message names parameter, value and domain.
         """
         if self.kind == "choice":
             if isinstance(value, str) and value in self.choices:
@@ -97,7 +101,7 @@ class Parameter:
             raise ParameterError(self.name, value, self.allowed)
         # Strict JSON has no infinity, so an infinite value is written as the string "inf"
         # (see SandSample.to_dict) and read back here, only where +inf is in the domain.
-        if value == "inf" and self.high == math.inf:
+        if isinstance(value, str) and value == "inf" and self.high == math.inf:
             return math.inf
         if isinstance(value, bool) or not isinstance(value, numbers.Real):
             raise ParameterError(self.name, value, self.allowed)
@@ -333,6 +337,9 @@ class SandSample:
         ------
         FileNotFoundError
             If `path` does not exist.
+        ParameterError
+            If `path` is not a regular file (a directory, a device, a pipe) or is larger than
+            `MAX_SAMPLE_FILE_BYTES`; it is not read.
         ModelFileError
             If the suffix is neither .toml nor .json, or the file does not parse; the message
             names the file and the parse problem.
@@ -345,7 +352,7 @@ class SandSample:
             raise ModelFileError(
                 f"{path}: cannot tell the format of a sample file from the suffix {path.suffix!r}; use .toml or .json"
             )
-        raw = path.read_bytes()
+        raw = read_regular_file(path, "sample file", max_bytes=MAX_SAMPLE_FILE_BYTES)
         try:
             text = raw.decode("utf-8")
             doc = tomllib.loads(text) if suffix == ".toml" else json.loads(text) if text.strip() else {}

@@ -163,7 +163,7 @@ def cli(monkeypatch, fake_provider):
     import sandlight.colour.provider as provider
 
     monkeypatch.setattr(provider, "default_reflectance_provider", lambda: fake_provider)
-    monkeypatch.setattr(cli_colour, "_load_sample", lambda preset, sample_file: FakeSample(iron_oxide=0.03))
+    monkeypatch.setattr(cli_colour, "load_sample", lambda sample_file, preset, **kw: FakeSample(iron_oxide=0.03))
     return CliRunner()
 
 

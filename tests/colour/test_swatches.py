@@ -124,7 +124,7 @@ def cli(monkeypatch, fake_provider):
     import sandlight.colour.provider as provider
 
     monkeypatch.setattr(provider, "default_reflectance_provider", lambda: fake_provider)
-    monkeypatch.setattr(cli_colour, "_load_sample", lambda preset, sample_file: FakeSample(iron_oxide=0.03))
+    monkeypatch.setattr(cli_colour, "load_sample", lambda sample_file, preset, **kw: FakeSample(iron_oxide=0.03))
     return CliRunner()
 
 
@@ -186,7 +186,7 @@ class TestSwatchesCommand:
         import sandlight.cli.colour as cli_colour
 
         monkeypatch.setitem(sys.modules, "sandlight.predictor", None)
-        monkeypatch.setattr(cli_colour, "_load_sample", lambda preset, sample_file: FakeSample())
+        monkeypatch.setattr(cli_colour, "load_sample", lambda sample_file, preset, **kw: FakeSample())
         result = CliRunner().invoke(app, ["swatches", "-o", str(tmp_path / "g.png")])
         assert result.exit_code == 1
         assert "No spectral model is available" in result.output

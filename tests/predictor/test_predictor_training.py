@@ -65,6 +65,16 @@ def test_wavelength_grid():
             wavelength_grid(bad)
 
 
+@pytest.mark.parametrize("spec", ["400:inf:20", "400:700:1e-9", "nan:700:20", ",".join(["500"] * 10_001)])
+def test_wavelength_grid_is_bounded_before_it_is_allocated(spec):
+    # "400:inf:20" raised OverflowError, "400:700:1e-9" MemoryError (a 2 TiB grid).
+    from sandlight.optics import MAX_WAVELENGTHS
+
+    with pytest.raises(ParameterError, match="wavelengths"):
+        wavelength_grid(spec)
+    assert wavelength_grid(f"400:{400 + MAX_WAVELENGTHS - 1}:1").size == MAX_WAVELENGTHS
+
+
 class TestDataset:
     def test_contents(self, reference):
         ds, _ = reference
@@ -393,27 +403,27 @@ class TestCommandLine:
         again = self.invoke(*args)
         assert again.exit_code == 0
         changed = self.invoke(*[a if a != 1000 else 2000 for a in args])
-        assert changed.exit_code == 1 and "rays" in changed.output
+        assert changed.exit_code == 2 and "rays" in changed.output
         other = self.invoke(*args, "--memory", "packed")
-        assert other.exit_code == 1 and "engine" in other.output
+        assert other.exit_code == 2 and "engine" in other.output
         result = self.invoke(*[tmp_path / "packed" if a == tmp_path else a for a in args], "--memory", "packed")
         assert result.exit_code == 0, result.output
         assert "engine memory 'packed'" in result.output
         assert SpectralModel.load(tmp_path / "packed" / "spectral-model.npz").memory_ == "packed"
         bad = self.invoke(*[tmp_path / "bad" if a == tmp_path else a for a in args], "--memory", "full")
-        assert bad.exit_code == 1 and "memory" in bad.output
+        assert bad.exit_code == 2 and "memory" in bad.output
 
     def test_bad_options(self, tmp_path):
         result = self.invoke("train-spectral", "--out", tmp_path, "--workers", 2, "--dask-local", 2)
-        assert result.exit_code == 1 and "choose one executor" in result.output
+        assert result.exit_code == 2 and "choose one executor" in result.output
         result = self.invoke("train-spectral", "--out", tmp_path, "--wavelengths", "700:400:1")
-        assert result.exit_code == 1 and "wavelengths" in result.output
+        assert result.exit_code == 2 and "wavelengths" in result.output
 
     def test_predict_refuses_a_damaged_model(self, tmp_path):
         bad = tmp_path / "model.npz"
         bad.write_bytes(b"PK\x03\x04 truncated")
         result = self.invoke("predict", "--preset", "red-dune", "--model", bad)
-        assert result.exit_code == 1 and "not a readable sandlight spectral model" in result.output
+        assert result.exit_code == 2 and "not a readable sandlight spectral model" in result.output
 
     def test_predict_with_a_model(self, tmp_path):
         pytest.importorskip("sandlight.sample")

@@ -104,7 +104,7 @@ def test_appearance_command_writes_a_table(tmp_path):
         ],
     )
     assert result.exit_code == 0, result.output
-    assert "albedo" in result.output and "note:" in result.output  # wet-beach is off the mesh's base sample
+    assert "albedo" in result.output and "warning:" in result.output  # wet-beach is off the mesh's base sample
     with xr.open_dataset(out, engine="h5netcdf") as ds:
         assert ds["f"].shape == (16, 5, 5, 4)
         assert (ds["albedo"].values <= 1 + 1e-12).all()

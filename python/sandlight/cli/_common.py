@@ -1,19 +1,12 @@
-"""Shared by the command modules: loading the sample, reporting errors, option help texts.
-
-The checks of option values (counts, ranges) are in :mod:`sandlight.checks`.
-"""
+"""Argument parsing shared by the command modules: samples, ranges."""
 
 from __future__ import annotations
 
-import contextlib
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-import typer
-from rich.console import Console
-
-from sandlight.errors import SandlightError
-
-err_console = Console(stderr=True)
+if TYPE_CHECKING:
+    from sandlight.sample import SandSample
 
 #: Help of the --memory and --geometry options of the commands that trace rays.
 MEMORY_HELP = (
@@ -23,28 +16,35 @@ MEMORY_HELP = (
 GEOMETRY_HELP = "on-the-fly (fast, default) or explicit (the slow reference: a stored packing; docs/geometry.md)."
 
 
-@contextlib.contextmanager
-def user_errors():
-    """Turns sandlight's user-facing errors into a one-line message and exit code 2."""
-    try:
-        yield
-    except (SandlightError, FileNotFoundError) as e:
-        err_console.print(f"[bold red]error:[/] {e}", soft_wrap=True)
-        raise typer.Exit(2) from None
-    except KeyboardInterrupt:
-        err_console.print("[yellow]interrupted: nothing was written[/]")
-        raise typer.Exit(130) from None
+#: The sample of reflectance, brdf and appearance when neither a file nor a preset is given.
+DEFAULT_PRESET = "red-dune"
 
 
-def load_sample(sample_file: Path | None, preset: str | None):
-    """The sample from a TOML/JSON file or a preset name (exactly one; default preset red-dune)."""
+def load_sample(
+    sample_file: Path | None,
+    preset: str | None,
+    *,
+    default: SandSample | str | None = DEFAULT_PRESET,
+    file_option: str = "SAMPLE",
+) -> SandSample:
+    """The sample of every command that takes one: a TOML/JSON file or a preset name, not both.
+
+    ``default`` is the sample (or the name of the preset) without either; None means one of
+    them is required.
+    ``file_option`` names the file's argument in messages (``SAMPLE`` or ``--sample``). Files are
+    read by `SandSample.from_file` (regular files of bounded size, keys at the top level or in a
+    ``[sample]`` table, nothing else).
+    """
     from sandlight.errors import ParameterError
     from sandlight.sample import SandSample
 
+    both = f"{file_option}/--preset"
     if sample_file is not None and preset is not None:
-        raise ParameterError(
-            "SAMPLE/--preset", f"{sample_file} and {preset}", "give a sample file or a preset, not both"
-        )
+        raise ParameterError(both, f"{sample_file} and {preset}", "give a sample file or a preset, not both")
     if sample_file is not None:
         return SandSample.from_file(sample_file)
-    return SandSample.preset(preset or "red-dune")
+    if preset is not None:
+        return SandSample.preset(preset)
+    if default is None:
+        raise ParameterError(both, None, "a sample file (TOML or JSON) or a preset name")
+    return SandSample.preset(default) if isinstance(default, str) else default

@@ -1,19 +1,22 @@
 """Commands of the colour area: swatches (paper Figures 6, 7 and any grid) and colourise (§4.1.1).
 
 Errors in what the user typed (grid specs, sizes, paths, unreadable images, unknown parameters
-or presets) exit with code 2 and a one-line message; a missing spectral model exits with code 1.
+or presets) exit with code 2 and a one-line message; a missing spectral model exits with code 1
+(see ``sandlight.cli._app.exit_code``).
 """
 
 from __future__ import annotations
 
 from enum import StrEnum
 from pathlib import Path
-from typing import Any, NoReturn
 
 import typer
 
 from sandlight.cli._app import app
-from sandlight.errors import ParameterError, SandlightError
+from sandlight.cli._common import load_sample
+from sandlight.cli._output import echo, fail
+from sandlight.io import check_output_file
+from sandlight.sample import SandSample
 
 _GRID_HELP = "NAME=start:stop:count (inclusive), e.g. iron_oxide=0.001:0.05:8"
 
@@ -28,33 +31,13 @@ class PaperFigure(StrEnum):
     seven = "7"
 
 
-def _fail(message: str, code: int = 2) -> NoReturn:
-    typer.echo(f"Error: {message}", err=True)
-    raise typer.Exit(code)
-
-
 def _parse_size(text: str | None, option: str) -> tuple[int, int] | None:
     if text is None:
         return None
     parts = text.lower().split("x")
     if len(parts) != 2 or not all(p.strip().isdigit() for p in parts):
-        _fail(f"{option} {text!r} is not allowed: WIDTHxHEIGHT in pixels, e.g. 800x600")
+        fail(f"{option} {text!r} is not allowed: WIDTHxHEIGHT in pixels, e.g. 800x600")
     return int(parts[0]), int(parts[1])
-
-
-def _load_sample(preset: str | None, sample_file: Path | None) -> Any:
-    """The base sample: a preset, a TOML/JSON file, or ``SandSample()``."""
-    if preset is not None and sample_file is not None:
-        _fail("give --preset NAME or --sample FILE, not both")
-    try:
-        from sandlight.sample import SandSample
-    except ImportError as exc:
-        raise SandlightError(f"sandlight.sample.SandSample is not available ({exc})") from exc
-    if preset is not None:
-        return SandSample.preset(preset)
-    if sample_file is not None:
-        return SandSample.from_file(sample_file)
-    return SandSample()
 
 
 _ENGINE_HELP = (
@@ -68,7 +51,7 @@ def _provider(engine_rays: int | None):
     if engine_rays is None:
         return None
     if engine_rays < 1:
-        _fail(f"--engine-rays {engine_rays} is not allowed: a number of rays ≥ 1, e.g. 20000")
+        fail(f"--engine-rays {engine_rays} is not allowed: a number of rays ≥ 1, e.g. 20000")
     from sandlight.colour.provider import engine_reflectance_provider
 
     return engine_reflectance_provider(engine_rays)
@@ -78,29 +61,13 @@ def _grid_axes(x: str | None, y: str | None):
     from sandlight.colour.swatches import parse_grid_spec
 
     if (x is None) != (y is None):
-        _fail("--x and --y go together: give both, e.g. --x iron_oxide=0.001:0.05:8 --y hematite_ratio=0:1:6")
-    try:
-        return parse_grid_spec(x), parse_grid_spec(y)
-    except ParameterError as exc:
-        _fail(str(exc))
-
-
-def _run(action):
-    """Run ``action()``, turning sandlight's errors into messages and exit codes."""
-    try:
-        return action()
-    except (ParameterError, FileNotFoundError, OSError) as exc:
-        # Bad user input: unknown parameter or preset, out-of-domain value, missing or
-        # unreadable file, unwritable output.
-        _fail(str(exc), 2)
-    except SandlightError as exc:
-        # Not the user's input: no spectral model or no sample module in this installation.
-        _fail(str(exc), 1)
+        fail("--x and --y go together: give both, e.g. --x iron_oxide=0.001:0.05:8 --y hematite_ratio=0:1:6")
+    return parse_grid_spec(x), parse_grid_spec(y)
 
 
 @app.command("swatches")
 def swatches_command(
-    output: Path = typer.Option(..., "-o", "--output", help="PNG file to write."),
+    output: Path = typer.Option(..., "-o", "--output", help="PNG file to write (.png, overwritten if it exists)."),
     figure: PaperFigure | None = typer.Option(
         None,
         "--figure",
@@ -119,32 +86,28 @@ def swatches_command(
     """Swatch grid of sand colours as two sample parameters vary (paper Figures 6 and 7)."""
     from sandlight.colour.swatches import figure6, figure7, swatch_grid
 
-    if output.suffix.lower() != ".png":
-        _fail(f"--output {str(output)!r} is not allowed: swatches are written as .png")
+    check_output_file(output, "--output", (".png",))
     if figure is not None and x is not None:
-        _fail("give --figure or --x/--y, not both")
+        fail("give --figure or --x/--y, not both")
     size_px = _parse_size(size, "--size")
     axes = _grid_axes(x, y) if (x is not None or y is not None) else None
     provider = _provider(engine_rays)
 
-    def action():
-        base = _load_sample(preset, sample)
-        if axes is not None:
-            grid = swatch_grid(base, axes[0], axes[1], mode=mode.value, reflectance=provider)
-            title = f"sRGB ({mode.value}), D50, CIE 1964 10°"
-        elif figure in (None, PaperFigure.six):
-            grid, title = figure6(base, mode=mode.value, reflectance=provider), f"Figure 6 — sRGB ({mode.value})"
-        else:
-            grid, title = figure7(base, mode=mode.value, reflectance=provider), f"Figure 7 — sRGB ({mode.value})"
-        grid.save_png(output, size_px=size_px, show_lab=lab, title=title)
-        clipped = int(grid.out_of_gamut.sum())
-        typer.echo(
-            f"wrote {output} ({grid.rgb.shape[1]}×{grid.rgb.shape[0]} swatches"
-            + (f", {clipped} clipped to the sRGB gamut" if clipped else "")
-            + ")"
-        )
-
-    _run(action)
+    base = load_sample(sample, preset, default=SandSample(), file_option="--sample")
+    if axes is not None:
+        grid = swatch_grid(base, axes[0], axes[1], mode=mode.value, reflectance=provider)
+        title = f"sRGB ({mode.value}), D50, CIE 1964 10°"
+    elif figure in (None, PaperFigure.six):
+        grid, title = figure6(base, mode=mode.value, reflectance=provider), f"Figure 6 — sRGB ({mode.value})"
+    else:
+        grid, title = figure7(base, mode=mode.value, reflectance=provider), f"Figure 7 — sRGB ({mode.value})"
+    grid.save_png(output, size_px=size_px, show_lab=lab, title=title)
+    clipped = int(grid.out_of_gamut.sum())
+    echo(
+        f"wrote {output} ({grid.rgb.shape[1]}×{grid.rgb.shape[0]} swatches"
+        + (f", {clipped} clipped to the sRGB gamut" if clipped else "")
+        + ")"
+    )
 
 
 @app.command("colourise")
@@ -152,7 +115,12 @@ def colourise_command(
     image: Path | None = typer.Argument(
         None, help="Photo of sand (any format pillow reads). Default: the shipped texture."
     ),
-    output: Path = typer.Option(..., "-o", "--output", help="Image file to write."),
+    output: Path = typer.Option(
+        ...,
+        "-o",
+        "--output",
+        help="Image file to write, in the format its suffix says (.png, .jpg, .tif, ...; overwritten if it exists).",
+    ),
     preset: str | None = typer.Option(None, "--preset", help="Sample preset, e.g. red-dune."),
     sample: Path | None = typer.Option(None, "--sample", help="Sample TOML/JSON file."),
     grid: bool = typer.Option(
@@ -173,38 +141,38 @@ def colourise_command(
         colourise,
         colourise_grid,
         default_texture_path,
+        image_format,
         load_image,
         save_image,
     )
 
+    if grid and labels:
+        if output.suffix.lower() != ".png":
+            fail(f"--output {str(output)!r}: a labelled grid is written as .png (or use --no-labels)")
+    else:
+        image_format(output)
+    check_output_file(output, "--output")
+
     if grid:
         if x is None or y is None:
-            _fail("--grid needs --x NAME=a:b:n and --y NAME=a:b:n")
+            fail("--grid needs --x NAME=a:b:n and --y NAME=a:b:n")
         axes = _grid_axes(x, y)
     else:
         if x is not None or y is not None:
-            _fail("--x/--y need --grid")
+            fail("--x/--y need --grid")
         if preset is None and sample is None:
-            _fail("give --preset NAME or --sample FILE (or --grid with --x/--y)")
+            fail("give --preset NAME or --sample FILE (or --grid with --x/--y)")
     tile_px = _parse_size(tile, "--tile")
     provider = _provider(engine_rays)
-    try:
-        photo = load_image(default_texture_path() if image is None else image)
-    except (FileNotFoundError, SandlightError) as exc:
-        _fail(str(exc))
+    photo = load_image(default_texture_path() if image is None else image)
 
-    def action():
-        base = _load_sample(preset, sample)
-        if not grid:
-            save_image(output, colourise(photo, base, mode=mode.value, linear=linear, reflectance=provider))
-            typer.echo(f"wrote {output} ({photo.shape[1]}×{photo.shape[0]})")
-            return
-        result = colourise_grid(
-            photo, base, axes[0], axes[1], tile_px=tile_px, mode=mode.value, linear=linear, reflectance=provider
-        )
-        if labels and output.suffix.lower() != ".png":
-            _fail(f"--output {str(output)!r}: a labelled grid is written as .png (or use --no-labels)")
-        result.save_png(output, labels=labels)
-        typer.echo(f"wrote {output} ({len(axes[0].values)}×{len(axes[1].values)} tiles)")
-
-    _run(action)
+    base = load_sample(sample, preset, default=SandSample(), file_option="--sample")
+    if not grid:
+        save_image(output, colourise(photo, base, mode=mode.value, linear=linear, reflectance=provider))
+        echo(f"wrote {output} ({photo.shape[1]}×{photo.shape[0]})")
+        return
+    result = colourise_grid(
+        photo, base, axes[0], axes[1], tile_px=tile_px, mode=mode.value, linear=linear, reflectance=provider
+    )
+    result.save_png(output, labels=labels)
+    echo(f"wrote {output} ({len(axes[0].values)}×{len(axes[1].values)} tiles)")

@@ -6,16 +6,20 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 import typer
-from rich.console import Console
 
 from sandlight.checks import check_count, parse_range
 from sandlight.cli._app import app
-from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, user_errors
+from sandlight.cli._common import (
+    DEFAULT_PRESET,
+    GEOMETRY_HELP,
+    MEMORY_HELP,
+    load_sample,
+)
+from sandlight.cli._output import echo, table
+from sandlight.io import check_output_directory, check_output_file
 
 if TYPE_CHECKING:
     from sandlight.engine import ReflectanceResult
-
-console = Console()
 
 
 @app.command()
@@ -23,7 +27,7 @@ def version() -> None:
     """Print the sandlight version."""
     import sandlight
 
-    print(sandlight.__version__)
+    echo(sandlight.__version__)
 
 
 @app.command()
@@ -35,52 +39,64 @@ def reflectance(
     incidence: float = typer.Option(0.0, "--incidence", help="Incidence zenith angle (degrees)."),
     seed: int = typer.Option(0, "--seed"),
     threads: int | None = typer.Option(None, "--threads", help="Worker threads (default: all cores)."),
-    output: Path | None = typer.Option(None, "-o", "--output", help="Write .nc (NetCDF) or .csv."),
-    plot: Path | None = typer.Option(None, "--plot", help="Write a PNG plot of the spectrum."),
+    output: Path | None = typer.Option(
+        None, "-o", "--output", help="Write .nc (NetCDF) or .csv, as the suffix says (overwritten if it exists)."
+    ),
+    plot: Path | None = typer.Option(
+        None, "--plot", help="Write a PNG plot of the spectrum (.png, overwritten if it exists)."
+    ),
     memory: str | None = typer.Option(None, "--memory", help=MEMORY_HELP),
     geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
 ) -> None:
     """Monte Carlo directional-hemispherical reflectance of a sand sample."""
     from sandlight.engine import reflectance as run
 
-    with user_errors():
-        sample = load_sample(sample_file, preset)
-        wl, n = parse_range("--wavelengths", wavelengths), check_count("--rays", rays)
-        console.print(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
-        result = run(
-            sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory, geometry=geometry
+    _check_outputs(output, plot)
+    sample = load_sample(sample_file, preset)
+    wl, n = parse_range("--wavelengths", wavelengths), check_count("--rays", rays)
+    echo(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
+    result = run(
+        sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory, geometry=geometry
+    )
+    _report(result, output, plot, title=str(sample_file or preset or DEFAULT_PRESET))
+
+
+def _check_outputs(output: Path | None, plot: Path | None) -> None:
+    """Refuse unwritable outputs before the computation."""
+    if output is not None:
+        check_output_file(output, "--output", (".nc", ".csv"), make_dirs=True)
+    if plot is not None:
+        check_output_file(plot, "--plot", (".png",), make_dirs=True)
+
+
+def _report(result: ReflectanceResult, output: Path | None, plot: Path | None, *, title: str) -> None:
+    rows = [
+        (f"{wl:g}", f"{v:.4f}", f"{e:.4f}", f"{events:.1f}", str(int(capped)))
+        for wl, v, e, events, capped in zip(
+            result.wavelengths, result.values, result.stderr, result.mean_events_per_ray, result.capped
         )
-        _report(result, output, plot, title=str(sample_file or preset or "red-dune"))
-
-
-def _report(result: ReflectanceResult, output: Path | None, plot: Path | None, *, title: str):
-    from rich.table import Table
-
-    table = Table("λ (nm)", "reflectance", "± stderr", "events/ray", "capped")
-    for i, wl in enumerate(result.wavelengths):
-        table.add_row(
-            f"{wl:g}",
-            f"{result.values[i]:.4f}",
-            f"{result.stderr[i]:.4f}",
-            f"{result.mean_events_per_ray[i]:.1f}",
-            str(int(result.capped[i])),
-        )
-    console.print(table)
-    console.print(f"{result.rays:,} rays per wavelength in {result.elapsed_s:.1f} s")
+    ]
+    table(("λ (nm)", "reflectance", "± stderr", "events/ray", "capped"), rows)
+    echo(f"{result.rays:,} rays per wavelength in {result.elapsed_s:.1f} s")
     if output is not None:
         if output.suffix.lower() == ".csv":
             result.to_csv(output)
         else:
             result.to_netcdf(output)
-        console.print(f"wrote {output}")
+        echo(f"wrote {output}")
     if plot is not None:
         result.plot(plot, title=title)
-        console.print(f"wrote {plot}")
+        echo(f"wrote {plot}")
 
 
 @app.command()
 def demo(
-    output_dir: Path = typer.Option(Path("sandlight-demo"), "-o", "--output-dir", help="Where to write the results."),
+    output_dir: Path = typer.Option(
+        Path("sandlight-demo"),
+        "-o",
+        "--output-dir",
+        help="Where to write red-dune.nc and red-dune.png (created if missing; the files are overwritten).",
+    ),
     rays: str = typer.Option("2e5", "--rays", "-n", help="Rays per wavelength."),
 ) -> None:
     """The main job on its embedded default: the reflectance spectrum of a red dune sand,
@@ -88,17 +104,17 @@ def demo(
     from sandlight.engine import reflectance as run
     from sandlight.sample import SandSample
 
-    with user_errors():
-        sample = SandSample.preset("red-dune")
-        console.print("[bold]sandlight demo[/]: red-dune sand, 400–2500 nm")
-        result = run(
-            sample,
-            parse_range("wavelengths", "400:700:20").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],
-            rays=check_count("--rays", rays),
-        )
-        _report(
-            result,
-            output_dir / "red-dune.nc",
-            output_dir / "red-dune.png",
-            title="red-dune sand (sandlight Monte Carlo)",
-        )
+    check_output_directory(output_dir, "--output-dir")
+    sample = SandSample.preset(DEFAULT_PRESET)
+    echo(f"sandlight demo: {DEFAULT_PRESET} sand, 400–2500 nm")
+    result = run(
+        sample,
+        parse_range("wavelengths", "400:700:20").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],
+        rays=check_count("--rays", rays),
+    )
+    _report(
+        result,
+        output_dir / "red-dune.nc",
+        output_dir / "red-dune.png",
+        title="red-dune sand (sandlight Monte Carlo)",
+    )

@@ -5,13 +5,12 @@ from __future__ import annotations
 from pathlib import Path
 
 import typer
-from rich.console import Console
 
 from sandlight.checks import check_count
 from sandlight.cli._app import app
-from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample, user_errors
-
-console = Console()
+from sandlight.cli._common import GEOMETRY_HELP, MEMORY_HELP, load_sample
+from sandlight.cli._output import echo
+from sandlight.io import check_output_file
 
 
 @app.command()
@@ -25,8 +24,12 @@ def brdf(
     seed: int = typer.Option(0, "--seed"),
     threads: int | None = typer.Option(None, "--threads"),
     method: str = typer.Option("average", "--method", help="average (the paper) or pooled."),
-    output: Path = typer.Option(Path("brdf.nc"), "-o", "--output", help="NetCDF output."),
-    plot: Path | None = typer.Option(None, "--plot", help="PNG: polar map at 30° and principal-plane curves."),
+    output: Path = typer.Option(
+        Path("brdf.nc"), "-o", "--output", help="NetCDF output (.nc, overwritten if it exists)."
+    ),
+    plot: Path | None = typer.Option(
+        None, "--plot", help="PNG: polar map at 30° and principal-plane curves (.png, overwritten if it exists)."
+    ),
     memory: str | None = typer.Option(None, "--memory", help=MEMORY_HELP),
     geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
 ) -> None:
@@ -37,23 +40,25 @@ def brdf(
     from sandlight.gonio.measure import brdf as measure
     from sandlight.gonio.plots import save_overview_png
 
-    with user_errors():
-        sample = load_sample(sample_file, preset)
-        result = measure(
-            sample,
-            wavelength,
-            rays=check_count("--rays", rays),
-            stacks=stacks,
-            slices=slices,
-            seed=seed,
-            threads=threads,
-            method=method,
-            checkpoint=output.with_name(output.name + ".checkpoint.npz"),
-            memory=memory,
-            geometry=geometry,
-        )
-        to_netcdf(result, output)
-        console.print(f"normal-incidence reflectance {result.normal_reflectance:.4f}; wrote {output}")
-        if plot is not None:
-            save_overview_png(result, plot)
-            console.print(f"wrote {plot}")
+    check_output_file(output, "--output", (".nc",))
+    if plot is not None:
+        check_output_file(plot, "--plot", (".png",))
+    sample = load_sample(sample_file, preset)
+    result = measure(
+        sample,
+        wavelength,
+        rays=check_count("--rays", rays),
+        stacks=stacks,
+        slices=slices,
+        seed=seed,
+        threads=threads,
+        method=method,
+        checkpoint=output.with_name(output.name + ".checkpoint.npz"),
+        memory=memory,
+        geometry=geometry,
+    )
+    to_netcdf(result, output)
+    echo(f"normal-incidence reflectance {result.normal_reflectance:.4f}; wrote {output}")
+    if plot is not None:
+        save_overview_png(result, plot)
+        echo(f"wrote {plot}")

@@ -2,23 +2,23 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import typer
 
 from sandlight.cli._app import app
-from sandlight.cli._common import MEMORY_HELP
-
-
-def _fail(message: str, code: int = 1):
-    typer.echo(f"error: {message}", err=True)
-    raise typer.Exit(code)
+from sandlight.cli._common import MEMORY_HELP, load_sample
+from sandlight.cli._output import echo, show, table
+from sandlight.io import check_output_directory, check_output_file, write_atomically
 
 
 @app.command("train-spectral")
 def train_spectral_command(
-    out: Path = typer.Option(..., "--out", help="Output directory (job stores, model, report)."),
+    out: Path = typer.Option(
+        ...,
+        "--out",
+        help="Output directory: job stores (resumed), model and report (overwritten).",
+    ),
     samples: int = typer.Option(3000, "--samples", help="Training samples (paper: 3000)."),
     rays: int = typer.Option(100_000, "--rays", help="Rays per sample and wavelength."),
     wavelengths: str = typer.Option(
@@ -45,79 +45,57 @@ def train_spectral_command(
 ) -> None:
     """Generate a training set with the engine and fit the spectral predictor (resumable:
     run the same command again to continue after an interruption)."""
-    from sandlight.errors import Cancelled, SandlightError
     from sandlight.jobs import make_executor
     from sandlight.predictor.training import train_spectral
 
-    try:
-        executor = None if fit_only else make_executor(workers, dask_local, scheduler)
-        run = train_spectral(
-            out,
-            samples,
-            rays,
-            wavelengths,
-            seed,
-            n_holdout=holdout,
-            executor=executor,
-            fit_only=fit_only,
-            progress=progress,
-            holdout_rays=holdout_rays,
-            memory=memory,
-            model_params={
-                "n_components": n_components,
-                "variance_threshold": variance,
-                "ridge": ridge,
-                "forms": forms,
-                "degree": degree,
-            },
-        )
-    except Cancelled as exc:
-        _fail(str(exc), 130)
-    except SandlightError as exc:
-        _fail(str(exc))
+    check_output_directory(out, "--out")
+    executor = None if fit_only else make_executor(workers, dask_local, scheduler)
+    run = train_spectral(
+        out,
+        samples,
+        rays,
+        wavelengths,
+        seed,
+        n_holdout=holdout,
+        executor=executor,
+        fit_only=fit_only,
+        progress=progress,
+        holdout_rays=holdout_rays,
+        memory=memory,
+        model_params={
+            "n_components": n_components,
+            "variance_threshold": variance,
+            "ridge": ridge,
+            "forms": forms,
+            "degree": degree,
+        },
+    )
     model, report = run.model, run.report
     ratio = model.explained_variance_ratio_
-    typer.echo(
-        f"training set: {run.training.dataset_path} ({run.training.n_total} samples, engine memory {model.memory_!r})"
-    )
-    typer.echo(
+    echo(f"training set: {run.training.dataset_path} ({run.training.n_total} samples, engine memory {model.memory_!r})")
+    echo(
         f"principal components: k = {model.n_components_}, explained variance "
         f"{ratio[: model.n_components_].sum():.5%} "
         f"(per component: {', '.join(f'{r:.4%}' for r in ratio[: model.n_components_])})"
     )
-    typer.echo(f"training RMS error {model.training_rms_:.5f} (PCA floor {model.reconstruction_rms_:.5f})")
+    echo(f"training RMS error {model.training_rms_:.5f} (PCA floor {model.reconstruction_rms_:.5f})")
     if report is not None:
-        typer.echo(report.table())
-    typer.echo(f"times: generation {run.generation_s:.1f} s (this run), fit {run.fit_s:.2f} s")
-    typer.echo(f"model: {run.model_path}")
-
-
-def _load_sample(sample_file: Path | None, preset: str | None):
-    import tomllib
-
-    from sandlight.sample import SandSample
-
-    if (sample_file is None) == (preset is None):
-        _fail("give a sample file (SAMPLE.toml) or --preset NAME, not both or neither", 2)
-    if preset is not None:
-        return SandSample.preset(preset), preset
-    try:
-        with open(sample_file, "rb") as fh:
-            data = tomllib.load(fh)
-    except (OSError, tomllib.TOMLDecodeError) as exc:
-        _fail(f"cannot read {sample_file}: {exc}", 2)
-    # Accept the parameters at the top level or in a [sample] table.
-    data = data.get("sample", data) if isinstance(data.get("sample"), dict) else data
-    return SandSample.from_dict(data), sample_file.stem
+        show(report.table())
+    echo(f"times: generation {run.generation_s:.1f} s (this run), fit {run.fit_s:.2f} s")
+    echo(f"model: {run.model_path}")
 
 
 @app.command()
 def predict(
-    sample_file: Path | None = typer.Argument(None, help="Sample parameters (TOML)."),
+    sample_file: Path | None = typer.Argument(None, help="Sample description (TOML or JSON)."),
     preset: str | None = typer.Option(None, "--preset", help="A named SandSample preset."),
     model_path: Path | None = typer.Option(None, "--model", help="Model file (default: the shipped model)."),
-    output: Path | None = typer.Option(None, "-o", "--output", help="Write a CSV file."),
-    plot: Path | None = typer.Option(None, "--plot", help="Save a plot (PNG, PDF, SVG)."),
+    output: Path | None = typer.Option(
+        None, "-o", "--output", help="Write a CSV file (.csv, overwritten if it exists)."
+    ),
+    plot: Path | None = typer.Option(
+        None, "--plot", help="Save a plot: .png, .pdf or .svg, as the suffix says (overwritten if it exists)."
+    ),
     extrapolate: bool = typer.Option(False, "--extrapolate", help="Allow samples outside the training domain."),
 ) -> None:
     """Predict the spectral reflectance of a sand sample in microseconds.
@@ -125,38 +103,30 @@ def predict(
     Without --model, the most accurate shipped model whose training domain contains the sample
     answers; the command says which one and its hold-out error.
     """
-    from sandlight.errors import SandlightError
     from sandlight.predictor.bank import ModelBank, default_model
     from sandlight.predictor.spectral import SpectralModel
 
-    try:
-        bank = default_model() if model_path is None else ModelBank([SpectralModel.load(model_path)])
-        sample, label = _load_sample(sample_file, preset)
-        values, used = bank.predict([sample], extrapolate=extrapolate, return_models=True)
-    except SandlightError as exc:
-        _fail(str(exc))
+    if output is not None:
+        check_output_file(output, "--output", (".csv",), make_dirs=True)
+    if plot is not None:
+        check_output_file(plot, "--plot", (".png", ".pdf", ".svg"), make_dirs=True)
+    sample = load_sample(sample_file, preset, default=None)
+    label = preset if sample_file is None else sample_file.stem
+    bank = default_model() if model_path is None else ModelBank([SpectralModel.load(model_path)])
+    values, used = bank.predict([sample], extrapolate=extrapolate, return_models=True)
     reflectance, model = values[0], bank.model(str(used[0]))
     outside = bank.select([sample])[0] < 0  # no model covers it: the fallback extrapolated
-    typer.echo(
+    echo(
         f"model {bank.describe(model.name_)}" + (" [extrapolated: the sample is outside its domain]" if outside else "")
     )
     wavelengths = model.wavelengths_
     if output is not None:
-        from sandlight.io import write_atomically
-
         lines = ["wavelength_nm,reflectance"] + [f"{w:g},{r:.6f}" for w, r in zip(wavelengths, reflectance)]
         text = "\n".join(lines) + "\n"
         write_atomically(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
     else:
-        from rich.console import Console
-        from rich.table import Table
-
-        table = Table(title=f"reflectance of {label}")
-        table.add_column("wavelength (nm)", justify="right")
-        table.add_column("reflectance", justify="right")
-        for w, r in zip(wavelengths, reflectance):
-            table.add_row(f"{w:g}", f"{r:.4f}")
-        Console(file=sys.stdout).print(table)
+        rows = [(f"{w:g}", f"{r:.4f}") for w, r in zip(wavelengths, reflectance)]
+        table(("wavelength (nm)", "reflectance"), rows, title=f"reflectance of {label}")
     if plot is not None:
         import matplotlib
 
@@ -173,5 +143,5 @@ def predict(
         )
         ax.grid(alpha=0.3)
         fig.tight_layout()
-        fig.savefig(plot)
+        write_atomically(plot, lambda tmp: fig.savefig(tmp, format=plot.suffix[1:].lower()))
         plt.close(fig)

@@ -12,14 +12,19 @@ from pathlib import Path
 import typer
 
 from sandlight.cli._app import app
-from sandlight.cli._common import user_errors
+from sandlight.cli._output import echo
+from sandlight.io import check_output_directory, check_output_file
 
 
 @app.command()
 def render(
     scene: str = typer.Argument(..., help="A shipped scene (desert-day, beach-drying) or a scene TOML file."),
-    output: Path = typer.Option(..., "--output", "-o", help="Folder for the frames (PNG and linear NetCDF)."),
-    video: Path | None = typer.Option(None, "--video", help="Also encode the frames as this MP4 file."),
+    output: Path = typer.Option(
+        ..., "--output", "-o", help="Folder for the frames (PNG and linear NetCDF; created, frames overwritten)."
+    ),
+    video: Path | None = typer.Option(
+        None, "--video", help="Also encode the frames as this MP4 file (.mp4, overwritten if it exists)."
+    ),
     width: int | None = typer.Option(None, help="Image width in pixels (overrides output.width)."),
     height: int | None = typer.Option(None, help="Image height in pixels (overrides output.height)."),
     frames: int | None = typer.Option(None, help="Number of frames (overrides output.frames)."),
@@ -39,20 +44,20 @@ def render(
     from sandlight.render.animation import render_scene
     from sandlight.render.scene import Scene
 
-    with user_errors():
-        parsed = Scene.load(scene).with_overrides(
-            width=width, height=height, frames=frames, spp=spp, seed=seed, threads=threads, write_linear=linear
-        )
-        try:
-            run = render_scene(parsed, output, video=video, progress=progress, log=typer.echo)
-        except KeyboardInterrupt:
-            kept = len(list(Path(output).glob("frame_*.png")))
-            typer.echo(
-                f"interrupted: the {kept} finished frame(s) in {output} are complete; no video was written", err=True
-            )
-            raise typer.Exit(130) from None
-        total = sum(run.render_seconds)
-        typer.echo(
-            f"{len(run.pngs)} frame(s) in {output} ({total:.1f} s rendering, {run.elapsed_s:.1f} s in all)"
-            + (f"; video {run.video}" if run.video else "")
-        )
+    check_output_directory(output, "--output")
+    if video is not None:
+        check_output_file(video, "--video", (".mp4",), make_dirs=True)
+    parsed = Scene.load(scene).with_overrides(
+        width=width, height=height, frames=frames, spp=spp, seed=seed, threads=threads, write_linear=linear
+    )
+    try:
+        run = render_scene(parsed, output, video=video, progress=progress, log=echo)
+    except KeyboardInterrupt:
+        kept = len(list(Path(output).glob("frame_*.png")))
+        echo(f"interrupted: the {kept} finished frame(s) in {output} are complete; no video was written", err=True)
+        raise typer.Exit(130) from None
+    total = sum(run.render_seconds)
+    echo(
+        f"{len(run.pngs)} frame(s) in {output} ({total:.1f} s rendering, {run.elapsed_s:.1f} s in all)"
+        + (f"; video {run.video}" if run.video else "")
+    )

@@ -8,6 +8,8 @@ from pathlib import Path
 import typer
 
 from sandlight.cli._app import app
+from sandlight.cli._output import echo
+from sandlight.io import check_output_file
 
 
 def _parse_times(text: str) -> list[float]:
@@ -44,7 +46,7 @@ def sky(
     exposure: float | None = typer.Option(
         None, help="Luminance shown as white, kcd/m^2 (default: twice the median sky luminance)."
     ),
-    output: Path = typer.Option(..., "--output", "-o", help="Output PNG file."),
+    output: Path = typer.Option(..., "--output", "-o", help="Output PNG file (.png, overwritten if it exists)."),
 ) -> None:
     """Draw the Preetham et al. (1999) clear sky as an equidistant fisheye PNG (looking up:
     north at the top, east on the left), the sun marked."""
@@ -52,6 +54,7 @@ def sky(
     from sandlight.sky import PreethamSky, sun_position
     from sandlight.sky.plots import plot_sky_day, plot_sky_dome
 
+    check_output_file(output, "--output", (".png",), make_dirs=True)
     if (time is None) == (times is None):
         raise typer.BadParameter(
             "give exactly one of --time (one dome) or --times (a strip)", param_hint="--time/--times"
@@ -73,7 +76,7 @@ def sky(
                 turbidity, latitude, day, time, longitude_deg=longitude, utc_offset_h=utc_offset
             )
             path = plot_sky_dome(model, output, size=size, exposure_cd_m2=exposure_cd_m2)
-            typer.echo(
+            echo(
                 f"sun elevation {elevation:.2f}°, azimuth "
                 f"{math.degrees(float(azimuth)):.2f}° (from north, "
                 f"clockwise); zenith luminance {model.zenith_luminance_kcd_m2:.3f} kcd/m²"
@@ -104,4 +107,4 @@ def sky(
             "exposure_cd_m2": "--exposure",
         }.get(error.name)
         raise typer.BadParameter(str(error), param_hint=option) from None
-    typer.echo(f"wrote {path}")
+    echo(f"wrote {path}")

@@ -6,13 +6,12 @@ from pathlib import Path
 
 import numpy as np
 import typer
-from rich.console import Console
 
 from sandlight.checks import check_count
 from sandlight.cli._app import app
-from sandlight.cli._common import MEMORY_HELP, load_sample, user_errors
-
-console = Console()
+from sandlight.cli._common import MEMORY_HELP, load_sample
+from sandlight.cli._output import echo, show
+from sandlight.io import check_output_directory, check_output_file
 
 
 def _axis(text: str):
@@ -64,7 +63,11 @@ def train_spatial_command(
         None, help="Base sample (TOML/JSON) giving the parameters the mesh does not vary (default: SandSample())."
     ),
     preset: str | None = typer.Option(None, "--preset", help="Base sample: a named preset."),
-    out: Path = typer.Option(..., "--out", help="Output directory (job stores, model, report)."),
+    out: Path = typer.Option(
+        ...,
+        "--out",
+        help="Output directory: job stores (resumed), model and report (overwritten).",
+    ),
     axis: list[str] = typer.Option(
         None,
         "--axis",
@@ -108,63 +111,63 @@ def train_spatial_command(
     from sandlight.sample import SandSample
     from sandlight.spatial import Mesh, train_spatial
 
-    with user_errors():
-        base = SandSample() if sample_file is None and preset is None else load_sample(sample_file, preset)
-        if nodes is not None:
-            if axis:
-                from sandlight.errors import ParameterError
-
-                raise ParameterError("--axis/--nodes", "both", "a grid (--axis) or scattered nodes (--nodes), not both")
-            names, values = _nodes_file(nodes)
-            mesh = Mesh(names, values, base)
-        else:
-            mesh = Mesh.grid(base, **dict(_axis(a) for a in (axis or ["saturation=0:1:16"])))
-        points = [_point(h) for h in holdout or []]
-        missing = [p for p in points if set(p) != set(mesh.parameters)]
-        if missing:
+    check_output_directory(out, "--out")
+    base = load_sample(sample_file, preset, default=SandSample())
+    if nodes is not None:
+        if axis:
             from sandlight.errors import ParameterError
 
-            raise ParameterError("--holdout", missing[0], f"a value for each mesh parameter {mesh.parameters}")
-        executor = None if fit_only else make_executor(workers, dask_local, scheduler)
-        n = check_count("--rays", rays)
-        run = train_spatial(
-            out,
-            mesh,
-            n,
-            wavelength,
-            seed,
-            holdout=[[p[k] for k in mesh.parameters] for p in points],
-            holdout_rays=None if holdout_rays is None else check_count("--holdout-rays", holdout_rays),
-            stacks=stacks,
-            slices=slices,
-            method=method,
-            executor=executor,
-            threads=threads,
-            checkpoint=scheduler is None,
-            fit_only=fit_only,
-            progress=progress,
-            memory=memory,
-            model_params={"n_components": components, "variance_threshold": variance, "scaling": scaling},
-        )
+            raise ParameterError("--axis/--nodes", "both", "a grid (--axis) or scattered nodes (--nodes), not both")
+        names, values = _nodes_file(nodes)
+        mesh = Mesh(names, values, base)
+    else:
+        mesh = Mesh.grid(base, **dict(_axis(a) for a in (axis or ["saturation=0:1:16"])))
+    points = [_point(h) for h in holdout or []]
+    missing = [p for p in points if set(p) != set(mesh.parameters)]
+    if missing:
+        from sandlight.errors import ParameterError
+
+        raise ParameterError("--holdout", missing[0], f"a value for each mesh parameter {mesh.parameters}")
+    executor = None if fit_only else make_executor(workers, dask_local, scheduler)
+    n = check_count("--rays", rays)
+    run = train_spatial(
+        out,
+        mesh,
+        n,
+        wavelength,
+        seed,
+        holdout=[[p[k] for k in mesh.parameters] for p in points],
+        holdout_rays=None if holdout_rays is None else check_count("--holdout-rays", holdout_rays),
+        stacks=stacks,
+        slices=slices,
+        method=method,
+        executor=executor,
+        threads=threads,
+        checkpoint=scheduler is None,
+        fit_only=fit_only,
+        progress=progress,
+        memory=memory,
+        model_params={"n_components": components, "variance_threshold": variance, "scaling": scaling},
+    )
     if not run.complete:
-        console.print(f"stopped with {run.nodes.n_done}/{run.nodes.n_total} nodes: run again to continue")
+        echo(f"stopped with {run.nodes.n_done}/{run.nodes.n_total} nodes: run again to continue")
         raise typer.Exit(1)
     model = run.model
     ratio = model.explained_variance_ratio_
     signal = model.signal_variance_ratio_
     ell = model.n_components_
-    console.print(f"mesh: {mesh}")
-    console.print(f"engine memory {model.memory_!r}")
-    console.print(
+    echo(f"mesh: {mesh}")
+    echo(f"engine memory {model.memory_!r}")
+    echo(
         f"principal components: ℓ = {ell}; explained variance {ratio[:ell].sum():.5%}"
         + ("" if signal is None else f", signal variance {signal[:ell].sum():.5%}")
     )
     noise = "" if model.node_noise_rms_ is None else f" (node noise RMS {model.node_noise_rms_:.4g} sr⁻¹)"
-    console.print(f"reconstruction RMS {model.reconstruction_rms_:.4g} sr⁻¹{noise}")
+    echo(f"reconstruction RMS {model.reconstruction_rms_:.4g} sr⁻¹{noise}")
     for report in run.reports:
-        console.print(report.table())
-    console.print(f"times: measurement {run.measurement_s:.1f} s (this run), fit {run.fit_s:.2f} s")
-    console.print(f"model: {run.model_path}")
+        show(report.table())
+    echo(f"times: measurement {run.measurement_s:.1f} s (this run), fit {run.fit_s:.2f} s")
+    echo(f"model: {run.model_path}")
 
 
 @app.command()
@@ -172,7 +175,9 @@ def appearance(
     sample_file: Path | None = typer.Argument(None, help="Sample description (TOML or JSON)."),
     preset: str | None = typer.Option(None, "--preset", help="Named preset instead of a file."),
     table: Path | None = typer.Option(
-        None, "--table", help="Write the BRDF table (NetCDF, format sandlight-brdf-table)."
+        None,
+        "--table",
+        help="Write the BRDF table (.nc: NetCDF, format sandlight-brdf-table; overwritten if it exists).",
     ),
     n_mu: int = typer.Option(32, "--n-mu", help="Table points in cos θ_i and cos θ_o (uniform on [0, 1])."),
     n_dphi: int = typer.Option(32, "--n-dphi", help="Table points in Δφ (uniform on [0, π])."),
@@ -192,23 +197,22 @@ def appearance(
     from sandlight.appearance import SandAppearance
     from sandlight.spatial import SpatialApproximationWarning
 
-    with user_errors():
-        sample = load_sample(sample_file, preset)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", SpatialApproximationWarning)
-            app_ = SandAppearance(sample, spectral_model, spatial_model, combination=combination)
-        for w in caught:
-            console.print(f"[yellow]note:[/] {w.message}")
-        angles = np.array([0.0, 30.0, 60.0, 80.0, 89.0])
-        t = np.radians(angles)
-        albedo = app_.albedo(np.stack([np.sin(t), 0 * t, np.cos(t)], axis=1))
-        wl = app_.wavelengths_nm
-        pick = np.unique(np.linspace(0, len(wl) - 1, min(4, len(wl))).round().astype(int))
-        console.print(f"{app_}")
-        console.print("albedo (directional-hemispherical reflectance) by incidence:")
-        console.print("  θ_i  " + "".join(f"{wl[i]:>9g} nm" for i in pick))
-        for a, row in zip(angles, albedo):
-            console.print(f"  {a:4g}°" + "".join(f"{row[i]:>12.4f}" for i in pick))
-        if table is not None:
-            app_.to_table(table, n_mu, n_dphi)
-            console.print(f"wrote {table} ({len(wl)} wavelengths × {n_mu} × {n_mu} × {n_dphi})")
+    if table is not None:
+        check_output_file(table, "--table", (".nc",), make_dirs=True)
+    sample = load_sample(sample_file, preset)
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", SpatialApproximationWarning)  # shown on every run, as one line
+        app_ = SandAppearance(sample, spectral_model, spatial_model, combination=combination)
+    angles = np.array([0.0, 30.0, 60.0, 80.0, 89.0])
+    t = np.radians(angles)
+    albedo = app_.albedo(np.stack([np.sin(t), 0 * t, np.cos(t)], axis=1))
+    wl = app_.wavelengths_nm
+    pick = np.unique(np.linspace(0, len(wl) - 1, min(4, len(wl))).round().astype(int))
+    echo(f"{app_}")
+    echo("albedo (directional-hemispherical reflectance) by incidence:")
+    echo("  θ_i  " + "".join(f"{wl[i]:>9g} nm" for i in pick))
+    for a, row in zip(angles, albedo):
+        echo(f"  {a:4g}°" + "".join(f"{row[i]:>12.4f}" for i in pick))
+    if table is not None:
+        app_.to_table(table, n_mu, n_dphi)
+        echo(f"wrote {table} ({len(wl)} wavelengths × {n_mu} × {n_mu} × {n_dphi})")

@@ -33,7 +33,7 @@ from sandlight.colour.sample_colour import sample_rgb
 from sandlight.colour.spectrum import DEFAULT_ILLUMINANT, DEFAULT_OBSERVER, PREDICTOR_WAVELENGTHS_NM
 from sandlight.colour.srgb import srgb_to_uint8
 from sandlight.colour.swatches import GridAxis, framed_size_px, grid_samples, save_grid_png
-from sandlight.errors import ParameterError, SandlightError
+from sandlight.errors import ModelFileError, ParameterError
 from sandlight.io import write_atomically
 
 __all__ = [
@@ -72,7 +72,7 @@ def load_image(path: str | os.PathLike) -> NDArray[np.float64]:
     ------
     FileNotFoundError
         No file at ``path`` (the message names it).
-    SandlightError
+    ModelFileError
         The file exists but is not a readable image (the message names it).
     """
     from PIL import Image
@@ -81,7 +81,7 @@ def load_image(path: str | os.PathLike) -> NDArray[np.float64]:
     if not p.exists():
         raise FileNotFoundError(errno.ENOENT, "Image file not found", str(p))
     if not p.is_file():
-        raise SandlightError(f"Cannot read image {str(p)!r}: not a regular file.")
+        raise ModelFileError(f"Cannot read image {str(p)!r}: not a regular file.")
     try:
         with Image.open(p) as im:
             im.load()
@@ -92,7 +92,26 @@ def load_image(path: str | os.PathLike) -> NDArray[np.float64]:
     except (OSError, ValueError, SyntaxError, Image.DecompressionBombError) as exc:
         # Pillow reports unknown formats as UnidentifiedImageError (an OSError), truncated files
         # as OSError, and some corrupt headers as ValueError or SyntaxError.
-        raise SandlightError(f"Cannot read image {str(p)!r}: {exc}") from exc
+        raise ModelFileError(f"Cannot read image {str(p)!r}: {exc}") from exc
+
+
+def image_format(path: str | os.PathLike) -> str:
+    """The pillow format name that the suffix of ``path`` says (e.g. "PNG" for .png, "JPEG" for .jpg).
+
+    Raises
+    ------
+    ParameterError
+        Pillow cannot write a format of that suffix.
+    """
+    from PIL import Image
+
+    p = Path(path)
+    fmt = Image.registered_extensions().get(p.suffix.lower())
+    if fmt is None or fmt not in Image.SAVE:
+        raise ParameterError(
+            "output", str(p), "a file name ending in .png, .jpg, .tif or another extension pillow can write"
+        )
+    return fmt
 
 
 def save_image(path: str | os.PathLike, rgb: ArrayLike) -> Path:
@@ -113,11 +132,7 @@ def save_image(path: str | os.PathLike, rgb: ArrayLike) -> Path:
     from PIL import Image
 
     p = Path(path)
-    fmt = Image.registered_extensions().get(p.suffix.lower())
-    if fmt is None or fmt not in Image.SAVE:
-        raise ParameterError(
-            "output", str(p), "a file name ending in .png, .jpg, .tif or another extension pillow can write"
-        )
+    fmt = image_format(p)
     arr = np.asarray(rgb)
     if arr.ndim != 3 or arr.shape[-1] != 3:
         raise ParameterError("rgb", f"array of shape {arr.shape}", "shape (H, W, 3)")

@@ -10,10 +10,13 @@ derive_seed, task_seed
     Deterministic per-task seeds (:mod:`sandlight.jobs.seeds`).
 JobError, JobSettingsError
     Failures, and a store made with other settings (:mod:`sandlight.jobs.errors`).
+JobStoreLockedError
+    Another run is working on the store (:mod:`sandlight.jobs.lock`).
 """
 
 from sandlight.jobs.errors import JobError, JobSettingsError
 from sandlight.jobs.executors import DaskExecutor, Executor, InProcessExecutor, LocalExecutor, make_executor
+from sandlight.jobs.lock import JobStoreLockedError
 from sandlight.jobs.runner import Job, JobStatus, Task
 from sandlight.jobs.seeds import derive_seed, task_seed
 
@@ -30,4 +33,5 @@ __all__ = [
     "task_seed",
     "JobError",
     "JobSettingsError",
+    "JobStoreLockedError",
 ]

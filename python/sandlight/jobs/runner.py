@@ -17,20 +17,28 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import os
 import signal
 import threading
 from collections import deque
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from types import FrameType
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from sandlight.errors import Cancelled, ParameterError
 from sandlight.jobs.errors import JobError
 from sandlight.jobs.executors import Executor, make_executor
+from sandlight.jobs.lock import store_lock
 from sandlight.jobs.seeds import task_seed
 from sandlight.jobs.store import ShardStore, dumps, to_json_value
+
+if TYPE_CHECKING:
+    import xarray as xr
+    from rich.progress import Task as ProgressTask
 
 #: Settings the runner records itself; user settings may not use these names.
 _RESERVED_SETTINGS = ("n_tasks", "master_seed", "payloads_sha256", "task_dim", "result_dims")
@@ -85,7 +93,7 @@ def _rate_column(unit: str):
     from rich.text import Text
 
     class RateColumn(ProgressColumn):
-        def render(self, task):
+        def render(self, task: ProgressTask) -> Text:
             speed = task.finished_speed or task.speed
             if not speed:
                 return Text(f"– {unit}/s", style="progress.data.speed")
@@ -111,7 +119,7 @@ def _progress_bar(enabled: bool, description: str, total: int, completed: int, u
     )
 
     columns = (
-        TextColumn("{task.description}"),
+        TextColumn("{task.description}", markup=False),
         BarColumn(),
         MofNCompleteColumn(),
         _rate_column(unit),
@@ -134,7 +142,7 @@ def _stop_requests():
         yield stop
         return
 
-    def handler(signum, frame):
+    def handler(signum: int, frame: FrameType | None) -> None:
         stop.set()
 
     previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
@@ -202,7 +210,7 @@ class Job:
 
     def __init__(
         self,
-        path,
+        path: str | os.PathLike[str],
         fn: Callable,
         payloads: Sequence[Mapping],
         *,
@@ -269,7 +277,7 @@ class Job:
         dataset = store.dataset_path if store.dataset_path.exists() else None
         return JobStatus(self.path, self.n_tasks, len(done), dataset)
 
-    def dataset(self):
+    def dataset(self) -> xr.Dataset:
         """The consolidated dataset (``xarray.Dataset``, loaded in memory)."""
         import xarray as xr
 
@@ -279,7 +287,7 @@ class Job:
                 f"job {self.path} is not complete ({status.n_done} of "
                 f"{status.n_total} tasks done); run it again to finish it"
             )
-        with xr.open_dataset(status.dataset_path) as ds:
+        with xr.open_dataset(status.dataset_path) as ds:  # checked readable by status()
             return ds.load()
 
     # ---- running -----------------------------------------------------------------------------
@@ -321,32 +329,47 @@ class Job:
             Some tasks still failed after ``max_retries`` retries (the others are stored).
         JobSettingsError
             The store was made with other settings.
+        JobStoreLockedError
+            Another run is working on the store (the message names it).
         """
         if max_retries < 0:
             raise ParameterError("max_retries", max_retries, "an integer >= 0")
         if max_tasks is not None and max_tasks < 0:
             raise ParameterError("max_tasks", max_tasks, "an integer >= 0 or None")
         columns = self._payload_columns()  # validate payloads before any work
-        store = self.open_store()
-        done = store.done_indices()
-        todo = [i for i in range(self.n_tasks) if i not in done]
-        if max_tasks is not None:
-            todo = todo[:max_tasks]
-        if todo:
-            executor = make_executor() if executor is None else executor
-            with (
-                _stop_requests() as stop,
-                executor,
-                _progress_bar(progress, description, self.n_tasks, len(done), unit) as advance,
-            ):
-                self._run_tasks(store, executor, todo, done, max_retries, advance, stop)
-        if len(done) == self.n_tasks and not store.dataset_path.exists():
-            self._consolidate(store, columns)
-        dataset = store.dataset_path if store.dataset_path.exists() else None
+        # Opened once to create it or refuse a foreign directory, then again under the lock: a
+        # run that got there first may have created it with other settings.
+        with store_lock(self.open_store().path):
+            store = self.open_store()
+            done = store.done_indices()
+            todo = [i for i in range(self.n_tasks) if i not in done]
+            if max_tasks is not None:
+                todo = todo[:max_tasks]
+            if todo:
+                executor = make_executor() if executor is None else executor
+                with (
+                    _stop_requests() as stop,
+                    executor,
+                    _progress_bar(progress, description, self.n_tasks, len(done), unit) as advance,
+                ):
+                    self._run_tasks(store, executor, todo, done, max_retries, advance, stop)
+            if len(done) == self.n_tasks and not store.dataset_path.exists():
+                self._consolidate(store, columns)
+            dataset = store.dataset_path if store.dataset_path.exists() else None
         return JobStatus(self.path, self.n_tasks, len(done), dataset)
 
-    def _run_tasks(self, store, executor, todo, done, max_retries, advance, stop):
+    def _run_tasks(
+        self,
+        store: ShardStore,
+        executor: Executor,
+        todo: list[int],
+        done: set[int],
+        max_retries: int,
+        advance: Callable[[int], None],
+        stop: threading.Event,
+    ) -> None:
         schema = store.result_schema()
+        stored = schema is not None  # the shape of the stored results: a mismatch is the store's
         queue = deque(todo)
         in_flight: dict = {}  # future -> task index
         attempts: dict[int, int] = {}
@@ -371,7 +394,8 @@ class Job:
                         continue
                     if index in done or index in batch:
                         continue  # a duplicate (e.g. a task rerun by the scheduler): same values
-                    schema = self._check_schema(index, result, schema)
+                    schema = self._check_schema(index, result, schema, store if stored else None)
+                    stored = False
                     batch[index] = result
                 if batch:
                     self._write(store, batch)
@@ -395,19 +419,27 @@ class Job:
             ) from exc
 
     @staticmethod
-    def _check_schema(index, result, schema):
+    def _check_schema(
+        index: int, result: dict[str, np.ndarray], schema: dict | None, store: ShardStore | None = None
+    ) -> dict:
+        """The schema of the results so far; ``store`` when ``schema`` is that of its shards."""
         got = {k: (v.dtype.kind, v.shape) for k, v in result.items()}
         for name, (kind, _) in got.items():
             if kind not in "biuf":
                 raise JobError(f"task {index} returned {name!r} of dtype kind {kind!r}; results must be numeric arrays")
         if schema is not None and {k: s for k, (_, s) in got.items()} != {k: s for k, (_, s) in schema.items()}:
+            if store is not None:
+                raise JobError(
+                    f"the shards in {store.shard_dir} hold results {schema}, but this job's tasks return {got}: "
+                    f"they are not of this job; use another output directory"
+                )
             raise JobError(
                 f"task {index} returned results {got}, but earlier tasks returned "
                 f"{schema}; a task function must return the same names and shapes"
             )
         return got if schema is None else schema
 
-    def _write(self, store, batch: dict[int, dict]):
+    def _write(self, store: ShardStore, batch: dict[int, dict]) -> None:
         indices = sorted(batch)
         names = sorted(batch[indices[0]])
         results = {n: np.stack([batch[i][n] for i in indices]) for n in names}

@@ -5,6 +5,7 @@ Layout of a store directory::
     STORE/job.json              format, version and the settings the job was made with
     STORE/shards/shard-NNNNNN.nc  results of the tasks finished so far (NetCDF, one file per flush)
     STORE/dataset.nc            the consolidated dataset, written once every task is done
+    STORE/lock                  held by the run working on the store (:mod:`sandlight.jobs.lock`)
 
 Every file is written to a temporary name in the same directory and moved into place with
 ``os.replace``, which is atomic on POSIX and Windows: a reader (or a resumed job) sees either the
@@ -19,12 +20,18 @@ import json
 import math
 import os
 import re
+from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from sandlight.io import TEMPORARY_SUFFIX, write_atomically
+from sandlight.io import remove_stale_temporaries, write_atomically
 from sandlight.jobs.errors import JobError, JobSettingsError
+from sandlight.jobs.lock import LOCK_FILE
+
+if TYPE_CHECKING:
+    import xarray as xr
 
 STORE_FORMAT = "sandlight-job-store"
 STORE_FORMAT_VERSION = 1
@@ -32,21 +39,11 @@ SETTINGS_FILE = "job.json"
 DATASET_FILE = "dataset.nc"
 SHARD_DIR = "shards"
 _SHARD_RE = re.compile(r"^shard-(\d{6,})\.nc$")
-# sandlight.io.temporary_sibling names: ".<name>.<pid>.<hex>.part".
-_TMP_RE = re.compile(r"^\..+\.(\d+)\.[0-9a-f]+" + re.escape(TEMPORARY_SUFFIX) + "$")
+_DAMAGED = "the store is damaged or not of this job: use another output directory"
+_DATASET_ADVICE = "delete it and run the job again (every task is recomputed), or use another output directory"
 
 
-def _process_alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:  # exists, owned by someone else
-        return True
-    return True
-
-
-def to_json_value(value):
+def to_json_value(value: Any) -> Any:
     """Convert settings to plain JSON types (numpy scalars and arrays, tuples, paths)."""
     if isinstance(value, dict):
         return {str(k): to_json_value(v) for k, v in value.items()}
@@ -63,12 +60,12 @@ def to_json_value(value):
     raise TypeError(f"setting value {value!r} of type {type(value).__name__} is not JSON-able")
 
 
-def dumps(value) -> str:
+def dumps(value: Any) -> str:
     """Canonical JSON (sorted keys; inf written as ``Infinity``, which Python reads back)."""
     return json.dumps(to_json_value(value), sort_keys=True, separators=(",", ":"))
 
 
-def _first_difference(stored, requested, prefix=""):
+def _first_difference(stored: Any, requested: Any, prefix: str = "") -> tuple[str, Any, Any] | None:
     """Dotted path and both values of the first difference between two JSON trees, or None."""
     if isinstance(stored, dict) and isinstance(requested, dict):
         for key in sorted(set(stored) | set(requested)):
@@ -106,7 +103,7 @@ class ShardStore:
 
     # ---- creation and validation -------------------------------------------------------------
     @classmethod
-    def open(cls, path, settings: dict) -> ShardStore:
+    def open(cls, path: str | os.PathLike[str], settings: dict) -> ShardStore:
         """Create the store at ``path`` or reopen it, checking that its settings equal ``settings``.
 
         Raises
@@ -119,11 +116,18 @@ class ShardStore:
         path = Path(path)
         requested = json.loads(dumps(settings))
         settings_file = path / SETTINGS_FILE
+        if path.exists() and not path.is_dir():
+            raise JobError(f"{path} is a file, not a job store directory; choose another output directory")
         if settings_file.exists():
             try:
                 header = json.loads(settings_file.read_text(encoding="utf-8"))
             except (OSError, ValueError) as exc:
                 raise JobError(f"{settings_file} is not a readable job settings file: {exc}") from exc
+            if not isinstance(header, dict):
+                raise JobError(
+                    f"{settings_file} is not a sandlight job settings file (it holds a JSON "
+                    f"{type(header).__name__}, not an object); choose another output directory"
+                )
             if header.get("format") != STORE_FORMAT:
                 raise JobError(f"{path} is not a sandlight job store (format {header.get('format')!r})")
             if header.get("format_version") != STORE_FORMAT_VERSION:
@@ -132,7 +136,7 @@ class ShardStore:
             if diff:
                 raise JobSettingsError(path, *diff)
         else:
-            if path.exists() and any(p.name != SHARD_DIR for p in path.iterdir()):
+            if path.exists() and any(p.name not in (SHARD_DIR, LOCK_FILE) for p in path.iterdir()):
                 raise JobError(
                     f"{path} exists, is not empty and is not a sandlight job store; choose another output directory"
                 )
@@ -141,6 +145,8 @@ class ShardStore:
             text = json.dumps(header, indent=1, sort_keys=True) + "\n"
             write_atomically(settings_file, lambda tmp: tmp.write_text(text, encoding="utf-8"))
         store = cls(path, requested)
+        if store.shard_dir.exists() and not store.shard_dir.is_dir():
+            raise JobError(f"{store.shard_dir} is a file, not the shard directory of a job store; {_DAMAGED}")
         store.shard_dir.mkdir(exist_ok=True)
         store._remove_stale_temporaries()
         return store
@@ -158,17 +164,14 @@ class ShardStore:
         # live process's temporaries are being written right now (e.g. a job running while
         # another process asks for its status): leave them.
         for directory in (self.path, self.shard_dir):
-            for p in directory.iterdir():
-                m = _TMP_RE.match(p.name)
-                if m and not _process_alive(int(m.group(1))):
-                    p.unlink(missing_ok=True)
+            remove_stale_temporaries(directory)
 
     def _shards(self) -> list[Path]:
         return sorted(p for p in self.shard_dir.iterdir() if _SHARD_RE.match(p.name))
 
     # ---- reading ----------------------------------------------------------------------------
     @staticmethod
-    def _read(path: Path, names=None) -> dict:
+    def _read(path: Path, names: list[str] | None = None) -> dict:
         import xarray as xr
 
         try:
@@ -181,14 +184,62 @@ class ShardStore:
             ) from exc
 
     def done_indices(self) -> set[int]:
-        """Indices of the tasks whose results are stored."""
+        """Indices of the tasks whose results are stored.
+
+        Raises
+        ------
+        JobError
+            The dataset or a shard is unreadable or not of this job: a dataset made with other
+            settings, a shard with task indices outside the job, or shards of different results.
+        """
+        n_tasks = int(self.settings["n_tasks"])
         if self.dataset_path.exists():
             # Written only once every task was done; its shards are gone.
-            return set(range(int(self.settings["n_tasks"])))
+            self._check_dataset(n_tasks)
+            return set(range(n_tasks))
         done: set[int] = set()
+        first = None
         for shard in self._shards():
-            done.update(self._read(shard, ["index"])["index"].tolist())
+            index, schema = self._shard_summary(shard)
+            if index.dtype.kind not in "iu" or (index.size and not (index.min() >= 0 and index.max() < n_tasks)):
+                raise JobError(
+                    f"the shard {shard} holds task indices {index[:5].tolist()}... outside 0..{n_tasks - 1}: it is "
+                    f"not of this job. Delete it (its tasks are recomputed) and run the job again"
+                )
+            if first is not None and schema != first[1]:
+                raise JobError(
+                    f"the shards {first[0].name} and {shard.name} in {self.shard_dir} hold different results "
+                    f"({first[1]} and {schema}); {_DAMAGED}"
+                )
+            first = first or (shard, schema)
+            done.update(index.tolist())
         return done
+
+    def _shard_summary(self, path: Path) -> tuple[np.ndarray, dict]:
+        """The task indices of a shard and ``{name: (dtype kind, shape)}`` of its results."""
+        import xarray as xr
+
+        try:
+            with xr.open_dataset(path) as ds:
+                schema = {k: (v.dtype.kind, v.shape[1:]) for k, v in ds.data_vars.items() if k != "index"}
+                return ds["index"].values, schema
+        except Exception as exc:  # any reader failure means the file cannot be trusted
+            raise JobError(
+                f"cannot read job file {path} ({exc}); delete it and run the job again (its tasks will be recomputed)"
+            ) from exc
+
+    def _check_dataset(self, n_tasks: int) -> None:
+        """Refuse a dataset that is unreadable or was not consolidated from this store's job."""
+        import xarray as xr
+
+        try:
+            with xr.open_dataset(self.dataset_path) as ds:
+                settings = ds.attrs.get("job_settings")
+                sizes = set(ds.sizes.values())
+        except Exception as exc:  # any reader failure means the file cannot be trusted
+            raise JobError(f"{self.dataset_path} is not a readable dataset ({exc}); {_DATASET_ADVICE}") from exc
+        if settings != dumps(self.settings) or n_tasks not in sizes:
+            raise JobError(f"{self.dataset_path} is not the dataset of this job store's job; {_DATASET_ADVICE}")
 
     def result_schema(self) -> dict | None:
         """``{name: (dtype kind, shape)}`` of the stored per-task results, or None if none stored."""
@@ -212,7 +263,7 @@ class ShardStore:
         return index, {k: np.concatenate([p[k] for p in parts])[first] for k in names}
 
     # ---- writing ----------------------------------------------------------------------------
-    def write_shard(self, indices, results: dict[str, np.ndarray], dims: dict[str, tuple]) -> Path:
+    def write_shard(self, indices: Sequence[int], results: dict[str, np.ndarray], dims: dict[str, tuple]) -> Path:
         """Write one shard holding the results of tasks ``indices`` (atomic)."""
         import xarray as xr
 
@@ -226,7 +277,7 @@ class ShardStore:
         write_atomically(path, ds.to_netcdf)
         return path
 
-    def write_dataset(self, ds) -> Path:
+    def write_dataset(self, ds: xr.Dataset) -> Path:
         """Write the consolidated dataset (atomic), then drop the shards it supersedes."""
         write_atomically(self.dataset_path, ds.to_netcdf)
         for shard in self._shards():

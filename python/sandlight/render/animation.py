@@ -70,11 +70,11 @@ def _texture(scene: Scene, height: int, width: int) -> np.ndarray | None:
 
 def render_scene(
     scene: Scene,
-    out_dir: str | os.PathLike,
+    out_dir: str | os.PathLike[str],
     *,
-    video: str | os.PathLike | None = None,
+    video: str | os.PathLike[str] | None = None,
     progress: bool = True,
-    log: Callable[[str], None] | None = None,
+    log: Callable[[str], object] | None = None,
 ) -> SceneRun:
     """Render every frame of ``scene`` into ``out_dir`` (created if needed) and optionally an MP4.
 
@@ -128,7 +128,7 @@ def render_scene(
         from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
 
         bar = Progress(
-            TextColumn("{task.description}"),
+            TextColumn("{task.description}", markup=False),
             BarColumn(),
             TextColumn("{task.percentage:>3.0f}%"),
             TimeElapsedColumn(),
@@ -164,8 +164,8 @@ def _render_frames(
     bar: Progress | None,
     task: TaskID | None,
     interrupted: list[bool],
-    log: Callable[[str], None] | None,
-):
+    log: Callable[[str], object] | None,
+) -> None:
     """The frame loop of :func:`render_scene`; a Ctrl-C between frames is honoured before the next."""
     wl = scene.wavelength_nm
     for k, (t, frac) in enumerate(zip(scene.times_h(), scene.day_fractions())):

@@ -34,7 +34,7 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -46,7 +46,7 @@ from sandlight.gonio.reduction import REDUCTION_METHODS
 from sandlight.gonio.symmetry import EquivalenceClasses
 from sandlight.io import write_atomically
 from sandlight.jobs import Job, JobStatus, derive_seed
-from sandlight.jobs.executors import resolve_executor
+from sandlight.jobs.executors import Executor, resolve_executor
 from sandlight.spatial.mesh import Mesh
 from sandlight.spatial.model import SpatialModel
 
@@ -55,6 +55,10 @@ if TYPE_CHECKING:
 
     from sandlight.jobs.executors import Executor
     from sandlight.physics.medium import Traceable
+
+#: ``measure(params, wavelength_nm, *, rays, seed, stacks, slices, threads, checkpoint)``
+#: returning goniophotometer counts, standing in for the engine (tests).
+Measure = Callable[..., Any]
 
 __all__ = [
     "node_job",
@@ -83,7 +87,7 @@ def engine_measure(
     stacks: int,
     slices: int,
     threads: int,
-    checkpoint: str | os.PathLike | None = None,
+    checkpoint: str | os.PathLike[str] | None = None,
     memory: str = "none",
 ) -> dict:
     """Goniophotometer counts of one sample with sandlight's engine (the default ``measure``).
@@ -125,8 +129,8 @@ def node_task(
     stacks: int,
     slices: int,
     threads: int,
-    checkpoint_dir: str | os.PathLike | None = None,
-    measure: Callable | None = None,
+    checkpoint_dir: str | None = None,
+    measure: Measure | None = None,
     memory: str = "none",
 ) -> dict:
     """Job task: goniophotometer counts of one node (runs on a worker)."""
@@ -156,14 +160,14 @@ def node_task(
     }
 
 
-def _measure_name(measure: Callable | None) -> str:
+def _measure_name(measure: Measure | None) -> str:
     measure = engine_measure if measure is None else measure
     inner = measure.func if isinstance(measure, functools.partial) else measure
     return f"{getattr(inner, '__module__', '?')}.{getattr(inner, '__qualname__', repr(inner))}"
 
 
 def node_job(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     mesh_or_samples: Mesh | Sequence[Mapping],
     wavelength_nm: float,
     rays: int,
@@ -173,7 +177,7 @@ def node_job(
     slices: int = 30,
     threads: int = 1,
     checkpoint: bool = True,
-    measure: Callable | None = None,
+    measure: Measure | None = None,
     kind: str = "nodes",
     memory: str = "none",
 ) -> Job:
@@ -209,7 +213,7 @@ def node_job(
         refused. Only with the default ``measure``.
     """
     from sandlight import __version__
-    from sandlight.predictor.training import check_engine_memory, engine_memory_record
+    from sandlight.predictor.training import check_engine_memory, check_engine_wavelengths, engine_memory_record
 
     CollectorHemisphere(stacks, slices)  # validates the geometry
     rays = check_whole_number("rays", rays, 1)
@@ -220,6 +224,7 @@ def node_job(
         wl = float(wavelength_nm)
     except (TypeError, ValueError):
         raise ParameterError("wavelength_nm", wavelength_nm, "a wavelength in nm") from None
+    check_engine_wavelengths(wl, measure, "wavelength_nm")
     if isinstance(mesh_or_samples, Mesh):
         samples = [mesh_or_samples.sample_dict(x) for x in mesh_or_samples.nodes]
         mesh_dict = mesh_or_samples.to_dict()
@@ -290,7 +295,7 @@ def node_job(
 
 
 def measure_nodes(
-    path: str | os.PathLike,
+    path: str | os.PathLike[str],
     mesh: Mesh,
     wavelength_nm: float,
     rays: int,
@@ -313,7 +318,7 @@ def measure_nodes(
     )
 
 
-def node_brdfs(dataset: str | os.PathLike | xr.Dataset, method: str = "average") -> list[MeasuredBRDF]:
+def node_brdfs(dataset: str | os.PathLike[str] | xr.Dataset, method: str = "average") -> list[MeasuredBRDF]:
     """The `MeasuredBRDF` of every node of a node dataset (path, store directory or Dataset).
 
     Parameters
@@ -544,7 +549,7 @@ class TrainingRun:
 
 
 def train_spatial(
-    out_dir: str | os.PathLike,
+    out_dir: str | os.PathLike[str],
     mesh: Mesh,
     rays: int,
     wavelength_nm: float = 550.0,
@@ -559,7 +564,7 @@ def train_spatial(
     threads: int = 1,
     checkpoint: bool = True,
     fit_only: bool = False,
-    measure: Callable | None = None,
+    measure: Measure | None = None,
     progress: bool = True,
     max_tasks: int | None = None,
     model_params: Mapping | None = None,
