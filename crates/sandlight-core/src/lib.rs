@@ -21,6 +21,7 @@ pub mod pair_correlation;
 pub mod particle;
 pub mod render;
 pub mod rng;
+pub mod sampling;
 pub mod sizes;
 pub mod spheroid;
 pub mod surface_layer;

@@ -5,6 +5,7 @@
 use crate::error::{check_range, SandlightError};
 use crate::pair_correlation::PairCorrelation;
 use crate::particle::{Coating, ParticleOptics, PoreOptics, Stacks};
+use crate::sampling::pick_cumulative;
 use crate::sizes::QuantileTable;
 use crate::surface_layer::SurfaceLayer;
 
@@ -50,15 +51,6 @@ pub enum Memory {
     /// sphere is hit where the pair correlation g of packed grains puts it relative to the one
     /// left (no overlap, contacts), instead of uniformly over its shadow (`PairCorrelation`).
     Packed,
-}
-
-/// The first i with u < cumulative[i] (the last index if none), for non-decreasing cumulative
-/// probabilities: counted without branches, it is the number of them ≤ u (an entry equal to
-/// its predecessor, a type of zero probability, is never picked).
-#[inline]
-pub fn pick_cumulative(cumulative: &[f64], u: f64) -> usize {
-    let n = cumulative.len();
-    cumulative[..n - 1].iter().map(|&c| (u >= c) as usize).sum()
 }
 
 /// Sand: a half-space (or slab) of randomly packed particles, generated on the fly.

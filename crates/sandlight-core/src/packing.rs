@@ -34,8 +34,9 @@
 
 use crate::error::SandlightError;
 use crate::math::Vec3;
-use crate::medium::{pick_cumulative, Particulate};
+use crate::medium::Particulate;
 use crate::rng::Rng;
+use crate::sampling::pick_cumulative;
 use crate::spheroid::{equatorial_ratio, Spheroid};
 
 /// Populations whose area-weighted median size (mm) is below this are fines, not packed.

@@ -3,6 +3,7 @@
 
 use crate::math::{sin_cos_turns, Vec3};
 use crate::rng::Rng;
+use crate::sampling::uniform_sphere;
 
 /// a/d = ε^(−1/3)/2 for a prolate spheroid of volume-equivalent diameter d and aspect ratio ε.
 pub fn equatorial_ratio(eps: f64) -> f64 {
@@ -47,10 +48,7 @@ impl Spheroid {
     /// Random orientation, uniform on the sphere.
     #[inline]
     pub fn random_axis(rng: &mut Rng) -> Vec3 {
-        let z = 1.0 - 2.0 * rng.uniform();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let (sin_phi, cos_phi) = sin_cos_turns(rng.uniform());
-        Vec3::new(r * cos_phi, r * sin_phi, z)
+        uniform_sphere([rng.uniform(), rng.uniform()])
     }
 
     #[inline]

@@ -16,8 +16,9 @@
 //! `BINS` slices of height (the rate falls with z, so its value at a slice's floor bounds the
 //! slice), and candidates are thinned to the rate at their own height.
 
-use crate::medium::{pick_cumulative, ParticleType, Particulate};
+use crate::medium::{ParticleType, Particulate};
 use crate::rng::Rng;
+use crate::sampling::pick_cumulative;
 
 #[derive(Clone, Debug)]
 pub struct SurfaceLayer {

@@ -2,10 +2,11 @@
 //! the pore space, particles generated on the fly, the boundary, and the ray's fate.
 
 use crate::fresnel;
-use crate::math::{refract, sin_cos_turns, Vec3};
+use crate::math::{refract, Vec3};
 use crate::medium::{IsotropicScatterers, LambertianSurface, Memory, Particulate};
 use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
+use crate::sampling::{cosine_hemisphere, uniform_sphere};
 use crate::spheroid::{Hit, Spheroid};
 
 /// How a ray ended.
@@ -48,20 +49,6 @@ pub trait Medium: Sync {
 }
 
 const UP: Vec3 = Vec3::new(0.0, 0.0, 1.0);
-
-#[inline]
-fn uniform_sphere(rng: &mut Rng) -> Vec3 {
-    Spheroid::random_axis(rng)
-}
-
-/// Cosine-weighted direction on the upper hemisphere (Malley's method).
-#[inline]
-pub fn cosine_hemisphere(rng: &mut Rng) -> Vec3 {
-    let r = rng.uniform().sqrt();
-    let (sin_phi, cos_phi) = sin_cos_turns(rng.uniform());
-    let z = (1.0 - r * r).max(0.0).sqrt();
-    Vec3::new(r * cos_phi, r * sin_phi, z)
-}
 
 impl Medium for Particulate {
     fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
@@ -455,14 +442,18 @@ impl Medium for IsotropicScatterers {
             if rng.uniform() >= self.albedo {
                 return RayOutcome { fate: Fate::Absorbed, events };
             }
-            d = uniform_sphere(rng);
+            d = uniform_sphere([rng.uniform(), rng.uniform()]);
         }
     }
 }
 
 impl Medium for LambertianSurface {
     fn trace(&self, _dir_in: Vec3, rng: &mut Rng, _limits: &Limits) -> RayOutcome {
-        let fate = if rng.uniform() < self.albedo { Fate::Escaped(cosine_hemisphere(rng)) } else { Fate::Absorbed };
+        let fate = if rng.uniform() < self.albedo {
+            Fate::Escaped(cosine_hemisphere([rng.uniform(), rng.uniform()]))
+        } else {
+            Fate::Absorbed
+        };
         RayOutcome { fate, events: 1 }
     }
 }

@@ -4,17 +4,8 @@ use crate::driver::for_rays;
 use crate::gonio::{BrdfTally, CollectorHemisphere, FixedIncidenceTally};
 use crate::math::Vec3;
 use crate::rng::Rng;
+use crate::sampling::uniform_hemisphere;
 use crate::transport::{Fate, Limits, Medium};
-
-/// Direction toward the light, uniform over the upper hemisphere: cos θ uniform in [0, 1) and
-/// φ uniform (equal solid angle, so every equal-solid-angle patch is hit equally often).
-#[inline]
-fn uniform_hemisphere(rng: &mut Rng) -> Vec3 {
-    let z = rng.uniform();
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * std::f64::consts::PI * rng.uniform();
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
-}
 
 /// Uniform-incidence measurement of trials `first .. first + n`: each trial draws its incident
 /// direction over the hemisphere and is tallied under (incoming patch, outgoing patch), or as
@@ -36,7 +27,8 @@ pub fn measure_brdf<Md: Medium>(
         || BrdfTally::new(r).expect("patch count validated by CollectorHemisphere"),
         |t, i| {
             let mut rng = Rng::for_ray(seed, stream, i);
-            let toward_light = uniform_hemisphere(&mut rng);
+            // Uniform in solid angle: every equal-solid-angle patch is lit equally often.
+            let toward_light = uniform_hemisphere([rng.uniform(), rng.uniform()]);
             let i_in = hemisphere.patch_index([toward_light.x, toward_light.y, toward_light.z]);
             match medium.trace(-toward_light, &mut rng, limits).fate {
                 Fate::Escaped(d) => t.record_escape(i_in, hemisphere.patch_index([d.x, d.y, d.z])),

@@ -20,11 +20,12 @@
 //! Shadow rays test visibility of the sampled light direction against the terrain.
 
 use crate::math::Vec3;
-use crate::render::brdf::{direction_from, pair_cosines, sample_cosine, BrdfSampling, BrdfStack, Spectrum, MAX_BANDS};
+use crate::render::brdf::{direction_from, pair_cosines, BrdfSampling, BrdfStack, Spectrum, MAX_BANDS};
 use crate::render::camera::Camera;
 use crate::render::environment::Environment;
 use crate::render::terrain::{Hit, MaterialMap, Terrain};
 use crate::rng::Rng;
+use crate::sampling::cosine_hemisphere_angles;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Estimator {
@@ -196,7 +197,7 @@ impl Scene {
                 break;
             }
             let (mu_i, dphi_signed) = match st.sampling {
-                BrdfSampling::Cosine => sample_cosine(rng.uniform(), rng.uniform()),
+                BrdfSampling::Cosine => cosine_hemisphere_angles([rng.uniform(), rng.uniform()]),
                 BrdfSampling::Table => self.brdf.sample_table(
                     s,
                     mu_o,

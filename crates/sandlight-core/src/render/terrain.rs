@@ -21,7 +21,7 @@
 //! see only that plane.
 
 use crate::error::SandlightError;
-use crate::math::Vec3;
+use crate::math::{floor_i64, Vec3};
 
 /// Branching factor of the maximum-height hierarchy.
 const BRANCH: i64 = 4;
@@ -462,17 +462,6 @@ impl Heightfield {
 
     pub fn min_spacing(&self) -> f64 {
         self.dx.min(self.dy)
-    }
-}
-
-/// ⌊x⌋ as an integer without a libm call (baseline x86-64 has no rounding instruction).
-#[inline(always)]
-pub(crate) fn floor_i64(x: f64) -> i64 {
-    let i = x as i64;
-    if (i as f64) > x {
-        i - 1
-    } else {
-        i
     }
 }
 
