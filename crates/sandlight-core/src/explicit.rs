@@ -553,8 +553,9 @@ impl Medium for Explicit {
 mod tests {
     use super::*;
     use crate::medium::ParticleType;
-    use crate::packing::{PackedParticle, PackingParams, Populations};
+    use crate::packing::{PackedParticle, PackingParams};
     use crate::particle::{ParticleOptics, PoreOptics};
+    use crate::populations::Populations;
     use crate::sizes::QuantileTable;
 
     fn grains(alpha_per_mm: f64) -> Particulate {

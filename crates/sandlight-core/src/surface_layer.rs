@@ -17,6 +17,7 @@
 //! slice), and candidates are thinned to the rate at their own height.
 
 use crate::medium::{ParticleType, Particulate};
+use crate::populations::{Populations, FINES_BELOW_MM};
 use crate::rng::Rng;
 use crate::sampling::pick_cumulative;
 
@@ -59,7 +60,7 @@ impl SurfaceLayer {
     const LOOKUP: usize = 256;
 
     pub fn of(m: &Particulate) -> SurfaceLayer {
-        let pops = crate::packing::Populations::of(m, crate::packing::FINES_BELOW_MM);
+        let pops = Populations::of(m, FINES_BELOW_MM);
         let eta = pops.packed_fraction();
         // Volume-weighted radii of the packed types (within a type p_vol ∝ p_enc D), at
         // stratified levels of the encounter size table.

@@ -13,7 +13,8 @@ use std::sync::Arc;
 
 use sandlight_core::deposition::deposit;
 use sandlight_core::explicit::{Explicit, Scene};
-use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, Memory, ParticleType, Particulate};
+use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, ParticleType, Particulate};
+use sandlight_core::memory::{Memory, WithMemory};
 use sandlight_core::packing::{PackedParticle, Packing, PackingParams};
 use sandlight_core::particle::{Coating, ParticleOptics, PoreOptics};
 use sandlight_core::sizes::QuantileTable;
@@ -23,7 +24,7 @@ use crate::errors::to_py;
 use crate::pool::run_with_threads;
 
 pub enum Kind {
-    Particulate(Particulate),
+    Particulate(WithMemory),
     Explicit(Explicit),
     Isotropic(IsotropicScatterers),
     Lambertian(LambertianSurface),
@@ -70,7 +71,7 @@ impl PyMedium {
         depth_mm: f64,
         memory: &str,
     ) -> PyResult<Self> {
-        let build = || -> Result<Particulate, SandlightError> {
+        let build = || -> Result<WithMemory, SandlightError> {
             let n = probabilities.len();
             same_len("size_quantiles_mm", size_quantiles_mm.len(), n)?;
             same_len("aspect_ratios", aspect_ratios.len(), n)?;
@@ -110,7 +111,7 @@ impl PyMedium {
                     return Err(SandlightError::parameter("memory", other, "'none', 'channel', 'cut' or 'packed'"))
                 }
             };
-            Ok(Particulate::new(types, mean_free_path_mm, pore, depth_mm)?.with_memory(memory))
+            Ok(WithMemory::new(Particulate::new(types, mean_free_path_mm, pore, depth_mm)?, memory))
         };
         build().map(|p| PyMedium { kind: Kind::Particulate(p) }).map_err(|e| to_py(py, e))
     }
@@ -140,7 +141,7 @@ impl PyMedium {
                 ),
             ));
         }
-        Explicit::new(m.clone(), packing.scene.clone(), bottom_mm)
+        Explicit::new(m.medium.clone(), packing.scene.clone(), bottom_mm)
             .map(|e| PyMedium { kind: Kind::Explicit(e) })
             .map_err(|e| to_py(py, e))
     }
@@ -336,7 +337,7 @@ impl PyPacking {
         };
         let params =
             PackingParams { lateral_mm, depth_mm, fines_below_mm, seed, max_particles, max_sweeps, overlap_tolerance };
-        let m = m.clone();
+        let m = m.medium.clone();
         let made = py.detach(move || -> Result<Arc<Scene>, SandlightError> {
             let packing = Packing::generate(&m, &params)?;
             let grains = match settled {
