@@ -34,14 +34,13 @@
 use std::sync::Arc;
 
 use crate::error::SandlightError;
-use crate::fresnel;
-use crate::math::{refract, Vec3};
+use crate::math::Vec3;
 use crate::medium::Particulate;
 use crate::packing::{PackedParticle, Packing};
 use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
-use crate::transport::{Fate, Limits, Medium, RayOutcome};
+use crate::transport::{enter_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, SurfaceEntry};
 
 const UP: Vec3 = Vec3::new(0.0, 0.0, 1.0);
 
@@ -439,12 +438,7 @@ impl Explicit {
                     return done(Fate::Escaped(d), events);
                 }
                 // A water-filled surface pore: water → air at a flat surface (as on the fly).
-                if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
-                    o = o + d * t_top;
-                    d.z = -d.z;
-                    continue;
-                }
-                match refract(d, -UP, pore.water_n) {
+                match leave_water_surface(pore.water_n, d, rng) {
                     Some(out) => return done(Fate::Escaped(out), events),
                     None => {
                         o = o + d * t_top;
@@ -536,16 +530,10 @@ impl Medium for Explicit {
     fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
         let per = self.scene.packing.period;
         let o = Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, self.scene.top_mm);
-        let pore = &self.medium.pore;
-        let mut d = dir_in;
-        let water = pore.draw_water(rng);
-        if water {
-            if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
-                return RayOutcome { fate: Fate::Escaped(d.reflect(UP)), events: 0 };
-            }
-            d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
+        match enter_surface(&self.medium.pore, dir_in, rng) {
+            SurfaceEntry::Reflected(out) => RayOutcome { fate: Fate::Escaped(out), events: 0 },
+            SurfaceEntry::Entered { dir, water } => self.trace_from(o, dir, water, rng, limits),
         }
-        self.trace_from(o, d, water, rng, limits)
     }
 }
 

@@ -3,15 +3,14 @@
 //! they are in, the cut-plane surface layer (`surface_layer`) and the pair correlation of the
 //! packed grains (`pair_correlation`), and the tracer that uses them.
 
-use crate::fresnel;
-use crate::math::{refract, Vec3};
+use crate::math::Vec3;
 use crate::medium::Particulate;
 use crate::pair_correlation::PairCorrelation;
 use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
 use crate::surface_layer::SurfaceLayer;
-use crate::transport::{Fate, Limits, Medium, RayOutcome, UP};
+use crate::transport::{enter_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, SurfaceEntry};
 
 /// What a ray remembers near the surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -144,7 +143,6 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
     let surface = wm.surface.as_ref();
     // Height of the boundary plane: 0, or the top of the cut-plane layer.
     let top = surface.map_or(0.0, |s| s.top_mm);
-    let mut d = dir_in;
     let mut z = top;
     // Lateral position, start of the current flight, distance flown since, the remembered
     // segment and grains (`prev`: the grain the flight started from).
@@ -160,15 +158,10 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
     let mut to_ahead = f64::INFINITY;
     let mut events = 0u64;
     let done = |fate, events| RayOutcome { fate, events };
-    // The pore at the surface where the ray enters. A water-filled surface pore presents a
-    // flat water surface (our assumption, docs/transport.md): Fresnel air → water.
-    let mut water = pore.draw_water(rng);
-    if water {
-        if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
-            return done(Fate::Escaped(d.reflect(UP)), 0);
-        }
-        d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
-    }
+    let (mut d, mut water) = match enter_surface(pore, dir_in, rng) {
+        SurfaceEntry::Reflected(out) => return done(Fate::Escaped(out), 0),
+        SurfaceEntry::Entered { dir, water } => (dir, water),
+    };
     loop {
         // With the cut layer, above the plane only packed grains that can reach below it
         // exist: flights there are drawn against the layer's majorant, and go on at the bulk
@@ -198,19 +191,14 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             flight_start = Vec3::new(x, y, top);
             (channel, prev, ahead, flown, to_ahead) = (None, None, None, 0.0, f64::INFINITY);
             walls = PoreWalls::default();
-            if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
-                d.z = -d.z;
-                z = top;
-                continue;
-            }
-            return match refract(d, -UP, pore.water_n) {
-                Some(out) => done(Fate::Escaped(out), events),
+            match leave_water_surface(pore.water_n, d, rng) {
+                Some(out) => return done(Fate::Escaped(out), events),
                 None => {
                     d.z = -d.z;
                     z = top;
                     continue;
                 }
-            };
+            }
         }
         if d.z < 0.0 && z + s * d.z <= -m.depth_mm {
             return done(Fate::Transmitted, events);

@@ -4,7 +4,7 @@
 use crate::fresnel;
 use crate::math::{refract, Vec3};
 use crate::medium::{IsotropicScatterers, LambertianSurface, Particulate};
-use crate::particle::{interact_with_stacks, survives, Interaction};
+use crate::particle::{interact_with_stacks, survives, Interaction, PoreOptics};
 use crate::rng::Rng;
 use crate::sampling::{cosine_hemisphere, uniform_sphere};
 use crate::spheroid::Spheroid;
@@ -49,7 +49,41 @@ pub trait Medium: Sync {
 }
 
 /// The outward normal of the sample's top boundary.
-pub(crate) const UP: Vec3 = Vec3::new(0.0, 0.0, 1.0);
+const UP: Vec3 = Vec3::new(0.0, 0.0, 1.0);
+
+/// What becomes of a ray from the air at the sample's top boundary (`enter_surface`).
+pub(crate) enum SurfaceEntry {
+    /// Turned back by the water surface of a water-filled surface pore, in this direction.
+    Reflected(Vec3),
+    /// In the sample with direction `dir`, in a water-filled pore or not.
+    Entered { dir: Vec3, water: bool },
+}
+
+/// A ray with direction `d` (into the sample) at the top boundary. The pore at the surface where
+/// it enters is drawn water-filled or not; a water-filled surface pore presents a flat water
+/// surface (our assumption, docs/transport.md): Fresnel air → water, then Snell.
+#[inline]
+pub(crate) fn enter_surface(pore: &PoreOptics, d: Vec3, rng: &mut Rng) -> SurfaceEntry {
+    if !pore.draw_water(rng) {
+        return SurfaceEntry::Entered { dir: d, water: false };
+    }
+    if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
+        return SurfaceEntry::Reflected(d.reflect(UP));
+    }
+    // Air → water never reflects totally; `d` is kept only as a guard.
+    SurfaceEntry::Entered { dir: refract(d, UP, 1.0 / pore.water_n).unwrap_or(d), water: true }
+}
+
+/// A ray going up (`d.z > 0`) through a water-filled surface pore at its flat water surface:
+/// Fresnel water → air, then Snell. The direction it escapes in, or None if it is reflected
+/// (by Fresnel or totally), back down with d.z negated.
+#[inline]
+pub(crate) fn leave_water_surface(water_n: f64, d: Vec3, rng: &mut Rng) -> Option<Vec3> {
+    if rng.uniform() < fresnel::dielectric(water_n, 1.0, d.z) {
+        return None;
+    }
+    refract(d, -UP, water_n)
+}
 
 /// Sand traced on the fly without memory: every free path and every particle independent of
 /// the past (splits-model.md §2.6). The path memory variants (`memory`) are a separate
@@ -64,19 +98,13 @@ impl Medium for Particulate {
 fn trace_classic(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
     let pore = &m.pore;
     let ell = m.mean_free_path_mm;
-    let mut d = dir_in;
     let mut z = 0.0f64;
     let mut events = 0u64;
     let done = |fate, events| RayOutcome { fate, events };
-    // The pore at the surface where the ray enters. A water-filled surface pore presents a
-    // flat water surface (our assumption, docs/transport.md): Fresnel air → water.
-    let mut water = pore.draw_water(rng);
-    if water {
-        if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
-            return done(Fate::Escaped(d.reflect(UP)), 0);
-        }
-        d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
-    }
+    let (mut d, mut water) = match enter_surface(pore, dir_in, rng) {
+        SurfaceEntry::Reflected(out) => return done(Fate::Escaped(out), 0),
+        SurfaceEntry::Entered { dir, water } => (dir, water),
+    };
     loop {
         let s = ell * rng.exponential();
         if d.z > 0.0 && z + s * d.z >= 0.0 {
@@ -88,19 +116,14 @@ fn trace_classic(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) 
             if !survives(rng.uniform(), pore.water_alpha_per_mm * to_surface) {
                 return done(Fate::Absorbed, events);
             }
-            if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
-                d.z = -d.z;
-                z = 0.0;
-                continue;
-            }
-            return match refract(d, -UP, pore.water_n) {
-                Some(out) => done(Fate::Escaped(out), events),
+            match leave_water_surface(pore.water_n, d, rng) {
+                Some(out) => return done(Fate::Escaped(out), events),
                 None => {
                     d.z = -d.z;
                     z = 0.0;
                     continue;
                 }
-            };
+            }
         }
         if d.z < 0.0 && z + s * d.z <= -m.depth_mm {
             return done(Fate::Transmitted, events);
