@@ -353,3 +353,69 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::medium::ParticleType;
+    use crate::particle::{ParticleOptics, PoreOptics};
+    use crate::sizes::QuantileTable;
+
+    /// Clear grains (no absorption anywhere): packed spheres and spheroids and clay fines, in
+    /// water-filled pores half of the time, in a slab `depth_mm` thick.
+    fn clear_sand(depth_mm: f64) -> Particulate {
+        let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true };
+        let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
+        let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
+            probability,
+            sizes: sizes.clone(),
+            aspect_ratio,
+            optics: optics.clone(),
+        };
+        let pore = PoreOptics {
+            water_n: 1.333,
+            water_alpha_per_mm: 0.0,
+            film_thickness_mm: 0.01,
+            water_filled_probability: 0.5,
+        };
+        let types = vec![t(0.4, &sizes, 1.0), t(0.4, &sizes, 1.4), t(0.2, &QuantileTable::constant(0.002), 1.0)];
+        Particulate::new(types, 0.08, pore, depth_mm).unwrap()
+    }
+
+    #[test]
+    fn no_memory_traces_as_the_particulate_does() {
+        let m = clear_sand(f64::INFINITY);
+        let wm = WithMemory::new(m.clone(), Memory::None);
+        let d = Vec3::new(0.5, 0.0, -(0.75f64).sqrt());
+        for i in 0..500 {
+            let (mut r1, mut r2) = (Rng::for_ray(1, 0, i), Rng::for_ray(1, 0, i));
+            let (a, b) = (m.trace(d, &mut r1, &Limits::default()), wm.trace(d, &mut r2, &Limits::default()));
+            assert_eq!((a.fate, a.events), (b.fate, b.events));
+            assert_eq!(r1.next_u64(), r2.next_u64());
+        }
+    }
+
+    #[test]
+    fn every_memory_keeps_energy_in_a_clear_slab() {
+        // Memory changes where grains are met, not what they do: without absorption every ray
+        // leaves by the top or the bottom, also through the water surface and the cut layer.
+        for memory in [Memory::Channel, Memory::Cut, Memory::Packed] {
+            let wm = WithMemory::new(clear_sand(1.0), memory);
+            assert_eq!(wm.surface.is_some(), memory != Memory::Channel);
+            assert_eq!(wm.neighbours.is_some(), memory == Memory::Packed);
+            let d = Vec3::new(0.3, 0.4, -(0.75f64).sqrt());
+            let (mut up, mut down) = (0, 0);
+            for i in 0..1500 {
+                match wm.trace(d, &mut Rng::for_ray(2, 0, i), &Limits::default()).fate {
+                    Fate::Escaped(out) => {
+                        assert!(out.z > 0.0);
+                        up += 1;
+                    }
+                    Fate::Transmitted => down += 1,
+                    other => panic!("{memory:?}: ray {i} {other:?}"),
+                }
+            }
+            assert!(up > 0 && down > 0 && up + down == 1500);
+        }
+    }
+}

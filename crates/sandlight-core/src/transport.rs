@@ -194,3 +194,197 @@ impl Medium for LambertianSurface {
         RayOutcome { fate, events: 1 }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::medium::ParticleType;
+    use crate::particle::ParticleOptics;
+    use crate::sizes::QuantileTable;
+
+    const N_WATER: f64 = 1.333;
+
+    /// Clear quartz-like spheroids (no absorption anywhere) in a slab `depth_mm` thick.
+    fn clear_sand(pore: PoreOptics, depth_mm: f64) -> Particulate {
+        let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true };
+        let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
+        let t = ParticleType { probability: 1.0, sizes, aspect_ratio: 1.4, optics };
+        Particulate::new(vec![t], 0.1, pore, depth_mm).unwrap()
+    }
+
+    fn wet_pores() -> PoreOptics {
+        PoreOptics { water_n: N_WATER, water_alpha_per_mm: 0.0, film_thickness_mm: 0.01, water_filled_probability: 0.5 }
+    }
+
+    /// Fates of rays 0..n at incidence `dir_in`: [escaped, absorbed, transmitted, capped].
+    fn fates(medium: &impl Medium, dir_in: Vec3, n: u64, limits: &Limits) -> [u64; 4] {
+        let mut c = [0u64; 4];
+        for i in 0..n {
+            let out = medium.trace(dir_in, &mut Rng::for_ray(3, 0, i), limits);
+            let k = match out.fate {
+                Fate::Escaped(d) => {
+                    assert!(d.z > 0.0 && (d.norm2() - 1.0).abs() < 1e-9, "escaped downwards or not unit: {d:?}");
+                    0
+                }
+                Fate::Absorbed => 1,
+                Fate::Transmitted => 2,
+                Fate::Capped => 3,
+            };
+            c[k] += 1;
+        }
+        c
+    }
+
+    fn oblique(theta_deg: f64) -> Vec3 {
+        let t = theta_deg.to_radians();
+        Vec3::new(t.sin(), 0.0, -t.cos())
+    }
+
+    #[test]
+    fn a_clear_slab_absorbs_nothing() {
+        // No absorption in grains, films or water: every ray leaves by the top or the bottom,
+        // dry and with water-filled pores (through the flat water surface both ways).
+        for pore in [PoreOptics::DRY, wet_pores()] {
+            let c = fates(&clear_sand(pore, 1.0), oblique(40.0), 2000, &Limits::default());
+            assert_eq!(c[0] + c[2], 2000, "{pore:?}: {c:?}");
+            assert!(c[0] > 0 && c[2] > 0, "{c:?}");
+        }
+    }
+
+    #[test]
+    fn a_clear_half_space_returns_every_ray_or_caps_it() {
+        // The semi-infinite sample has no bottom: a ray comes back or meets the event cap (the
+        // return time of a 3D random walk has a heavy tail, so a small cap is met now and then).
+        let limits = Limits { max_events: 2000, max_internal: 10_000 };
+        let c = fates(&clear_sand(wet_pores(), f64::INFINITY), oblique(0.0), 1000, &limits);
+        assert_eq!((c[1], c[2]), (0, 0), "{c:?}");
+        assert_eq!(c[0] + c[3], 1000);
+        assert!(c[3] < 100, "{c:?}");
+    }
+
+    /// Chandrasekhar's H function of isotropic scattering, iterating
+    /// 1/H(μ) = √(1 − ω) + (ω/2) ∫₀¹ μ′ H(μ′)/(μ + μ′) dμ′ (Chandrasekhar 1960, eq. IV.(40))
+    /// on a midpoint rule in μ′ (within 1e-7 of Gauss–Legendre solutions, far below the Monte Carlo
+    /// error here).
+    fn chandrasekhar_h(albedo: f64, mu: f64) -> f64 {
+        let m = 800;
+        let nodes: Vec<f64> = (0..m).map(|k| (k as f64 + 0.5) / m as f64).collect();
+        let one_over_h = |h: &[f64], x: f64| {
+            let integral: f64 = nodes.iter().zip(h).map(|(&y, &hy)| y * hy / (x + y)).sum::<f64>() / m as f64;
+            (1.0 - albedo).sqrt() + 0.5 * albedo * integral
+        };
+        let mut h = vec![1.0; m];
+        for _ in 0..200 {
+            h = nodes.iter().map(|&x| 1.0 / one_over_h(&h, x)).collect();
+        }
+        1.0 / one_over_h(&h, mu)
+    }
+
+    #[test]
+    fn isotropic_half_space_matches_chandrasekhar() {
+        // Directional-hemispherical reflectance 1 − H(μ₀)√(1 − ω) of the half-space
+        // (splits-model.md §2.7), within 4 binomial standard errors.
+        let n = 100_000;
+        for (albedo, theta_deg) in [(0.8, 0.0), (0.8, 60.0), (0.99, 30.0)] {
+            let medium = IsotropicScatterers::new(albedo, f64::INFINITY).unwrap();
+            let dir = oblique(theta_deg);
+            let c = fates(&medium, dir, n, &Limits::default());
+            assert_eq!((c[2], c[3]), (0, 0));
+            assert_eq!(c[0] + c[1], n);
+            let expected = 1.0 - chandrasekhar_h(albedo, -dir.z) * (1.0 - albedo).sqrt();
+            let se = (expected * (1.0 - expected) / n as f64).sqrt();
+            let got = c[0] as f64 / n as f64;
+            assert!((got - expected).abs() < 4.0 * se, "ω {albedo}, θ {theta_deg}°: {got} vs {expected}");
+        }
+    }
+
+    #[test]
+    fn conservative_isotropic_slab_reflects_or_transmits_everything() {
+        let c = fates(&IsotropicScatterers::new(1.0, 2.0).unwrap(), oblique(20.0), 20_000, &Limits::default());
+        assert_eq!((c[1], c[3]), (0, 0));
+        assert_eq!(c[0] + c[2], 20_000);
+        assert!(c[0] > 0 && c[2] > 0);
+    }
+
+    #[test]
+    fn lambertian_surface_reflects_its_albedo_by_the_cosine_law() {
+        let n = 100_000;
+        let m = LambertianSurface::new(0.7).unwrap();
+        let (mut escaped, mut sum_mu) = (0u64, 0.0);
+        for i in 0..n {
+            if let Fate::Escaped(d) = m.trace(oblique(50.0), &mut Rng::for_ray(1, 0, i), &Limits::default()).fate {
+                escaped += 1;
+                sum_mu += d.z;
+            }
+        }
+        let se = (0.7f64 * 0.3 / n as f64).sqrt();
+        assert!((escaped as f64 / n as f64 - 0.7).abs() < 4.0 * se);
+        // E[cos θ] = 2/3 under pdf cos θ/π, standard deviation √(1/2 − 4/9).
+        let se_mu = (0.5f64 - 4.0 / 9.0).sqrt() / (escaped as f64).sqrt();
+        assert!((sum_mu / escaped as f64 - 2.0 / 3.0).abs() < 4.0 * se_mu);
+    }
+
+    #[test]
+    fn a_water_filled_surface_pore_reflects_by_fresnel_and_refracts_by_snell() {
+        let pore = PoreOptics { water_filled_probability: 1.0, ..wet_pores() };
+        let n = 200_000;
+        for theta_deg in [0.0, 60.0] {
+            let d = oblique(theta_deg);
+            let r = fresnel::dielectric(1.0, N_WATER, -d.z);
+            let mut reflected = 0;
+            for i in 0..n {
+                match enter_surface(&pore, d, &mut Rng::for_ray(2, 0, i)) {
+                    SurfaceEntry::Reflected(out) => {
+                        assert_eq!(out, Vec3::new(d.x, d.y, -d.z));
+                        reflected += 1;
+                    }
+                    SurfaceEntry::Entered { dir, water } => {
+                        assert!(water);
+                        // sin θ_air = n sin θ_water, in the plane of incidence.
+                        assert!((d.x - N_WATER * dir.x).abs() < 1e-12 && dir.y == 0.0 && dir.z < 0.0);
+                    }
+                }
+            }
+            let se = (r * (1.0 - r) / n as f64).sqrt();
+            assert!((reflected as f64 / n as f64 - r).abs() < 4.0 * se, "θ {theta_deg}°: {reflected} vs R = {r}");
+        }
+        // Normal incidence: R = ((n − 1)/(n + 1))².
+        assert!((fresnel::dielectric(1.0, N_WATER, 1.0) - ((N_WATER - 1.0) / (N_WATER + 1.0)).powi(2)).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_dry_surface_takes_no_random_numbers() {
+        // Dry pores draw nothing at the surface, so dry runs keep the random sequence they had
+        // before water existed.
+        let d = oblique(30.0);
+        let mut rng = Rng::for_ray(4, 0, 0);
+        let SurfaceEntry::Entered { dir, water } = enter_surface(&PoreOptics::DRY, d, &mut rng) else {
+            panic!("a dry surface reflects nothing");
+        };
+        assert_eq!((dir, water), (d, false));
+        assert_eq!(rng.next_u64(), Rng::for_ray(4, 0, 0).next_u64());
+    }
+
+    #[test]
+    fn water_to_air_escapes_by_snell_and_reflects_totally_past_the_critical_angle() {
+        let n = 100_000;
+        let sin_critical = 1.0 / N_WATER;
+        for sin_w in [0.0, 0.5, sin_critical + 1e-6, 0.9] {
+            let d = Vec3::new(sin_w, 0.0, (1.0 - sin_w * sin_w).sqrt());
+            let r = if sin_w > sin_critical { 1.0 } else { fresnel::dielectric(N_WATER, 1.0, d.z) };
+            let mut kept = 0;
+            for i in 0..n {
+                match leave_water_surface(N_WATER, d, &mut Rng::for_ray(6, 0, i)) {
+                    Some(out) => assert!((out.x - N_WATER * sin_w).abs() < 1e-12 && out.z > 0.0),
+                    None => kept += 1,
+                }
+            }
+            if r == 1.0 {
+                assert_eq!(kept, n);
+            } else {
+                let se = (r * (1.0 - r) / n as f64).sqrt();
+                assert!((kept as f64 / n as f64 - r).abs() < 4.0 * se + 1e-12, "sin {sin_w}: {kept} vs {r}");
+            }
+        }
+    }
+}
