@@ -345,7 +345,7 @@ impl Explicit {
                 "must be generated from a medium with the same particle types and aspect ratios",
             ));
         }
-        if !(bottom_mm > 0.0) {
+        if bottom_mm.is_nan() || bottom_mm <= 0.0 {
             return Err(SandlightError::parameter(
                 "bottom_mm",
                 bottom_mm,

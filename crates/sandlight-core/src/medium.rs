@@ -60,7 +60,7 @@ impl Particulate {
         check_range("water_alpha_per_mm", pore.water_alpha_per_mm, 0.0, 1e12)?;
         check_range("film_thickness_mm", pore.film_thickness_mm, 0.0, 10.0)?;
         check_range("water_filled_probability", pore.water_filled_probability, 0.0, 1.0)?;
-        if !(depth_mm > 0.0) {
+        if depth_mm.is_nan() || depth_mm <= 0.0 {
             return Err(SandlightError::parameter(
                 "depth_mm",
                 depth_mm,
@@ -82,7 +82,7 @@ impl Particulate {
             }
             total += t.probability;
         }
-        if !(total > 0.0) {
+        if total.is_nan() || total <= 0.0 {
             return Err(SandlightError::parameter(
                 "particle_types.probability",
                 total,
@@ -134,7 +134,7 @@ pub struct IsotropicScatterers {
 impl IsotropicScatterers {
     pub fn new(albedo: f64, depth: f64) -> Result<Self, SandlightError> {
         check_range("albedo", albedo, 0.0, 1.0)?;
-        if !(depth > 0.0) {
+        if depth.is_nan() || depth <= 0.0 {
             return Err(SandlightError::parameter("depth", depth, "must be > 0 (inf for a half-space)"));
         }
         Ok(IsotropicScatterers { albedo, depth })

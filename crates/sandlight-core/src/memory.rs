@@ -370,7 +370,7 @@ mod tests {
             probability,
             sizes: sizes.clone(),
             aspect_ratio,
-            optics: optics.clone(),
+            optics,
         };
         let pore = PoreOptics {
             water_n: 1.333,

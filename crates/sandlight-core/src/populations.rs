@@ -135,12 +135,7 @@ mod tests {
         let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true };
         let types = types
             .iter()
-            .map(|(p, sizes, eps)| ParticleType {
-                probability: *p,
-                sizes: sizes.clone(),
-                aspect_ratio: *eps,
-                optics: optics.clone(),
-            })
+            .map(|(p, sizes, eps)| ParticleType { probability: *p, sizes: sizes.clone(), aspect_ratio: *eps, optics })
             .collect();
         Particulate::new(types, ell_mm, PoreOptics::DRY, f64::INFINITY).unwrap()
     }

@@ -125,7 +125,7 @@ mod tests {
         let c = [0.25, 0.25, 0.75, 1.0];
         assert_eq!([0.0, 0.2, 0.25, 0.5, 0.75, 0.99].map(|u| pick_cumulative(&c, u)), [0, 0, 2, 2, 3, 3]);
         // Rounding can leave the last entry below 1: u above it still picks the last outcome.
-        assert_eq!(pick_cumulative(&[0.5, 0.999_999], 0.999_9995), 1);
+        assert_eq!(pick_cumulative(&[0.5, 0.999999], 0.9999995), 1);
     }
 
     #[test]
@@ -173,13 +173,14 @@ mod tests {
         // E[z] = 0, E[z²] = 1/3; uniform hemisphere E[z] = 1/2, E[z²] = 1/3; cosine-weighted
         // E[z] = 2/3, E[z²] = 1/2; E[x] = 0 for all (no preferred azimuth).
         let n = 200_000;
-        let cases: [(&dyn Fn([f64; 2]) -> Vec3, [f64; 3]); 3] = [
-            (&uniform_sphere, [0.0, 1.0 / 3.0, 0.0]),
-            (&uniform_hemisphere, [0.5, 1.0 / 3.0, 0.0]),
-            (&cosine_hemisphere, [2.0 / 3.0, 0.5, 0.0]),
+        type Sampler = fn([f64; 2]) -> Vec3;
+        let cases: [(Sampler, [f64; 3]); 3] = [
+            (uniform_sphere, [0.0, 1.0 / 3.0, 0.0]),
+            (uniform_hemisphere, [0.5, 1.0 / 3.0, 0.0]),
+            (cosine_hemisphere, [2.0 / 3.0, 0.5, 0.0]),
         ];
+        let moments: [fn(Vec3) -> f64; 3] = [|d| d.z, |d| d.z * d.z, |d| d.x];
         for (k, (sample, expected)) in cases.iter().enumerate() {
-            let moments: [&dyn Fn(Vec3) -> f64; 3] = [&|d| d.z, &|d| d.z * d.z, &|d| d.x];
             for (f, e) in moments.iter().zip(expected) {
                 let (m, se) = mean(n, k as u64, sample, f);
                 assert!((m - e).abs() < 4.0 * se, "sampler {k}: {m} vs {e} (se {se})");

@@ -221,7 +221,7 @@ mod tests {
             probability: 0.4,
             sizes: QuantileTable::new((0..65).map(|j| 0.15 + 0.3 * j as f64 / 64.0).collect()).unwrap(),
             aspect_ratio: 1.4,
-            optics: optics.clone(),
+            optics,
         };
         let clay = ParticleType { probability: 0.6, sizes: QuantileTable::constant(0.002), aspect_ratio: 1.0, optics };
         Particulate::new(vec![sand, clay], 0.05, PoreOptics::DRY, f64::INFINITY).unwrap()

@@ -393,7 +393,7 @@ fn invert_linear_times_ramp(c0: f64, c1: f64, m0: f64, d: f64, u: f64) -> f64 {
     let (a0, a1, a2) = (c0 * m0, c0 * d + b * m0, b * d);
     let cdf = |x: f64| x * (a0 + x * (a1 / 2.0 + x * a2 / 3.0));
     let total = cdf(1.0);
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return u;
     }
     let target = u * total;
