@@ -40,9 +40,7 @@ use crate::packing::{PackedParticle, Packing};
 use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
-use crate::transport::{enter_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, SurfaceEntry};
-
-const UP: Vec3 = Vec3::new(0.0, 0.0, 1.0);
+use crate::transport::{enter_water_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, UP};
 
 /// Grid cells a ray may cross in one free flight before it is capped (a ray skimming a
 /// channel of the periodic packing forever).
@@ -530,10 +528,16 @@ impl Medium for Explicit {
     fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
         let per = self.scene.packing.period;
         let o = Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, self.scene.top_mm);
-        match enter_surface(&self.medium.pore, dir_in, rng) {
-            SurfaceEntry::Reflected(out) => RayOutcome { fate: Fate::Escaped(out), events: 0 },
-            SurfaceEntry::Entered { dir, water } => self.trace_from(o, dir, water, rng, limits),
+        let pore = &self.medium.pore;
+        let mut d = dir_in;
+        let water = pore.draw_water(rng);
+        if water {
+            match enter_water_surface(pore.water_n, d, rng) {
+                Some(dir) => d = dir,
+                None => return RayOutcome { fate: Fate::Escaped(d.reflect(UP)), events: 0 },
+            }
         }
+        self.trace_from(o, d, water, rng, limits)
     }
 }
 

@@ -10,7 +10,7 @@ use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
 use crate::surface_layer::SurfaceLayer;
-use crate::transport::{enter_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, SurfaceEntry};
+use crate::transport::{enter_water_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, UP};
 
 /// What a ray remembers near the surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -158,10 +158,15 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
     let mut to_ahead = f64::INFINITY;
     let mut events = 0u64;
     let done = |fate, events| RayOutcome { fate, events };
-    let (mut d, mut water) = match enter_surface(pore, dir_in, rng) {
-        SurfaceEntry::Reflected(out) => return done(Fate::Escaped(out), 0),
-        SurfaceEntry::Entered { dir, water } => (dir, water),
-    };
+    // The pore at the surface where the ray enters, water-filled or not.
+    let mut d = dir_in;
+    let mut water = pore.draw_water(rng);
+    if water {
+        match enter_water_surface(pore.water_n, d, rng) {
+            Some(dir) => d = dir,
+            None => return done(Fate::Escaped(d.reflect(UP)), 0),
+        }
+    }
     loop {
         // With the cut layer, above the plane only packed grains that can reach below it
         // exist: flights there are drawn against the layer's majorant, and go on at the bulk
