@@ -8,9 +8,8 @@
 * Rust: the ``crate::``/``super::`` paths of ``crates/sandlight-core/src`` (test modules left
   out) form no cycle between the crate's top-level modules.
 
-What violates these rules today is listed in ``KNOWN_VIOLATIONS``; the test fails on any other
-violation, and on any listed one that is gone (so the list can only shrink). Run this file as a
-script to print the import graphs and every violation.
+The test fails on any violation. Run this file as a script to print the import graphs and
+every violation.
 """
 
 from __future__ import annotations
@@ -48,16 +47,6 @@ SHARED_PRIVATE = frozenset({"sandlight._native"})
 
 #: Imports inside functions that may point up the layers: (importer, imported module) → reason.
 LAZY_UPWARD: dict[tuple[str, str], str] = {}
-
-#: Violations present when this test was written, being removed by the issue-18 restructuring.
-#: Each entry must still occur (the test fails on a stale one): delete it when it is fixed.
-KNOWN_VIOLATIONS: frozenset[str] = frozenset(
-    {
-        # Rust: medium holds the SurfaceLayer, which builds on packing, which builds on medium
-        # (issue 18 §2: populations.rs and a memory module wrapping the medium).
-        "cycle(rust): medium, packing, surface_layer",
-    }
-)
 
 
 # --- Python ------------------------------------------------------------------------------------
@@ -371,11 +360,8 @@ def all_violations() -> set[str]:
 
 
 def test_layers_cycles_and_private_names():
-    found = all_violations()
-    new = sorted(found - KNOWN_VIOLATIONS)
-    gone = sorted(KNOWN_VIOLATIONS - found)
-    assert not new, "architecture violations (docs/architecture.md):\n" + "\n".join(new)
-    assert not gone, "fixed, so remove from KNOWN_VIOLATIONS:\n" + "\n".join(gone)
+    found = sorted(all_violations())
+    assert not found, "architecture violations (docs/architecture.md):\n" + "\n".join(found)
 
 
 def write_package(root: Path, files: dict[str, str]) -> Path:
@@ -466,4 +452,4 @@ if __name__ == "__main__":
         print(f"    {unit} -> {', '.join(sorted(rust[unit]))}")
     print("\nViolations:")
     for v in sorted(py_violations | rust_violations):
-        print(("    (known) " if v in KNOWN_VIOLATIONS else "    NEW ") + v)
+        print("    " + v)

@@ -24,7 +24,7 @@
 //!
 //! Obstacles: the cut surface (every grain of the periodic packing whose centre lies below the
 //! cut plane z = H, with its images in x and y) and the grains deposited before, periodic in x
-//! and y. Grains are drawn as the packing generator draws them (`Populations::draw_grain`).
+//! and y. Grains are drawn as the packing generator draws them (`PackedParticle::draw`).
 //! Spheroids move and touch as their volume-equivalent spheres, the bulk ones included; their
 //! true shapes then overlap their neighbours or leave gaps on the scale of c − a, which is
 //! measured by point sampling (`explicit::Scene::porosity_profile`) and reported.
@@ -407,7 +407,7 @@ pub fn deposit(packing: &Packing, thickness_mm: f64, seed: u64) -> Result<Vec<Pa
     let mut solid = 0.0;
     let mut out = Vec::new();
     while solid < target {
-        let mut grain = packing.populations.draw_grain(&mut rng);
+        let mut grain = PackedParticle::draw(&packing.populations, &mut rng);
         let r = 0.5 * grain.diameter_mm;
         let (x0, y0) = (rng.uniform() * per.x, rng.uniform() * per.y);
         let x = heap.settle(x0, y0, r, &mut rng)?;
@@ -432,9 +432,10 @@ pub fn deposit(packing: &Packing, thickness_mm: f64, seed: u64) -> Result<Vec<Pa
 mod tests {
     use super::*;
     use crate::medium::{ParticleType, Particulate};
-    use crate::packing::{surface_factor, PackingParams};
+    use crate::packing::PackingParams;
     use crate::particle::{ParticleOptics, PoreOptics};
     use crate::sizes::QuantileTable;
+    use crate::spheroid::surface_factor;
 
     fn grains(quantiles: Vec<f64>, eps: f64) -> Particulate {
         let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true };

@@ -34,16 +34,13 @@
 use std::sync::Arc;
 
 use crate::error::SandlightError;
-use crate::fresnel;
-use crate::math::{refract, Vec3};
+use crate::math::Vec3;
 use crate::medium::Particulate;
 use crate::packing::{PackedParticle, Packing};
 use crate::particle::{interact_with_stacks, survives, Interaction};
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
-use crate::transport::{Fate, Limits, Medium, RayOutcome};
-
-const UP: Vec3 = Vec3::new(0.0, 0.0, 1.0);
+use crate::transport::{enter_water_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, UP};
 
 /// Grid cells a ray may cross in one free flight before it is capped (a ray skimming a
 /// channel of the periodic packing forever).
@@ -346,7 +343,7 @@ impl Explicit {
                 "must be generated from a medium with the same particle types and aspect ratios",
             ));
         }
-        if !(bottom_mm > 0.0) {
+        if bottom_mm.is_nan() || bottom_mm <= 0.0 {
             return Err(SandlightError::parameter(
                 "bottom_mm",
                 bottom_mm,
@@ -439,12 +436,7 @@ impl Explicit {
                     return done(Fate::Escaped(d), events);
                 }
                 // A water-filled surface pore: water → air at a flat surface (as on the fly).
-                if rng.uniform() < fresnel::dielectric(pore.water_n, 1.0, d.z) {
-                    o = o + d * t_top;
-                    d.z = -d.z;
-                    continue;
-                }
-                match refract(d, -UP, pore.water_n) {
+                match leave_water_surface(pore.water_n, d, rng) {
                     Some(out) => return done(Fate::Escaped(out), events),
                     None => {
                         o = o + d * t_top;
@@ -540,10 +532,10 @@ impl Medium for Explicit {
         let mut d = dir_in;
         let water = pore.draw_water(rng);
         if water {
-            if rng.uniform() < fresnel::dielectric(1.0, pore.water_n, -d.z) {
-                return RayOutcome { fate: Fate::Escaped(d.reflect(UP)), events: 0 };
+            match enter_water_surface(pore.water_n, d, rng) {
+                Some(dir) => d = dir,
+                None => return RayOutcome { fate: Fate::Escaped(d.reflect(UP)), events: 0 },
             }
-            d = refract(d, UP, 1.0 / pore.water_n).unwrap_or(d);
         }
         self.trace_from(o, d, water, rng, limits)
     }
@@ -553,8 +545,9 @@ impl Medium for Explicit {
 mod tests {
     use super::*;
     use crate::medium::ParticleType;
-    use crate::packing::{PackedParticle, PackingParams, Populations};
+    use crate::packing::{PackedParticle, PackingParams};
     use crate::particle::{ParticleOptics, PoreOptics};
+    use crate::populations::Populations;
     use crate::sizes::QuantileTable;
 
     fn grains(alpha_per_mm: f64) -> Particulate {

@@ -139,7 +139,7 @@ mod tests {
     fn reciprocity_of_dielectric_reflectance() {
         // R is the same from both sides at corresponding angles (Stokes relations).
         let (n1, n2, ci) = (1.0, 1.54, 0.6);
-        let st = (1.0 - ci * ci as f64).sqrt() * n1 / n2;
+        let st = (1.0f64 - ci * ci).sqrt() * n1 / n2;
         let ct = (1.0 - st * st).sqrt();
         assert!((dielectric(n1, n2, ci) - dielectric(n2, n1, ct)).abs() < 1e-12);
     }

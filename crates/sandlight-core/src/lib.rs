@@ -1,12 +1,19 @@
 //! sandlight-core: Monte Carlo light transport in sand.
 //!
-//! Layering (dependencies point down): `math`, `rng` → `fresnel`, `layers` → `spheroid`,
-//! `sizes` → `particle` (one grain's interaction) → `medium`, `transport` (free paths, boundary)
-//! → `driver` (parallel runs and tallies). `surface_layer`: the cut-plane top layer of path memory. `packing`, `deposition` and `explicit`: the
-//! explicit-geometry reference (a stored random packing, cut or with a gravity-settled surface,
-//! traced with the same per-particle interaction). `mie` (Lorenz–Mie solution of a sphere) and
-//! `phase_table` (sampling a tabulated phase function): fine-particle optics, not yet used by the
-//! transport. No PyO3 here: bindings live in `sandlight-py`.
+//! Layering: a module uses only modules to its left, so there is no cycle.
+//! `error`, `math`, `rng` → `sampling` (generic samplers) → `fresnel` → `layers` → `spheroid`,
+//! `sizes`, `pair_correlation` → `particle` (one grain's interaction) → `medium` (sand and the
+//! reference media) → `populations` (the grains as they fill the volume) → `surface_layer` →
+//! `transport` (the `Medium` trait, free paths, the boundary) → `memory` (sand traced with
+//! near-surface path memory) → `driver` (parallel runs and tallies) → `gonio` (the virtual
+//! goniophotometer).
+//! The explicit-geometry reference: `packing` (a stored random packing of the populations) →
+//! `deposition` (a gravity-settled surface on its cut) → `explicit` (traced with the same
+//! per-particle interaction and boundary as `transport`).
+//! `render` (the spectral renderer) uses only `error`, `math`, `rng` and `sampling`;
+//! `appearance` (the fast BRDF evaluator) only `error`. `mie` (Lorenz–Mie solution of a sphere)
+//! and `phase_table` (sampling a tabulated phase function): fine-particle optics, not yet used
+//! by the transport. No PyO3 here: bindings live in `sandlight-py`.
 
 pub mod appearance;
 pub mod deposition;
@@ -18,13 +25,16 @@ pub mod gonio;
 pub mod layers;
 pub mod math;
 pub mod medium;
+pub mod memory;
 pub mod mie;
 pub mod packing;
 pub mod pair_correlation;
 pub mod particle;
 pub mod phase_table;
+pub mod populations;
 pub mod render;
 pub mod rng;
+pub mod sampling;
 pub mod sizes;
 pub mod spheroid;
 pub mod surface_layer;

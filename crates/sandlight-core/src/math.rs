@@ -136,6 +136,17 @@ pub fn sin_cos_turns(t: f64) -> (f64, f64) {
     (a * sign, b * sign)
 }
 
+/// ⌊x⌋ as an integer without a libm call (baseline x86-64 has no rounding instruction).
+#[inline(always)]
+pub fn floor_i64(x: f64) -> i64 {
+    let i = x as i64;
+    if (i as f64) > x {
+        i - 1
+    } else {
+        i
+    }
+}
+
 /// Refraction by Snell's law. `d` is the unit incident direction, `n` the unit normal on the
 /// incident side (`d·n < 0`), `eta = n_incident / n_transmitted`. Returns `None` on total
 /// internal reflection. (pbrt-v4 `Refract`, Snell: n₁ sin θ₁ = n₂ sin θ₂.)

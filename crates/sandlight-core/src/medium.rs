@@ -3,10 +3,9 @@
 //! a Lambertian surface).
 
 use crate::error::{check_range, SandlightError};
-use crate::pair_correlation::PairCorrelation;
 use crate::particle::{Coating, ParticleOptics, PoreOptics, Stacks};
+use crate::sampling::pick_cumulative;
 use crate::sizes::QuantileTable;
-use crate::surface_layer::SurfaceLayer;
 
 /// One kind of particle in a sand sample.
 #[derive(Clone, Debug)]
@@ -29,38 +28,6 @@ impl ParticleType {
     }
 }
 
-/// Near-surface path memory of the on-the-fly engine (docs/geometry.md).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
-pub enum Memory {
-    /// The classic model: every free path and every particle independent of the past.
-    #[default]
-    None,
-    /// One-segment channel memory: a particle drawn on the fly must not lie across the pore
-    /// segment the ray has just travelled (when the ray is still in that pore); a candidate
-    /// that would is discarded and the flight goes on (thinning). For the first segment this
-    /// is the entry channel from the surface, which a ray turned back along it can leave by.
-    Channel,
-    /// `Channel` plus the surface of the explicit reference: the sample is cut through a plane
-    /// of grain centres (z = 0), so grains whose centre would lie above it are discarded and the
-    /// pore space not taken by packed grains widens towards the top (`SurfaceLayer`); and the
-    /// ray remembers the packed grains that bound the pore it is in (its walls) until it goes
-    /// through one of them.
-    Cut,
-    /// `Cut` plus the packing's pair correlation: a packed sphere met after leaving a packed
-    /// sphere is hit where the pair correlation g of packed grains puts it relative to the one
-    /// left (no overlap, contacts), instead of uniformly over its shadow (`PairCorrelation`).
-    Packed,
-}
-
-/// The first i with u < cumulative[i] (the last index if none), for non-decreasing cumulative
-/// probabilities: counted without branches, it is the number of them ≤ u (an entry equal to
-/// its predecessor, a type of zero probability, is never picked).
-#[inline]
-pub fn pick_cumulative(cumulative: &[f64], u: f64) -> usize {
-    let n = cumulative.len();
-    cumulative[..n - 1].iter().map(|&c| (u >= c) as usize).sum()
-}
-
 /// Sand: a half-space (or slab) of randomly packed particles, generated on the fly.
 ///
 /// Per-type tables (cumulative probabilities, a/d, layer stacks) are derived from `types` and
@@ -76,12 +43,6 @@ pub struct Particulate {
     pub pore: PoreOptics,
     /// Sample thickness (mm); infinite for a semi-infinite sample.
     pub depth_mm: f64,
-    /// Near-surface path memory (`Memory::None` unless set by `with_memory`).
-    pub memory: Memory,
-    /// The cut-plane top layer, for `Memory::Cut` and `Memory::Packed`.
-    pub surface: Option<SurfaceLayer>,
-    /// The pair correlation of the packed grains, for `Memory::Packed`.
-    pub neighbours: Option<PairCorrelation>,
 }
 
 impl Particulate {
@@ -99,7 +60,7 @@ impl Particulate {
         check_range("water_alpha_per_mm", pore.water_alpha_per_mm, 0.0, 1e12)?;
         check_range("film_thickness_mm", pore.film_thickness_mm, 0.0, 10.0)?;
         check_range("water_filled_probability", pore.water_filled_probability, 0.0, 1.0)?;
-        if !(depth_mm > 0.0) {
+        if depth_mm.is_nan() || depth_mm <= 0.0 {
             return Err(SandlightError::parameter(
                 "depth_mm",
                 depth_mm,
@@ -121,7 +82,7 @@ impl Particulate {
             }
             total += t.probability;
         }
-        if !(total > 0.0) {
+        if total.is_nan() || total <= 0.0 {
             return Err(SandlightError::parameter(
                 "particle_types.probability",
                 total,
@@ -138,32 +99,7 @@ impl Particulate {
             .collect();
         let a_over_d = types.iter().map(ParticleType::a_over_d).collect();
         let stacks = types.iter().map(|t| Stacks::tabulated(&t.optics, &pore)).collect();
-        Ok(Particulate {
-            types,
-            cumulative,
-            a_over_d,
-            stacks,
-            mean_free_path_mm,
-            pore,
-            depth_mm,
-            memory: Memory::None,
-            surface: None,
-            neighbours: None,
-        })
-    }
-
-    /// The same medium traced with path memory `memory`.
-    pub fn with_memory(mut self, memory: Memory) -> Particulate {
-        self.memory = memory;
-        self.surface = matches!(memory, Memory::Cut | Memory::Packed).then(|| SurfaceLayer::of(&self));
-        // Only spheres have a pair correlation here (docs/geometry.md): none packed, none needed.
-        let packed_spheres = (0..self.types.len()).any(|i| self.is_packed_sphere(i));
-        self.neighbours = self
-            .surface
-            .as_ref()
-            .filter(|_| memory == Memory::Packed && packed_spheres)
-            .map(|s| PairCorrelation::at_packing_fraction(s.packed_fraction));
-        self
+        Ok(Particulate { types, cumulative, a_over_d, stacks, mean_free_path_mm, pore, depth_mm })
     }
 
     /// Index of the type of the next particle, for a uniform `u` in [0, 1).
@@ -177,13 +113,6 @@ impl Particulate {
     pub fn pick_type(&self, u: f64) -> (&ParticleType, f64) {
         let i = self.pick_index(u);
         (&self.types[i], self.a_over_d[i])
-    }
-
-    /// Whether type `i` is a packed grain of the cut-plane model (not a fine particle) and a
-    /// sphere: the grains the pair correlation of `Memory::Packed` describes.
-    #[inline]
-    pub fn is_packed_sphere(&self, i: usize) -> bool {
-        self.surface.as_ref().is_some_and(|s| s.packed[i]) && self.types[i].aspect_ratio == 1.0
     }
 
     /// a/d and layer stacks of type `i` (as returned by `pick_index`).
@@ -205,7 +134,7 @@ pub struct IsotropicScatterers {
 impl IsotropicScatterers {
     pub fn new(albedo: f64, depth: f64) -> Result<Self, SandlightError> {
         check_range("albedo", albedo, 0.0, 1.0)?;
-        if !(depth > 0.0) {
+        if depth.is_nan() || depth <= 0.0 {
             return Err(SandlightError::parameter("depth", depth, "must be > 0 (inf for a half-space)"));
         }
         Ok(IsotropicScatterers { albedo, depth })

@@ -1,20 +1,8 @@
 //! Random dense packings of a sample's own particles: the geometry of the explicit reference
 //! tracer (`explicit`, docs/geometry.md).
 //!
-//! What is packed. The populations of a `Particulate` are given as the rays meet them
-//! (encounter probabilities Pᵢ ∝ vᵢ⟨S⟩ᵢ/⟨V⟩ᵢ and area-weighted size tables p_enc ∝ p_n D²,
-//! splits-model.md §2.2). Inverting those relations gives what fills the volume:
-//! number fractions Nᵢ ∝ Pᵢ E_enc,ᵢ[D⁻²]/f(εᵢ), number size distributions p_n ∝ p_enc D⁻²,
-//! volume fractions vᵢ ∝ Pᵢ E_enc,ᵢ[D]/f(εᵢ), and the specific surface of the solids
-//! S/V = 6 / Σᵢ Pᵢ E_enc,ᵢ[D]/f(εᵢ), where f(ε) is the spheroid's surface over that of the
-//! sphere of equal volume. The sample's porosity follows from its mean free path,
-//! ℓ = 4φ/[(1 − φ) S/V] (§2.1), so the packing is that of the very medium the on-the-fly
-//! engine traces.
-//!
-//! Fines. Populations whose area-weighted median size is below `fines_below_mm` (silt, clay,
-//! pigment particles) are not packed: a clay particle of 1 µm among 0.25 mm grains would need
-//! ~10¹⁰ particles per mm³. They stay on the fly inside the pores of the packed grains
-//! (`explicit`); the packed grains fill (1 − φ)·v_coarse of the volume.
+//! What is packed: the populations of the sample as they fill its volume (`populations`),
+//! fines left on the fly.
 //!
 //! Algorithm: collective rearrangement at fixed size (a gradient descent on the harmonic
 //! overlap energy Σ max(0, σᵢⱼ − rᵢⱼ)², O'Hern et al. 2003, "Jamming at zero temperature and
@@ -34,15 +22,10 @@
 
 use crate::error::SandlightError;
 use crate::math::Vec3;
-use crate::medium::{pick_cumulative, Particulate};
+use crate::medium::Particulate;
+use crate::populations::{Populations, FINES_BELOW_MM};
 use crate::rng::Rng;
 use crate::spheroid::{equatorial_ratio, Spheroid};
-
-/// Populations whose area-weighted median size (mm) is below this are fines, not packed.
-pub const FINES_BELOW_MM: f64 = 0.05;
-
-/// Levels used to integrate over a size table (stratified, u = (k + ½)/M).
-const SIZE_LEVELS: usize = 4096;
 
 /// One packed particle: a prolate spheroid (a sphere for ε = 1).
 #[derive(Clone, Copy, Debug)]
@@ -55,6 +38,15 @@ pub struct PackedParticle {
     pub diameter_mm: f64,
     /// Index of the particle type in the `Particulate`.
     pub type_index: usize,
+}
+
+impl PackedParticle {
+    /// A grain drawn by number from `populations` (`Populations::draw_by_number`) with a
+    /// uniformly random orientation; the centre is left at the origin.
+    pub fn draw(populations: &Populations, rng: &mut Rng) -> PackedParticle {
+        let (type_index, diameter_mm) = populations.draw_by_number(rng);
+        PackedParticle { centre: Vec3::default(), axis: Spheroid::random_axis(rng), diameter_mm, type_index }
+    }
 }
 
 /// How to build a packing.
@@ -88,121 +80,11 @@ impl Default for PackingParams {
     }
 }
 
-/// Surface of a prolate spheroid of aspect ratio ε over that of the sphere of equal volume:
-/// S = 2πa²[1 + (c/(a e)) arcsin e], e² = 1 − 1/ε² (splits-model.md §2.3).
-pub fn surface_factor(eps: f64) -> f64 {
-    if eps <= 1.0 + 1e-12 {
-        return 1.0;
-    }
-    let a = equatorial_ratio(eps);
-    let c = eps * a;
-    let e = (1.0 - 1.0 / (eps * eps)).sqrt();
-    2.0 * a * a * (1.0 + c / (a * e) * e.asin())
-}
-
 /// Radial distance from the centre to the surface of spheroid (a, c, axis u) along unit n.
 #[inline]
 pub fn radial_distance(a: f64, c: f64, u: Vec3, n: Vec3) -> f64 {
     let mu = n.dot(u);
     1.0 / (1.0 / (a * a) + (1.0 / (c * c) - 1.0 / (a * a)) * mu * mu).sqrt()
-}
-
-/// What the volume holds, per particle type, derived from a `Particulate` (module docs).
-#[derive(Clone, Debug)]
-pub struct Populations {
-    /// Sample porosity φ implied by the mean free path.
-    pub porosity: f64,
-    /// Volume fraction of the solids per type (sums to 1).
-    pub volume_fraction: Vec<f64>,
-    /// Whether the type is packed (false: fines, kept on the fly).
-    pub packed: Vec<bool>,
-    /// Number-weighted size table per type: sizes at stratified levels with cumulative weights.
-    number_sizes: Vec<(Vec<f64>, Vec<f64>)>,
-    /// Indices of the packed types and the cumulative distribution of their numbers,
-    /// Nᵢ ∝ vᵢ/⟨V⟩ₙ,ᵢ.
-    packed_types: Vec<usize>,
-    number_cumulative: Vec<f64>,
-}
-
-impl Populations {
-    pub fn of(medium: &Particulate, fines_below_mm: f64) -> Populations {
-        let total_p: f64 = medium.types.iter().map(|t| t.probability).sum();
-        let mut volume = Vec::new();
-        let mut number_sizes: Vec<(Vec<f64>, Vec<f64>)> = Vec::new();
-        let mut packed = Vec::new();
-        for t in &medium.types {
-            let p = t.probability / total_p;
-            let sizes: Vec<f64> =
-                (0..SIZE_LEVELS).map(|k| t.sizes.quantile((k as f64 + 0.5) / SIZE_LEVELS as f64)).collect();
-            let mean_d = sizes.iter().sum::<f64>() / SIZE_LEVELS as f64;
-            // p_n ∝ p_enc D⁻²: cumulative number weights over the stratified encounter sizes.
-            let mut acc = 0.0;
-            let cum: Vec<f64> = sizes
-                .iter()
-                .map(|d| {
-                    acc += 1.0 / (d * d);
-                    acc
-                })
-                .collect();
-            let cum = cum.iter().map(|c| c / acc).collect();
-            volume.push(p * mean_d / surface_factor(t.aspect_ratio));
-            packed.push(t.sizes.quantile(0.5) >= fines_below_mm);
-            number_sizes.push((sizes, cum));
-        }
-        let sum_v: f64 = volume.iter().sum();
-        // S/V = 6 / Σ Pᵢ E_enc[D]/f; φ/(1 − φ) = ℓ (S/V)/4.
-        let x = medium.mean_free_path_mm * (6.0 / sum_v) / 4.0;
-        let volume_fraction: Vec<f64> = volume.iter().map(|v| v / sum_v).collect();
-        // Number fractions of the packed types: Nᵢ ∝ vᵢ/⟨V⟩ₙ,ᵢ.
-        let mean_volume = |i: usize| {
-            let (sizes, cum) = &number_sizes[i];
-            let mut prev = 0.0;
-            sizes
-                .iter()
-                .zip(cum)
-                .map(|(d, c)| {
-                    let w = c - prev;
-                    prev = *c;
-                    w * d * d * d
-                })
-                .sum::<f64>()
-                * std::f64::consts::PI
-                / 6.0
-        };
-        let packed_types: Vec<usize> = (0..packed.len()).filter(|&i| packed[i]).collect();
-        let weights: Vec<f64> = packed_types.iter().map(|&i| volume_fraction[i] / mean_volume(i)).collect();
-        let wsum: f64 = weights.iter().sum();
-        let mut acc = 0.0;
-        let number_cumulative = weights
-            .iter()
-            .map(|w| {
-                acc += w / wsum;
-                acc
-            })
-            .collect();
-        Populations { porosity: x / (1.0 + x), volume_fraction, packed, number_sizes, packed_types, number_cumulative }
-    }
-
-    /// Fraction of the total volume filled by the packed types: (1 − φ) Σ_packed vᵢ.
-    pub fn packed_fraction(&self) -> f64 {
-        (1.0 - self.porosity)
-            * self.volume_fraction.iter().zip(&self.packed).filter(|(_, &p)| p).map(|(v, _)| v).sum::<f64>()
-    }
-
-    /// A size drawn from the number distribution of type `i`.
-    fn sample_number_size(&self, i: usize, u: f64) -> f64 {
-        let (sizes, cum) = &self.number_sizes[i];
-        sizes[cum.partition_point(|&c| c <= u).min(sizes.len() - 1)]
-    }
-
-    /// A packed grain drawn by number: its type (Nᵢ), size (number distribution of the type)
-    /// and a uniformly random orientation; the centre is left at the origin. Needs at least
-    /// one packed type.
-    pub fn draw_grain(&self, rng: &mut Rng) -> PackedParticle {
-        let i = self.packed_types[pick_cumulative(&self.number_cumulative, rng.uniform())];
-        let d = self.sample_number_size(i, rng.uniform());
-        PackedParticle { centre: Vec3::default(), axis: Spheroid::random_axis(rng), diameter_mm: d, type_index: i }
-    }
 }
 
 /// A periodic random dense packing (module docs).
@@ -274,7 +156,7 @@ impl Packing {
                     ),
                 ));
             }
-            let grain = pops.draw_grain(&mut rng);
+            let grain = PackedParticle::draw(&pops, &mut rng);
             let d = grain.diameter_mm;
             solid += std::f64::consts::PI / 6.0 * d * d * d;
             particles.push(grain);
@@ -514,6 +396,7 @@ mod tests {
     use crate::medium::ParticleType;
     use crate::particle::{ParticleOptics, PoreOptics};
     use crate::sizes::QuantileTable;
+    use crate::spheroid::surface_factor;
 
     fn spheres(d: f64, porosity: f64, eps: f64) -> Particulate {
         let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true };
@@ -521,22 +404,6 @@ mod tests {
         // ℓ = 4φ/[(1 − φ) 6 f(ε)/d] (splits-model.md §2.1).
         let ell = 4.0 * porosity / ((1.0 - porosity) * 6.0 * surface_factor(eps) / d);
         Particulate::new(vec![t], ell, PoreOptics::DRY, f64::INFINITY).unwrap()
-    }
-
-    #[test]
-    fn surface_factor_matches_known_values() {
-        assert_eq!(surface_factor(1.0), 1.0);
-        // ε = 2: e = √3/2, arcsin e = π/3, a² = 2^(−2/3)/4: S/π = 2a²(1 + (2/e)(π/3)) = 1.076728.
-        assert!((surface_factor(2.0) - 1.076728).abs() < 1e-6, "{}", surface_factor(2.0));
-    }
-
-    #[test]
-    fn populations_recover_porosity() {
-        for (eps, phi) in [(1.0, 0.4), (1.4, 0.35)] {
-            let p = Populations::of(&spheres(0.25, phi, eps), 0.05);
-            assert!((p.porosity - phi).abs() < 1e-12);
-            assert!((p.packed_fraction() - (1.0 - phi)).abs() < 1e-12);
-        }
     }
 
     #[test]

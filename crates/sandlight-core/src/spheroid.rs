@@ -3,10 +3,23 @@
 
 use crate::math::{sin_cos_turns, Vec3};
 use crate::rng::Rng;
+use crate::sampling::uniform_sphere;
 
 /// a/d = ε^(−1/3)/2 for a prolate spheroid of volume-equivalent diameter d and aspect ratio ε.
 pub fn equatorial_ratio(eps: f64) -> f64 {
     0.5 * eps.powf(-1.0 / 3.0)
+}
+
+/// Surface of a prolate spheroid of aspect ratio ε over that of the sphere of equal volume:
+/// S = 2πa²[1 + (c/(a e)) arcsin e], e² = 1 − 1/ε² (splits-model.md §2.3).
+pub fn surface_factor(eps: f64) -> f64 {
+    if eps <= 1.0 + 1e-12 {
+        return 1.0;
+    }
+    let a = equatorial_ratio(eps);
+    let c = eps * a;
+    let e = (1.0 - 1.0 / (eps * eps)).sqrt();
+    2.0 * a * a * (1.0 + c / (a * e) * e.asin())
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -47,10 +60,7 @@ impl Spheroid {
     /// Random orientation, uniform on the sphere.
     #[inline]
     pub fn random_axis(rng: &mut Rng) -> Vec3 {
-        let z = 1.0 - 2.0 * rng.uniform();
-        let r = (1.0 - z * z).max(0.0).sqrt();
-        let (sin_phi, cos_phi) = sin_cos_turns(rng.uniform());
-        Vec3::new(r * cos_phi, r * sin_phi, z)
+        uniform_sphere([rng.uniform(), rng.uniform()])
     }
 
     #[inline]
@@ -201,6 +211,13 @@ impl Spheroid {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn surface_factor_matches_known_values() {
+        assert_eq!(surface_factor(1.0), 1.0);
+        // ε = 2: e = √3/2, arcsin e = π/3, a² = 2^(−2/3)/4: S/π = 2a²(1 + (2/e)(π/3)) = 1.076728.
+        assert!((surface_factor(2.0) - 1.076728).abs() < 1e-6, "{}", surface_factor(2.0));
+    }
 
     #[test]
     fn volume_equivalent_axes() {

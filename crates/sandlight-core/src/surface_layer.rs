@@ -16,8 +16,10 @@
 //! `BINS` slices of height (the rate falls with z, so its value at a slice's floor bounds the
 //! slice), and candidates are thinned to the rate at their own height.
 
-use crate::medium::{pick_cumulative, ParticleType, Particulate};
+use crate::medium::{ParticleType, Particulate};
+use crate::populations::{Populations, FINES_BELOW_MM};
 use crate::rng::Rng;
+use crate::sampling::pick_cumulative;
 
 #[derive(Clone, Debug)]
 pub struct SurfaceLayer {
@@ -58,7 +60,7 @@ impl SurfaceLayer {
     const LOOKUP: usize = 256;
 
     pub fn of(m: &Particulate) -> SurfaceLayer {
-        let pops = crate::packing::Populations::of(m, crate::packing::FINES_BELOW_MM);
+        let pops = Populations::of(m, FINES_BELOW_MM);
         let eta = pops.packed_fraction();
         // Volume-weighted radii of the packed types (within a type p_vol ∝ p_enc D), at
         // stratified levels of the encounter size table.
@@ -219,7 +221,7 @@ mod tests {
             probability: 0.4,
             sizes: QuantileTable::new((0..65).map(|j| 0.15 + 0.3 * j as f64 / 64.0).collect()).unwrap(),
             aspect_ratio: 1.4,
-            optics: optics.clone(),
+            optics,
         };
         let clay = ParticleType { probability: 0.6, sizes: QuantileTable::constant(0.002), aspect_ratio: 1.0, optics };
         Particulate::new(vec![sand, clay], 0.05, PoreOptics::DRY, f64::INFINITY).unwrap()

@@ -129,7 +129,7 @@ impl PyBandGridBrdf {
     }
 
     /// (F, P(μ_i)P(μ_o)) at (μ_i, μ_o, Δφ) for equal-length float64 arrays (no horizon test).
-    #[allow(clippy::type_complexity)]
+    #[allow(clippy::type_complexity)] // the tuple of arrays Python receives
     fn evaluate_mu<'py>(
         &self,
         py: Python<'py>,

@@ -4,7 +4,7 @@ use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
-use sandlight_core::driver::{directional_hemispherical, incident_direction};
+use sandlight_core::driver::{directional_hemispherical, incident_direction, Rays};
 use sandlight_core::error::SandlightError;
 use sandlight_core::gonio::measure::{measure_brdf, measure_fixed_incidence};
 use sandlight_core::gonio::{BrdfTally, CollectorHemisphere, FixedIncidenceTally};
@@ -13,7 +13,8 @@ use std::sync::Arc;
 
 use sandlight_core::deposition::deposit;
 use sandlight_core::explicit::{Explicit, Scene};
-use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, Memory, ParticleType, Particulate};
+use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, ParticleType, Particulate};
+use sandlight_core::memory::{Memory, WithMemory};
 use sandlight_core::packing::{PackedParticle, Packing, PackingParams};
 use sandlight_core::particle::{Coating, ParticleOptics, PoreOptics};
 use sandlight_core::sizes::QuantileTable;
@@ -23,7 +24,7 @@ use crate::errors::to_py;
 use crate::pool::run_with_threads;
 
 pub enum Kind {
-    Particulate(Particulate),
+    Particulate(WithMemory),
     Explicit(Explicit),
     Isotropic(IsotropicScatterers),
     Lambertian(LambertianSurface),
@@ -50,7 +51,7 @@ impl PyMedium {
     #[pyo3(signature = (probabilities, size_quantiles_mm, aspect_ratios, core_n, core_k, core_alpha_per_mm,
                         coating_n, coating_alpha_per_mm, coating_thickness_mm, mean_free_path_mm,
                         water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability, depth_mm, memory = "none"))]
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)] // one argument per Python parameter
     fn particulate(
         py: Python<'_>,
         probabilities: Vec<f64>,
@@ -70,7 +71,7 @@ impl PyMedium {
         depth_mm: f64,
         memory: &str,
     ) -> PyResult<Self> {
-        let build = || -> Result<Particulate, SandlightError> {
+        let build = || -> Result<WithMemory, SandlightError> {
             let n = probabilities.len();
             same_len("size_quantiles_mm", size_quantiles_mm.len(), n)?;
             same_len("aspect_ratios", aspect_ratios.len(), n)?;
@@ -110,7 +111,7 @@ impl PyMedium {
                     return Err(SandlightError::parameter("memory", other, "'none', 'channel', 'cut' or 'packed'"))
                 }
             };
-            Ok(Particulate::new(types, mean_free_path_mm, pore, depth_mm)?.with_memory(memory))
+            Ok(WithMemory::new(Particulate::new(types, mean_free_path_mm, pore, depth_mm)?, memory))
         };
         build().map(|p| PyMedium { kind: Kind::Particulate(p) }).map_err(|e| to_py(py, e))
     }
@@ -140,7 +141,7 @@ impl PyMedium {
                 ),
             ));
         }
-        Explicit::new(m.clone(), packing.scene.clone(), bottom_mm)
+        Explicit::new(m.medium.clone(), packing.scene.clone(), bottom_mm)
             .map(|e| PyMedium { kind: Kind::Explicit(e) })
             .map_err(|e| to_py(py, e))
     }
@@ -161,7 +162,7 @@ impl PyMedium {
     /// Traces rays `first_ray .. first_ray + n_rays` at incidence `theta_deg` and returns the
     /// counts (launched, escaped, absorbed, transmitted, capped, events). The GIL is released.
     #[pyo3(signature = (theta_deg, seed, stream, first_ray, n_rays, max_events, max_internal, threads = None))]
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)] // one argument per Python parameter
     fn dhr(
         &self,
         py: Python<'_>,
@@ -179,12 +180,13 @@ impl PyMedium {
         }
         let dir = incident_direction(theta_deg.to_radians());
         let limits = Limits { max_events, max_internal };
+        let rays = Rays { seed, stream, first: first_ray, n: n_rays };
         let run = || -> Result<_, String> {
             run_with_threads(threads, || match &self.kind {
-                Kind::Particulate(m) => directional_hemispherical(m, dir, seed, stream, first_ray, n_rays, &limits),
-                Kind::Explicit(m) => directional_hemispherical(m, dir, seed, stream, first_ray, n_rays, &limits),
-                Kind::Isotropic(m) => directional_hemispherical(m, dir, seed, stream, first_ray, n_rays, &limits),
-                Kind::Lambertian(m) => directional_hemispherical(m, dir, seed, stream, first_ray, n_rays, &limits),
+                Kind::Particulate(m) => directional_hemispherical(m, dir, rays, &limits),
+                Kind::Explicit(m) => directional_hemispherical(m, dir, rays, &limits),
+                Kind::Isotropic(m) => directional_hemispherical(m, dir, rays, &limits),
+                Kind::Lambertian(m) => directional_hemispherical(m, dir, rays, &limits),
             })
         };
         let c = py.detach(run).map_err(PyRuntimeError::new_err)?;
@@ -195,7 +197,7 @@ impl PyMedium {
     /// `stacks` × `slices` hemisphere. Returns (counts (r, r), absorbed (r,), launched (r,),
     /// lost (r,)) as uint64 arrays. The GIL is released.
     #[pyo3(signature = (stacks, slices, seed, stream, first_ray, n_rays, max_events, max_internal, threads = None))]
-    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)] // the Python signature and the tuple of arrays it returns
     fn brdf_counts<'py>(
         &self,
         py: Python<'py>,
@@ -216,12 +218,13 @@ impl PyMedium {
     )> {
         let h = CollectorHemisphere::new(stacks, slices).map_err(|e| to_py(py, e))?;
         let limits = Limits { max_events, max_internal };
+        let rays = Rays { seed, stream, first: first_ray, n: n_rays };
         let run = || -> Result<BrdfTally, String> {
             run_with_threads(threads, || match &self.kind {
-                Kind::Particulate(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
-                Kind::Explicit(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
-                Kind::Isotropic(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
-                Kind::Lambertian(m) => measure_brdf(m, &h, seed, stream, first_ray, n_rays, &limits),
+                Kind::Particulate(m) => measure_brdf(m, &h, rays, &limits),
+                Kind::Explicit(m) => measure_brdf(m, &h, rays, &limits),
+                Kind::Isotropic(m) => measure_brdf(m, &h, rays, &limits),
+                Kind::Lambertian(m) => measure_brdf(m, &h, rays, &limits),
             })
         };
         let t = py.detach(run).map_err(PyRuntimeError::new_err)?;
@@ -233,7 +236,7 @@ impl PyMedium {
     /// Fixed-incidence goniophotometer: light from zenith `theta_deg`, azimuth `phi_deg`.
     /// Returns (counts (r,), absorbed, launched, lost).
     #[pyo3(signature = (stacks, slices, theta_deg, phi_deg, seed, stream, first_ray, n_rays, max_events, max_internal, threads = None))]
-    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)] // the Python signature and the tuple of arrays it returns
     fn fixed_counts<'py>(
         &self,
         py: Python<'py>,
@@ -259,20 +262,13 @@ impl PyMedium {
         let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
         let toward_light = Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
         let limits = Limits { max_events, max_internal };
+        let rays = Rays { seed, stream, first: first_ray, n: n_rays };
         let run = || -> Result<FixedIncidenceTally, String> {
             run_with_threads(threads, || match &self.kind {
-                Kind::Particulate(m) => {
-                    measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits)
-                }
-                Kind::Explicit(m) => {
-                    measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits)
-                }
-                Kind::Isotropic(m) => {
-                    measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits)
-                }
-                Kind::Lambertian(m) => {
-                    measure_fixed_incidence(m, &h, toward_light, seed, stream, first_ray, n_rays, &limits)
-                }
+                Kind::Particulate(m) => measure_fixed_incidence(m, &h, toward_light, rays, &limits),
+                Kind::Explicit(m) => measure_fixed_incidence(m, &h, toward_light, rays, &limits),
+                Kind::Isotropic(m) => measure_fixed_incidence(m, &h, toward_light, rays, &limits),
+                Kind::Lambertian(m) => measure_fixed_incidence(m, &h, toward_light, rays, &limits),
             })
         };
         let t = py.detach(run).map_err(PyRuntimeError::new_err)?;
@@ -296,7 +292,7 @@ impl PyPacking {
     /// gravity, as much solid as `settled_thickness_mm` of the bulk packing. The GIL is released.
     #[staticmethod]
     #[pyo3(signature = (medium, lateral_mm, depth_mm, seed = 0, fines_below_mm = 0.05, max_particles = 400_000, overlap_tolerance = 1e-3, max_sweeps = 20_000, surface = "cut", settled_thickness_mm = None))]
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)] // one argument per Python parameter
     fn generate(
         py: Python<'_>,
         medium: &PyMedium,
@@ -336,7 +332,7 @@ impl PyPacking {
         };
         let params =
             PackingParams { lateral_mm, depth_mm, fines_below_mm, seed, max_particles, max_sweeps, overlap_tolerance };
-        let m = m.clone();
+        let m = m.medium.clone();
         let made = py.detach(move || -> Result<Arc<Scene>, SandlightError> {
             let packing = Packing::generate(&m, &params)?;
             let grains = match settled {

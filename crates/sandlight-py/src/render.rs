@@ -70,7 +70,7 @@ impl PyRenderScene {
                         terrain, plane_z = 0.0, heights = None, origin = None, spacing = None, wrap = false, outside = 0.0, far_m = 1000.0,
                         material = None, material_origin = None, material_spacing = None, material_wrap = false,
                         estimator = "mis", sampling = "table", heuristic = "power", max_bounces = 1))]
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)] // one argument per Python parameter
     fn new(
         py: Python<'_>,
         camera_origin: Vec<f64>,
@@ -233,7 +233,7 @@ impl PyRenderScene {
     /// Renders rows row0 .. row0 + n_rows at `spp` samples per pixel with the GIL released.
     /// Returns (radiance float32 (n_rows, width, n_bands), coverage float32 (n_rows, width)).
     #[pyo3(signature = (row0, n_rows, spp, seed, frame = 0, threads = None))]
-    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)] // the Python signature and the tuple of arrays it returns
     fn render_rows<'py>(
         &self,
         py: Python<'py>,
@@ -266,7 +266,7 @@ impl PyRenderScene {
 
     /// First terrain hit of rays (origins, dirs: float64 (N, 3)): returns (t (N,), inf for none;
     /// normals (N, 3), zero for none). For tests and picking.
-    #[allow(clippy::type_complexity)]
+    #[allow(clippy::type_complexity)] // the tuple of arrays Python receives
     fn intersect<'py>(
         &self,
         py: Python<'py>,

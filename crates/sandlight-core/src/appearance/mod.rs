@@ -59,7 +59,8 @@ impl BandGrid {
                 &format!("must have one entry per stack ({stacks})"),
             ));
         }
-        if band_cos_theta.windows(2).any(|w| !(w[0] > w[1])) || band_cos_theta.iter().any(|m| !m.is_finite()) {
+        // Non-finite values first: the order test below would let NaN through.
+        if band_cos_theta.iter().any(|m| !m.is_finite()) || band_cos_theta.windows(2).any(|w| w[0] <= w[1]) {
             return Err(SandlightError::parameter(
                 "band_cos_theta",
                 format!("{band_cos_theta:?}"),

@@ -1,42 +1,30 @@
 //! Filling the goniophotometer's tallies by tracing trials through a medium (paper §3.2.1).
 
-use crate::driver::for_rays;
+use crate::driver::{for_rays, Rays};
 use crate::gonio::{BrdfTally, CollectorHemisphere, FixedIncidenceTally};
 use crate::math::Vec3;
-use crate::rng::Rng;
+use crate::sampling::uniform_hemisphere;
 use crate::transport::{Fate, Limits, Medium};
 
-/// Direction toward the light, uniform over the upper hemisphere: cos θ uniform in [0, 1) and
-/// φ uniform (equal solid angle, so every equal-solid-angle patch is hit equally often).
-#[inline]
-fn uniform_hemisphere(rng: &mut Rng) -> Vec3 {
-    let z = rng.uniform();
-    let r = (1.0 - z * z).max(0.0).sqrt();
-    let phi = 2.0 * std::f64::consts::PI * rng.uniform();
-    Vec3::new(r * phi.cos(), r * phi.sin(), z)
-}
-
-/// Uniform-incidence measurement of trials `first .. first + n`: each trial draws its incident
+/// Uniform-incidence measurement of the trials `rays`: each trial draws its incident
 /// direction over the hemisphere and is tallied under (incoming patch, outgoing patch), or as
 /// absorbed, or as lost (event cap, or through the bottom of a finite sample).
 pub fn measure_brdf<Md: Medium>(
     medium: &Md,
     hemisphere: &CollectorHemisphere,
-    seed: u64,
-    stream: u64,
-    first: u64,
-    n: u64,
+    rays: Rays,
     limits: &Limits,
 ) -> BrdfTally {
     let r = hemisphere.n_patches();
     for_rays(
-        first,
-        n,
+        rays.first,
+        rays.n,
         2,
         || BrdfTally::new(r).expect("patch count validated by CollectorHemisphere"),
         |t, i| {
-            let mut rng = Rng::for_ray(seed, stream, i);
-            let toward_light = uniform_hemisphere(&mut rng);
+            let mut rng = rays.rng(i);
+            // Uniform in solid angle: every equal-solid-angle patch is lit equally often.
+            let toward_light = uniform_hemisphere([rng.uniform(), rng.uniform()]);
             let i_in = hemisphere.patch_index([toward_light.x, toward_light.y, toward_light.z]);
             match medium.trace(-toward_light, &mut rng, limits).fate {
                 Fate::Escaped(d) => t.record_escape(i_in, hemisphere.patch_index([d.x, d.y, d.z])),
@@ -56,19 +44,16 @@ pub fn measure_fixed_incidence<Md: Medium>(
     medium: &Md,
     hemisphere: &CollectorHemisphere,
     toward_light: Vec3,
-    seed: u64,
-    stream: u64,
-    first: u64,
-    n: u64,
+    rays: Rays,
     limits: &Limits,
 ) -> FixedIncidenceTally {
     for_rays(
-        first,
-        n,
+        rays.first,
+        rays.n,
         16,
         || FixedIncidenceTally::for_hemisphere(hemisphere),
         |t, i| {
-            let mut rng = Rng::for_ray(seed, stream, i);
+            let mut rng = rays.rng(i);
             match medium.trace(-toward_light, &mut rng, limits).fate {
                 Fate::Escaped(d) => t.record_escape(hemisphere.patch_index([d.x, d.y, d.z])),
                 Fate::Absorbed => t.record_absorbed(),
@@ -96,12 +81,12 @@ mod tests {
             .num_threads(1)
             .build()
             .unwrap()
-            .install(|| measure_brdf(&m, &h, 3, 0, 0, 20_000, &lim));
+            .install(|| measure_brdf(&m, &h, Rays { seed: 3, stream: 0, first: 0, n: 20_000 }, &lim));
         let two = rayon::ThreadPoolBuilder::new()
             .num_threads(2)
             .build()
             .unwrap()
-            .install(|| measure_brdf(&m, &h, 3, 0, 0, 20_000, &lim));
+            .install(|| measure_brdf(&m, &h, Rays { seed: 3, stream: 0, first: 0, n: 20_000 }, &lim));
         assert_eq!(one.counts, two.counts);
         assert_eq!(one.total_launched(), 20_000);
         let escaped: u64 = one.counts.iter().sum();

@@ -27,6 +27,7 @@ use std::f64::consts::PI;
 
 use crate::error::SandlightError;
 use crate::math::Vec3;
+use crate::sampling::cosine_hemisphere_angles;
 
 /// Largest number of spectral bands a render may use (e.g. 31 for 400–700 nm every 10 nm).
 pub const MAX_BANDS: usize = 32;
@@ -312,7 +313,7 @@ impl BrdfStack {
     pub fn sample_table(&self, s: f64, mu_o: f64, u: [f64; 5]) -> (f64, f64) {
         // A flat table's rows are constant: its exact sampler is cosine sampling.
         if self.flat.is_some() {
-            return sample_cosine(u[1], u[2]);
+            return cosine_hemisphere_angles([u[1], u[2]]);
         }
         let mut pick = u[0];
         let rows = self.rows(s, mu_o);
@@ -328,7 +329,7 @@ impl BrdfStack {
             pick -= w;
         }
         if self.row_albedo[chosen] <= 0.0 {
-            return sample_cosine(u[1], u[2]);
+            return cosine_hemisphere_angles([u[1], u[2]]);
         }
         let np1 = self.dphi.len() - 1;
         let n_cells = (self.mu_i.len() - 1) * np1;
@@ -392,7 +393,7 @@ fn invert_linear_times_ramp(c0: f64, c1: f64, m0: f64, d: f64, u: f64) -> f64 {
     let (a0, a1, a2) = (c0 * m0, c0 * d + b * m0, b * d);
     let cdf = |x: f64| x * (a0 + x * (a1 / 2.0 + x * a2 / 3.0));
     let total = cdf(1.0);
-    if !(total > 0.0) {
+    if total.is_nan() || total <= 0.0 {
         return u;
     }
     let target = u * total;
@@ -418,13 +419,6 @@ fn invert_linear_times_ramp(c0: f64, c1: f64, m0: f64, d: f64, u: f64) -> f64 {
         x = next;
     }
     x
-}
-
-/// Cosine-weighted direction: (μ, Δφ) with pdf μ/π.
-#[inline]
-pub fn sample_cosine(u1: f64, u2: f64) -> (f64, f64) {
-    let mu = u1.sqrt();
-    (mu, 2.0 * PI * u2 - PI)
 }
 
 /// Local geometry of a direction pair at a surface with unit normal `n`: (μ_a, μ_b, cos Δφ).

@@ -31,9 +31,9 @@
 use std::f64::consts::PI;
 
 use crate::error::SandlightError;
-use crate::math::Vec3;
+use crate::math::{floor_i64, Vec3};
 use crate::render::brdf::{Spectrum, MAX_BANDS};
-use crate::render::terrain::floor_i64;
+use crate::sampling::{uniform_cone, AliasTable};
 
 #[derive(Clone, Debug)]
 pub struct Environment {
@@ -244,11 +244,7 @@ impl Environment {
         let Some(dist) = self.distribution(compensated) else {
             return (Vec3::new(0.0, 0.0, 1.0), 0.0, 0.0, 0.0);
         };
-        let n_cells = dist.keep.len();
-        // u[0] picks a cell and, with its fractional part, keeps it or takes its alias.
-        let x = u[0] * n_cells as f64;
-        let slot = (x as usize).min(n_cells - 1);
-        let c = if x - (slot as f64) < dist.keep[slot] { slot } else { dist.other[slot] as usize };
+        let c = dist.cells.sample(u[0]);
         let (it, ip) = (c / self.n_phi, c % self.n_phi);
         let dph = 2.0 * PI / self.n_phi as f64;
         let (c0, c1) = (self.row_cos[it], self.row_cos[it + 1]);
@@ -290,23 +286,15 @@ impl Environment {
 
     /// A direction uniform in the solar cone, from two uniforms.
     pub fn sample_sun(&self, u1: f64, u2: f64) -> Vec3 {
-        let one_minus_cos = self.sun_solid_angle / (2.0 * PI);
-        // cos θ uniform in [cos α, 1]; written as 1 − u·(1 − cos α) to keep precision.
-        let om = u1 * one_minus_cos;
-        let cos_t = 1.0 - om;
-        let sin_t = (om * (2.0 - om)).max(0.0).sqrt();
-        let phi = 2.0 * PI * u2;
-        let (a, b) = self.sun.orthonormal_basis();
-        (a * (sin_t * phi.cos()) + b * (sin_t * phi.sin()) + self.sun * cos_t).normalized()
+        // A cone of solid angle Ω has 1 − cos α = Ω / 2π.
+        uniform_cone(self.sun, self.sun_solid_angle / (2.0 * PI), [u1, u2])
     }
 }
 
-/// A discrete distribution over the sky cells with its alias table (Walker 1977, Vose 1991):
-/// cell c is kept with probability `keep[c]`, else replaced by `other[c]` (O(1) sampling).
+/// A discrete distribution over the sky cells, sampled with an alias table (O(1)).
 #[derive(Clone, Debug)]
 struct CellDistribution {
-    keep: Vec<f64>,
-    other: Vec<u32>,
+    cells: AliasTable,
     /// P(cell) / Ω(cell)
     density: Vec<f64>,
 }
@@ -317,30 +305,8 @@ impl CellDistribution {
         let total: f64 = weights.iter().sum();
         let probabilities: Vec<f64> = weights.iter().map(|w| w / total).collect();
         let density = probabilities.iter().zip(omegas).map(|(p, o)| p / o).collect();
-        let (keep, other) = alias_table(&probabilities);
-        CellDistribution { keep, other, density }
+        CellDistribution { cells: AliasTable::new(&probabilities), density }
     }
-}
-
-/// Alias table of a discrete distribution (Vose 1991): (keep probability, alias) per slot.
-fn alias_table(p: &[f64]) -> (Vec<f64>, Vec<u32>) {
-    let n = p.len();
-    let mut keep: Vec<f64> = p.iter().map(|&q| q * n as f64).collect();
-    let mut other: Vec<u32> = (0..n as u32).collect();
-    let (mut small, mut large): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| keep[i] < 1.0);
-    while let (Some(s), Some(&l)) = (small.pop(), large.last()) {
-        other[s] = l as u32;
-        keep[l] -= 1.0 - keep[s];
-        if keep[l] < 1.0 {
-            large.pop();
-            small.push(l);
-        }
-    }
-    // Leftovers differ from 1 only by rounding.
-    for i in small.into_iter().chain(large) {
-        keep[i] = 1.0;
-    }
-    (keep, other)
 }
 
 #[cfg(test)]
@@ -410,20 +376,6 @@ mod tests {
         assert_eq!(pdf, 0.0);
         assert_eq!(env.pdf_sky(Vec3::new(0.2, 0.1, 0.9).normalized(), true), 0.0);
         assert!(env.pdf_sky(Vec3::new(0.2, 0.1, 0.9).normalized(), false) > 0.0);
-    }
-
-    #[test]
-    fn alias_table_reproduces_the_distribution() {
-        let p = [0.05, 0.4, 0.0, 0.15, 0.3, 0.1];
-        let (keep, other) = alias_table(&p);
-        let mut q = [0.0; 6];
-        for slot in 0..6 {
-            q[slot] += keep[slot] / 6.0;
-            q[other[slot] as usize] += (1.0 - keep[slot]) / 6.0;
-        }
-        for (a, b) in p.iter().zip(q) {
-            assert!((a - b).abs() < 1e-12);
-        }
     }
 
     #[test]

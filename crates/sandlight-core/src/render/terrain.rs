@@ -21,7 +21,7 @@
 //! see only that plane.
 
 use crate::error::SandlightError;
-use crate::math::Vec3;
+use crate::math::{floor_i64, Vec3};
 
 /// Branching factor of the maximum-height hierarchy.
 const BRANCH: i64 = 4;
@@ -100,7 +100,7 @@ pub enum Terrain {
 impl Heightfield {
     /// `h` holds ny·nx node heights in metres (row j = y index). `outside` is the height of the
     /// plane around a non-periodic grid (ignored when `wrap`); `far_m` > 0 the far-field distance.
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)] // a regular grid as the scene file gives it
     pub fn new(
         nx: usize,
         ny: usize,
@@ -280,7 +280,6 @@ impl Heightfield {
 
     /// First crossing of the ray with the bilinear patch of cell (i, j) for t in [ta, tb].
     #[inline]
-    #[allow(clippy::too_many_arguments)]
     fn patch(&self, r: &Ray, i: i64, j: i64, ta: f64, tb: f64, zlo: f64) -> Option<Hit> {
         let (o, d) = (r.o, r.d);
         let (h00, h10, h01, h11) = (self.node(i, j), self.node(i + 1, j), self.node(i, j + 1), self.node(i + 1, j + 1));
@@ -465,17 +464,6 @@ impl Heightfield {
     }
 }
 
-/// ⌊x⌋ as an integer without a libm call (baseline x86-64 has no rounding instruction).
-#[inline(always)]
-pub(crate) fn floor_i64(x: f64) -> i64 {
-    let i = x as i64;
-    if (i as f64) > x {
-        i - 1
-    } else {
-        i
-    }
-}
-
 /// Smallest s in [0, len] where C0 + C1 s + C2 s² (with C0 > 0) reaches 0.
 #[inline]
 fn first_root(c0: f64, c1: f64, c2: f64, len: f64) -> Option<f64> {
@@ -560,7 +548,7 @@ impl MaterialMap {
         MaterialMap { nx: 1, ny: 1, x0: 0.0, y0: 0.0, dx: 1.0, dy: 1.0, values: vec![level as f32], wrap: false }
     }
 
-    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::too_many_arguments)] // a regular grid as the scene file gives it
     pub fn new(
         nx: usize,
         ny: usize,
@@ -672,7 +660,7 @@ mod tests {
             let mut hits = 0;
             for _ in 0..200 {
                 let o = Vec3::new(rng.uniform() * 30.0 - 5.0, rng.uniform() * 20.0 - 5.0, 2.5 + rng.uniform() * 3.0);
-                let phi = rng.uniform() * 6.283;
+                let phi = rng.uniform() * std::f64::consts::TAU;
                 let dz = -0.05 - 0.5 * rng.uniform();
                 let d = Vec3::new(phi.cos(), phi.sin(), dz).normalized();
                 let reference = march(&hf, o, d, 80.0);
@@ -699,7 +687,7 @@ mod tests {
             for _ in 0..300 {
                 let (x, y) = (rng.uniform() * 20.0, rng.uniform() * 15.0);
                 let o = Vec3::new(x, y, height(&hf, x, y) + 1e-3);
-                let phi = rng.uniform() * 6.283;
+                let phi = rng.uniform() * std::f64::consts::TAU;
                 let el: f64 = 0.02 + 0.6 * rng.uniform();
                 let d = Vec3::new(el.cos() * phi.cos(), el.cos() * phi.sin(), el.sin());
                 let reference = march(&hf, o, d, 60.0).is_some();
@@ -721,7 +709,7 @@ mod tests {
         let mut steepest: f64 = 0.0;
         for _ in 0..20000 {
             let (x, y) = (rng.uniform() * 40.0 - 8.0, rng.uniform() * 30.0 - 8.0);
-            let a = rng.uniform() * 6.283;
+            let a = rng.uniform() * std::f64::consts::TAU;
             let (x2, y2) = (x + 1e-3 * a.cos(), y + 1e-3 * a.sin());
             steepest = steepest.max((height(&hf, x2, y2) - height(&hf, x, y)).abs() / 1e-3);
         }

@@ -1,0 +1,426 @@
+//! Near-surface path memory of the on-the-fly engine (docs/geometry.md, "Near-surface path
+//! memory"): a sand medium (`Particulate`) wrapped with the memory its rays keep of the pore
+//! they are in, the cut-plane surface layer (`surface_layer`) and the pair correlation of the
+//! packed grains (`pair_correlation`), and the tracer that uses them.
+
+use crate::math::Vec3;
+use crate::medium::Particulate;
+use crate::pair_correlation::PairCorrelation;
+use crate::particle::{interact_with_stacks, survives, Interaction};
+use crate::rng::Rng;
+use crate::spheroid::{Hit, Spheroid};
+use crate::surface_layer::SurfaceLayer;
+use crate::transport::{enter_water_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, UP};
+
+/// What a ray remembers near the surface.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Memory {
+    /// The classic model: every free path and every particle independent of the past.
+    #[default]
+    None,
+    /// One-segment channel memory: a particle drawn on the fly must not lie across the pore
+    /// segment the ray has just travelled (when the ray is still in that pore); a candidate
+    /// that would is discarded and the flight goes on (thinning). For the first segment this
+    /// is the entry channel from the surface, which a ray turned back along it can leave by.
+    Channel,
+    /// `Channel` plus the surface of the explicit reference: the sample is cut through a plane
+    /// of grain centres (z = 0), so grains whose centre would lie above it are discarded and the
+    /// pore space not taken by packed grains widens towards the top (`SurfaceLayer`); and the
+    /// ray remembers the packed grains that bound the pore it is in (its walls) until it goes
+    /// through one of them.
+    Cut,
+    /// `Cut` plus the packing's pair correlation: a packed sphere met after leaving a packed
+    /// sphere is hit where the pair correlation g of packed grains puts it relative to the one
+    /// left (no overlap, contacts), instead of uniformly over its shadow (`PairCorrelation`).
+    Packed,
+}
+
+/// A sand medium traced with near-surface path memory `memory`; `Memory::None` traces it as
+/// the `Particulate` itself does.
+#[derive(Clone, Debug)]
+pub struct WithMemory {
+    pub medium: Particulate,
+    pub memory: Memory,
+    /// The cut-plane top layer, for `Memory::Cut` and `Memory::Packed`.
+    surface: Option<SurfaceLayer>,
+    /// The pair correlation of the packed grains, for `Memory::Packed`.
+    neighbours: Option<PairCorrelation>,
+}
+
+impl WithMemory {
+    pub fn new(medium: Particulate, memory: Memory) -> WithMemory {
+        let surface = matches!(memory, Memory::Cut | Memory::Packed).then(|| SurfaceLayer::of(&medium));
+        let mut m = WithMemory { medium, memory, surface, neighbours: None };
+        // Only spheres have a pair correlation here (docs/geometry.md): none packed, none needed.
+        let packed_spheres = (0..m.medium.types.len()).any(|i| m.is_packed_sphere(i));
+        m.neighbours = m
+            .surface
+            .as_ref()
+            .filter(|_| memory == Memory::Packed && packed_spheres)
+            .map(|s| PairCorrelation::at_packing_fraction(s.packed_fraction));
+        m
+    }
+
+    /// Whether type `i` is a packed grain of the cut-plane model (not a fine particle) and a
+    /// sphere: the grains the pair correlation of `Memory::Packed` describes.
+    #[inline]
+    fn is_packed_sphere(&self, i: usize) -> bool {
+        self.surface.as_ref().is_some_and(|s| s.packed[i]) && self.medium.types[i].aspect_ratio == 1.0
+    }
+}
+
+impl Medium for WithMemory {
+    fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
+        match self.memory {
+            Memory::None => self.medium.trace(dir_in, rng, limits),
+            Memory::Channel | Memory::Cut | Memory::Packed => trace_with_memory(self, dir_in, rng, limits),
+        }
+    }
+}
+
+/// A grain the memory keeps: its shape, centre (sample frame) and type.
+#[derive(Clone, Copy)]
+struct Grain {
+    shape: Spheroid,
+    centre: Vec3,
+    type_index: usize,
+}
+
+/// The packed grains that bound the pore a ray is in (`Memory::Cut`): the grain it left to
+/// enter the pore and those it was turned back by since, the latest `N`. Fine particles live
+/// inside pores and do not change it.
+#[derive(Clone, Copy, Default)]
+struct PoreWalls {
+    grains: [Option<Grain>; PoreWalls::N],
+    next: usize,
+}
+
+impl PoreWalls {
+    const N: usize = 4;
+
+    fn add(&mut self, g: Grain) {
+        if self.grains().any(|w| w.centre == g.centre) {
+            return;
+        }
+        self.grains[self.next] = Some(g);
+        self.next = (self.next + 1) % Self::N;
+    }
+
+    fn grains(&self) -> impl Iterator<Item = &Grain> {
+        self.grains.iter().flatten()
+    }
+
+    fn contain(&self, p: Vec3) -> bool {
+        self.grains().any(|g| g.shape.contains(p - g.centre))
+    }
+}
+
+/// The on-the-fly transport with path memory. The ray also keeps its position in x and y and
+/// remembers the pore it is in (docs/geometry.md, "Near-surface path memory"): while it is still in the pore it reached its last grain
+/// through (after a reflection, or leaving that grain on its lit side), it knows
+/// - the segment it travelled through that pore (`channel`): a grain drawn on the fly whose
+///   body would lie across it is discarded, since the ray passed there. Discarding candidates
+///   drawn at the full rate 1/ℓ is thinning: the free path then has the conditional hazard
+///   (1/ℓ)·P(a grain met there would not cross the segment), exact for a Boolean model of the
+///   grains given the segment. For the first flight the segment is the entry channel from the
+///   surface, which a ray turned back along it can leave by (shadow hiding);
+/// - the grain at the segment's far end (`behind`, the grain the ray left to enter the pore):
+///   a ray heading back meets it again where its surface is, not at a random distance.
+///
+/// With `Memory::Cut` the surface is the cut plane of `SurfaceLayer`: rays start and escape at
+/// its top, and candidates are also thinned by the centre rule and the widening pore space of
+/// the top layer. The ray also keeps the packed grains that bound its pore (`PoreWalls`) until
+/// it goes through one into another pore: light scattered many times by fines inside a pore
+/// meets the same walls again, where memoryless sampling would give each wall encounter a
+/// fresh grain at a fresh distance (the failure of chord-length sampling for binary mixtures
+/// whose chunks are optically thick; docs/geometry.md). With `Memory::Packed` a packed sphere met
+/// after leaving a packed sphere is hit where the packing's pair correlation puts it relative to
+/// the one left (`PairCorrelation`).
+fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
+    let m = &wm.medium;
+    let pore = &m.pore;
+    let ell = m.mean_free_path_mm;
+    let surface = wm.surface.as_ref();
+    // Height of the boundary plane: 0, or the top of the cut-plane layer.
+    let top = surface.map_or(0.0, |s| s.top_mm);
+    let mut z = top;
+    // Lateral position, start of the current flight, distance flown since, the remembered
+    // segment and grains (`prev`: the grain the flight started from).
+    let (mut x, mut y) = (0.0f64, 0.0f64);
+    let mut flight_start = Vec3::new(0.0, 0.0, top);
+    let mut flown = 0.0f64;
+    let mut channel: Option<(Vec3, Vec3)> = None;
+    let mut behind: Option<Grain>;
+    let mut prev: Option<Grain> = None;
+    let mut walls = PoreWalls::default();
+    // The nearest remembered grain ahead (`behind` or a wall) and the distance to it.
+    let mut ahead: Option<Grain> = None;
+    let mut to_ahead = f64::INFINITY;
+    let mut events = 0u64;
+    let done = |fate, events| RayOutcome { fate, events };
+    // The pore at the surface where the ray enters, water-filled or not.
+    let mut d = dir_in;
+    let mut water = pore.draw_water(rng);
+    if water {
+        match enter_water_surface(pore.water_n, d, rng) {
+            Some(dir) => d = dir,
+            None => return done(Fate::Escaped(d.reflect(UP)), 0),
+        }
+    }
+    loop {
+        // With the cut layer, above the plane only packed grains that can reach below it
+        // exist: flights there are drawn against the layer's majorant, and go on at the bulk
+        // rate once below the plane.
+        let layer = surface.filter(|_| z > 0.0);
+        let mut s = match layer {
+            Some(sf) => sf.flight(z, d.z, rng.exponential(), ell),
+            None => ell * rng.exponential(),
+        };
+        // The remembered grain comes first if it is nearer than the candidate.
+        let rehit = to_ahead - flown <= s;
+        if rehit {
+            s = to_ahead - flown;
+        }
+        if d.z > 0.0 && z + s * d.z >= top {
+            if !water {
+                return done(Fate::Escaped(d), events);
+            }
+            // Through water to the water surface, then water → air.
+            let to_surface = (top - z) / d.z;
+            if !survives(rng.uniform(), pore.water_alpha_per_mm * to_surface) {
+                return done(Fate::Absorbed, events);
+            }
+            // Reflected at the water surface: a new flight from there, no memory.
+            x += to_surface * d.x;
+            y += to_surface * d.y;
+            flight_start = Vec3::new(x, y, top);
+            (channel, prev, ahead, flown, to_ahead) = (None, None, None, 0.0, f64::INFINITY);
+            walls = PoreWalls::default();
+            match leave_water_surface(pore.water_n, d, rng) {
+                Some(out) => return done(Fate::Escaped(out), events),
+                None => {
+                    d.z = -d.z;
+                    z = top;
+                    continue;
+                }
+            }
+        }
+        if d.z < 0.0 && z + s * d.z <= -m.depth_mm {
+            return done(Fate::Transmitted, events);
+        }
+        if water && pore.water_alpha_per_mm > 0.0 && !survives(rng.uniform(), pore.water_alpha_per_mm * s) {
+            return done(Fate::Absorbed, events);
+        }
+        z += s * d.z;
+        x += s * d.x;
+        y += s * d.y;
+        flown += s;
+        let here = Vec3::new(x, y, z);
+        let (grain, hit) = if rehit {
+            let g = ahead.expect("a finite distance to the remembered grain");
+            let rel = here - g.centre;
+            (g, Hit { point: rel, normal: g.shape.normal_at(rel) })
+        } else {
+            // The cut plane: fines only below it; packed grains only with centres below it, in
+            // a top layer of widening pore space. A candidate comes from a flight drawn against
+            // the layer's majorant (still above the plane) or at the bulk rate (thinned where
+            // the layer has fewer grains); the tests that need no hit point come first (drawing
+            // a hit is the dear part).
+            let (i, diameter) = match layer.filter(|_| z > 0.0) {
+                Some(sf) => match sf.candidate_above_plane(&m.types, z, rng) {
+                    Some(c) => c,
+                    None => continue,
+                },
+                None => {
+                    let i = m.pick_index(rng.uniform());
+                    let discarded = surface.is_some_and(|sf| {
+                        if sf.packed[i] {
+                            z >= -sf.top_mm && rng.uniform() >= sf.keep(z)
+                        } else {
+                            z >= 0.0
+                        }
+                    });
+                    if discarded {
+                        continue;
+                    }
+                    (i, m.types[i].sizes.sample(rng))
+                }
+            };
+            let cut_packed = surface.is_some_and(|sf| sf.packed[i]);
+            let ptype = &m.types[i];
+            let (a_over_d, _) = m.type_tables(i);
+            let shape =
+                Spheroid::with_semi_axis_ratio(diameter, a_over_d, ptype.aspect_ratio, Spheroid::random_axis(rng));
+            // Centre height = z − (hit height) ≥ z − (highest point a ray along d can enter):
+            // above the plane whatever the hit point if that bound is.
+            if cut_packed && z >= shape.highest_entry(d) {
+                continue;
+            }
+            // `Packed`: a packed sphere met after leaving one lies where the packing's pair
+            // correlation puts it (the flight length keeps its law).
+            let neighbour = wm
+                .neighbours
+                .as_ref()
+                .zip(prev)
+                .filter(|(_, a)| wm.is_packed_sphere(i) && wm.is_packed_sphere(a.type_index));
+            let hit = match neighbour {
+                Some((g, a)) => {
+                    let n = g.sample_normal(here - a.centre, d, shape.a, shape.a + a.shape.a, rng);
+                    Hit { point: n * shape.a, normal: n }
+                }
+                None => match shape.sample_hit(d, rng, 10_000) {
+                    Some(hit) => hit,
+                    None => return done(Fate::Capped, events),
+                },
+            };
+            let centre = here - hit.point;
+            if cut_packed && centre.z >= 0.0 {
+                continue;
+            }
+            if let Some((a, b)) = channel {
+                if shape.intersects_segment(a - centre, b - centre) {
+                    continue;
+                }
+            }
+            (Grain { shape, centre, type_index: i }, hit)
+        };
+        events += 1;
+        if events > limits.max_events {
+            return done(Fate::Capped, events);
+        }
+        let i = grain.type_index;
+        // A packed grain of the cut-plane model (not a fine particle): it bounds the pore.
+        let packed = surface.is_some_and(|sf| sf.packed[i]);
+        let (_, stacks) = m.type_tables(i);
+        match interact_with_stacks(
+            &m.types[i].optics,
+            stacks,
+            pore,
+            &grain.shape,
+            hit,
+            d,
+            water,
+            rng,
+            limits.max_internal,
+        ) {
+            Interaction::Reflected { dir } => {
+                // Back into the pore it came from: remember the segment just travelled and the
+                // grain at its far end.
+                channel = Some((flight_start, here));
+                behind = prev;
+                flight_start = here;
+                d = dir;
+            }
+            Interaction::Transmitted { dir, exit_point, water: w } => {
+                // The particle's extent: the ray leaves from the far side (a fine particle in a
+                // pore whose walls are remembered: unless that is inside a wall, then it leaves
+                // where it hit, as in the explicit reference).
+                let moved = Vec3::new(
+                    x + exit_point.x - hit.point.x,
+                    y + exit_point.y - hit.point.y,
+                    (z + (exit_point.z - hit.point.z)).min(top),
+                );
+                if packed || !walls.contain(moved) {
+                    (x, y, z) = (moved.x, moved.y, moved.z);
+                }
+                // Out on the lit side (the half facing where the ray came from) it is back in
+                // the pore it came from; out on the far side, in a new one.
+                if exit_point.dot(d) < 0.0 {
+                    channel = Some((flight_start, here));
+                    behind = prev;
+                } else {
+                    (channel, behind) = (None, None);
+                    if packed {
+                        walls = PoreWalls::default();
+                    }
+                }
+                flight_start = Vec3::new(x, y, z);
+                d = dir;
+                water = w;
+            }
+            Interaction::Absorbed => return done(Fate::Absorbed, events),
+            Interaction::Capped => return done(Fate::Capped, events),
+        }
+        if packed {
+            walls.add(grain);
+        }
+        prev = Some(grain);
+        flown = 0.0;
+        (to_ahead, ahead) = (f64::INFINITY, None);
+        // A packed grain behind is also a wall: measured once.
+        let behind_not_a_wall = behind.filter(|b| !walls.grains().any(|w| w.centre == b.centre));
+        for g in behind_not_a_wall.iter().chain(walls.grains()) {
+            if let Some(t) = g.shape.entry_distance(flight_start - g.centre, d) {
+                if t < to_ahead {
+                    (to_ahead, ahead) = (t, Some(*g));
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::medium::ParticleType;
+    use crate::particle::{ParticleOptics, PoreOptics};
+    use crate::sizes::QuantileTable;
+
+    /// Clear grains (no absorption anywhere): packed spheres and spheroids and clay fines, in
+    /// water-filled pores half of the time, in a slab `depth_mm` thick.
+    fn clear_sand(depth_mm: f64) -> Particulate {
+        let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true };
+        let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
+        let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
+            probability,
+            sizes: sizes.clone(),
+            aspect_ratio,
+            optics,
+        };
+        let pore = PoreOptics {
+            water_n: 1.333,
+            water_alpha_per_mm: 0.0,
+            film_thickness_mm: 0.01,
+            water_filled_probability: 0.5,
+        };
+        let types = vec![t(0.4, &sizes, 1.0), t(0.4, &sizes, 1.4), t(0.2, &QuantileTable::constant(0.002), 1.0)];
+        Particulate::new(types, 0.08, pore, depth_mm).unwrap()
+    }
+
+    #[test]
+    fn no_memory_traces_as_the_particulate_does() {
+        let m = clear_sand(f64::INFINITY);
+        let wm = WithMemory::new(m.clone(), Memory::None);
+        let d = Vec3::new(0.5, 0.0, -(0.75f64).sqrt());
+        for i in 0..500 {
+            let (mut r1, mut r2) = (Rng::for_ray(1, 0, i), Rng::for_ray(1, 0, i));
+            let (a, b) = (m.trace(d, &mut r1, &Limits::default()), wm.trace(d, &mut r2, &Limits::default()));
+            assert_eq!((a.fate, a.events), (b.fate, b.events));
+            assert_eq!(r1.next_u64(), r2.next_u64());
+        }
+    }
+
+    #[test]
+    fn every_memory_keeps_energy_in_a_clear_slab() {
+        // Memory changes where grains are met, not what they do: without absorption every ray
+        // leaves by the top or the bottom, also through the water surface and the cut layer.
+        for memory in [Memory::Channel, Memory::Cut, Memory::Packed] {
+            let wm = WithMemory::new(clear_sand(1.0), memory);
+            assert_eq!(wm.surface.is_some(), memory != Memory::Channel);
+            assert_eq!(wm.neighbours.is_some(), memory == Memory::Packed);
+            let d = Vec3::new(0.3, 0.4, -(0.75f64).sqrt());
+            let (mut up, mut down) = (0, 0);
+            for i in 0..1500 {
+                match wm.trace(d, &mut Rng::for_ray(2, 0, i), &Limits::default()).fate {
+                    Fate::Escaped(out) => {
+                        assert!(out.z > 0.0);
+                        up += 1;
+                    }
+                    Fate::Transmitted => down += 1,
+                    other => panic!("{memory:?}: ray {i} {other:?}"),
+                }
+            }
+            assert!(up > 0 && down > 0 && up + down == 1500);
+        }
+    }
+}
