@@ -2,7 +2,7 @@
 
 :func:`reflectance` traces rays through the sample with the native engine (docs/transport.md)
 and returns the directional-hemispherical reflectance ρ(θᵢ, λ) = escaped / launched with its
-standard error √(ρ(1 − ρ)/N) (splits-model.md §2.6). :func:`isotropic_halfspace` runs the same
+standard error √(ρ(1 − ρ)/N) (docs/model.md §2.6). :func:`isotropic_halfspace` runs the same
 transport and boundary code with the particles replaced by isotropic point scatterers, whose
 exact answer (Chandrasekhar) checks the engine.
 """
@@ -291,7 +291,7 @@ def isotropic_halfspace(
     Same free-path, boundary and tally code as :func:`reflectance`, with each particle replaced
     by a point that scatters isotropically with probability ω (``albedo``) and absorbs
     otherwise; free paths are exponential with unit mean. The exact directional-hemispherical
-    reflectance is 1 − H(μ₀)√(1 − ω) (splits-model.md §2.7).
+    reflectance is 1 − H(μ₀)√(1 − ω) (docs/model.md §2.7).
 
     Parameters
     ----------

@@ -44,7 +44,7 @@ class TestGeometry:
         h = CollectorHemisphere(stacks, slices)
         z0, z1 = h.bounds[:, 0], h.bounds[:, 1]
         assert h.projected_solid_angles.sum() == pytest.approx(math.pi, rel=1e-13)
-        # Band patches: π(z1² − z0²)/slices; cap: π t(2 − t), t = 1/r (splits-model.md §3).
+        # Band patches: π(z1² − z0²)/slices; cap: π t(2 − t), t = 1/r (docs/model.md §3).
         np.testing.assert_allclose(
             h.projected_solid_angles[1:], math.pi * (z1[1:] ** 2 - z0[1:] ** 2) / slices, rtol=1e-12
         )

@@ -63,7 +63,7 @@ class TestReflection:
     @pytest.mark.parametrize("omega", [0.5, 0.9, 1.0])
     @pytest.mark.parametrize("mu0", [0.05, 0.5, 1.0])
     def test_dhr_is_the_integral_of_the_brdf(self, omega, mu0):
-        # ρ(μ0) = 2π ∫₀¹ f(μ, μ0) μ dμ = 1 − H(μ0)√(1 − ω) (splits-model.md §2.7).
+        # ρ(μ0) = 2π ∫₀¹ f(μ, μ0) μ dμ = 1 − H(μ0)√(1 − ω) (docs/model.md §2.7).
         integral = 2 * math.pi * quad(lambda m: float(brdf(m, mu0, omega)) * m)
         assert integral == pytest.approx(float(dhr(mu0, omega)), rel=1e-9)
 

@@ -84,7 +84,7 @@ pub fn incident_direction(theta_rad: f64) -> Vec3 {
 }
 
 /// Directional-hemispherical reflectance counts for `rays` at incidence direction `dir_in`
-/// (splits-model.md §2.6: ρ = escaped / launched).
+/// (docs/model.md §2.6: ρ = escaped / launched).
 pub fn directional_hemispherical<Md: Medium>(medium: &Md, dir_in: Vec3, rays: Rays, limits: &Limits) -> DhrCounts {
     for_rays(
         rays.first,

@@ -27,7 +27,7 @@ pub fn dielectric_cos(n1: f64, n2: f64, cos_i: f64, cos_t: f64) -> f64 {
 }
 
 /// Reflectance from a non-absorbing medium `n1` into an absorbing one ñ₂ = `n2 + i k2`.
-/// cos θₜ = √(1 − (n₁ sin θᵢ / ñ₂)²) is complex (splits-model.md §2.4); the principal branch has
+/// cos θₜ = √(1 − (n₁ sin θᵢ / ñ₂)²) is complex (docs/model.md §2.4); the principal branch has
 /// Re ≥ 0, the physical (decaying) wave for k₂ ≥ 0.
 ///
 /// Evaluated in real arithmetic through w = ñ₂ cos θₜ = √(ñ₂² − n₁² sin² θᵢ) (principal root:

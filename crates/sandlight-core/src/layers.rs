@@ -1,7 +1,7 @@
 //! Thin plane-parallel layers on a particle surface (a water film, an iron-oxide coating),
 //! combined incoherently with the interfaces around them.
 //!
-//! A layer is thin compared with the particle (t ≪ D, splits-model.md §2.4 item 2) but thick
+//! A layer is thin compared with the particle (t ≪ D, docs/model.md §2.4 item 2) but thick
 //! compared with the coherence length of daylight, so it is a plane slab without interference.
 //! Across parallel planes the tangential invariant s = n sin θ is conserved (Snell), hence the
 //! ray that finally enters the far medium has the direction Snell's law gives between the two

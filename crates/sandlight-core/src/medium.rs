@@ -11,7 +11,7 @@ use crate::sizes::QuantileTable;
 #[derive(Clone, Debug)]
 pub struct ParticleType {
     /// Probability that the next particle a ray meets is of this type (surface-area weighted,
-    /// splits-model.md §2.2). Normalised by `Particulate::new`.
+    /// docs/model.md §2.2). Normalised by `Particulate::new`.
     pub probability: f64,
     /// Sizes (volume-equivalent diameter, mm) of the particles of this type that a ray meets.
     pub sizes: QuantileTable,
@@ -38,7 +38,7 @@ pub struct Particulate {
     cumulative: Vec<f64>,
     a_over_d: Vec<f64>,
     stacks: Vec<Stacks>,
-    /// Mean free path in the pore space (mm), splits-model.md §2.1.
+    /// Mean free path in the pore space (mm), docs/model.md §2.1.
     pub mean_free_path_mm: f64,
     pub pore: PoreOptics,
     /// Sample thickness (mm); infinite for a semi-infinite sample.
@@ -123,7 +123,7 @@ impl Particulate {
 }
 
 /// Isotropic point scatterers of single-scattering albedo ω with exponential free paths of unit
-/// mean, under a transparent plane boundary: Chandrasekhar's half-space (splits-model.md §2.7).
+/// mean, under a transparent plane boundary: Chandrasekhar's half-space (docs/model.md §2.7).
 #[derive(Clone, Copy, Debug)]
 pub struct IsotropicScatterers {
     pub albedo: f64,

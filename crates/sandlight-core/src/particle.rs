@@ -1,7 +1,7 @@
 //! One particle's interaction with a ray: the function shared by the on-the-fly transport and
 //! any explicit-geometry tracer, so that differences between the two come from geometry alone.
 //!
-//! Physics (splits-model.md §2.4): Fresnel reflection or Snell refraction at the outer surface
+//! Physics (docs/model.md §2.4): Fresnel reflection or Snell refraction at the outer surface
 //! through an optional water film and an optional coating (thin incoherent layers, see
 //! `layers`), a straight chord through the absorbing core (Beer–Lambert, exp(−α L)), Fresnel
 //! from inside with total internal reflection, repeated until the ray leaves or is absorbed.

@@ -4,7 +4,7 @@
 //!
 //! The populations of a `Particulate` are given as the rays meet them (encounter
 //! probabilities Pᵢ ∝ vᵢ⟨S⟩ᵢ/⟨V⟩ᵢ and area-weighted size tables p_enc ∝ p_n D²,
-//! splits-model.md §2.2). Inverting those relations gives what fills the volume:
+//! docs/model.md §2.2). Inverting those relations gives what fills the volume:
 //! number fractions Nᵢ ∝ Pᵢ E_enc,ᵢ[D⁻²]/f(εᵢ), number size distributions p_n ∝ p_enc D⁻²,
 //! volume fractions vᵢ ∝ Pᵢ E_enc,ᵢ[D]/f(εᵢ), and the specific surface of the solids
 //! S/V = 6 / Σᵢ Pᵢ E_enc,ᵢ[D]/f(εᵢ), where f(ε) is the spheroid's surface over that of the
@@ -143,7 +143,7 @@ mod tests {
     #[test]
     fn populations_recover_porosity() {
         for (eps, phi) in [(1.0, 0.4), (1.4, 0.35)] {
-            // ℓ = 4φ/[(1 − φ) 6 f(ε)/d] (splits-model.md §2.1).
+            // ℓ = 4φ/[(1 − φ) 6 f(ε)/d] (docs/model.md §2.1).
             let ell = 4.0 * phi / ((1.0 - phi) * 6.0 * surface_factor(eps) / 0.25);
             let p = Populations::of(&sand(&[(1.0, QuantileTable::constant(0.25), eps)], ell), 0.05);
             assert!((p.porosity - phi).abs() < 1e-12);

@@ -1,5 +1,5 @@
 //! Prolate spheroid grains: semi-axes (a, a, c), c = ε a ≥ a, symmetry axis `u`
-//! (splits-model.md §2.3). Coordinates are relative to the centre, in the sample frame.
+//! (docs/model.md §2.3). Coordinates are relative to the centre, in the sample frame.
 
 use crate::math::{sin_cos_turns, Vec3};
 use crate::rng::Rng;
@@ -11,7 +11,7 @@ pub fn equatorial_ratio(eps: f64) -> f64 {
 }
 
 /// Surface of a prolate spheroid of aspect ratio ε over that of the sphere of equal volume:
-/// S = 2πa²[1 + (c/(a e)) arcsin e], e² = 1 − 1/ε² (splits-model.md §2.3).
+/// S = 2πa²[1 + (c/(a e)) arcsin e], e² = 1 − 1/ε² (docs/model.md §2.3).
 pub fn surface_factor(eps: f64) -> f64 {
     if eps <= 1.0 + 1e-12 {
         return 1.0;
@@ -44,7 +44,7 @@ pub struct Hit {
 
 impl Spheroid {
     /// Spheroid of volume-equivalent diameter `d` (mm) and aspect ratio `eps` ≥ 1:
-    /// a = (d/2) ε^(−1/3), c = ε a (splits-model.md §2.3).
+    /// a = (d/2) ε^(−1/3), c = ε a (docs/model.md §2.3).
     pub fn new(d: f64, eps: f64, u: Vec3) -> Spheroid {
         Spheroid::with_semi_axis_ratio(d, equatorial_ratio(eps), eps, u)
     }
@@ -174,7 +174,7 @@ impl Spheroid {
     }
 
     /// Area-weighted hit point for a ray with direction `d` meeting this particle
-    /// (splits-model.md §2.3): a point uniform in the particle's shadow on the plane
+    /// (docs/model.md §2.3): a point uniform in the particle's shadow on the plane
     /// perpendicular to the ray, then the first intersection of the ray through it.
     ///
     /// The shadow of the spheroid |x|²/a² + k(x·u)² = 1 along d is an ellipse whose support

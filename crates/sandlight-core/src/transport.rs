@@ -1,4 +1,4 @@
-//! Tracing one ray through a medium below the plane z = 0 (splits-model.md §2.6): free paths in
+//! Tracing one ray through a medium below the plane z = 0 (docs/model.md §2.6): free paths in
 //! the pore space, particles generated on the fly, the boundary, and the ray's fate.
 
 use crate::fresnel;
@@ -77,7 +77,7 @@ pub(crate) fn leave_water_surface(water_n: f64, d: Vec3, rng: &mut Rng) -> Optio
 }
 
 /// Sand traced on the fly without memory: every free path and every particle independent of
-/// the past (splits-model.md §2.6). The path memory variants (`memory`) are a separate
+/// the past (docs/model.md §2.6). The path memory variants (`memory`) are a separate
 /// tracer, so that this one's code, random numbers and speed stay those of the engine before
 /// path memory existed.
 impl Medium for Particulate {
@@ -283,7 +283,7 @@ mod tests {
     #[test]
     fn isotropic_half_space_matches_chandrasekhar() {
         // Directional-hemispherical reflectance 1 − H(μ₀)√(1 − ω) of the half-space
-        // (splits-model.md §2.7), within 4 binomial standard errors.
+        // (docs/model.md §2.7), within 4 binomial standard errors.
         let n = 100_000;
         for (albedo, theta_deg) in [(0.8, 0.0), (0.8, 60.0), (0.99, 30.0)] {
             let medium = IsotropicScatterers::new(albedo, f64::INFINITY).unwrap();

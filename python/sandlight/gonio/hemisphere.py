@@ -8,7 +8,7 @@ CollectorHemisphere
 The patch maths lives in the Rust core (``sandlight-core/src/gonio/hemisphere.rs``); this module
 only holds the arrays it returns, so Python and the transport engine agree to the last bit.
 
-Layout (splits-model.md §3): with r = 1 + (stacks − 1)·slices patches, patch 0 is the cap
+Layout (docs/model.md §3): with r = 1 + (stacks − 1)·slices patches, patch 0 is the cap
 cos θ ∈ [1 − 1/r, 1]; bands 1 … stacks − 1 follow from the top down, each of height slices/r in
 cos θ, cut into ``slices`` azimuth slices φ ∈ [2πs/slices, 2π(s + 1)/slices); patch
 1 + (band − 1)·slices + s is slice s of a band. Every patch subtends 2π/r sr.

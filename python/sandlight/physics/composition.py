@@ -20,7 +20,7 @@ Per unit mass of solids:
   (log-uniform by mass, 0.002–0.05 mm) and clay-sized kaolinite (log-uniform, 0.0002–0.002 mm);
 * magnetite: separate grains with the sand grains' size distribution.
 
-Pore space (splits-model.md §2.1): mean free path ℓ = 4φ / [(1 − φ) Σᵢ vᵢ ⟨Sᵢ⟩/⟨Vᵢ⟩], with
+Pore space (docs/model.md §2.1): mean free path ℓ = 4φ / [(1 − φ) Σᵢ vᵢ ⟨Sᵢ⟩/⟨Vᵢ⟩], with
 vᵢ the volume fractions of the solids; a ray meets type i with probability ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩.
 Water (§2.5): up to ``film_saturation`` the water forms films of thickness
 t_w = φ S_f / [(1 − φ) Σᵢ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩] = S_f ℓ/4 on every particle; beyond it, a pore is
@@ -90,7 +90,7 @@ class Composition:
     depth_mm: float
 
     def encounter_probabilities(self) -> list[float]:
-        """P(type i) ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩ (splits-model.md §2.2)."""
+        """P(type i) ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩ (docs/model.md §2.2)."""
         w = [p.volume_fraction * p.surface_per_volume_per_mm for p in self.populations]
         total = sum(w)
         return [x / total for x in w]

@@ -10,7 +10,7 @@ pure-material powder in :mod:`sandlight.physics.powder`.
 wavelength. Mixing rules (docs/transport.md): a core or coating made of several materials gets
 the volume-weighted mean of their complex indices, n̄ = Σ vⱼ nⱼ and k̄ = Σ vⱼ kⱼ, hence the
 volume-weighted absorption coefficient ᾱ = Σ vⱼ αⱼ — the dilute-inclusion limit of
-splits-model.md §2.4 (Maxwell Garnett is the refinement for dense inclusions).
+docs/model.md §2.4 (Maxwell Garnett is the refinement for dense inclusions).
 """
 
 from __future__ import annotations

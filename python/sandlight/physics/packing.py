@@ -169,7 +169,7 @@ def grain_medium(
         Absorption coefficient inside the grains, mm⁻¹ (1 cm⁻¹ = 0.1 mm⁻¹).
     porosity : float
         φ in (0, 1). The mean free path is ℓ = 4φ/[(1 − φ) S/V] with
-        S/V = 6 f(ε)/E_enc[D] (splits-model.md §2.1; E_enc[D] the mean of the quantile table).
+        S/V = 6 f(ε)/E_enc[D] (docs/model.md §2.1; E_enc[D] the mean of the quantile table).
     memory : {'none', 'channel', 'cut', 'packed'}
         Near-surface path memory of the on-the-fly engine (docs/geometry.md).
     depth_mm : float

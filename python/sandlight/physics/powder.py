@@ -3,7 +3,7 @@
 A :class:`~sandlight.SandSample` is a quartz sand with at most 10 wt% iron oxide, so it cannot
 describe an iron-oxide end-member (the pure hematite of the paper's Figure 3). :class:`Powder`
 builds the same kind of medium directly: one particle population of the material, exponential
-free paths with the mean ℓ = 4φ / [(1 − φ) ⟨S⟩/⟨V⟩] (splits-model.md §2.1), particles drawn on
+free paths with the mean ℓ = 4φ / [(1 − φ) ⟨S⟩/⟨V⟩] (docs/model.md §2.1), particles drawn on
 the fly, no water, infinitely deep. Trace it like a sample:
 ``sandlight.reflectance(Powder("hematite", 2.5), wavelengths_nm, rays=...)``.
 """

@@ -1,7 +1,7 @@
 """Particle size distributions and the sizes a ray meets.
 
 A sieve (mass) distribution p_m(D) becomes a number distribution p_n(D) ∝ p_m(D)/D³
-(splits-model.md §2.2); a ray meets particles in proportion to their mean projected area, which
+(docs/model.md §2.2); a ray meets particles in proportion to their mean projected area, which
 for a convex body of fixed shape is S/4 ∝ D² (Cauchy's theorem), so the sizes met are
 distributed as p_enc(D) ∝ p_n(D) D² ∝ p_m(D)/D. The engine samples those sizes from a quantile
 table computed here.
@@ -70,7 +70,7 @@ def spheroid_surface_factor(aspect_ratio: float) -> float:
     """Surface of a prolate spheroid over that of the sphere of equal volume (≥ 1).
 
     S = 2πa²[1 + (c/(a e)) arcsin e], e² = 1 − a²/c², with a = (D/2) ε^(−1/3), c = ε a
-    (splits-model.md §2.3).
+    (docs/model.md §2.3).
     """
     eps = float(aspect_ratio)
     if eps <= 1.0 + 1e-12:

@@ -80,7 +80,7 @@ from sandlight.sample import PARAMETERS, Parameter
 
 #: Forms of the iron oxide, the values of SandSample.iron_oxide_form.
 FORMS = ("coating", "mixed", "particles")
-#: USDA texture class "sand": silt + 1.5·clay ≤ 0.15 by mass (docs splits-model.md §1).
+#: USDA texture class "sand": silt + 1.5·clay ≤ 0.15 by mass (docs/model.md §1).
 SAND_CLASS_LIMIT = 0.15
 CLAY_WEIGHT = 1.5
 #: Parameters derived from the dimensions rather than drawn.

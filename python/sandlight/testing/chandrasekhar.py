@@ -1,7 +1,7 @@
 """Chandrasekhar's H-function and the reflection of a semi-infinite isotropic scatterer.
 
 A half-space of isotropic point scatterers with single-scattering albedo ω and exponential free
-paths reflects with the exact BRDF (Chandrasekhar 1950, ch. IV; splits-model.md §2.7)
+paths reflects with the exact BRDF (Chandrasekhar 1950, ch. IV; docs/model.md §2.7)
 
     f(μ, μ0) = ω H(μ) H(μ0) / (4π (μ + μ0))   [sr⁻¹]
 

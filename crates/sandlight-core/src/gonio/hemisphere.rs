@@ -1,4 +1,4 @@
-//! Collector hemisphere with patches of equal solid angle (paper §3.2.1; splits-model.md §3).
+//! Collector hemisphere with patches of equal solid angle (paper §3.2.1; docs/model.md §3).
 //!
 //! With `stacks` polar stacks and `slices` azimuthal slices the hemisphere holds
 //! r = 1 + (stacks − 1)·slices patches of solid angle 2π/r each. Because dΩ = dz dφ with
@@ -238,7 +238,7 @@ impl CollectorHemisphere {
         (b.z1 - b.z0) * (b.phi1 - b.phi0)
     }
 
-    /// Projected solid angle ω_p = ∫ cos θ dΩ of patch `i` in sr (splits-model.md §3):
+    /// Projected solid angle ω_p = ∫ cos θ dΩ of patch `i` in sr (docs/model.md §3):
     /// band patch π(z1² − z0²)/slices, cap π t(2 − t) with t = 1/r. They sum to π.
     ///
     /// # Panics
