@@ -108,13 +108,6 @@ impl Particulate {
         pick_cumulative(&self.cumulative, u)
     }
 
-    /// The type of the next particle and its a/d, for a uniform `u` in [0, 1).
-    #[inline]
-    pub fn pick_type(&self, u: f64) -> (&ParticleType, f64) {
-        let i = self.pick_index(u);
-        (&self.types[i], self.a_over_d[i])
-    }
-
     /// a/d and layer stacks of type `i` (as returned by `pick_index`).
     #[inline]
     pub fn type_tables(&self, i: usize) -> (f64, &Stacks) {
