@@ -55,7 +55,9 @@ def test_markdown_tables(setup):
 
 def test_figure_and_k_table(setup, tmp_path):
     tables, fit, values, sigma, ident = setup
-    cal.plot_calibration(tmp_path / "k.png", fit, values, ident, mineral="hematite", truth=(WL, 10**fit.log10_k_))
+    cal.plot_calibration(
+        tmp_path / "k.png", fit, values, ident, mineral="hematite", errors="test errors", truth=(WL, 10**fit.log10_k_)
+    )
     assert (tmp_path / "k.png").read_bytes()[:8] == PNG_SIGNATURE
     cal.write_k_table(tmp_path / "hematite-k.csv", "hematite", fit, ident, command="a command", inputs="two spectra")
     lines = (tmp_path / "hematite-k.csv").read_text().splitlines()

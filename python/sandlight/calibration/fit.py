@@ -107,6 +107,8 @@ class KFit:
     log10_k_ : numpy.ndarray, shape (nλ,)
         Fitted log10 k.
     k_ : numpy.ndarray, shape (nλ,)
+    k_range_log10_ : (float, float)
+        The bounds of log10 k: the range all tables cover.
     sigma_log10_k_ : numpy.ndarray, shape (nλ,)
         Standard error of log10 k from the Gauss–Newton covariance (JᵀJ)⁻¹ of the whole
         objective, i.e. with the smoothness penalty acting as a prior: where no measurement
@@ -277,6 +279,7 @@ class KFit:
         jac = result.jac.toarray() if sparse.issparse(result.jac) else np.asarray(result.jac)
         covariance = np.linalg.pinv(jac.T @ jac)
         self.wavelengths_nm_ = wl.copy()
+        self.k_range_log10_ = (float(low), float(high))
         self.log10_k_ = x
         self.k_ = 10.0**x
         self.sigma_log10_k_ = np.sqrt(np.clip(np.diag(covariance), 0.0, None))

@@ -280,10 +280,13 @@ def markdown_identifiability(
     return "\n".join(lines)
 
 
-def plot_calibration(path, fit, measured, ident: Identifiability, *, mineral: str, reference=None, truth=None) -> None:
+def plot_calibration(
+    path, fit, measured, ident: Identifiability, *, mineral: str, errors: str, reference=None, truth=None
+) -> None:
     """Three panels: k(λ) fitted (band: ±σ of the fit; grey: not identifiable) against the
     shipped table (``reference``: (wavelengths, k)) and a known ``truth`` (same form, synthetic
-    runs); σ(log10 k) per end-member with the threshold; measured (lines) vs model (dots)."""
+    runs); σ(log10 k) per end-member with the threshold; measured (lines) vs model (dots).
+    ``errors`` names the errors ``ident`` was computed with (the σ panel's label)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -295,14 +298,10 @@ def plot_calibration(path, fit, measured, ident: Identifiability, *, mineral: st
         for ax in (a, b, c):
             ax.axvspan(lo, hi, color="0.88", lw=0)
     a.semilogy(wl, fit.k_, "C3-", lw=1.5, label=f"{mineral} k, fitted")
-    a.fill_between(
-        wl,
-        10 ** (fit.log10_k_ - fit.sigma_log10_k_),
-        10 ** (fit.log10_k_ + fit.sigma_log10_k_),
-        color="C3",
-        alpha=0.25,
-        lw=0,
-    )
+    # The band is the fit's ±σ, clipped to the tabulated k range (where σ is huge, the prior is all).
+    low, high = fit.k_range_log10_
+    band = [10 ** np.clip(fit.log10_k_ + sign * fit.sigma_log10_k_, low, high) for sign in (-1, 1)]
+    a.fill_between(wl, band[0], band[1], color="C3", alpha=0.25, lw=0)
     if reference is not None:
         a.semilogy(reference[0], reference[1], "k--", lw=1, label="shipped table")
     if truth is not None:
@@ -320,7 +319,7 @@ def plot_calibration(path, fit, measured, ident: Identifiability, *, mineral: st
         c.plot(wl, fit.fitted_[s], "o", color=colour, ms=2.5)
     b.semilogy(wl, np.clip(ident.combined_sigma_log10_k, 1e-3, 1e3), "k-", lw=1.5, label="combined")
     b.axhline(IDENTIFIABLE_SIGMA_LOG10_K, color="C3", ls="--", lw=1)
-    b.set_ylabel("σ log10 k implied by the data")
+    b.set_ylabel(f"σ log10 k from the {errors}", fontsize=8)
     b.set_ylim(1e-3, 1e3)
     b.grid(alpha=0.3, which="both")
     b.legend(fontsize=7, ncol=4)
