@@ -159,7 +159,10 @@ def main(argv=None) -> int:
 
     cpu, wall = time.process_time(), time.perf_counter()
 
+    computed = set()
+
     def progress(member_id, done, total):
+        computed.add(member_id)
         print(f"  {member_id}: k column {done}/{total} ({time.process_time() - cpu:.0f} s CPU)", file=sys.stderr)
 
     tables = [cal.tabulate(m, forward, wl, log10_k, cache_dir=args.cache, progress=progress) for m in members]
@@ -180,8 +183,8 @@ def main(argv=None) -> int:
         f"Engine powder (sandlight.validation.powder_reflectance, classic model), {rays:,} rays per run, master "
         f"seed {args.seed}; {wl.size} wavelengths {wl[0]:g}–{wl[-1]:g} nm; log10 k grid {log10_k[0]:g} to "
         f"{log10_k[-1]:g} in {log10_k.size} steps; smoothing {args.smoothing:g}; measurement σ "
-        f"{cal.MEASUREMENT_SIGMA:g}. Tabulation {tabulation_cpu:.0f} s CPU (0 when cached), {args.threads} "
-        f"thread(s), {describe()}.\n"
+        f"{cal.MEASUREMENT_SIGMA:g}. Tabulation in this run {tabulation_cpu:.0f} s CPU ({len(tables) - len(computed)} "
+        f"of {len(tables)} tables complete in the cache), {args.threads} thread(s), {describe()}.\n"
     )
     out.append("## Inputs\n")
     out.append("| id | spectrum | size (µm) | size from | in fit |")
