@@ -1,0 +1,58 @@
+"""Calibration of effective optical constants on pure end-member powders (issue 17 §1).
+
+Public objects
+--------------
+EndMember, end_members, measured_reflectance, MEASUREMENT_SIGMA
+    The inventory of pure powders (``sandlight/data/calibration/end_members.toml``) and their
+    measured USGS spectra (:mod:`sandlight.calibration.end_members`).
+EnginePowder
+    The forward model: the engine's powder of one mineral with a trial k
+    (:mod:`sandlight.calibration.forward`).
+ReflectanceTable, tabulate
+    ρ(λᵢ, kⱼ) per end-member on a log-spaced k grid, restartable (:mod:`.tables`).
+KFit, holdout
+    The penalised least-squares fit of log10 k(λ) and the hold-out check (:mod:`.fit`).
+synthetic_spectra, edge_and_band_log10_k
+    Synthetic spectra at a known k(λ), for the round trip (:mod:`.synthetic`).
+identifiability, markdown_residuals, markdown_identifiability, plot_calibration, write_k_table
+    Reports (:mod:`.report`).
+
+The method, its assumptions and the first results are in docs/optical-constants.md
+("Calibration on pure end-members"); the command is ``scripts/data/calibrate_optical_constants.py``.
+"""
+
+from sandlight.calibration.end_members import MEASUREMENT_SIGMA, EndMember, end_members, measured_reflectance
+from sandlight.calibration.fit import KFit, holdout
+from sandlight.calibration.forward import EnginePowder
+from sandlight.calibration.report import (
+    IDENTIFIABLE_SIGMA_LOG10_K,
+    Identifiability,
+    identifiability,
+    markdown_identifiability,
+    markdown_residuals,
+    plot_calibration,
+    write_k_table,
+)
+from sandlight.calibration.synthetic import edge_and_band_log10_k, synthetic_spectra
+from sandlight.calibration.tables import ReflectanceTable, tabulate
+
+__all__ = [
+    "EndMember",
+    "end_members",
+    "measured_reflectance",
+    "MEASUREMENT_SIGMA",
+    "EnginePowder",
+    "ReflectanceTable",
+    "tabulate",
+    "KFit",
+    "holdout",
+    "synthetic_spectra",
+    "edge_and_band_log10_k",
+    "IDENTIFIABLE_SIGMA_LOG10_K",
+    "Identifiability",
+    "identifiability",
+    "markdown_residuals",
+    "markdown_identifiability",
+    "plot_calibration",
+    "write_k_table",
+]

@@ -1,0 +1,134 @@
+"""The forward model of the calibration: an end-member powder's reflectance for a trial k.
+
+Public objects
+--------------
+EnginePowder
+    sandlight's engine for a dry powder of the end-member's mineral, with k set to a trial value
+    at every wavelength and n from the shipped table.
+
+A forward model is any object with
+
+* ``settings(member, wavelengths_nm) -> dict``: JSON-serialisable values that identify what it
+  computes (a cached table is reused only when they are equal), and
+* ``reflectance(member, wavelengths_nm, k) -> (values, stderr)``: the reflectance at normal
+  incidence with the mineral's k equal to ``k`` at every wavelength, and its standard error.
+
+Model (docs/optical-constants.md, "Calibration on pure end-members"): the USGS AREF spectra are
+directional-hemispherical reflectance at (near-)normal incidence, which is what
+:func:`sandlight.validation.powder_reflectance` computes: one population of spheres of the pure
+mineral, equal mass per log-size interval over the end-member's ``size_um``, on-the-fly
+geometric optics with independent exponential free paths (the classic model, ``memory="none"``).
+Its porosity only scales the free paths, so it does not change the reflectance; it is recorded.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import math
+import zlib
+
+import numpy as np
+
+from sandlight.errors import ParameterError
+
+__all__ = ["EnginePowder"]
+
+
+@contextlib.contextmanager
+def _trial_k(material: str, k: float):
+    """Runs the engine with ``material``'s k replaced by ``k`` (n unchanged).
+
+    The shipped tables stay untouched: only the name the engine's medium builder looks up is
+    replaced for the duration, as sandlight.validation's optics variants do. This is the one
+    place the calibration touches an internal name (``sandlight.physics.medium.complex_index``).
+    """
+    from sandlight.physics import medium
+
+    original = medium.complex_index
+
+    def replaced(name, wavelength_nm):
+        m = complex(original(name, wavelength_nm))
+        return complex(m.real, k) if name == material else m
+
+    medium.complex_index = replaced
+    try:
+        yield
+    finally:
+        medium.complex_index = original
+
+
+class EnginePowder:
+    """sandlight's engine for a pure powder with a trial k.
+
+    Parameters
+    ----------
+    rays : int
+        Rays per wavelength and trial k (≥ 1). The standard error of one value is
+        √(ρ(1 − ρ)/rays).
+    seed : int
+        Master seed in [0, 2**32). One end-member's runs all use the seed :meth:`member_seed`,
+        the same for every k and every wavelength (common random numbers): its tabulated ρ(k)
+        is then a smooth function of k, whose noise is shared by neighbouring k. Different
+        end-members get different seeds, so their Monte Carlo errors are independent (with one
+        seed for all they are correlated, and σ of k combined over end-members, which assumes
+        independence, came out 2-3 times too small in a round trip with the fake engine).
+    porosity : float
+        Pore volume fraction in (0, 1) (only the free-path scale; recorded).
+    aspect_ratio : float
+        Prolate spheroid aspect ratio in [1, 20]; 1 (spheres) by default, as no end-member
+        description gives a shape the model could use.
+    """
+
+    def __init__(self, rays: int = 2000, seed: int = 0, porosity: float = 0.45, aspect_ratio: float = 1.0):
+        self.rays = rays
+        self.seed = seed
+        self.porosity = porosity
+        self.aspect_ratio = aspect_ratio
+
+    def member_seed(self, member) -> int:
+        """The engine seed of ``member``'s runs: the master seed and a CRC-32 of its id."""
+        return (int(self.seed) << 32) | zlib.crc32(member.id.encode())
+
+    def settings(self, member, wavelengths_nm) -> dict:
+        """What identifies a table: the engine, its inputs and the n(λ) it will use."""
+        import sandlight
+        from sandlight.optics import complex_index
+
+        n = np.real(complex_index(member.mineral, np.asarray(wavelengths_nm, dtype=float)))
+        return {
+            "model": "sandlight.validation.powder_reflectance",
+            "sandlight_version": sandlight.__version__,
+            "rays": int(self.rays),
+            "seed": self.member_seed(member),
+            "porosity": float(self.porosity),
+            "aspect_ratio": float(self.aspect_ratio),
+            "n_sha256": hashlib.sha256(np.ascontiguousarray(n, dtype="<f8").tobytes()).hexdigest(),
+        }
+
+    def reflectance(self, member, wavelengths_nm, k: float) -> tuple[np.ndarray, np.ndarray]:
+        """Reflectance and its standard error of ``member``'s powder with k = ``k`` everywhere.
+
+        Parameters
+        ----------
+        member : sandlight.calibration.EndMember
+        wavelengths_nm : array_like
+            Vacuum wavelengths in [350, 2500] nm.
+        k : float
+            Trial imaginary part of the refractive index, finite and > 0.
+        """
+        from sandlight.validation import powder_reflectance
+
+        if not (isinstance(k, (int, float, np.floating)) and math.isfinite(k) and k > 0):
+            raise ParameterError("k", k, "a finite number > 0")
+        with _trial_k(member.mineral, float(k)):
+            result = powder_reflectance(
+                member.mineral,
+                member.size_um,
+                wavelengths_nm,
+                rays=self.rays,
+                porosity=self.porosity,
+                aspect_ratio=self.aspect_ratio,
+                seed=self.member_seed(member),
+            )
+        return np.asarray(result.values, dtype=float), np.asarray(result.stderr, dtype=float)
