@@ -15,15 +15,16 @@ A forward model is any object with
 
 Model (docs/optical-constants.md, "Calibration on pure end-members"): the USGS AREF spectra are
 directional-hemispherical reflectance at (near-)normal incidence, which is what
-:func:`sandlight.validation.powder_reflectance` computes: one population of spheres of the pure
-mineral, equal mass per log-size interval over the end-member's ``size_um``, on-the-fly
-geometric optics with independent exponential free paths (the classic model, ``memory="none"``).
-Its porosity only scales the free paths, so it does not change the reflectance; it is recorded.
+:func:`sandlight.validation.powder_reflectance` computes (here the engine on a
+:class:`sandlight.physics.powder.Powder` whose optical constants carry the trial k): one
+population of spheres of the pure mineral, equal mass per log-size interval over the
+end-member's ``size_um``, on-the-fly geometric optics with independent exponential free paths
+(the classic model, ``memory="none"``). Its porosity only scales the free paths, so it does not
+change the reflectance; it is recorded.
 """
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import math
 import zlib
@@ -31,31 +32,20 @@ import zlib
 import numpy as np
 
 from sandlight.errors import ParameterError
+from sandlight.physics.medium import OpticalConstants
 
 __all__ = ["EnginePowder"]
 
 
-@contextlib.contextmanager
-def _trial_k(material: str, k: float):
-    """Runs the engine with ``material``'s k replaced by ``k`` (n unchanged).
+def _trial_k(material: str, k: float) -> OpticalConstants:
+    """The shipped optical constants with ``material``'s k replaced by ``k`` (n unchanged)."""
+    from sandlight.optics import complex_index
 
-    The shipped tables stay untouched: only the name the engine's medium builder looks up is
-    replaced for the duration, as sandlight.validation's optics variants do. This is the one
-    place the calibration touches an internal name (``sandlight.physics.medium.complex_index``).
-    """
-    from sandlight.physics import medium
-
-    original = medium.complex_index
-
-    def replaced(name, wavelength_nm):
-        m = complex(original(name, wavelength_nm))
+    def index(name: str, wavelength_nm: float) -> complex:
+        m = complex(complex_index(name, wavelength_nm))
         return complex(m.real, k) if name == material else m
 
-    medium.complex_index = replaced
-    try:
-        yield
-    finally:
-        medium.complex_index = original
+    return index
 
 
 class EnginePowder:
@@ -117,18 +107,13 @@ class EnginePowder:
         k : float
             Trial imaginary part of the refractive index, finite and > 0.
         """
-        from sandlight.validation import powder_reflectance
+        from sandlight.engine import reflectance
+        from sandlight.physics.powder import Powder
 
         if not (isinstance(k, (int, float, np.floating)) and math.isfinite(k) and k > 0):
             raise ParameterError("k", k, "a finite number > 0")
-        with _trial_k(member.mineral, float(k)):
-            result = powder_reflectance(
-                member.mineral,
-                member.size_um,
-                wavelengths_nm,
-                rays=self.rays,
-                porosity=self.porosity,
-                aspect_ratio=self.aspect_ratio,
-                seed=self.member_seed(member),
-            )
+        powder = Powder(
+            member.mineral, member.size_um, self.porosity, self.aspect_ratio, _trial_k(member.mineral, float(k))
+        )
+        result = reflectance(powder, wavelengths_nm, rays=self.rays, seed=self.member_seed(member), progress=False)
         return np.asarray(result.values, dtype=float), np.asarray(result.stderr, dtype=float)

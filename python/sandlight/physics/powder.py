@@ -21,7 +21,7 @@ from sandlight.checks import check_choice, check_real
 from sandlight.errors import ParameterError
 from sandlight.optics import MATERIALS
 from sandlight.physics.composition import Composition, mean_free_path_mm, population
-from sandlight.physics.medium import native_medium
+from sandlight.physics.medium import OpticalConstants, native_medium
 from sandlight.physics.sizes import SizeDistribution
 
 __all__ = ["Powder"]
@@ -42,12 +42,15 @@ class Powder:
         Pore volume fraction φ in (0, 1); only the free-path scale depends on it.
     aspect_ratio : float
         Prolate spheroid aspect ratio ε in [1, 20].
+    optical_constants : callable, optional
+        (material, λ in nm) → n + ik in place of the shipped tables (the calibration's trial k).
     """
 
     material: str
     diameter_um: float | tuple[float, float]
     porosity: float = 0.45
     aspect_ratio: float = 1.0
+    optical_constants: OpticalConstants | None = None
 
     def __post_init__(self) -> None:
         check_choice("material", self.material, MATERIALS)
@@ -91,7 +94,7 @@ class Powder:
 
     def medium(self, wavelength_nm: float) -> _native.Medium:
         """The native medium at ``wavelength_nm`` (nm)."""
-        return native_medium(self.composition, wavelength_nm)
+        return native_medium(self.composition, wavelength_nm, optical_constants=self.optical_constants)
 
     def describe(self) -> dict:
         """``{"material", "diameter_um" (list, µm), "porosity", "aspect_ratio"}``."""
