@@ -163,3 +163,23 @@ def test_a_valid_checkpoint_is_accepted_by_the_checks(tmp_path):
     ck, _ = _valid_checkpoint(tmp_path)
     full = _lambertian_run(None)
     assert np.array_equal(_lambertian_run(ck).counts, full.counts) and not ck.exists()
+
+
+def test_too_few_rays_warn_with_the_number_of_nan_values():
+    from sandlight.gonio.measure import rays_for_every_patch
+
+    r = CollectorHemisphere(STACKS, SLICES).n_patches
+    with pytest.warns(UserWarning, match=r"of \d+ BRDF values are NaN: \d+ of 37 incoming patches") as record:
+        short = brdf(LambertianSurface(0.5), rays=20, stacks=STACKS, slices=SLICES, seed=1, progress=False)
+    n_nan = int(np.isnan(short.unique_values).sum())
+    assert n_nan > 0 and f"{n_nan} of {short.unique_values.size}" in str(record[0].message)
+    assert f"at least about {rays_for_every_patch(r)} rays" in str(record[0].message)
+    # r ln(100 r) trials leave a patch empty in about one run in 100: this one warns of nothing.
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        full = brdf(
+            LambertianSurface(0.5), rays=rays_for_every_patch(r), stacks=STACKS, slices=SLICES, seed=1, progress=False
+        )
+    assert np.isfinite(full.unique_values).all()

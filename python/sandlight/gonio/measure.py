@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
+import warnings
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -109,6 +111,30 @@ def _load_checkpoint(path: Path, key: str, arrays: dict[str, np.ndarray], rays: 
         raise _checkpoint_error(path, f"unreadable checkpoint ({e})") from None
 
 
+def rays_for_every_patch(n_patches: int) -> int:
+    """Trials N after which an incoming patch is left without any trial in about one run in 100.
+
+    Uniform incidence over r equal-solid-angle patches leaves r (1 − 1/r)^N ≈ r e^(−N/r) patches
+    empty on average; that is 0.01 at N = r ln(100 r): 10 280 for the paper's 901 patches.
+    """
+    return math.ceil(n_patches * math.log(100 * n_patches))
+
+
+def _warn_if_undefined(result: MeasuredBRDF, launched: np.ndarray) -> None:
+    """Warns, with their number, when some BRDF values are NaN because too few trials were run."""
+    n_nan = int(np.isnan(result.unique_values).sum())
+    if n_nan == 0:
+        return
+    r = launched.size
+    warnings.warn(
+        f"{n_nan} of {result.unique_values.size} BRDF values are NaN: {int((launched == 0).sum())} of {r} "
+        f"incoming patches received no trial with rays = {result.rays}; use at least about "
+        f"{rays_for_every_patch(r)} rays for {r} patches",
+        UserWarning,
+        stacklevel=3,
+    )
+
+
 def _save_checkpoint(path: Path, key: str, done: int, arrays: dict[str, np.ndarray]) -> None:
     with atomic_path(path) as tmp, open(tmp, "wb") as f:
         np.savez(f, key=np.array(key), done=np.array(done), **arrays)
@@ -159,6 +185,15 @@ def brdf(
     -------
     MeasuredBRDF
         Raw counts, reduced and normalised values with standard errors, metadata.
+
+    Warns
+    -----
+    UserWarning
+        When some values are NaN, with their number: a value is undefined when no trial came
+        in through any patch of its class, and every normalised value is when one of the
+        normal-incidence row's classes saw no trial. Too few rays are not refused (a short run
+        is a legitimate smoke test) but warned about, naming :func:`rays_for_every_patch`
+        (N = r ln(100 r), 10 280 for 901 patches), after which an empty patch is rare.
     """
     wl = float(check_wavelengths("wavelength_nm", [wavelength_nm])[0])
     rays = check_count("rays", rays)
@@ -212,6 +247,7 @@ def brdf(
     )
     if checkpoint is not None and checkpoint.exists():
         os.remove(checkpoint)
+    _warn_if_undefined(result, arrays["launched"])
     return result
 
 
