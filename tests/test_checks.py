@@ -104,3 +104,13 @@ def test_table_reads_checked_values_and_refuses_unknown_keys():
     )
     assert (e.name, e.value, e.allowed) == ("camera.fov_deg", 200, "a number in (0, 170)")
     assert refused(checks.Table({}, "camera").number, "fov_deg").value == "missing"
+
+
+def test_allocation_within_the_limit_passes_and_beyond_it_is_refused_with_both_figures():
+    from sandlight.checks import MAX_ALLOCATION_BYTES, check_allocation
+
+    check_allocation("size", 10, MAX_ALLOCATION_BYTES)
+    with pytest.raises(ParameterError, match=r"size = 10 is not allowed: needs about 3 GiB .* limit of 2 GiB"):
+        check_allocation("size", 10, 3 << 30)
+    with pytest.raises(ParameterError, match="limit of 0.5 GiB"):
+        check_allocation("size", 10, 1 << 30, limit_bytes=1 << 29)

@@ -24,6 +24,8 @@ check_choice
     One of a fixed set of names.
 check_wavelengths, check_incidence
     The engine's wavelengths (nm) and incidence zenith angle (degrees).
+check_allocation
+    An estimated memory need within a limit (refused before the allocation, not after).
 parse_range
     ``start:stop:step`` or a comma-separated list, as typed on the command line.
 Interval, StrOptions
@@ -52,9 +54,16 @@ WAVELENGTH_RANGE_NM: tuple[float, float] = (350.0, 2500.0)
 #: wavelengths (a 2 TiB array) and "400:inf:20" overflowed.
 MAX_WAVELENGTHS = 10_000
 
+#: The most memory one array or image of a command may need (bytes): values inside every
+#: parameter's own range can still multiply to more than a machine holds (a 20000² PNG, a
+#: 4096 × 4096 table), and an estimate refused up front beats a MemoryError or the OOM killer.
+MAX_ALLOCATION_BYTES = 2 << 30
+
 __all__ = [
     "WAVELENGTH_RANGE_NM",
     "MAX_WAVELENGTHS",
+    "MAX_ALLOCATION_BYTES",
+    "check_allocation",
     "interval_text",
     "is_number",
     "check_real_array",
@@ -72,6 +81,19 @@ __all__ = [
     "StrOptions",
     "Table",
 ]
+
+
+def _gib(n_bytes: float) -> str:
+    return f"{n_bytes / (1 << 30):.3g} GiB"
+
+
+def check_allocation(name: str, value: object, n_bytes: float, limit_bytes: float = MAX_ALLOCATION_BYTES) -> None:
+    """Refuses ``value`` of parameter ``name`` when the memory it needs, ``n_bytes`` (an
+    estimate made before allocating), exceeds ``limit_bytes``; the message states both in GiB."""
+    if n_bytes > limit_bytes:
+        raise ParameterError(
+            name, value, f"needs about {_gib(n_bytes)} of memory, more than the limit of {_gib(limit_bytes)}"
+        )
 
 
 def interval_text(

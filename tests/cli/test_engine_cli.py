@@ -110,6 +110,25 @@ def test_brdf_command(tmp_path):
     assert read_netcdf(cut).sample["memory"] == "cut"
 
 
+def test_brdf_refuses_a_malformed_checkpoint_with_exit_2(tmp_path):
+    out = tmp_path / "b.nc"
+    ck = tmp_path / "b.nc.checkpoint.npz"
+    args = ["brdf", "--preset", "red-dune", "-n", "5000", "--stacks", "7", "--slices", "6", "-o", str(out)]
+    for content in (b"", b"PK\x03\x04 truncated"):
+        ck.write_bytes(content)
+        res = runner.invoke(app, args)
+        assert res.exit_code == 2, res.output
+        assert "b.nc.checkpoint.npz" in res.output and "delete it to start afresh" in res.output
+        assert "Traceback" not in res.output and "Aborted" not in res.output and not out.exists()
+
+
+def test_brdf_with_too_few_rays_warns_of_the_nan_values(tmp_path):
+    out = tmp_path / "b.nc"
+    res = runner.invoke(app, ["brdf", "--preset", "red-dune", "--rays", "100", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    assert "13561 of 13561 BRDF values are NaN" in res.output and "at least about 10280 rays" in res.output
+
+
 def test_ctrl_c_stops_a_long_run_cleanly(tmp_path):
     out = tmp_path / "never.nc"
     proc = subprocess.Popen(

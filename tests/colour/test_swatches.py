@@ -111,6 +111,12 @@ class TestPng:
             grid.save_png(tmp_path / "g.png", size_px=(100, 100))
         assert not list(tmp_path.iterdir())
 
+    def test_a_size_needing_too_much_memory_is_refused_before_drawing(self, tmp_path, fake_sample, fake_provider):
+        grid = swatch_grid(fake_sample, "iron_oxide=0.001:0.05:8", "hematite_ratio=0:1:6", reflectance=fake_provider)
+        with pytest.raises(ParameterError, match=r"size_px = \(20000, 20000\).*13.4 GiB of memory"):
+            grid.save_png(tmp_path / "g.png", size_px=(20000, 20000))
+        assert not list(tmp_path.iterdir())
+
     def test_missing_output_directory(self, tmp_path, fake_sample, fake_provider):
         grid = swatch_grid(fake_sample, "iron_oxide=0.001:0.05:2", "hematite_ratio=0:1:2", reflectance=fake_provider)
         with pytest.raises(FileNotFoundError, match="nowhere"):
@@ -165,6 +171,7 @@ class TestSwatchesCommand:
             (["--x", "iron_oxide=0.001:0.05:8"], "--x and --y go together"),
             (["--figure", "6", "--x", "a=0:1:2", "--y", "b=0:1:2"], "not both"),
             (["--size", "big"], "--size 'big'"),
+            (["--size", "20000x20000"], "needs about 13.4 GiB of memory, more than the limit of 2 GiB"),
             (["--mode", "cmyk"], "cmyk"),
             (["--figure", "8"], "8"),
         ],

@@ -25,6 +25,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from sandlight.checks import check_allocation
 from sandlight.colour.provider import ReflectanceProvider
 from sandlight.colour.sample_colour import sample_xyz
 from sandlight.colour.spectrum import DEFAULT_ILLUMINANT, DEFAULT_OBSERVER, PREDICTOR_WAVELENGTHS_NM
@@ -160,6 +161,11 @@ def grid_samples(
     return x_axis, y_axis, samples
 
 
+#: Memory matplotlib needs per pixel of a grid PNG: the Agg canvas (RGBA, 4 bytes) and the
+#: image resampled to it in float64 RGBA (32 bytes). 20000 × 20000 px would need 13 GiB.
+_BYTES_PER_PIXEL = 36
+
+
 def framed_size_px(width_px: int, height_px: int) -> tuple[int, int]:
     """Size of a labelled grid PNG that shows ``width_px × height_px`` of content at 1:1."""
     return (width_px + _MARGIN_LEFT_PX + _MARGIN_RIGHT_PX, height_px + _MARGIN_BOTTOM_PX + _MARGIN_TOP_PX)
@@ -176,6 +182,7 @@ def _validated_size(size_px: tuple[int, int], n_x: int, n_y: int) -> tuple[int, 
         raise ParameterError(
             "size_px", size_px, f"width {min_w}–20000 and height {min_h}–20000 pixels for a {n_x}×{n_y} grid"
         )
+    check_allocation("size_px", size_px, width * height * _BYTES_PER_PIXEL)
     return width, height
 
 

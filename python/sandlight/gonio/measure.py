@@ -14,7 +14,10 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
+import warnings
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -45,24 +48,94 @@ def _checkpoint_key(meta: dict) -> str:
     return hashlib.sha256(json.dumps(meta, sort_keys=True).encode()).hexdigest()
 
 
-def _load_checkpoint(path: Path, key: str, arrays: dict) -> int:
+#: Bytes a checkpoint member may hold beyond its array's data: the .npy header, or a small
+#: scalar (``key`` is a 64-character string, ``done`` one integer).
+_NPY_HEADER_ROOM = 4096
+
+
+def _checkpoint_error(path: Path, problem: str) -> ModelFileError:
+    return ModelFileError(f"{path}: {problem}; delete it to start afresh")
+
+
+def _load_checkpoint(path: Path, key: str, arrays: dict[str, np.ndarray], rays: int) -> int:
+    """Fills ``arrays`` from the checkpoint at ``path`` and returns the trials already done (0
+    when there is no checkpoint). Everything is checked before it is used: a zip npz holding
+    exactly ``key``, ``done`` and the count arrays, no pickled data, ``key`` the string ``key``
+    of this run, ``done`` an integer in [0, rays], each count array of the expected shape and an
+    unsigned integer dtype. Anything else raises ModelFileError naming the file and the fault."""
     if not path.exists():
         return 0
+    expected = {f"{name}.npy" for name in ("key", "done", *arrays)}
     try:
+        if not zipfile.is_zipfile(path):
+            raise _checkpoint_error(path, "not a checkpoint (not a zip npz file; truncated or empty?)")
+        with zipfile.ZipFile(path) as zf:
+            sizes = {info.filename: info.file_size for info in zf.infolist()}
+        if set(sizes) != expected:
+            raise _checkpoint_error(
+                path, f"not a brdf checkpoint (members {sorted(sizes)}, expected {sorted(expected)})"
+            )
+        # Sizes are checked before anything is read: a member far larger than its array cannot be right.
+        for name, size in sizes.items():
+            target = arrays.get(name.removesuffix(".npy"))
+            limit = (0 if target is None else target.nbytes) + _NPY_HEADER_ROOM
+            if size > limit:
+                raise _checkpoint_error(path, f"member {name!r} holds {size:,} bytes, at most {limit:,} expected")
         with np.load(path, allow_pickle=False) as z:
-            if str(z["key"]) != key:
+            stored_key = z["key"]
+            if stored_key.shape != () or stored_key.dtype.kind != "U":
+                raise _checkpoint_error(path, "'key' is not a string")
+            if str(stored_key) != key:
                 raise ModelFileError(
-                    f"{path}: checkpoint of a different run (other sample, wavelength, seed, rays or "
-                    "geometry); delete it or choose another output"
+                    f"{path}: checkpoint of a different run (other sample, wavelength, seed, rays or geometry); "
+                    "delete it to start afresh or choose another output"
                 )
-            for name in arrays:
-                arrays[name][...] = z[name]
-            return int(z["done"])
-    except (OSError, KeyError, ValueError) as e:
-        raise ModelFileError(f"{path}: unreadable checkpoint ({e}); delete it to start afresh") from None
+            done = z["done"]
+            if done.shape != () or done.dtype.kind not in "iu" or not 0 <= int(done) <= rays:
+                raise _checkpoint_error(
+                    path, f"'done' = {done.item()!r} is not an integer in [0, {rays}] (the trials of this run)"
+                )
+            for name, target in arrays.items():
+                stored = z[name]
+                if stored.shape != target.shape or stored.dtype.kind != "u":
+                    raise _checkpoint_error(
+                        path,
+                        f"{name!r} has shape {stored.shape} and dtype {stored.dtype}, "
+                        f"expected shape {target.shape} and an unsigned integer dtype",
+                    )
+                target[...] = stored
+            return int(done)
+    except ModelFileError:
+        raise
+    except (OSError, KeyError, ValueError, EOFError, zipfile.BadZipFile) as e:
+        raise _checkpoint_error(path, f"unreadable checkpoint ({e})") from None
 
 
-def _save_checkpoint(path: Path, key: str, done: int, arrays: dict) -> None:
+def rays_for_every_patch(n_patches: int) -> int:
+    """Trials N after which an incoming patch is left without any trial in about one run in 100.
+
+    Uniform incidence over r equal-solid-angle patches leaves r (1 − 1/r)^N ≈ r e^(−N/r) patches
+    empty on average; that is 0.01 at N = r ln(100 r): 10 280 for the paper's 901 patches.
+    """
+    return math.ceil(n_patches * math.log(100 * n_patches))
+
+
+def _warn_if_undefined(result: MeasuredBRDF, launched: np.ndarray) -> None:
+    """Warns, with their number, when some BRDF values are NaN because too few trials were run."""
+    n_nan = int(np.isnan(result.unique_values).sum())
+    if n_nan == 0:
+        return
+    r = launched.size
+    warnings.warn(
+        f"{n_nan} of {result.unique_values.size} BRDF values are NaN: {int((launched == 0).sum())} of {r} "
+        f"incoming patches received no trial with rays = {result.rays}; use at least about "
+        f"{rays_for_every_patch(r)} rays for {r} patches",
+        UserWarning,
+        stacklevel=3,
+    )
+
+
+def _save_checkpoint(path: Path, key: str, done: int, arrays: dict[str, np.ndarray]) -> None:
     with atomic_path(path) as tmp, open(tmp, "wb") as f:
         np.savez(f, key=np.array(key), done=np.array(done), **arrays)
 
@@ -112,6 +185,15 @@ def brdf(
     -------
     MeasuredBRDF
         Raw counts, reduced and normalised values with standard errors, metadata.
+
+    Warns
+    -----
+    UserWarning
+        When some values are NaN, with their number: a value is undefined when no trial came
+        in through any patch of its class, and every normalised value is when one of the
+        normal-incidence row's classes saw no trial. Too few rays are not refused (a short run
+        is a legitimate smoke test) but warned about, naming :func:`rays_for_every_patch`
+        (N = r ln(100 r), 10 280 for 901 patches), after which an empty patch is rare.
     """
     wl = float(check_wavelengths("wavelength_nm", [wavelength_nm])[0])
     rays = check_count("rays", rays)
@@ -139,9 +221,9 @@ def brdf(
         }
     )
     checkpoint = Path(checkpoint) if checkpoint is not None else None
-    done = _load_checkpoint(checkpoint, key, arrays) if checkpoint is not None else 0
+    done = _load_checkpoint(checkpoint, key, arrays, rays) if checkpoint is not None else 0
 
-    def batch(first: int, n: int):
+    def batch(first: int, n: int) -> None:
         parts = medium.brdf_counts(
             stacks, slices, seed, 0, first, n, int(max_events), MAX_INTERNAL_REFLECTIONS, threads
         )
@@ -165,6 +247,7 @@ def brdf(
     )
     if checkpoint is not None and checkpoint.exists():
         os.remove(checkpoint)
+    _warn_if_undefined(result, arrays["launched"])
     return result
 
 
@@ -219,7 +302,7 @@ def fixed_incidence(
     counts = np.zeros(hemi.n_patches, np.uint64)
     totals = np.zeros(3, np.uint64)
 
-    def batch(first: int, n: int):
+    def batch(first: int, n: int) -> None:
         c, a, l_, lost = medium.fixed_counts(
             stacks,
             slices,
