@@ -20,10 +20,12 @@ from __future__ import annotations
 import functools
 import math
 import tomllib
+from collections.abc import Iterable
 from dataclasses import dataclass
 from importlib import resources
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.optics import MATERIALS
@@ -136,7 +138,9 @@ def _inventory() -> tuple[EndMember, ...]:
     return members
 
 
-def end_members(mineral: str | None = None, *, fit_only: bool = False, ids=None) -> tuple[EndMember, ...]:
+def end_members(
+    mineral: str | None = None, *, fit_only: bool = False, ids: Iterable[str] | None = None
+) -> tuple[EndMember, ...]:
     """The end-member inventory.
 
     Parameters
@@ -176,7 +180,7 @@ def end_members(mineral: str | None = None, *, fit_only: bool = False, ids=None)
     return members
 
 
-def measured_reflectance(member: EndMember, wavelengths_nm) -> tuple[np.ndarray, np.ndarray]:
+def measured_reflectance(member: EndMember, wavelengths_nm: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """An end-member's measured reflectance at model wavelengths.
 
     Parameters

@@ -38,13 +38,18 @@ from __future__ import annotations
 
 import copy
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy import sparse
 from scipy.optimize import brentq, least_squares
 
 from sandlight.errors import ParameterError
+
+if TYPE_CHECKING:
+    from sandlight.calibration.tables import ReflectanceTable
 
 __all__ = ["KFit", "holdout"]
 
@@ -74,7 +79,7 @@ def _second_derivative_operator(wl: np.ndarray, smoothing: float, h: float) -> s
 def _model_sigma(residuals: np.ndarray, sigma: np.ndarray, dof: int) -> float:
     """σ_m ≥ 0 with Σ r²/(σ² + σ_m²) = dof (0 if the χ² is at most dof already)."""
 
-    def excess(sm):
+    def excess(sm: float) -> float:
         return float(np.sum(residuals**2 / (sigma**2 + sm**2))) - max(dof, 1)
 
     if excess(0.0) <= 0.0:
@@ -151,7 +156,7 @@ class KFit:
     # --- validation -----------------------------------------------------------------------
 
     def _check_parameters(self) -> None:
-        def positive(name, value, zero_ok=False):
+        def positive(name: str, value: object, zero_ok: bool = False) -> None:
             ok = isinstance(value, (int, float, np.floating)) and not isinstance(value, bool) and math.isfinite(value)
             if not ok or value < 0 or (value == 0 and not zero_ok):
                 raise ParameterError(name, value, "a finite number " + (">= 0" if zero_ok else "> 0"))
@@ -167,7 +172,9 @@ class KFit:
             raise ParameterError("max_nfev", self.max_nfev, "an integer >= 1")
 
     @staticmethod
-    def _check_tables(tables, wavelengths=None) -> list:
+    def _check_tables(
+        tables: Sequence[ReflectanceTable], wavelengths: np.ndarray | None = None
+    ) -> list[ReflectanceTable]:
         tables = list(tables) if isinstance(tables, Sequence) else None
         if not tables:
             raise ParameterError("tables", tables, "a non-empty sequence of ReflectanceTable")
@@ -181,7 +188,9 @@ class KFit:
                 )
         return tables
 
-    def _check_measured(self, measured, sigma, shape) -> tuple[np.ndarray, np.ndarray]:
+    def _check_measured(
+        self, measured: ArrayLike, sigma: ArrayLike | None, shape: tuple[int, int]
+    ) -> tuple[np.ndarray, np.ndarray]:
         try:
             m = np.asarray(measured, dtype=float)
         except (TypeError, ValueError):
@@ -209,7 +218,7 @@ class KFit:
 
     # --- fit ------------------------------------------------------------------------------
 
-    def fit(self, tables, measured, sigma=None) -> KFit:
+    def fit(self, tables: Sequence[ReflectanceTable], measured: ArrayLike, sigma: ArrayLike | None = None) -> KFit:
         """Fits log10 k at each wavelength of the tables.
 
         Parameters
@@ -238,11 +247,11 @@ class KFit:
         mask = np.isfinite(m)
         penalty = _second_derivative_operator(wl, float(self.smoothing), float(self.reference_step_nm))
 
-        def sigma_at(x):
+        def sigma_at(x: np.ndarray) -> np.ndarray:
             mc = np.array([t.stderr_at(x) for t in tables])
             return np.sqrt(s_meas**2 + mc**2)
 
-        def model(x):
+        def model(x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             both = [t(x) for t in tables]
             return np.array([b[0] for b in both]), np.array([b[1] for b in both])
 
@@ -253,11 +262,11 @@ class KFit:
         for _ in range(3):
             s = np.sqrt(sigma_at(x) ** 2 + model_sigma**2)
 
-            def residuals(x, s=s):
+            def residuals(x: np.ndarray, s: np.ndarray = s) -> np.ndarray:
                 rho, _ = model(x)
                 return np.concatenate([((rho - m) / s)[mask], penalty @ x])
 
-            def jacobian(x, s=s):
+            def jacobian(x: np.ndarray, s: np.ndarray = s) -> sparse.csr_matrix:
                 _, drho = model(x)
                 data = (drho / s)[mask]
                 data = sparse.csr_matrix((data, (np.arange(rows[0].size), rows[1])), shape=(rows[0].size, wl.size))
@@ -296,7 +305,14 @@ class KFit:
         return self
 
     @staticmethod
-    def _start(tables, m, s, mask, low, high) -> np.ndarray:
+    def _start(
+        tables: Sequence[ReflectanceTable],
+        m: np.ndarray,
+        s: np.ndarray,
+        mask: np.ndarray,
+        low: float,
+        high: float,
+    ) -> np.ndarray:
         """Per wavelength, the log10 k of a fine grid that minimises the weighted misfit."""
         grid = np.linspace(low, high, _START_POINTS)
         cost = np.zeros((grid.size, m.shape[1]))
@@ -307,7 +323,7 @@ class KFit:
 
     # --- predict --------------------------------------------------------------------------
 
-    def predict(self, tables) -> np.ndarray:
+    def predict(self, tables: Sequence[ReflectanceTable]) -> np.ndarray:
         """Model reflectance of end-members at the fitted k.
 
         Parameters
@@ -325,7 +341,14 @@ class KFit:
         return np.array([t(self.log10_k_)[0] for t in tables])
 
 
-def holdout(estimator: KFit, tables, measured, *, test_ids, band_nm=(350.0, 2500.0)) -> tuple[KFit, dict]:
+def holdout(
+    estimator: KFit,
+    tables: Sequence[ReflectanceTable],
+    measured: ArrayLike,
+    *,
+    test_ids: Iterable[str],
+    band_nm: tuple[float, float] = (350.0, 2500.0),
+) -> tuple[KFit, dict[str, float]]:
     """Fits a copy of ``estimator`` on the end-members not in ``test_ids``, predicts those.
 
     Parameters

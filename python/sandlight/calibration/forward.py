@@ -6,7 +6,7 @@ EnginePowder
     sandlight's engine for a dry powder of the end-member's mineral, with k set to a trial value
     at every wavelength and n from the shipped table.
 
-A forward model is any object with
+A forward model (:class:`ForwardModel`) is any object with
 
 * ``settings(member, wavelengths_nm) -> dict``: JSON-serialisable values that identify what it
   computes (a cached table is reused only when they are equal), and
@@ -28,13 +28,30 @@ from __future__ import annotations
 import hashlib
 import math
 import zlib
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.physics.medium import OpticalConstants
 
-__all__ = ["EnginePowder"]
+if TYPE_CHECKING:
+    from sandlight.calibration.end_members import EndMember
+
+__all__ = ["EnginePowder", "ForwardModel"]
+
+
+class ForwardModel(Protocol):
+    """The interface of a forward model (module docstring); :class:`EnginePowder` implements it."""
+
+    def settings(self, member: EndMember, wavelengths_nm: ArrayLike) -> dict:
+        """JSON-serialisable values that identify what the model computes."""
+        ...
+
+    def reflectance(self, member: EndMember, wavelengths_nm: ArrayLike, k: float) -> tuple[np.ndarray, np.ndarray]:
+        """Reflectance at normal incidence with k = ``k`` everywhere, and its standard error."""
+        ...
 
 
 def _trial_k(material: str, k: float) -> OpticalConstants:
@@ -76,11 +93,11 @@ class EnginePowder:
         self.porosity = porosity
         self.aspect_ratio = aspect_ratio
 
-    def member_seed(self, member) -> int:
+    def member_seed(self, member: EndMember) -> int:
         """The engine seed of ``member``'s runs: the master seed and a CRC-32 of its id."""
         return (int(self.seed) << 32) | zlib.crc32(member.id.encode())
 
-    def settings(self, member, wavelengths_nm) -> dict:
+    def settings(self, member: EndMember, wavelengths_nm: ArrayLike) -> dict:
         """What identifies a table: the engine, its inputs and the n(λ) it will use."""
         import sandlight
         from sandlight.optics import complex_index
@@ -96,7 +113,7 @@ class EnginePowder:
             "n_sha256": hashlib.sha256(np.ascontiguousarray(n, dtype="<f8").tobytes()).hexdigest(),
         }
 
-    def reflectance(self, member, wavelengths_nm, k: float) -> tuple[np.ndarray, np.ndarray]:
+    def reflectance(self, member: EndMember, wavelengths_nm: ArrayLike, k: float) -> tuple[np.ndarray, np.ndarray]:
         """Reflectance and its standard error of ``member``'s powder with k = ``k`` everywhere.
 
         Parameters

@@ -35,11 +35,20 @@ from __future__ import annotations
 
 import math
 from collections import Counter
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.io import atomic_path
+
+if TYPE_CHECKING:
+    import os
+
+    from sandlight.calibration.fit import KFit
+    from sandlight.calibration.tables import ReflectanceTable
 
 __all__ = [
     "IDENTIFIABLE_SIGMA_LOG10_K",
@@ -125,7 +134,7 @@ def _interval(dchi2: np.ndarray, x: np.ndarray, low: float, high: float):
     root = np.sqrt(dchi2)
     limit = math.sqrt(_DCHI2)
 
-    def crossing(inside, outside):
+    def crossing(inside: np.ndarray, outside: np.ndarray) -> np.ndarray:
         valid = (outside >= 0) & (outside < n)
         o = np.clip(outside, 0, n - 1)
         r_in, r_out = root[inside, columns], root[o, columns]
@@ -138,7 +147,12 @@ def _interval(dchi2: np.ndarray, x: np.ndarray, low: float, high: float):
 
 
 def identifiability(
-    tables, log10_k, sigma_measured, *, threshold: float = IDENTIFIABLE_SIGMA_LOG10_K, points: int = 201
+    tables: Sequence[ReflectanceTable],
+    log10_k: ArrayLike,
+    sigma_measured: ArrayLike,
+    *,
+    threshold: float = IDENTIFIABLE_SIGMA_LOG10_K,
+    points: int = 201,
 ) -> Identifiability:
     """Which end-members constrain k where (see the module docstring).
 
@@ -205,7 +219,7 @@ def identifiability(
     )
 
 
-def _at(wl: np.ndarray, report_nm) -> list[int]:
+def _at(wl: np.ndarray, report_nm: Iterable[float]) -> list[int]:
     """Indices of the grid wavelengths nearest to each of ``report_nm`` (duplicates dropped)."""
     out = []
     for lam in report_nm:
@@ -215,7 +229,12 @@ def _at(wl: np.ndarray, report_nm) -> list[int]:
     return out
 
 
-def markdown_residuals(fit, *, bands_nm=((400.0, 700.0), (350.0, 2500.0)), held_out=None) -> str:
+def markdown_residuals(
+    fit: KFit,
+    *,
+    bands_nm: Sequence[tuple[float, float]] = ((400.0, 700.0), (350.0, 2500.0)),
+    held_out: Mapping[str, tuple[ArrayLike, ArrayLike]] | None = None,
+) -> str:
     """Markdown table: RMS and mean bias (model − measured) per end-member and band.
 
     ``held_out``: optional dict id → (predicted, measured) arrays on the fit's grid, reported
@@ -225,7 +244,7 @@ def markdown_residuals(fit, *, bands_nm=((400.0, 700.0), (350.0, 2500.0)), held_
     head = "| end-member | role | " + " | ".join(f"RMS {a:g}–{b:g} nm | bias {a:g}–{b:g}" for a, b in bands_nm) + " |"
     lines = [head, "|---|---|" + "---|---|" * len(bands_nm)]
 
-    def row(name, role, residual):
+    def row(name: str, role: str, residual: np.ndarray) -> str:
         cells = []
         for a, b in bands_nm:
             band = (wl >= a) & (wl <= b) & np.isfinite(residual)
@@ -241,7 +260,7 @@ def markdown_residuals(fit, *, bands_nm=((400.0, 700.0), (350.0, 2500.0)), held_
 
 
 def markdown_identifiability(
-    ident: Identifiability, fit, report_nm, *, with_model: Identifiability | None = None
+    ident: Identifiability, fit: KFit, report_nm: Iterable[float], *, with_model: Identifiability | None = None
 ) -> str:
     """Markdown table at chosen wavelengths: fitted k ± σ, σ(log10 k) per end-member, verdict.
 
@@ -250,7 +269,7 @@ def markdown_identifiability(
     """
     wl = ident.wavelengths_nm
 
-    def fmt_sigma(x):
+    def fmt_sigma(x: float) -> str:
         return f"{x:.2f}" if x < 10 else "≫1"
 
     extra = " | σ log10 k (data + model) | verdict with model error" if with_model is not None else ""
@@ -281,7 +300,15 @@ def markdown_identifiability(
 
 
 def plot_calibration(
-    path, fit, measured, ident: Identifiability, *, mineral: str, errors: str, reference=None, truth=None
+    path: str | os.PathLike[str],
+    fit: KFit,
+    measured: np.ndarray,
+    ident: Identifiability,
+    *,
+    mineral: str,
+    errors: str,
+    reference: tuple[ArrayLike, ArrayLike] | None = None,
+    truth: tuple[ArrayLike, ArrayLike] | None = None,
 ) -> None:
     """Three panels: k(λ) fitted (band: ±σ of the fit; grey: not identifiable) against the
     shipped table (``reference``: (wavelengths, k)) and a known ``truth`` (same form, synthetic
@@ -349,7 +376,9 @@ def _runs(wl: np.ndarray, flag: np.ndarray) -> list[tuple[float, float]]:
     return runs
 
 
-def write_k_table(path, mineral: str, fit, ident: Identifiability, *, command: str, inputs: str) -> None:
+def write_k_table(
+    path: str | os.PathLike[str], mineral: str, fit: KFit, ident: Identifiability, *, command: str, inputs: str
+) -> None:
     """Writes the fitted k (with the shipped n) as ``wavelength_nm,n,k`` with a ``#`` header.
 
     The header follows ``sandlight/data/optical/*.csv`` (material, status, source, origin,

@@ -15,13 +15,21 @@ the fit, and the tables' Monte Carlo noise is independent of the synthetic spect
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
+
+if TYPE_CHECKING:
+    from sandlight.calibration.end_members import EndMember
+    from sandlight.calibration.forward import ForwardModel
 
 __all__ = ["synthetic_spectra", "edge_and_band_log10_k"]
 
 
 def edge_and_band_log10_k(
-    wavelengths_nm,
+    wavelengths_nm: ArrayLike,
     *,
     opaque: float = -0.2,
     floor: float = -3.5,
@@ -42,7 +50,13 @@ def edge_and_band_log10_k(
 
 
 def synthetic_spectra(
-    forward, members, wavelengths_nm, log10_k, *, sigma: float, seed: int = 0
+    forward: ForwardModel,
+    members: Sequence[EndMember],
+    wavelengths_nm: ArrayLike,
+    log10_k: ArrayLike,
+    *,
+    sigma: float,
+    seed: int = 0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Reflectance of each end-member at k(λ) = 10**log10_k, with noise.
 

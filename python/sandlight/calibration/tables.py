@@ -32,12 +32,20 @@ import hashlib
 import json
 from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.interpolate import PchipInterpolator
 
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.io import atomic_path
+
+if TYPE_CHECKING:
+    import os
+
+    from sandlight.calibration.end_members import EndMember
+    from sandlight.calibration.forward import ForwardModel
 
 __all__ = ["ReflectanceTable", "tabulate"]
 
@@ -75,12 +83,12 @@ class ReflectanceTable:
     def _interpolant(self) -> PchipInterpolator:
         return PchipInterpolator(self.log10_k, self.rho.T, axis=0)
 
-    def clip(self, log10_k) -> np.ndarray:
+    def clip(self, log10_k: ArrayLike) -> np.ndarray:
         """log10 k clipped to the table's grid, as a float array of shape (nλ,)."""
         x = np.broadcast_to(np.asarray(log10_k, dtype=float), self.wavelengths_nm.shape)
         return np.clip(x, self.log10_k[0], self.log10_k[-1])
 
-    def __call__(self, log10_k) -> tuple[np.ndarray, np.ndarray]:
+    def __call__(self, log10_k: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """ρ and ∂ρ/∂log10 k at one log10 k per wavelength.
 
         Parameters
@@ -103,17 +111,17 @@ class ReflectanceTable:
         drho = (3.0 * c[0] * dx + 2.0 * c[1]) * dx + c[2]
         return rho, drho
 
-    def stderr_at(self, log10_k) -> np.ndarray:
+    def stderr_at(self, log10_k: ArrayLike) -> np.ndarray:
         """Monte Carlo standard error at one log10 k per wavelength (linear in log10 k)."""
         x = self.clip(log10_k)
         return np.array([np.interp(xi, self.log10_k, row) for xi, row in zip(x, self.stderr)])
 
-    def on_grid(self, log10_k_grid) -> np.ndarray:
+    def on_grid(self, log10_k_grid: ArrayLike) -> np.ndarray:
         """ρ at every wavelength for each value of a common log10 k grid: shape (ng, nλ)."""
         return self._interpolant(np.clip(np.asarray(log10_k_grid, dtype=float), self.log10_k[0], self.log10_k[-1]))
 
 
-def _check_grid(name: str, values, allowed: str, low=-np.inf, high=np.inf) -> np.ndarray:
+def _check_grid(name: str, values: ArrayLike, allowed: str, low: float = -np.inf, high: float = np.inf) -> np.ndarray:
     try:
         grid = np.asarray(values, dtype=float)
     except (TypeError, ValueError):
@@ -135,12 +143,12 @@ def _cache_key(settings: dict) -> str:
     return hashlib.sha256(json.dumps(settings, sort_keys=True).encode()).hexdigest()[:16]
 
 
-def _save(path: Path, settings_json: str, rho, stderr, done) -> None:
+def _save(path: Path, settings_json: str, rho: np.ndarray, stderr: np.ndarray, done: np.ndarray) -> None:
     with atomic_path(path) as tmp, open(tmp, "wb") as f:
         np.savez(f, format=np.array(_FORMAT), settings=np.array(settings_json), rho=rho, stderr=stderr, done=done)
 
 
-def _load(path: Path, settings_json: str, shape) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _load(path: Path, settings_json: str, shape: tuple[int, int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     try:
         with np.load(path, allow_pickle=False) as f:
             stored = {name: f[name] for name in ("format", "settings", "rho", "stderr", "done")}
@@ -154,12 +162,12 @@ def _load(path: Path, settings_json: str, shape) -> tuple[np.ndarray, np.ndarray
 
 
 def tabulate(
-    member,
-    forward,
-    wavelengths_nm,
-    log10_k,
+    member: EndMember,
+    forward: ForwardModel,
+    wavelengths_nm: ArrayLike,
+    log10_k: ArrayLike,
     *,
-    cache_dir=None,
+    cache_dir: str | os.PathLike[str] | None = None,
     progress: Callable[[str, int, int], None] | None = None,
 ) -> ReflectanceTable:
     """Tabulates ρ(λᵢ, kⱼ) of one end-member with a forward model.
