@@ -21,17 +21,22 @@ from __future__ import annotations
 import math
 from os import PathLike
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.io import write_atomically
 
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
 __all__ = ["plot_outgoing_polar", "plot_principal_plane", "save_overview_png"]
 
 
-def _check_zenith(name: str, value) -> float:
+def _check_zenith(name: str, value: object) -> float:
     try:
         v = float(value)
     except (TypeError, ValueError):
@@ -51,8 +56,8 @@ def _label(normalised: bool) -> str:
 
 
 def plot_outgoing_polar(
-    brdf: MeasuredBRDF, zenith_deg: float, *, normalised: bool = False, ax=None, resolution: int = 90
-):
+    brdf: MeasuredBRDF, zenith_deg: float, *, normalised: bool = False, ax: Axes | None = None, resolution: int = 90
+) -> Axes:
     """Polar heat map of f(ω_i, ω_o) over the outgoing hemisphere for one incidence.
 
     Parameters
@@ -94,8 +99,13 @@ def plot_outgoing_polar(
 
 
 def plot_principal_plane(
-    brdf: MeasuredBRDF, zenith_deg=(0.0, 30.0, 60.0), *, normalised: bool = False, ax=None, samples: int = 181
-):
+    brdf: MeasuredBRDF,
+    zenith_deg: ArrayLike = (0.0, 30.0, 60.0),
+    *,
+    normalised: bool = False,
+    ax: Axes | None = None,
+    samples: int = 181,
+) -> Axes:
     """BRDF along the principal plane for several incident zenith angles.
 
     Parameters
@@ -138,7 +148,7 @@ def save_overview_png(
     path: str | PathLike,
     *,
     zenith_deg: float = 30.0,
-    principal_zenith_deg=(0.0, 30.0, 60.0),
+    principal_zenith_deg: ArrayLike = (0.0, 30.0, 60.0),
     normalised: bool = False,
     dpi: int = 120,
 ) -> Path:

@@ -56,6 +56,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.gonio.hemisphere import CollectorHemisphere
@@ -113,7 +114,7 @@ class ReducedBRDF:
         return all(np.array_equal(getattr(self, a), getattr(other, a), equal_nan=True) for a in names)
 
 
-def _as_counts(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
+def _as_counts(name: str, value: ArrayLike, shape: tuple[int, ...]) -> np.ndarray:
     a = np.asarray(value)
     if a.shape != shape:
         raise ParameterError(name, f"an array of shape {a.shape}", f"must have shape {shape}")
@@ -130,7 +131,9 @@ def _as_counts(name: str, value, shape: tuple[int, ...]) -> np.ndarray:
     return a
 
 
-def check_counts(hemisphere: CollectorHemisphere, counts, absorbed, launched, lost):
+def check_counts(
+    hemisphere: CollectorHemisphere, counts: ArrayLike, absorbed: ArrayLike, launched: ArrayLike, lost: ArrayLike
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Validated int64 copies of the counters of a uniform-incidence run.
 
     Raises
@@ -159,7 +162,13 @@ REDUCTION_METHODS = ("average", "pooled")
 
 
 def reduce_counts(
-    hemisphere: CollectorHemisphere, counts, absorbed, launched, lost, *, method: str = "average"
+    hemisphere: CollectorHemisphere,
+    counts: ArrayLike,
+    absorbed: ArrayLike,
+    launched: ArrayLike,
+    lost: ArrayLike,
+    *,
+    method: str = "average",
 ) -> ReducedBRDF:
     """Estimate, symmetrise, normalise and compress the BRDF from uniform-incidence counts.
 
@@ -253,7 +262,9 @@ def reduce_counts(
     )
 
 
-def reduce_fixed_incidence(hemisphere: CollectorHemisphere, counts, absorbed: int, launched: int, lost: int = 0):
+def reduce_fixed_incidence(
+    hemisphere: CollectorHemisphere, counts: ArrayLike, absorbed: int, launched: int, lost: int = 0
+) -> tuple[np.ndarray, np.ndarray]:
     """BRDF of the classic goniophotometer: one incident direction, f_j = n_j / (ω_p(j) N).
 
     Parameters

@@ -42,6 +42,7 @@ from __future__ import annotations
 import functools
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.gonio.hemisphere import CollectorHemisphere
@@ -49,7 +50,7 @@ from sandlight.gonio.hemisphere import CollectorHemisphere
 __all__ = ["EquivalenceClasses"]
 
 
-def _canonical_key(b_in, b_out, delta, stacks: int, slices: int) -> np.ndarray:
+def _canonical_key(b_in: ArrayLike, b_out: ArrayLike, delta: ArrayLike, stacks: int, slices: int) -> np.ndarray:
     """Integer key of the canonical triple of each (band_in, band_out, Δ) (arrays broadcast)."""
     b_in, b_out, delta = np.broadcast_arrays(b_in, b_out, delta)
     neg = (-delta) % slices
@@ -142,14 +143,14 @@ class EquivalenceClasses:
         """Boolean mask (m,) of the classes that involve the cap (band_in = 0)."""
         return self.band_in == 0
 
-    def _check_full(self, name: str, full) -> np.ndarray:
+    def _check_full(self, name: str, full: ArrayLike) -> np.ndarray:
         a = np.asarray(full, dtype=float)
         r = self.hemisphere.n_patches
         if a.shape != (r, r):
             raise ParameterError(name, f"an array of shape {a.shape}", f"must have shape ({r}, {r})")
         return a
 
-    def mean(self, full, mask=None) -> np.ndarray:
+    def mean(self, full: ArrayLike, mask: ArrayLike | None = None) -> np.ndarray:
         """Unweighted mean of the entries of each class.
 
         Parameters
@@ -173,7 +174,7 @@ class EquivalenceClasses:
         with np.errstate(invalid="ignore", divide="ignore"):
             return np.where(n > 0, total / np.maximum(n, 1), np.nan)
 
-    def compress(self, full, *, rtol: float = 0.0) -> np.ndarray:
+    def compress(self, full: ArrayLike, *, rtol: float = 0.0) -> np.ndarray:
         """The m unique values of an array that is constant on every class.
 
         Exact: the value of each class is read from one of its entries, so
@@ -207,7 +208,7 @@ class EquivalenceClasses:
             )
         return values.copy()
 
-    def expand(self, values) -> np.ndarray:
+    def expand(self, values: ArrayLike) -> np.ndarray:
         """The r × r array whose every entry is the value of its class.
 
         Parameters
@@ -223,7 +224,7 @@ class EquivalenceClasses:
             raise ParameterError("values", f"an array of shape {v.shape}", f"must have shape ({self.n_classes},)")
         return v[self.class_of]
 
-    def row_group_sums(self, cell_values) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def row_group_sums(self, cell_values: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Sums of ``cell_values`` over the entries sharing a class and an incoming row.
 
         Returns ``(sums, group_class, group_row)``, one entry per (class, row) group. Used for

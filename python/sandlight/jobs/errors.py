@@ -1,5 +1,9 @@
 """Errors of the job runner."""
 
+from __future__ import annotations
+
+import os
+
 from sandlight.errors import SandlightError
 
 
@@ -22,7 +26,7 @@ class JobSettingsError(JobError, ValueError):
         Its value in the store and in this run.
     """
 
-    def __init__(self, store, setting: str, stored, requested):
+    def __init__(self, store: str | os.PathLike, setting: str, stored: object, requested: object) -> None:
         self.setting = setting
         self.stored = stored
         self.requested = requested

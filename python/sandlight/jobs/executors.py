@@ -25,9 +25,14 @@ import logging
 import multiprocessing
 import os
 import signal
+from collections.abc import Callable, Collection
 from concurrent.futures.process import BrokenProcessPool
+from typing import TYPE_CHECKING, Any
 
 from sandlight.errors import ParameterError
+
+if TYPE_CHECKING:
+    from distributed import Client
 
 
 def _cpu_count() -> int:
@@ -57,24 +62,24 @@ class Executor:
     #: Maximum number of tasks to keep submitted at once (None: submit them all).
     capacity: int | None = 1
 
-    def __enter__(self):
+    def __enter__(self) -> Executor:
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> bool:
         self.close()
         return False
 
-    def submit(self, fn, *args):
+    def submit(self, fn: Callable[..., Any], *args: Any) -> Any:
         raise NotImplementedError
 
-    def wait(self, futures, timeout: float):
+    def wait(self, futures: Collection[Any], timeout: float) -> Collection[Any]:
         """Futures of ``futures`` that are finished, waiting at most ``timeout`` seconds."""
         raise NotImplementedError
 
-    def result(self, future):
+    def result(self, future: Any) -> Any:
         return future.result()
 
-    def abort(self, futures) -> None:
+    def abort(self, futures: Collection[Any]) -> None:
         """Cancel ``futures`` and stop running tasks (Ctrl-C); they will be redone on resume."""
 
     def close(self) -> None:
@@ -89,7 +94,7 @@ class InProcessExecutor(Executor):
 
     capacity = 1
 
-    def submit(self, fn, *args):
+    def submit(self, fn: Callable[..., Any], *args: Any) -> cf.Future:
         future = cf.Future()
         try:
             future.set_result(fn(*args))
@@ -98,10 +103,10 @@ class InProcessExecutor(Executor):
         # KeyboardInterrupt (a BaseException) is not caught: it stops the job.
         return future
 
-    def wait(self, futures, timeout):
+    def wait(self, futures: Collection[cf.Future], timeout: float) -> list[cf.Future]:
         return [f for f in futures if f.done()]
 
-    def describe(self):
+    def describe(self) -> str:
         return "in-process"
 
 
@@ -131,12 +136,12 @@ class LocalExecutor(Executor):
         self.capacity = 2 * self.workers  # keep every worker busy while results are written
         self._pool = None
 
-    def _start(self):
+    def _start(self) -> None:
         self._pool = cf.ProcessPoolExecutor(
             max_workers=self.workers, mp_context=multiprocessing.get_context("spawn"), initializer=_init_worker
         )
 
-    def submit(self, fn, *args):
+    def submit(self, fn: Callable[..., Any], *args: Any) -> cf.Future:
         if self._pool is None:
             self._start()
         try:
@@ -148,16 +153,16 @@ class LocalExecutor(Executor):
             self._start()
             return self._pool.submit(fn, *args)
 
-    def wait(self, futures, timeout):
+    def wait(self, futures: Collection[cf.Future], timeout: float) -> set[cf.Future]:
         done, _ = cf.wait(futures, timeout=timeout, return_when=cf.FIRST_COMPLETED)
         return done
 
-    def abort(self, futures):
+    def abort(self, futures: Collection[cf.Future]) -> None:
         for f in futures:
             f.cancel()
         self._terminate()
 
-    def _terminate(self):
+    def _terminate(self) -> None:
         if self._pool is None:
             return
         pool, self._pool = self._pool, None
@@ -170,12 +175,12 @@ class LocalExecutor(Executor):
         for p in processes:
             p.join(timeout=5)
 
-    def close(self):
+    def close(self) -> None:
         if self._pool is not None:
             self._pool.shutdown(wait=True, cancel_futures=True)
             self._pool = None
 
-    def describe(self):
+    def describe(self) -> str:
         return f"local pool of {self.workers} processes"
 
 
@@ -212,7 +217,7 @@ class DaskExecutor(Executor):
         n_workers: int | None = None,
         threads_per_worker: int = 1,
         processes: bool = True,
-        client=None,
+        client: Client | None = None,
     ):
         given = [x is not None for x in (scheduler, n_workers, client)]
         if sum(given) > 1:
@@ -226,7 +231,7 @@ class DaskExecutor(Executor):
         self._cluster = None
 
     @property
-    def client(self):
+    def client(self) -> Client:
         if self._client is None:
             from distributed import Client, LocalCluster
 
@@ -243,14 +248,14 @@ class DaskExecutor(Executor):
                 self._client = Client(self._cluster)
         return self._client
 
-    def __enter__(self):
+    def __enter__(self) -> DaskExecutor:
         self.client  # noqa: B018 - connect now, so that a bad address fails before any work
         return self
 
-    def submit(self, fn, *args):
+    def submit(self, fn: Callable[..., Any], *args: Any) -> Any:
         return self.client.submit(fn, *args, pure=False)
 
-    def wait(self, futures, timeout):
+    def wait(self, futures: Collection[Any], timeout: float) -> Collection[Any]:
         from distributed import wait
 
         try:
@@ -259,11 +264,11 @@ class DaskExecutor(Executor):
             return []
         return done
 
-    def abort(self, futures):
+    def abort(self, futures: Collection[Any]) -> None:
         if self._client is not None and futures:
             self._client.cancel(list(futures))
 
-    def close(self):
+    def close(self) -> None:
         if self._owns_client and self._client is not None:
             self._client.close()
             self._client = None
@@ -271,7 +276,7 @@ class DaskExecutor(Executor):
             self._cluster.close()
             self._cluster = None
 
-    def describe(self):
+    def describe(self) -> str:
         if self.scheduler:
             return f"dask cluster at {self.scheduler}"
         if self._owns_client:
@@ -307,7 +312,7 @@ def make_executor(workers: int | None = None, dask_local: int | None = None, sch
     return LocalExecutor(workers)
 
 
-def resolve_executor(executor) -> Executor:
+def resolve_executor(executor: Executor | str | None) -> Executor:
     """An Executor as given, or one named ``"local"`` (default, also for None), ``"in-process"``
     or ``"dask"``."""
     if isinstance(executor, Executor):

@@ -5,6 +5,8 @@ tasks run, on the executor or on restarts), which is what makes a resumed or dis
 give the same numbers as an uninterrupted local one.
 """
 
+from __future__ import annotations
+
 import zlib
 
 import numpy as np
@@ -14,7 +16,7 @@ import numpy as np
 _SEED_MASK = (1 << 63) - 1
 
 
-def _key(part) -> int:
+def _key(part: int | str) -> int:
     """Map one key part (non-negative int or str) to a non-negative int, stably across runs."""
     if isinstance(part, str):
         # crc32 rather than hash(): Python's str hash is salted per process.
@@ -25,7 +27,7 @@ def _key(part) -> int:
     return part
 
 
-def derive_seed(master_seed: int, *keys) -> int:
+def derive_seed(master_seed: int, *keys: int | str) -> int:
     """Derive an independent seed from a master seed and a path of keys.
 
     Uses numpy's ``SeedSequence`` with the keys as its spawn key, so different key paths give

@@ -57,6 +57,7 @@ import math
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight import _native
 from sandlight.errors import ParameterError
@@ -115,21 +116,21 @@ class PhaseTable(NamedTuple):
     cdf: np.ndarray
 
 
-def _as_float(name: str, value, allowed: str) -> np.ndarray:
+def _as_float(name: str, value: ArrayLike, allowed: str) -> np.ndarray:
     try:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError(name, value, allowed) from None
 
 
-def _as_index(m) -> np.ndarray:
+def _as_index(m: ArrayLike) -> np.ndarray:
     try:
         return np.asarray(m, dtype=complex)
     except (TypeError, ValueError):
         raise ParameterError("m", m, "a complex relative refractive index n + ik (k >= 0)") from None
 
 
-def _scalar_sphere(m, x) -> tuple[complex, float]:
+def _scalar_sphere(m: ArrayLike, x: ArrayLike) -> tuple[complex, float]:
     m, x = _as_index(m), _as_float("x", x, "a size parameter")
     if m.ndim != 0:
         raise ParameterError("m", f"an array of shape {m.shape}", "a single complex index (one sphere)")
@@ -138,7 +139,7 @@ def _scalar_sphere(m, x) -> tuple[complex, float]:
     return complex(m), float(x)
 
 
-def _cosines(mu) -> np.ndarray:
+def _cosines(mu: ArrayLike) -> np.ndarray:
     allowed = "cosines of the scattering angle, finite, in [-1, 1]"
     mu = _as_float("mu", mu, allowed)
     bad = ~np.isfinite(mu) | (np.abs(mu) > 1.0)
@@ -152,7 +153,7 @@ def _scalar_or_array(a: np.ndarray):
     return a[()] if a.ndim == 0 else a
 
 
-def mie_efficiencies(m, x) -> MieEfficiencies:
+def mie_efficiencies(m: ArrayLike, x: ArrayLike) -> MieEfficiencies:
     """Extinction, scattering and absorption efficiencies, asymmetry parameter and albedo.
 
     Parameters
@@ -201,7 +202,7 @@ def mie_efficiencies(m, x) -> MieEfficiencies:
     return MieEfficiencies(*(_scalar_or_array(c.reshape(m.shape)) for c in columns))
 
 
-def scattering_amplitudes(m, x, mu) -> tuple[np.ndarray, np.ndarray]:
+def scattering_amplitudes(m: complex, x: float, mu: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     """Scattering amplitudes S1(μ), S2(μ) of one sphere (Bohren & Huffman eq. 4.74).
 
     Parameters
@@ -238,7 +239,7 @@ def scattering_amplitudes(m, x, mu) -> tuple[np.ndarray, np.ndarray]:
     return _scalar_or_array(s1.reshape(mu.shape)), _scalar_or_array(s2.reshape(mu.shape))
 
 
-def phase_function(m, x, mu) -> np.ndarray:
+def phase_function(m: complex, x: float, mu: ArrayLike) -> np.ndarray:
     """Phase function p(μ) of one sphere for unpolarised light, in sr⁻¹.
 
     p(μ) = (|S1|² + |S2|²)/(2π x² Q_sca), normalised to 2π ∫ p dμ = 1 over the sphere, with
@@ -276,7 +277,7 @@ def phase_function(m, x, mu) -> np.ndarray:
     return _scalar_or_array(p.reshape(mu.shape))
 
 
-def phase_table(m, x) -> PhaseTable:
+def phase_table(m: complex, x: float) -> PhaseTable:
     """The tabulated phase function the engine samples scattering angles from.
 
     Nodes are equally spaced in θ, 32 intervals per series term (at least 512) and four times
@@ -312,7 +313,7 @@ def phase_table(m, x) -> PhaseTable:
     return PhaseTable(*_native.mie_phase_table(m.real, m.imag, x))
 
 
-def size_parameter(diameter_um, wavelength_nm, host_index=1.0) -> np.ndarray:
+def size_parameter(diameter_um: ArrayLike, wavelength_nm: ArrayLike, host_index: ArrayLike = 1.0) -> np.ndarray:
     """Size parameter x = π d n_host / λ of a sphere.
 
     Parameters

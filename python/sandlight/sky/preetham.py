@@ -263,7 +263,7 @@ class PreethamSky:
         *,
         longitude_deg: npt.ArrayLike | None = None,
         utc_offset_h: npt.ArrayLike | None = None,
-    ):
+    ) -> PreethamSky:
         """Sky for a place and time; the sun direction comes from :func:`sandlight.sky.sun_direction`.
 
         Parameters

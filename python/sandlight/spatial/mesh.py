@@ -31,10 +31,15 @@ import functools
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
+
+if TYPE_CHECKING:
+    from sandlight.sample import SandSample
 
 __all__ = ["Mesh"]
 
@@ -49,7 +54,7 @@ def _float_parameters() -> dict:
     return {p.name: p for p in PARAMETERS if p.kind == "float"}
 
 
-def _base_dict(base) -> dict:
+def _base_dict(base: SandSample | str | Mapping | None) -> dict:
     from sandlight.sample import SandSample
 
     if base is None:
@@ -137,7 +142,7 @@ class Mesh:
 
     # ---- construction ----------------------------------------------------------------------
     @classmethod
-    def grid(cls, base=None, **axes) -> Mesh:
+    def grid(cls, base: SandSample | str | Mapping | None = None, **axes: ArrayLike) -> Mesh:
         """A mesh on the Cartesian product of per-parameter node values.
 
         Parameters
@@ -160,7 +165,7 @@ class Mesh:
         return cls(tuple(names), mesh, base)
 
     @classmethod
-    def beach(cls, n: int = 16, base=None) -> Mesh:
+    def beach(cls, n: int = 16, base: SandSample | str | Mapping | None = None) -> Mesh:
         """The paper's beach-scene mesh: ``n`` degrees of saturation evenly spaced over [0, 1]."""
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 2:
             raise ParameterError("n", n, "an integer >= 2")
@@ -186,7 +191,7 @@ class Mesh:
     def _ranges(self) -> str:
         return ", ".join(f"{p} in [{lo:g}, {hi:g}]" for p, lo, hi in zip(self.parameters, self.lower, self.upper))
 
-    def sample_dict(self, point) -> dict:
+    def sample_dict(self, point: ArrayLike) -> dict:
         """Parameters of the sample at ``point`` (d,): the base with the mesh parameters set."""
         values = dict(self.base)
         values.update({p: float(v) for p, v in zip(self.parameters, np.asarray(point, dtype=float))})
@@ -200,7 +205,7 @@ class Mesh:
 
         return [SandSample.from_dict(self.sample_dict(x)) for x in self.nodes]
 
-    def coordinates(self, samples) -> np.ndarray:
+    def coordinates(self, samples: SandSample | Mapping | Sequence | ArrayLike) -> np.ndarray:
         """Mesh coordinates (k, d) of samples.
 
         Parameters
@@ -230,7 +235,7 @@ class Mesh:
             )
         return x
 
-    def differing_parameters(self, sample) -> dict:
+    def differing_parameters(self, sample: SandSample | Mapping) -> dict:
         """Parameters (other than the mesh's) in which ``sample`` differs from the base, as
         ``{name: (sample value, base value)}``."""
         from sandlight.sample import SandSample
@@ -269,7 +274,7 @@ class Mesh:
                 f"{str(exc).splitlines()[0]}",
             ) from None
 
-    def locate(self, points) -> tuple[np.ndarray, np.ndarray]:
+    def locate(self, points: SandSample | Mapping | Sequence | ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Simplex vertices and barycentric weights of points inside the mesh (paper eq. 6).
 
         Parameters
@@ -307,7 +312,7 @@ class Mesh:
             w[np.flatnonzero(rows), first] = 1.0
         return idx, w
 
-    def _outside(self, x_row) -> ParameterError:
+    def _outside(self, x_row: ArrayLike) -> ParameterError:
         point = dict(zip(self.parameters, (float(v) for v in x_row)))
         name = self.parameters[0] if self.dimension == 1 else ", ".join(self.parameters)
         value = point[name] if self.dimension == 1 else point
@@ -318,7 +323,7 @@ class Mesh:
             f"{'' if self.dimension == 1 else ', within the convex hull of the nodes'})",
         )
 
-    def _locate_1d(self, x):
+    def _locate_1d(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         order = np.argsort(self.nodes[:, 0])
         xs = self.nodes[order, 0]
         lo, hi = xs[0], xs[-1]
@@ -333,7 +338,7 @@ class Mesh:
         w = np.stack([1.0 - t, t], axis=1)
         return idx, w
 
-    def _locate_nd(self, x):
+    def _locate_nd(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         tri = self._delaunay
         u = self._unit(x)
         simplex = tri.find_simplex(u, tol=_NODE_TOLERANCE)
@@ -357,7 +362,7 @@ class Mesh:
     def from_dict(cls, d: Mapping) -> Mesh:
         return cls(tuple(d["parameters"]), np.asarray(d["nodes"], dtype=float), d["base"])
 
-    def __eq__(self, other) -> bool:
+    def __eq__(self, other: object) -> bool:
         if not isinstance(other, Mesh):
             return NotImplemented
         return (
