@@ -31,7 +31,7 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     ("foundation", frozenset({"_native", "errors", "checks", "io", "machine", "_runner", "jobs", "plots"})),
     ("data", frozenset({"sample", "optics", "measured"})),
     ("physics", frozenset({"physics"})),
-    ("measurement", frozenset({"engine", "gonio", "validation"})),
+    ("measurement", frozenset({"engine", "gonio", "validation", "calibration"})),
     ("test support", frozenset({"testing"})),
     ("predictors", frozenset({"predictor", "spatial"})),
     ("appearance", frozenset({"appearance"})),
