@@ -14,6 +14,8 @@ complex_index
     m(λ) = n(λ) + i k(λ) of one material at arbitrary wavelengths.
 absorption_coefficient_per_mm
     α(λ) = 4πk/λ in mm⁻¹.
+interpolate_k
+    The interpolation rule of k between tabulated wavelengths, for any table.
 provenance
     Human-readable citation, licence, units, method and status of the tables.
 table
@@ -48,7 +50,7 @@ import numpy as np
 import xarray as xr
 from numpy.typing import ArrayLike
 
-from sandlight.checks import MAX_WAVELENGTHS, WAVELENGTH_RANGE_NM
+from sandlight.checks import MAX_WAVELENGTHS, WAVELENGTH_RANGE_NM, check_real_array
 from sandlight.errors import ModelFileError, ParameterError
 
 __all__ = [
@@ -58,6 +60,7 @@ __all__ = [
     "DENSITY_G_CM3",
     "complex_index",
     "absorption_coefficient_per_mm",
+    "interpolate_k",
     "provenance",
     "table",
 ]
@@ -175,8 +178,7 @@ def _load(material: str):
 
 
 def _interpolate_k(wavelengths: np.ndarray, grid: np.ndarray, k: np.ndarray) -> np.ndarray:
-    """k at `wavelengths` (inside the grid): linear in log k where both neighbouring tabulated
-    values are positive, linear in k where one of them is zero."""
+    """:func:`interpolate_k` without the checks (for the validated shipped tables)."""
     i = np.clip(np.searchsorted(grid, wavelengths, side="right") - 1, 0, grid.size - 2)
     t = (wavelengths - grid[i]) / (grid[i + 1] - grid[i])
     k0, k1 = k[i], k[i + 1]
@@ -184,6 +186,46 @@ def _interpolate_k(wavelengths: np.ndarray, grid: np.ndarray, k: np.ndarray) -> 
     # k0 (k1/k0)^t is exp of the linear interpolation of log k; guarded where a value is 0.
     ratio = np.where(both, k1, 1.0) / np.where(both, k0, 1.0)
     return np.where(both, k0 * ratio**t, k0 + t * (k1 - k0))
+
+
+def interpolate_k(wavelengths_nm: ArrayLike, grid_nm: ArrayLike, k: ArrayLike) -> np.ndarray:
+    """The absorption index k at `wavelengths_nm` from a table, by the rule of :func:`complex_index`.
+
+    Linear in log k between two tabulated values that are both positive (absorption edges, where
+    k changes by orders of magnitude), linear in k where one of them is zero.
+
+    Parameters
+    ----------
+    wavelengths_nm : float or array_like of float
+        Vacuum wavelengths λ in nm, any shape. Domain: finite, within [grid_nm[0], grid_nm[-1]].
+    grid_nm : array_like of float, shape (t,)
+        Tabulated wavelengths in nm, t ≥ 2, finite and strictly increasing.
+    k : array_like of float, shape (t,)
+        Tabulated absorption indices, dimensionless. Domain: finite, ≥ 0.
+
+    Returns
+    -------
+    numpy.ndarray of float64
+        k(λ), same shape as `wavelengths_nm`.
+
+    Raises
+    ------
+    sandlight.errors.ParameterError
+        A table that is not as described, or a wavelength outside it (or not finite).
+
+    Examples
+    --------
+    >>> interpolate_k([450.0, 550.0], [400.0, 500.0, 600.0], [1e-3, 1e-3, 1e-1]).round(6).tolist()
+    [0.001, 0.01]
+    """
+    grid = check_real_array("grid_nm", grid_nm)
+    if grid.ndim != 1 or grid.size < 2 or np.any(np.diff(grid) <= 0):
+        raise ParameterError("grid_nm", grid_nm, "at least two strictly increasing wavelengths (a 1-D array)")
+    k = check_real_array("k", k, 0.0)
+    if k.shape != grid.shape:
+        raise ParameterError("k", f"an array of shape {k.shape}", f"one value per grid wavelength: shape {grid.shape}")
+    wavelengths = check_real_array("wavelengths_nm", wavelengths_nm, grid[0], grid[-1])
+    return _interpolate_k(wavelengths, grid, k)
 
 
 def complex_index(material: str, wavelengths_nm: ArrayLike) -> np.ndarray:

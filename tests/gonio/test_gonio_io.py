@@ -7,7 +7,7 @@ import xarray as xr
 
 from sandlight.errors import ModelFileError
 from sandlight.gonio import CollectorHemisphere, MeasuredBRDF, read_netcdf, to_netcdf
-from sandlight.gonio.io import FORMAT_NAME, FORMAT_VERSION, _dataset
+from sandlight.gonio.io import FORMAT_NAME, FORMAT_VERSION
 from sandlight.testing import synthetic_brdf
 
 
@@ -93,8 +93,14 @@ def test_not_netcdf_at_all(tmp_path):
         read_netcdf(path)
 
 
+def written(brdf, tmp_path):
+    """The dataset of a file written by to_netcdf, in memory, to alter and write back."""
+    with xr.open_dataset(to_netcdf(brdf, tmp_path / "written.nc"), engine="h5netcdf") as ds:
+        return ds.load()
+
+
 def test_other_format_version_is_refused(tmp_path, small_brdf):
-    ds = _dataset(small_brdf)
+    ds = written(small_brdf, tmp_path)
     ds.attrs["format_version"] = FORMAT_VERSION + 1
     path = tmp_path / "future.nc"
     ds.to_netcdf(path, engine="h5netcdf")
@@ -107,7 +113,7 @@ def test_other_format_version_is_refused(tmp_path, small_brdf):
 
 
 def test_missing_or_inconsistent_variables_are_refused(tmp_path, small_brdf):
-    ds = _dataset(small_brdf)
+    ds = written(small_brdf, tmp_path)
     ds.drop_vars("unique_brdf_stderr").to_netcdf(tmp_path / "missing.nc", engine="h5netcdf")
     with pytest.raises(ModelFileError, match="inconsistent"):
         read_netcdf(tmp_path / "missing.nc")

@@ -63,39 +63,54 @@ def test_sand_brdf_is_reduced_exactly_and_thread_independent():
     assert (f[0] * omega_p).sum() == pytest.approx(1.0, abs=1e-12)
 
 
-def test_checkpointed_run_resumes_to_the_same_counts(tmp_path, monkeypatch):
-    import sandlight._runner as runner
+class CountedLambertian:
+    """LambertianSurface(0.4) whose trials are counted per batch; Ctrl-C (KeyboardInterrupt)
+    at batch ``interrupt_at`` (0-based), as a user would press it during a run."""
 
+    def __init__(self, interrupt_at: int | None = None):
+        self.surface, self.interrupt_at, self.traced = LambertianSurface(0.4), interrupt_at, []
+
+    def describe(self) -> dict:
+        return self.surface.describe()  # the same run as the plain surface: same checkpoint key
+
+    def medium(self, wavelength_nm: float):
+        native, outer = self.surface.medium(wavelength_nm), self
+
+        class Counted:
+            def brdf_counts(self, *args):
+                if len(outer.traced) == outer.interrupt_at:
+                    raise KeyboardInterrupt
+                counts, absorbed, launched, lost = native.brdf_counts(*args)
+                outer.traced.append(int(launched.sum()))
+                return counts, absorbed, launched, lost
+
+        return Counted()
+
+
+def test_checkpointed_run_resumes_to_the_same_counts(tmp_path):
     ck = tmp_path / "run.checkpoint.npz"
-    full = brdf(LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, progress=False)
+    run = {"rays": 40_000, "stacks": STACKS, "slices": SLICES, "seed": 5, "progress": False}
+    full = brdf(LambertianSurface(0.4), **run)
 
-    # Interrupt after the first checkpoint: checkpoint every batch, then raise.
-    calls = {"n": 0}
-    original = runner.run_in_batches
-
-    def interrupted(run_batch, total, **kw):
-        def on_checkpoint(done):
-            kw["on_checkpoint"](done)
-            calls["n"] += 1
-            raise KeyboardInterrupt
-
-        kw = dict(kw, checkpoint_seconds=-1.0)
-        return original(run_batch, total, **{**kw, "on_checkpoint": on_checkpoint})
-
-    monkeypatch.setattr("sandlight.gonio.measure.run_in_batches", interrupted)
+    # Ctrl-C during the third batch, with a checkpoint after every batch.
+    interrupted = CountedLambertian(interrupt_at=2)
     with pytest.raises(KeyboardInterrupt):
-        brdf(LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, checkpoint=ck, progress=False)
-    assert ck.exists() and calls["n"] == 1
-    monkeypatch.setattr("sandlight.gonio.measure.run_in_batches", original)
-    resumed = brdf(
-        LambertianSurface(0.4), rays=40_000, stacks=STACKS, slices=SLICES, seed=5, checkpoint=ck, progress=False
-    )
+        brdf(interrupted, checkpoint=ck, checkpoint_seconds=0.0, **run)
+    assert ck.exists() and len(interrupted.traced) == 2
+    before = sum(interrupted.traced)
+    assert 0 < before < run["rays"]
+    resumed_run = CountedLambertian()
+    resumed = brdf(resumed_run, checkpoint=ck, **run)
+    # Only the rays after the checkpoint are traced again, and the counts are those of one run.
+    assert sum(resumed_run.traced) == run["rays"] - before
     assert np.array_equal(resumed.counts, full.counts) and not ck.exists()
 
 
 def test_bad_inputs():
     with pytest.raises(ParameterError, match="stacks"):
         brdf(LambertianSurface(0.5), rays=10, stacks=1)
+    with pytest.raises(ParameterError, match="checkpoint_seconds"):
+        brdf(LambertianSurface(0.5), rays=10, checkpoint_seconds=-1.0)
     with pytest.raises(ParameterError, match="sample"):
         brdf(42, rays=10)
     with pytest.raises(ParameterError, match="incidence_deg"):

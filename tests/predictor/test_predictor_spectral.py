@@ -7,7 +7,7 @@ import xarray as xr
 
 from sandlight.errors import ParameterError, SandlightError
 from sandlight.predictor import Domain, SpectralModel
-from sandlight.predictor.spectral import _monomial_plan, _monomials
+from sandlight.predictor.monomials import BLOCK_SAMPLES
 
 WL = np.arange(400.0, 701.0, 20.0)  # the paper's 16 wavelengths
 #: A 5-parameter domain (56 cubic monomials) so that small training sets determine the fit.
@@ -96,27 +96,11 @@ class TestExactCubic:
 
 
 class TestFastEvaluator:
-    @pytest.mark.parametrize("degree, d", [(1, 3), (2, 5), (3, 13), (4, 4)])
-    def test_equals_polynomial_features(self, degree, d):
-        from sklearn.preprocessing import PolynomialFeatures
-
-        X = np.random.default_rng(degree).uniform(-1, 1, (37, d))
-        poly = PolynomialFeatures(degree).fit(X)
-        plan = _monomial_plan(poly.powers_)
-        F = _monomials(
-            np.ascontiguousarray(X.T), plan, poly.n_output_features_, np.empty((poly.n_output_features_, 64))
-        )
-        np.testing.assert_allclose(F.T, poly.transform(X), rtol=1e-14, atol=1e-15)
-        if degree == 3 and d == 13:
-            assert len(plan) <= 3 * d + 1  # a few numpy calls, not one per monomial
-
     def test_blocks_and_mixed_forms(self):
         # More samples than one block, forms interleaved: the result must not depend on either.
-        import sandlight.predictor.spectral as spectral
-
         train, R, spectra, _ = exact_cubic_problem(SMALL, 400, seed=3)
         model = SpectralModel().fit(train, R, wavelengths_nm=WL, domain=SMALL)
-        fresh = SMALL.draw(2 * spectral._BLOCK + 17, seed=11, design="random")
+        fresh = SMALL.draw(2 * BLOCK_SAMPLES + 17, seed=11, design="random")
         X = as_array(SMALL, fresh)
         codes = np.array([SMALL.forms.index(s["iron_oxide_form"]) for s in fresh])
         together = model.predict(X, codes)

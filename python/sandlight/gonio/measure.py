@@ -152,6 +152,7 @@ def brdf(
     method: str = "average",
     max_events: int = DEFAULT_MAX_EVENTS,
     checkpoint: str | os.PathLike | None = None,
+    checkpoint_seconds: float = 60.0,
     progress: bool = True,
     geometry: str = "on-the-fly",
     memory: str | None = None,
@@ -177,6 +178,9 @@ def brdf(
     checkpoint : path, optional
         File where the counts are saved about every minute; an existing checkpoint of the same
         run is resumed. Removed when the run completes.
+    checkpoint_seconds : float
+        Wall time between two saves of the checkpoint, s, ≥ 0 (default 60; 0: after every batch
+        of rays).
     geometry, memory, packing
         As in :func:`sandlight.reflectance`: 'explicit' traces a stored packing of the sample's
         grains (the slow reference, docs/geometry.md). A packing generated here uses ``seed``.
@@ -199,6 +203,7 @@ def brdf(
     rays = check_count("rays", rays)
     seed = check_seed("seed", seed)
     threads = check_threads("threads", threads)
+    checkpoint_seconds = check_real("checkpoint_seconds", checkpoint_seconds, 0.0)
     hemi = CollectorHemisphere(stacks, slices)  # validates stacks and slices
     traced = as_traceable(sample, geometry=geometry, memory=memory, packing=packing, seed=seed)
     medium, meta = traced.medium(wl), traced.describe()
@@ -231,7 +236,15 @@ def brdf(
             arrays[name] += part
 
     save = (lambda d: _save_checkpoint(checkpoint, key, d, arrays)) if checkpoint is not None else None
-    run_in_batches(batch, rays, label=f"BRDF at {wl:g} nm", progress=progress, start_at=done, on_checkpoint=save)
+    run_in_batches(
+        batch,
+        rays,
+        label=f"BRDF at {wl:g} nm",
+        progress=progress,
+        start_at=done,
+        on_checkpoint=save,
+        checkpoint_seconds=checkpoint_seconds,
+    )
     result = MeasuredBRDF.from_counts(
         arrays["counts"],
         arrays["absorbed"],

@@ -47,6 +47,7 @@ from sandlight.errors import ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
 from sandlight.predictor.estimator import Estimator
 from sandlight.predictor.model_file import ModelFileFormat, jsonable
+from sandlight.predictor.monomials import BLOCK_SAMPLES, monomial_plan, monomials
 from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
 from sandlight.predictor.samples import sample_columns
 
@@ -67,10 +68,6 @@ _ARRAYS = (
 #: description. Format-1 files (sqrt-scaled concentrations, no name) still load.
 MODEL_FILE = ModelFileFormat("sandlight-spectral-model", 2, "spectral model", _ARRAYS)
 MODEL_FORMAT, MODEL_FORMAT_VERSION = MODEL_FILE.name, MODEL_FILE.version
-#: Samples per block of the fast evaluator: the block's monomials (m × block doubles, 4.5 MB
-#: for the 560 cubic monomials of 13 parameters) stay in cache between the products and the
-#: matrix product that consumes them.
-_BLOCK = 1024
 
 
 # ---- inputs -----------------------------------------------------------------------------------
@@ -103,64 +100,6 @@ def _form_codes(forms: ArrayLike | None, n: int, known: tuple[str, ...]) -> np.n
             raise ParameterError(FORM_PARAMETER, str(name), f"one of {known}, the forms this model was trained on")
         codes[i] = known.index(name)
     return codes[inverse]
-
-
-# ---- fast monomial evaluation -----------------------------------------------------------------
-def _monomial_plan(powers: np.ndarray) -> tuple:
-    """Blocks that compute all monomials from lower-degree ones, for :func:`_monomials`.
-
-    Each monomial x^p (p = exponents, total degree g ≥ 1) is its *parent* x^(p − e_v) times x_v,
-    with v its first variable. In graded lexicographic order (PolynomialFeatures' order) long
-    runs of monomials share v and have consecutive parents, or share the parent and have
-    consecutive v; each run is one numpy multiply. Cubic monomials of d variables take about 3d
-    multiplies instead of C(d + 3, 3).
-
-    Returns
-    -------
-    tuple of (start, stop, parent, parent_step, var, var_step)
-        ``F[start:stop] = F[parent : parent + n*parent_step] * X[var : var + n*var_step]``
-        (a step of 0 broadcasts one row).
-    """
-    powers = np.asarray(powers, dtype=np.int64)
-    lookup = {tuple(p): i for i, p in enumerate(powers)}
-    if tuple(np.zeros(powers.shape[1], dtype=np.int64)) != tuple(powers[0]):
-        raise ValueError("the first monomial must be the constant 1")
-    links = []
-    for f, p in enumerate(powers[1:], start=1):
-        v = int(np.flatnonzero(p)[0])
-        q = p.copy()
-        q[v] -= 1
-        parent = lookup.get(tuple(q))
-        if parent is None or parent >= f:
-            raise ValueError(f"monomial {tuple(p)} has no earlier parent {tuple(q)}")
-        links.append((f, parent, v))
-    runs = []
-    i = 0
-    while i < len(links):
-        f, parent, v = links[i]
-        j = i + 1
-        for pstep, vstep in ((1, 0), (0, 1)):
-            j = i + 1
-            while j < len(links) and links[j][1] == parent + (j - i) * pstep and links[j][2] == v + (j - i) * vstep:
-                j += 1
-            if j - i > 1:
-                break
-        runs.append((f, f + (j - i), parent, pstep if j - i > 1 else 0, v, vstep if j - i > 1 else 0))
-        i = j
-    return tuple(runs)
-
-
-def _monomials(XT: np.ndarray, plan: tuple, m: int, out: np.ndarray) -> np.ndarray:
-    """All m monomials of the columns of ``XT`` (d × c), as an (m × c) array in ``out``."""
-    c = XT.shape[1]
-    F = out[:, :c]
-    F[0] = 1.0
-    for start, stop, parent, pstep, var, vstep in plan:
-        n = stop - start
-        left = F[parent : parent + n] if pstep else F[parent : parent + 1]
-        right = XT[var : var + n] if vstep else XT[var : var + 1]
-        np.multiply(left, right, out=F[start:stop])
-    return F
 
 
 # ---- the estimator ----------------------------------------------------------------------------
@@ -367,7 +306,7 @@ class SpectralModel(Estimator):
         self.training_set_ = {**data.info, **dict(training_set or {})}
         self.holdout_scores_ = None
         self.name_, self.description_ = str(name), str(description)
-        self._plan = _monomial_plan(self.powers_)
+        self._plan = monomial_plan(self.powers_)
         self.training_rms_, self.reconstruction_rms_ = self._training_errors(Xs, data.codes, data.R, scores)
         return self
 
@@ -514,7 +453,7 @@ class SpectralModel(Estimator):
         return self._evaluate(self._design(values, codes, self.domain_, len(self.forms_)), codes)
 
     def _evaluate(self, Xs: np.ndarray, codes: np.ndarray) -> np.ndarray:
-        """r̄ + U_k Wᵀ φ(x) for scaled inputs, blockwise (see _monomial_plan)."""
+        """r̄ + U_k Wᵀ φ(x) for scaled inputs, blockwise (see :mod:`sandlight.predictor.monomials`)."""
         n = Xs.shape[0]
         m, k = self.W_.shape[1:]
         out = np.empty((n, len(self.wavelengths_)))
@@ -528,14 +467,14 @@ class SpectralModel(Estimator):
             bounds = np.concatenate([[0], np.cumsum(counts)])
             groups = [(g, bounds[g], bounds[g + 1]) for g in range(len(counts)) if counts[g]]
         result = out if order is None else np.empty_like(out)
-        buffer = np.empty((m, min(_BLOCK, max(n, 1))))
-        scores = np.empty((min(_BLOCK, max(n, 1)), k))
+        buffer = np.empty((m, min(BLOCK_SAMPLES, max(n, 1))))
+        scores = np.empty((min(BLOCK_SAMPLES, max(n, 1)), k))
         for g, lo, hi in groups:
             W = self.W_[g]
-            for start in range(lo, hi, _BLOCK):
-                stop = min(start + _BLOCK, hi)
+            for start in range(lo, hi, BLOCK_SAMPLES):
+                stop = min(start + BLOCK_SAMPLES, hi)
                 XT = np.ascontiguousarray(Xs[start:stop].T)
-                F = _monomials(XT, self._plan, m, buffer)
+                F = monomials(XT, self._plan, m, buffer)
                 T = np.matmul(F.T, W, out=scores[: stop - start])  # r̃ = Wᵀ φ(x)   (eq. 3)
                 block = result[start:stop]
                 np.matmul(T, self.components_, out=block)  # U_k r̃        (eq. 2)
@@ -625,7 +564,7 @@ class SpectralModel(Estimator):
         model.reconstruction_rms_ = meta.get("reconstruction_rms")
         model.name_ = str(meta.get("name") or path.stem)  # format 1 had no name
         model.description_ = str(meta.get("description", ""))
-        model._plan = _monomial_plan(model.powers_)
+        model._plan = monomial_plan(model.powers_)
         return model
 
 
