@@ -18,11 +18,13 @@ import os
 import re
 import stat
 import uuid
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    import PIL.Image
     import xarray as xr
 
 from sandlight.errors import ParameterError
@@ -127,6 +129,44 @@ def read_regular_file(path: str | os.PathLike[str], what: str, *, max_bytes: int
     if len(data) > max_bytes:
         raise ParameterError(what, str(path), f"a file of at most {max_bytes:,} bytes")
     return bytes(data)
+
+
+@contextlib.contextmanager
+def open_image(path: str | os.PathLike[str], what: str, *, bytes_per_pixel: float) -> Iterator[PIL.Image.Image]:
+    """The image file at ``path`` opened by pillow, its pixels not yet decoded, once its size is
+    known to fit: ``bytes_per_pixel`` (what the caller's work needs per pixel, estimated) times
+    the pixel count must be within `sandlight.checks.MAX_ALLOCATION_BYTES`.
+
+    Pillow's own guard against decompression bombs (an error beyond about 179 million pixels, a
+    warning from half that) is turned into the same kind of message: a 30000² heightfield raised
+    an uncaught ``DecompressionBombError``, a 12000² photo to colourise needed 7.3 GB.
+
+    Raises
+    ------
+    FileNotFoundError
+        Nothing at ``path``.
+    ParameterError
+        ``what`` = the path: too many pixels, with the memory needed and the limit.
+    PIL.UnidentifiedImageError, OSError
+        Not an image pillow reads (the callers say what they expected).
+    """
+    from PIL import Image
+
+    from sandlight.checks import MAX_ALLOCATION_BYTES, check_allocation
+
+    path = Path(path)
+    with warnings.catch_warnings():
+        # The check below says more than pillow's warning (the memory and the limit).
+        warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+        try:
+            image = Image.open(path)
+        except Image.DecompressionBombError as exc:
+            most = int(MAX_ALLOCATION_BYTES / bytes_per_pixel)
+            raise ParameterError(what, str(path), f"an image of at most {most:,} pixels (pillow: {exc})") from None
+    with image:
+        width, height = image.size
+        check_allocation(what, f"{path} ({width}×{height} pixels)", width * height * bytes_per_pixel)
+        yield image
 
 
 def _existing_ancestor(path: Path) -> Path:

@@ -1,9 +1,13 @@
-"""Argument parsing shared by the command modules: samples, ranges."""
+"""Argument parsing shared by the command modules: samples, the names of options in messages."""
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
+
+from sandlight.errors import ParameterError
 
 if TYPE_CHECKING:
     from sandlight.sample import SandSample
@@ -35,7 +39,6 @@ def load_sample(
     read by `SandSample.from_file` (regular files of bounded size, keys at the top level or in a
     ``[sample]`` table, nothing else).
     """
-    from sandlight.errors import ParameterError
     from sandlight.sample import SandSample
 
     both = f"{file_option}/--preset"
@@ -48,3 +51,16 @@ def load_sample(
     if default is None:
         raise ParameterError(both, None, "a sample file (TOML or JSON) or a preset name")
     return SandSample.preset(default) if isinstance(default, str) else default
+
+
+@contextlib.contextmanager
+def option_names(names: Mapping[str, str]) -> Iterator[None]:
+    """A `ParameterError` raised inside names the command's option instead of the API's
+    parameter (``names``: parameter -> option, e.g. ``{"tile_px": "--tile"}``), so that the
+    message says what the user typed."""
+    try:
+        yield
+    except ParameterError as exc:
+        if exc.name not in names:
+            raise
+        raise ParameterError(names[exc.name], exc.value, exc.allowed) from None

@@ -13,7 +13,7 @@ from pathlib import Path
 import typer
 
 from sandlight.cli._app import app
-from sandlight.cli._common import load_sample
+from sandlight.cli._common import load_sample, option_names
 from sandlight.cli._output import echo, fail
 from sandlight.io import check_output_file
 from sandlight.sample import SandSample
@@ -101,7 +101,8 @@ def swatches_command(
         grid, title = figure6(base, mode=mode.value, reflectance=provider), f"Figure 6 — sRGB ({mode.value})"
     else:
         grid, title = figure7(base, mode=mode.value, reflectance=provider), f"Figure 7 — sRGB ({mode.value})"
-    grid.save_png(output, size_px=size_px, show_lab=lab, title=title)
+    with option_names({"size_px": "--size"}):
+        grid.save_png(output, size_px=size_px, show_lab=lab, title=title)
     clipped = int(grid.out_of_gamut.sum())
     echo(
         f"wrote {output} ({grid.rgb.shape[1]}×{grid.rgb.shape[0]} swatches"
@@ -138,6 +139,8 @@ def colourise_command(
 ) -> None:
     """Give a photo of sand the colour of a sample (paper §4.1.1), or a grid of colours."""
     from sandlight.colour.colourise import (
+        COLOURISE_BYTES_PER_PIXEL,
+        LOAD_BYTES_PER_PIXEL,
         colourise,
         colourise_grid,
         default_texture_path,
@@ -164,15 +167,18 @@ def colourise_command(
             fail("give --preset NAME or --sample FILE (or --grid with --x/--y)")
     tile_px = _parse_size(tile, "--tile")
     provider = _provider(engine_rays)
-    photo = load_image(default_texture_path() if image is None else image)
+    need = LOAD_BYTES_PER_PIXEL if grid else COLOURISE_BYTES_PER_PIXEL[linear]
+    with option_names({"image": "IMAGE"}):
+        photo = load_image(default_texture_path() if image is None else image, bytes_per_pixel=need)
 
     base = load_sample(sample, preset, default=SandSample(), file_option="--sample")
     if not grid:
         save_image(output, colourise(photo, base, mode=mode.value, linear=linear, reflectance=provider))
         echo(f"wrote {output} ({photo.shape[1]}×{photo.shape[0]})")
         return
-    result = colourise_grid(
-        photo, base, axes[0], axes[1], tile_px=tile_px, mode=mode.value, linear=linear, reflectance=provider
-    )
+    with option_names({"tile_px": "--tile", "image": "IMAGE"}):
+        result = colourise_grid(
+            photo, base, axes[0], axes[1], tile_px=tile_px, mode=mode.value, linear=linear, reflectance=provider
+        )
     result.save_png(output, labels=labels)
     echo(f"wrote {output} ({len(axes[0].values)}×{len(axes[1].values)} tiles)")

@@ -9,7 +9,7 @@ import typer
 
 from sandlight.checks import check_count
 from sandlight.cli._app import app
-from sandlight.cli._common import MEMORY_HELP, load_sample
+from sandlight.cli._common import MEMORY_HELP, load_sample, option_names
 from sandlight.cli._output import echo, show
 from sandlight.io import check_output_directory, check_output_file
 
@@ -214,5 +214,6 @@ def appearance(
     for a, row in zip(angles, albedo):
         echo(f"  {a:4g}°" + "".join(f"{row[i]:>12.4f}" for i in pick))
     if table is not None:
-        app_.to_table(table, n_mu, n_dphi)
+        with option_names({"n_mu": "--n-mu", "n_dphi": "--n-dphi", "n_mu, n_dphi": "--n-mu, --n-dphi"}):
+            app_.to_table(table, n_mu, n_dphi)
         echo(f"wrote {table} ({len(wl)} wavelengths × {n_mu} × {n_mu} × {n_dphi})")

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from sandlight.checks import check_allocation
 from sandlight.errors import ParameterError
 from sandlight.render import post
 from sandlight.render.image import interrupt_requests, render_image
@@ -30,7 +31,19 @@ if TYPE_CHECKING:
     from sandlight.render.tables import BrdfTable
     from sandlight.render.terrain import HeightfieldTerrain, PlaneTerrain
 
-__all__ = ["render_scene", "SceneRun"]
+__all__ = ["render_scene", "SceneRun", "frame_bytes"]
+
+#: Memory per pixel of one frame besides its spectral radiance (float32 per band): coverage
+#: (float32), XYZ, the shown XYZ and the sRGB (float64 × 3 each), texture and grain quotients
+#: (float64), the 8-bit PNG, bytes.
+_FRAME_BYTES_PER_PIXEL = 4 + 3 * 24 + 16 + 3
+
+
+def frame_bytes(scene: Scene) -> int:
+    """Estimated memory of one frame's arrays, bytes: checked before anything is rendered, since
+    a size inside the allowed 1–16384 pixels can still need more than a machine has (16384² at
+    16 bands needs about 40 GiB)."""
+    return scene.width * scene.height * (4 * scene.wavelength_nm.size + _FRAME_BYTES_PER_PIXEL)
 
 
 @dataclass
@@ -95,6 +108,7 @@ def render_scene(
     -------
     SceneRun
     """
+    check_allocation("width × height", f"{scene.width}×{scene.height} pixels", frame_bytes(scene))
     start = time.perf_counter()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
