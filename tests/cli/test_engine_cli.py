@@ -127,6 +127,9 @@ def test_brdf_with_too_few_rays_warns_of_the_nan_values(tmp_path):
     res = runner.invoke(app, ["brdf", "--preset", "red-dune", "--rays", "100", "-o", str(out)])
     assert res.exit_code == 0, res.output
     assert "13561 of 13561 BRDF values are NaN" in res.output and "at least about 10280 rays" in res.output
+    # after the warning, the summary line said "normal-incidence reflectance nan"
+    assert "normal-incidence reflectance unknown (too few rays: see the warning)" in res.output
+    assert "nan" not in res.output
 
 
 def test_ctrl_c_stops_a_long_run_cleanly(tmp_path):

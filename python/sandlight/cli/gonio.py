@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import typer
@@ -58,7 +59,11 @@ def brdf(
         geometry=geometry,
     )
     to_netcdf(result, output)
-    echo(f"normal-incidence reflectance {result.normal_reflectance:.4f}; wrote {output}")
+    rho = result.normal_reflectance
+    if math.isnan(rho):  # the warning above says why: too few rays for every incoming patch
+        echo(f"normal-incidence reflectance unknown (too few rays: see the warning); wrote {output}")
+    else:
+        echo(f"normal-incidence reflectance {rho:.4f} ± {result.reduced.normal_reflectance_stderr:.4f}; wrote {output}")
     if plot is not None:
         save_overview_png(result, plot)
         echo(f"wrote {plot}")
