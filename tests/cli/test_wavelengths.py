@@ -44,6 +44,6 @@ def test_train_spectral_and_reflectance_refuse_an_out_of_range_wavelength_alike(
     # one check of the engine's range (check_engine_wavelengths was a copy of check_wavelengths)
     allowed = "is not allowed: wavelengths in [350, 2500] nm (the range of the optical constants)"
     res = runner.invoke(app, ["reflectance", "-n", "10", "-w", "300"])
-    assert res.exit_code == 2 and f"wavelengths_nm = 300.0 {allowed}" in res.output, res.output
+    assert res.exit_code == 2 and f"--wavelengths = 300.0 {allowed}" in res.output, res.output
     res = runner.invoke(app, ["train-spectral", "--out", str(tmp_path / "run"), "--wavelengths", "300:400:50"])
     assert res.exit_code == 2 and f"wavelengths = 300.0 {allowed}" in res.output, res.output

@@ -201,6 +201,7 @@ def training_job(
     wavelengths = wavelength_grid(wavelengths_nm)
     if simulate is None:
         check_wavelengths("wavelengths", wavelengths)  # inside the tasks it failed every task after every retry
+    check_whole_number("n_samples", n_samples, 1)
     check_whole_number("rays", rays, 1)
     check_seed("seed", seed)
     memory = check_engine_memory(memory, simulate)
@@ -469,6 +470,7 @@ def train_spectral(
     Other parameters are those of :func:`generate_training_set`.
     """
     out = Path(out_dir)
+    SpectralModel(**(model_params or {})).validate_params()  # before hours of generation, not after
     if n_holdout is not None and not (isinstance(n_holdout, (int, np.integer)) and n_holdout >= 0):
         # -1 silently meant no hold-out set
         raise ParameterError("n_holdout", n_holdout, "an integer >= 0 (0: no hold-out set), or None for the default")

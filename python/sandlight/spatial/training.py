@@ -599,6 +599,7 @@ def train_spatial(
 
     if method not in REDUCTION_METHODS:
         raise ParameterError("method", method, f"one of {REDUCTION_METHODS}")
+    SpatialModel(**dict(model_params or {})).validate_params()  # before the measurements, not after
     out = Path(out_dir)
     options = {
         "stacks": stacks,
