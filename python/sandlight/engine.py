@@ -19,10 +19,11 @@ import numpy as np
 import numpy.typing as npt
 
 from sandlight import _native
-from sandlight._runner import run_in_batches
+from sandlight._runner import SHOW_AFTER_SECONDS, run_in_batches
 from sandlight.checks import check_count, check_incidence, check_seed, check_threads, check_wavelengths
 from sandlight.physics.media import IsotropicScatterers, as_traceable, engine_settings
 from sandlight.physics.medium import Traceable
+from sandlight.progress import progress_bar
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -244,19 +245,21 @@ def reflectance(
     start = time.perf_counter()
     traced = as_traceable(sample, geometry=geometry, memory=memory, packing=packing, seed=seed)
     rows = []
-    for i, lam in enumerate(wl):
-        rows.append(
-            _trace(
-                traced.medium(float(lam)),
-                rays=rays,
-                incidence_deg=incidence_deg,
-                seed=seed,
-                threads=threads,
-                max_events=max_events,
-                progress=progress,
-                label=f"λ = {lam:g} nm ({i + 1}/{wl.size})",
+    # One bar over every wavelength (each wavelength's batches count into it).
+    with progress_bar("tracing", wl.size * rays, unit="rays", enabled=progress, show_after_s=SHOW_AFTER_SECONDS):
+        for i, lam in enumerate(wl):
+            rows.append(
+                _trace(
+                    traced.medium(float(lam)),
+                    rays=rays,
+                    incidence_deg=incidence_deg,
+                    seed=seed,
+                    threads=threads,
+                    max_events=max_events,
+                    progress=progress,
+                    label=f"λ = {lam:g} nm ({i + 1}/{wl.size})",
+                )
             )
-        )
     counts = {k: np.array([r[k] for r in rows], dtype=np.int64) for k in _COUNT_NAMES}
     rho = counts["escaped"] / counts["launched"]
     description, traced_geometry, traced_memory = engine_settings(traced.describe())

@@ -20,13 +20,13 @@ import numpy as np
 
 from sandlight.checks import check_allocation
 from sandlight.errors import ParameterError
+from sandlight.progress import progress_bar
 from sandlight.render import post
 from sandlight.render.image import interrupt_requests, render_image
 from sandlight.render.scene import Scene
 
 if TYPE_CHECKING:
-    from rich.progress import Progress, TaskID
-
+    from sandlight.progress import ProgressBar
     from sandlight.render.camera import Camera
     from sandlight.render.tables import BrdfTable
     from sandlight.render.terrain import HeightfieldTerrain, PlaneTerrain
@@ -137,28 +137,11 @@ def render_scene(
         fixed_white = post.white_level(scene.exposure, None, wl)
 
     run = SceneRun(scene)
-    bar = task = None
-    if progress:
-        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
-
-        bar = Progress(
-            TextColumn("{task.description}", markup=False),
-            BarColumn(),
-            TextColumn("{task.percentage:>3.0f}%"),
-            TimeElapsedColumn(),
-            TimeRemainingColumn(),
-            transient=True,
-        )
-        bar.start()
-        task = bar.add_task(scene.name, total=scene.frames * scene.height)
-    try:
-        with interrupt_requests() as interrupted:
-            _render_frames(
-                scene, out, run, camera, terrain, table, quotient, grain, fixed_white, bar, task, interrupted, log
-            )
-    finally:
-        if bar is not None:
-            bar.stop()
+    with (
+        progress_bar(scene.name, scene.frames * scene.height, unit="rows", enabled=progress) as bar,
+        interrupt_requests() as interrupted,
+    ):
+        _render_frames(scene, out, run, camera, terrain, table, quotient, grain, fixed_white, bar, interrupted, log)
     if video is not None:
         run.video = post.write_video(video, run.pngs, scene.fps)
     run.elapsed_s = time.perf_counter() - start
@@ -175,8 +158,7 @@ def _render_frames(
     quotient: np.ndarray | None,
     grain: np.ndarray | None,
     fixed_white: float | None,
-    bar: Progress | None,
-    task: TaskID | None,
+    bar: ProgressBar,
     interrupted: list[bool],
     log: Callable[[str], object] | None,
 ) -> None:
@@ -187,12 +169,11 @@ def _render_frames(
             raise KeyboardInterrupt
         lighting = scene.build_lighting(t)
         material = scene.build_material(float(frac))
-        if bar is not None:
-            bar.update(
-                task,
-                description=f"{scene.name}: frame {k + 1}/{scene.frames}, "
-                f"{int(t):02d}:{int(round(t % 1 * 60)) % 60:02d}, sun {lighting.sun_elevation_deg:.1f}°",
-            )
+        bar.advance(
+            0,
+            description=f"{scene.name}: frame {k + 1}/{scene.frames}, "
+            f"{int(t):02d}:{int(round(t % 1 * 60)) % 60:02d}, sun {lighting.sun_elevation_deg:.1f}°",
+        )
         image = render_image(
             camera,
             terrain,
@@ -201,7 +182,7 @@ def _render_frames(
             material,
             scene.settings,
             frame=k,
-            on_rows=(lambda n: bar.advance(task, n)) if bar is not None else None,
+            on_rows=bar.advance,
         )
         xyz = post.spectral_to_xyz(image.radiance, wl)
         shown = xyz
