@@ -108,6 +108,7 @@ class ReflectanceResult:
         import xarray as xr
 
         import sandlight
+        from sandlight.io import WAVELENGTH_ATTRS, cf_attributes
 
         data = {
             "reflectance": (
@@ -129,13 +130,13 @@ class ReflectanceResult:
             )
         ds = xr.Dataset(
             data,
-            coords={"wavelength": ("wavelength", self.wavelengths, {"units": "nm", "long_name": "vacuum wavelength"})},
+            coords={"wavelength": ("wavelength", self.wavelengths, WAVELENGTH_ATTRS)},
             attrs={
-                "title": "sandlight Monte Carlo reflectance",
+                **cf_attributes("sandlight Monte Carlo reflectance", "sandlight.reflectance"),
                 "sandlight_version": sandlight.__version__,
                 "rays": self.rays,
                 "incidence_deg": self.incidence_deg,
-                "seed": str(self.seed),
+                "seed": np.uint64(self.seed),  # an integer of the full range [0, 2**64)
                 "max_events": self.max_events,
                 "sample": json.dumps(self.sample),
                 "elapsed_s": self.elapsed_s,
@@ -153,19 +154,19 @@ class ReflectanceResult:
             self.to_xarray().to_netcdf(tmp, engine="h5netcdf")
 
     def to_csv(self, path: str | os.PathLike) -> None:
-        """Writes ``wavelength_nm,reflectance,stderr,mean_events_per_ray,capped`` rows, atomically."""
-        from sandlight.io import atomic_path
+        """Writes ``wavelength_nm,reflectance,stderr,mean_events_per_ray,capped`` rows, atomically,
+        after ``# key: value`` comment lines holding the NetCDF output's attributes and the units."""
+        from sandlight.io import write_csv
 
         table = np.column_stack([self.wavelengths, self.values, self.stderr, self.mean_events_per_ray, self.capped])
-        with atomic_path(path) as tmp:
-            np.savetxt(
-                tmp,
-                table,
-                delimiter=",",
-                fmt=["%.6g", "%.8f", "%.8f", "%.6g", "%d"],
-                header="wavelength_nm,reflectance,stderr,mean_events_per_ray,capped",
-                comments="",
-            )
+        units = "wavelength_nm nm; reflectance 1; stderr 1; mean_events_per_ray 1; capped rays"
+        write_csv(
+            path,
+            ("wavelength_nm", "reflectance", "stderr", "mean_events_per_ray", "capped"),
+            table,
+            ("%.6g", "%.8f", "%.8f", "%.6g", "%d"),
+            {**self.to_xarray().attrs, "units": units},
+        )
 
     def plot(self, path: str | os.PathLike, *, title: str | None = None) -> None:
         """Plots the spectrum with ±2 standard-error band to a PNG."""

@@ -19,7 +19,7 @@ import re
 import stat
 import uuid
 import warnings
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -275,6 +275,56 @@ def write_atomically(path: str | os.PathLike[str], write: Callable[[Path], objec
     with atomic_path(path, make_dirs=make_dirs) as tmp:
         write(tmp)
     return Path(path)
+
+
+#: The version of the CF metadata conventions the NetCDF outputs follow: global ``Conventions``,
+#: ``title``, ``source``, ``history`` and ``references``; ``units`` and ``long_name`` on every
+#: variable and coordinate.
+CF_CONVENTIONS = "CF-1.10"
+
+#: The CF attributes of a wavelength coordinate.
+WAVELENGTH_ATTRS = {"units": "nm", "long_name": "vacuum wavelength", "standard_name": "radiation_wavelength"}
+
+
+def cf_attributes(title: str, made_by: str) -> dict[str, str]:
+    """The CF global attributes of a NetCDF output: ``Conventions``, ``title``, ``source`` (this
+    sandlight's version), ``history`` (what wrote the file, ``made_by``, e.g. "sandlight.reflectance")
+    and ``references``.
+
+    ``history`` has no time stamp, so that the same inputs give the same file, byte for byte.
+    """
+    import sandlight
+
+    version = sandlight.__version__
+    return {
+        "Conventions": CF_CONVENTIONS,
+        "title": title,
+        "source": f"sandlight {version} (Monte Carlo light transport in sand)",
+        "history": f"written by {made_by} (sandlight {version})",
+        "references": "Sandlight documentation, docs/ in the source distribution",
+    }
+
+
+def write_csv(
+    path: str | os.PathLike[str],
+    columns: Sequence[str],
+    rows: Sequence[Sequence[object]] | object,
+    formats: Sequence[str],
+    metadata: Mapping[str, object],
+) -> Path:
+    """Write a CSV file atomically: its metadata as ``# key: value`` comment lines (what a NetCDF
+    output keeps in its attributes: what made it, units, settings), then the header of
+    ``columns`` and one line per row, each value formatted with its ``formats`` entry ("%.6g").
+
+    Read it back with ``pandas.read_csv(path, comment="#")``.
+    """
+    # "Conventions" names the NetCDF conventions: not said of a CSV file.
+    comment = "".join(
+        f"# {key}: {' '.join(str(value).splitlines())}\n" for key, value in metadata.items() if key != "Conventions"
+    )
+    body = "".join(",".join(f % v for f, v in zip(formats, row)) + "\n" for row in rows)
+    text = comment + ",".join(columns) + "\n" + body
+    return write_atomically(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
 
 
 def read_netcdf_file(path: str | os.PathLike, *, kind: str, format_name: str, max_version: int) -> xr.Dataset:

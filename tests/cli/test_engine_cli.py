@@ -6,7 +6,7 @@ import subprocess
 import sys
 import time
 
-import numpy as np
+import pandas as pd
 import xarray as xr
 from typer.testing import CliRunner
 
@@ -25,7 +25,11 @@ def test_reflectance_writes_netcdf_csv_and_plot(tmp_path):
     assert ds["reflectance"].shape == (2,) and ds.attrs["rays"] == 2000
     res = runner.invoke(app, ["reflectance", "--preset", "red-dune", "-w", "450:650:100", "-n", "1e3", "-o", str(csv)])
     assert res.exit_code == 0, res.output
-    assert np.loadtxt(csv, delimiter=",", skiprows=1).shape == (3, 5)
+    table = pd.read_csv(csv, comment="#")
+    assert table.shape == (3, 5) and list(table.columns)[:2] == ["wavelength_nm", "reflectance"]
+    comments = [line for line in csv.read_text().splitlines() if line.startswith("# ")]
+    assert "# rays: 1000" in comments and "# seed: 0" in comments
+    assert any("units: wavelength_nm nm" in c for c in comments)
     assert png.stat().st_size > 1000
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import typer
@@ -19,7 +20,7 @@ from sandlight.cli._common import (
     option_names,
 )
 from sandlight.cli._output import echo, show, table
-from sandlight.io import check_output_directory, check_output_file, write_atomically
+from sandlight.io import cf_attributes, check_output_directory, check_output_file, write_atomically, write_csv
 
 #: The parameters of predictor.training.train_spectral as this command's options.
 _TRAINING_OPTIONS = {
@@ -160,9 +161,14 @@ def predict(
     )
     wavelengths = model.wavelengths_
     if output is not None:
-        lines = ["wavelength_nm,reflectance"] + [f"{w:g},{r:.6f}" for w, r in zip(wavelengths, reflectance)]
-        text = "\n".join(lines) + "\n"
-        write_atomically(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+        metadata = {
+            **cf_attributes("sandlight spectral predictor reflectance", "sandlight predict"),
+            "model": model.name_,
+            "sample": json.dumps(sample.to_dict(), sort_keys=True),
+            "extrapolated": outside,
+            "units": "wavelength_nm nm; reflectance 1 (directional-hemispherical, normal incidence)",
+        }
+        write_csv(output, ("wavelength_nm", "reflectance"), zip(wavelengths, reflectance), ("%g", "%.6f"), metadata)
     else:
         rows = [(f"{w:g}", f"{r:.4f}") for w, r in zip(wavelengths, reflectance)]
         table(("wavelength (nm)", "reflectance"), rows, title=f"reflectance of {label}")
