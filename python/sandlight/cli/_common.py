@@ -81,7 +81,8 @@ def load_sample(
     if sample_file is not None:
         return SandSample.from_file(sample_file)
     if preset is not None:
-        return SandSample.preset(preset)
+        with option_names({"preset": "--preset"}):
+            return SandSample.preset(preset)
     if default is None:
         raise ParameterError(both, None, "a sample file (TOML or JSON) or a preset name")
     if isinstance(default, str):

@@ -116,12 +116,13 @@ def demo(
     from sandlight.sample import SandSample
 
     check_output_directory(output_dir, "--output")
+    n = check_count("--rays", rays)
     sample = SandSample.preset(DEFAULT_PRESET)
     echo(f"sandlight demo: {DEFAULT_PRESET} sand, 400–2500 nm")
     result = run(
         sample,
         parse_range("wavelengths", "400:700:20").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],
-        rays=check_count("--rays", rays),
+        rays=n,
     )
     _report(
         result,

@@ -12,7 +12,7 @@ from pathlib import Path
 import typer
 
 from sandlight.cli._app import app
-from sandlight.cli._common import SEED_HELP, THREADS_HELP
+from sandlight.cli._common import SEED_HELP, THREADS_HELP, option_names
 from sandlight.cli._output import echo
 from sandlight.io import check_output_directory, check_output_file
 
@@ -48,9 +48,11 @@ def render(
     check_output_directory(output, "--output")
     if video is not None:
         check_output_file(video, "--video", (".mp4",), make_dirs=True)
-    parsed = Scene.load(scene).with_overrides(
-        width=width, height=height, frames=frames, spp=spp, seed=seed, threads=threads, write_linear=linear
-    )
+    overrides = {"width", "height", "frames", "spp", "seed", "threads", "linear"}
+    with option_names({name: f"--{name}" for name in overrides}):
+        parsed = Scene.load(scene).with_overrides(
+            width=width, height=height, frames=frames, spp=spp, seed=seed, threads=threads, write_linear=linear
+        )
     try:
         run = render_scene(parsed, output, video=video, progress=progress, log=echo)
     except KeyboardInterrupt:
