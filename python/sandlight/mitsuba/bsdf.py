@@ -1,0 +1,295 @@
+"""The `sand` BSDF for Mitsuba 3, in Dr.Jit array operations (traced into the llvm/cuda kernels).
+
+Public objects
+--------------
+bsdf_class
+    The plugin class for the current Mitsuba variant (a subclass of ``mitsuba.BSDF``).
+plugin_tables
+    The `PluginTables` of a `SandSpec` (cached).
+
+Conventions. Mitsuba's ``si.wi`` points to the previous path vertex (the camera side) and
+``wo`` to the next (the light side), both in the local shading frame (z = normal). The BRDF is
+reciprocal, so f(si.wi, wo) = `SandAppearance.brdf`(wi=si.wi, wo=wo) needs no swap; the
+sampler draws ``wo`` given ``si.wi`` with `SandAppearance.sample`'s law (the tables for the
+given direction's μ, `sandlight.appearance.sampling`), so the plugin's ``pdf`` is
+`SandAppearance.pdf`(si.wi, wo). ``eval`` returns f cos θ_o, ``sample`` the weight
+f cos θ_o / pdf, as Mitsuba expects. Both sides must be above the surface (one-sided, like
+Mitsuba's ``diffuse``).
+
+The evaluation is `sandlight.gonio.brdf.interpolate_band_grid` (trilinear in μ_i, μ_o, Δφ on
+the band grid, held below the lowest node) plus the combination's diffuse term, blended
+linearly between the levels around the textured parameter's value; the sampler is the same
+blend of the levels' samplers (`sandlight.mitsuba.tables`). Mitsuba computes in float32: the
+plugin agrees with `SandAppearance` to float32 rounding (tested), except exactly at the cap's
+step (its two nodes 10⁻⁸ apart in μ coincide in float32).
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+
+import numpy as np
+
+from sandlight.mitsuba.parameters import PLUGIN_NAME, SandSpec, appearance_levels
+from sandlight.mitsuba.tables import PluginTables
+
+__all__ = ["bsdf_class", "plugin_tables", "LUMINANCE_WEIGHTS"]
+
+#: Linear-sRGB luminance weights (IEC 61966-2-1): the mono variants' weight from the RGB ones.
+LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
+
+
+@functools.lru_cache(maxsize=32)
+def plugin_tables(spec: SandSpec) -> PluginTables:
+    """The flat tables of ``spec``'s appearances (`PluginTables.build`)."""
+    return PluginTables.build(appearance_levels(spec), spec.level_values or None)
+
+
+@functools.cache
+def bsdf_class(variant: str) -> type:
+    """The `sand` plugin class for Mitsuba variant ``variant`` (the current one; each variant
+    has its own ``mitsuba.BSDF`` base class)."""
+    import drjit as dr
+    import mitsuba as mi
+
+    if mi.variant() != variant:
+        raise RuntimeError(f"bsdf_class({variant!r}) called while the Mitsuba variant is {mi.variant()!r}")
+
+    class SandBSDF(mi.BSDF):
+        """The explicit spectral BRDF of sand (sandlight.appearance.SandAppearance) as a BSDF."""
+
+        def __init__(self, props: mi.Properties) -> None:
+            mi.BSDF.__init__(self, props)
+            values, textures = {}, {}
+            for name in props.keys():
+                if name in ("type", "id"):
+                    continue
+                v = props[name]
+                if isinstance(v, mi.Texture):
+                    textures[name] = v
+                elif isinstance(v, mi.Object):
+                    from sandlight.mitsuba.parameters import PluginParameterError
+
+                    raise PluginParameterError(name, type(v).__name__, "a number, a string or a texture")
+                else:
+                    values[name] = v
+            self.spec = SandSpec.parse(values, tuple(textures))
+            self.texture = textures.get(self.spec.varied) if self.spec.varied else None
+            self._upload(plugin_tables(self.spec))
+            flags = mi.BSDFFlags.GlossyReflection | mi.BSDFFlags.FrontSide
+            if self.texture is not None:
+                flags = flags | mi.BSDFFlags.SpatiallyVarying
+            self.m_components = [flags]
+            self.m_flags = flags
+
+        # ---- data ------------------------------------------------------------------------
+        def _upload(self, t: PluginTables) -> None:
+            self.t = t
+            self.n, self.L, self.K, self.R = t.n_nodes, t.slices, t.n_levels, t.n_cells
+            self.asc = [float(v) for v in t.nodes_ascending]
+            self.asc_array = mi.Float(np.asarray(t.nodes_ascending, dtype=np.float32))
+            self.grid = mi.Float(t.grid.astype(np.float32))
+            self.profile = mi.Float(t.profile.astype(np.float32))
+            self.reflectance = mi.Float(t.reflectance.astype(np.float32))
+            self.r0 = mi.Float(t.reference_reflectance.astype(np.float32))
+            self.M = t.n_wavelengths
+            self.levels = mi.Float(t.levels.astype(np.float32))
+            rgb_a, rgb_b = t.rgb_a, t.rgb_b
+            if mi.is_monochromatic:  # mono variants: luminance
+                rgb_a, rgb_b = rgb_a @ np.array(LUMINANCE_WEIGHTS), rgb_b @ np.array(LUMINANCE_WEIGHTS)
+            self.colour_a = mi.Float(np.ravel(rgb_a).astype(np.float32))
+            self.colour_b = mi.Float(np.ravel(rgb_b).astype(np.float32))
+            self.band_z0 = [float(v) for v in t.band_z0]
+            for name in ("cell_z0", "cell_z1", "cell_phi0", "cell_phi1", "cell_projected", "cdf", "pmf"):
+                setattr(self, name, mi.Float(getattr(t, name).astype(np.float32)))
+            self.last_cell = mi.UInt32(t.last_cell.astype(np.uint32))
+
+        # ---- helpers ---------------------------------------------------------------------
+        def _level(self, si: mi.SurfaceInteraction3f, active: mi.Bool) -> tuple:
+            """(k0, k1, w): the two levels around the texture's value and the weight of k1."""
+            if self.K == 1:
+                return mi.UInt32(0), mi.UInt32(0), mi.Float(0.0)
+            lo, hi = float(self.t.levels[0]), float(self.t.levels[-1])
+            value = self.texture.eval_1(si, active)
+            x = (dr.clip(value, lo, hi) - lo) * ((self.K - 1) / (hi - lo))
+            k0 = mi.UInt32(dr.clip(dr.floor(x), 0, self.K - 2))
+            return k0, k0 + 1, x - mi.Float(k0)
+
+        def _bracket(self, mu: mi.Float) -> tuple:
+            """(q0, q1, t): the nodes (band-grid order) around μ and the weight of q1 (`mu_bracket`)."""
+            n = self.n
+            m = dr.clip(mu, self.asc[0], self.asc[-1])
+            j = mi.UInt32(0)
+            for q in range(1, n - 1):  # j: the last node ≤ μ, in [0, n − 2]
+                j += dr.select(m >= self.asc[q], mi.UInt32(1), mi.UInt32(0))
+            lo = dr.gather(mi.Float, self.asc_array, j)
+            hi = dr.gather(mi.Float, self.asc_array, j + 1)
+            t = dr.clip((m - lo) / (hi - lo), 0.0, 1.0)
+            return (n - 1) - j, (n - 2) - j, t
+
+        @staticmethod
+        def _dphi(wi: mi.Vector3f, wo: mi.Vector3f) -> mi.Float:
+            return dr.atan2(wo.y, wo.x) - dr.atan2(wi.y, wi.x)
+
+        def _spatial(self, k: mi.UInt32, qi: tuple, qo: tuple, dphi: mi.Float, active: mi.Bool) -> tuple:
+            """(f̂, P(μ_i) P(μ_o)) of level k (`interpolate_band_grid`)."""
+            n, L = self.n, self.L
+            x = dphi * (L / (2.0 * math.pi))
+            x = x - L * dr.floor(x / L)
+            k0 = mi.UInt32(dr.floor(x))
+            tk = x - mi.Float(k0)
+            k0 = dr.select(k0 >= L, k0 - L, k0)  # x can round up to exactly L
+            k1 = dr.select(k0 + 1 >= L, mi.UInt32(0), k0 + 1)
+            f = mi.Float(0.0)
+            for b_in, w_in in ((qi[0], 1.0 - qi[2]), (qi[1], qi[2])):
+                for b_out, w_out in ((qo[0], 1.0 - qo[2]), (qo[1], qo[2])):
+                    row = ((k * n + b_in) * n + b_out) * L
+                    v0 = dr.gather(mi.Float, self.grid, row + k0, active)
+                    v1 = dr.gather(mi.Float, self.grid, row + k1, active)
+                    f += w_in * w_out * ((1.0 - tk) * v0 + tk * v1)
+            p = []
+            for q0, q1, t in (qi, qo):
+                p0 = dr.gather(mi.Float, self.profile, k * n + q0, active)
+                p1 = dr.gather(mi.Float, self.profile, k * n + q1, active)
+                p.append((1.0 - t) * p0 + t * p1)
+            return f, p[0] * p[1]
+
+        def _weights(self, k: mi.UInt32, si: mi.SurfaceInteraction3f, active: mi.Bool) -> tuple:
+            """(a, b) of level k as Spectrum: at the sampled wavelengths, or projected (RGB/mono)."""
+            if not mi.is_spectral:
+                c = dr.size_v(mi.Spectrum)
+                a = mi.Spectrum([dr.gather(mi.Float, self.colour_a, k * c + i, active) for i in range(c)])
+                b = mi.Spectrum([dr.gather(mi.Float, self.colour_b, k * c + i, active) for i in range(c)])
+                return a, b
+            r0 = dr.gather(mi.Float, self.r0, k, active)
+            base = k * self.M
+            channels = []
+            for c in range(dr.size_v(mi.Spectrum)):
+                x = dr.clip(si.wavelengths[c] - self.t.wavelength0_nm, 0.0, self.M - 1.0)
+                i0 = mi.UInt32(dr.clip(dr.floor(x), 0, self.M - 2))
+                tw = x - mi.Float(i0)
+                r0_c = dr.gather(mi.Float, self.reflectance, base + i0, active)
+                r1_c = dr.gather(mi.Float, self.reflectance, base + i0 + 1, active)
+                channels.append((1.0 - tw) * r0_c + tw * r1_c)
+            r = mi.Spectrum(channels)
+            if self.t.product:
+                return r, mi.Spectrum(0.0)
+            # Combination.weights, 'energy': a = min(r, r0), b = (r − r0)/(1 − r0) where r > r0.
+            bright = r > r0
+            a = dr.select(bright, r0, r)
+            b = dr.select(bright & (r0 < 1.0), (r - r0) / (1.0 - r0), 0.0)
+            return a, b
+
+        def _f(self, si: mi.SurfaceInteraction3f, wo: mi.Vector3f, active: mi.Bool) -> mi.Spectrum:
+            """f(si.wi, wo, λ), sr⁻¹ (no horizon test)."""
+            qi, qo = self._bracket(si.wi.z), self._bracket(wo.z)
+            dphi = self._dphi(si.wi, wo)
+            k0, k1, w = self._level(si, active)
+            value = mi.Spectrum(0.0)
+            for k, wk in ((k0, 1.0 - w), (k1, w)) if self.K > 1 else ((k0, 1.0),):
+                g, pp = self._spatial(k, qi, qo, dphi, active)
+                a, b = self._weights(k, si, active)
+                value += wk * (a * g + b * pp)
+            return value
+
+        def _cell(self, mu_o: mi.Float, dphi: mi.Float) -> mi.UInt32:
+            """The sampler's cell of an outgoing direction (`SamplingTables.cell_of`)."""
+            stacks, L = len(self.band_z0), self.L
+            band = mi.UInt32(0)
+            for z in self.band_z0:
+                band += dr.select(z > mu_o, mi.UInt32(1), mi.UInt32(0))
+            band = dr.minimum(band, stacks - 1)
+            x = dphi * (L / (2.0 * math.pi))
+            x = x - L * dr.floor(x / L)
+            k = mi.UInt32(dr.floor(x + 0.5))
+            k = dr.select(k >= L, k - L, k)
+            return dr.select(band == 0, mi.UInt32(0), 1 + (band - 1) * L + k)
+
+        def _pdf(self, si: mi.SurfaceInteraction3f, wo: mi.Vector3f, active: mi.Bool) -> mi.Float:
+            """`SandAppearance.pdf`(si.wi, wo, 'brdf'), blended over the levels, sr⁻¹."""
+            mu_o = wo.z
+            eps = self.t.cosine_share
+            q0, q1, t = self._bracket(si.wi.z)
+            cell = self._cell(mu_o, self._dphi(si.wi, wo))
+            k0, k1, w = self._level(si, active)
+            tab = mi.Float(0.0)
+            for k, wk in ((k0, 1.0 - w), (k1, w)) if self.K > 1 else ((k0, 1.0),):
+                p0 = dr.gather(mi.Float, self.pmf, (k * self.n + q0) * self.R + cell, active)
+                p1 = dr.gather(mi.Float, self.pmf, (k * self.n + q1) * self.R + cell, active)
+                tab += wk * ((1.0 - t) * p0 + t * p1)
+            tab *= mu_o / dr.gather(mi.Float, self.cell_projected, cell, active)
+            return dr.select(active & (mu_o > 0), eps * mu_o / math.pi + (1.0 - eps) * tab, 0.0)
+
+        def _enabled(self, ctx: mi.BSDFContext, si: mi.SurfaceInteraction3f, active: mi.Bool) -> mi.Bool:
+            return active & (si.wi.z > 0) & ctx.is_enabled(mi.BSDFFlags.GlossyReflection, 0)
+
+        # ---- the BSDF interface -----------------------------------------------------------
+        def eval(self, ctx, si, wo, active=True):  # noqa: ANN001, ANN201 (Mitsuba's signature)
+            active = self._enabled(ctx, si, active) & (wo.z > 0)
+            value = self._f(si, wo, active) * wo.z
+            return dr.select(active, value, 0.0)
+
+        def pdf(self, ctx, si, wo, active=True):  # noqa: ANN001, ANN201
+            return self._pdf(si, wo, self._enabled(ctx, si, active))
+
+        def eval_pdf(self, ctx, si, wo, active=True):  # noqa: ANN001, ANN201
+            active = self._enabled(ctx, si, active)
+            value = dr.select(active & (wo.z > 0), self._f(si, wo, active) * wo.z, 0.0)
+            return value, self._pdf(si, wo, active)
+
+        def sample(self, ctx, si, sample1, sample2, active=True):  # noqa: ANN001, ANN201
+            active = self._enabled(ctx, si, active)
+            eps = self.t.cosine_share
+            wo_cos = mi.warp.square_to_cosine_hemisphere(sample2)
+            # The table branch: sample1 chooses the level, then the μ node (as the BRDF blends
+            # them); sample2.x the cell and μ_o within it (density ∝ μ_o), sample2.y Δφ.
+            v = (sample1 - eps) / (1.0 - eps)
+            k0, k1, w = self._level(si, active)
+            if self.K > 1:
+                first = v < (1.0 - w)
+                k = dr.select(first, k0, k1)
+                v = dr.select(first, v / (1.0 - w), (v - (1.0 - w)) / w)
+            else:
+                k = k0
+            q0, q1, t = self._bracket(si.wi.z)
+            row = dr.select(v < (1.0 - t), q0, q1)
+            base = (k * self.n + row) * self.R
+            u = sample2.x
+            cell = dr.binary_search(0, self.R - 1, lambda i: dr.gather(mi.Float, self.cdf, base + i, active) <= u)
+            cell = dr.minimum(cell, dr.gather(mi.UInt32, self.last_cell, k * self.n + row, active))
+            hi = dr.gather(mi.Float, self.cdf, base + cell, active)
+            lo = dr.select(cell > 0, dr.gather(mi.Float, self.cdf, base + cell - 1, active & (cell > 0)), 0.0)
+            within = dr.clip(dr.select(hi > lo, (u - lo) / (hi - lo), 0.5), 0.0, 1.0)
+            z0 = dr.gather(mi.Float, self.cell_z0, cell, active)
+            z1 = dr.gather(mi.Float, self.cell_z1, cell, active)
+            mu_o = dr.clip(dr.sqrt(z0 * z0 + within * (z1 * z1 - z0 * z0)), 1e-7, 1.0)
+            ph0 = dr.gather(mi.Float, self.cell_phi0, cell, active)
+            ph1 = dr.gather(mi.Float, self.cell_phi1, cell, active)
+            phi = dr.atan2(si.wi.y, si.wi.x) + ph0 + sample2.y * (ph1 - ph0)
+            sin_o = dr.safe_sqrt(1.0 - mu_o * mu_o)
+            wo_tab = mi.Vector3f(sin_o * dr.cos(phi), sin_o * dr.sin(phi), mu_o)
+
+            bs = dr.zeros(mi.BSDFSample3f)
+            bs.wo = dr.select(sample1 < eps, wo_cos, wo_tab)
+            value, bs.pdf = self.eval_pdf(ctx, si, bs.wo, active)
+            bs.eta = 1.0
+            bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)
+            bs.sampled_component = mi.UInt32(0)
+            active &= bs.pdf > 0
+            return bs, dr.select(active, value / bs.pdf, 0.0)
+
+        # ---- parameters ------------------------------------------------------------------
+        def traverse(self, callback):  # noqa: ANN001, ANN201
+            if self.texture is not None:
+                callback.put(self.spec.varied, self.texture, mi.ParamFlags.NonDifferentiable)
+
+        def parameters_changed(self, keys=None):  # noqa: ANN001, ANN201
+            pass  # the texture is read at every evaluation; nothing is derived from it
+
+        def to_string(self) -> str:
+            s = self.spec
+            varied = f", {s.varied} textured over {len(s.level_values)} levels" if s.varied else ""
+            return f"SandBSDF[{PLUGIN_NAME}: {s.sample!r}, combination={s.combination!r}{varied}]"
+
+    return SandBSDF

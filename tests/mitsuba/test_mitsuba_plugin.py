@@ -1,0 +1,201 @@
+"""The `sand` plugin evaluates, samples and refuses as `SandAppearance` says (compared live)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+from sandlight.appearance import SandAppearance
+from sandlight.mitsuba.tables import PROJECTION_WAVELENGTHS_NM, rgb_projection
+from sandlight.sample import SandSample
+
+pytestmark = pytest.mark.filterwarnings("ignore::sandlight.spatial.model.SpatialApproximationWarning")
+
+SANDS = {
+    "dry": ({"type": "sand"}, SandSample()),
+    "wet": ({"type": "sand", "saturation": 1.0}, SandSample(saturation=1.0)),
+    "red-dune": ({"type": "sand", "preset": "red-dune"}, "red-dune"),
+}
+N = 3000
+
+
+def appearance(sample):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return SandAppearance(sample)
+
+
+def directions(rng, n):
+    v = rng.normal(size=(n, 3))
+    v[:, 2] = np.abs(v[:, 2]) + 1e-3
+    return v / np.linalg.norm(v, axis=1, keepdims=True)
+
+
+def interaction(mi, wi, wavelengths=None):
+    import drjit as dr
+
+    si = dr.zeros(mi.SurfaceInteraction3f, wi.shape[0])
+    si.wi = mi.Vector3f(wi.T.astype(np.float32))
+    if wavelengths is not None:
+        si.wavelengths = mi.Spectrum(*[np.full(wi.shape[0], w, dtype=np.float32) for w in wavelengths])
+    return si
+
+
+def vec(mi, w):
+    return mi.Vector3f(w.T.astype(np.float32))
+
+
+@pytest.mark.parametrize("name", sorted(SANDS))
+def test_spectral_eval_and_pdf_are_the_appearances(spectral, name):
+    mi = spectral
+    params, sample = SANDS[name]
+    bsdf, app = mi.load_dict(params), appearance(sample)
+    rng = np.random.default_rng(1)
+    wi, wo = directions(rng, N), directions(rng, N)
+    lam = np.array([403.0, 487.5, 600.0, 699.0])
+    si, ctx = interaction(mi, wi, lam), mi.BSDFContext()
+    value = np.array(bsdf.eval(ctx, si, vec(mi, wo))).T
+    expected = app.brdf(wi, wo, lam) * wo[:, 2:3]
+    np.testing.assert_allclose(value, expected, rtol=2e-5, atol=2e-6 * expected.max())
+    pdf = np.array(bsdf.pdf(ctx, si, vec(mi, wo)))
+    # The float32 sampler's cell laws differ from the float64 ones by ~1e-7 (tables.PluginTables.pmf).
+    np.testing.assert_allclose(pdf, app.pdf(wi, wo), rtol=1e-4, atol=1e-4)
+    both = bsdf.eval_pdf(ctx, si, vec(mi, wo))
+    np.testing.assert_array_equal(np.array(both[0]).T, value)
+    np.testing.assert_array_equal(np.array(both[1]), pdf)
+
+
+def test_spectral_reflectance_is_held_outside_the_models_range(spectral):
+    mi = spectral
+    bsdf = mi.load_dict({"type": "sand"})
+    rng = np.random.default_rng(2)
+    wi, wo = directions(rng, 100), directions(rng, 100)
+    ctx = mi.BSDFContext()
+    outside = np.array(bsdf.eval(ctx, interaction(mi, wi, [360.0, 380.0, 720.0, 830.0]), vec(mi, wo)))
+    ends = np.array(bsdf.eval(ctx, interaction(mi, wi, [400.0, 400.0, 700.0, 700.0]), vec(mi, wo)))
+    np.testing.assert_array_equal(outside, ends)
+    assert (ends[0] != ends[2]).any()
+
+
+def test_rgb_eval_is_the_documented_projection(rgb):
+    mi = rgb
+    app = appearance(SandSample(saturation=1.0))
+    bsdf = mi.load_dict({"type": "sand", "saturation": 1.0})
+    rng = np.random.default_rng(3)
+    wi, wo = directions(rng, 400), directions(rng, 400)
+    value = np.array(bsdf.eval(mi.BSDFContext(), interaction(mi, wi), vec(mi, wo))).T
+    fine = np.arange(400.0, 701.0)
+    f = app.brdf(wi, wo, fine)  # 1 nm, linear between the model's nodes like the plugin
+    f_wide = np.stack([np.interp(PROJECTION_WAVELENGTHS_NM, fine, row) for row in f])
+    expected = f_wide @ rgb_projection().T * wo[:, 2:3]
+    np.testing.assert_allclose(value, expected, rtol=2e-5, atol=2e-6 * expected.max())
+
+
+@pytest.mark.parametrize("name", ["dry", "wet"])
+def test_sample_weight_is_eval_over_pdf(rgb, name):
+    mi = rgb
+    bsdf = mi.load_dict(SANDS[name][0])
+    rng = np.random.default_rng(4)
+    wi = directions(rng, N)
+    si, ctx = interaction(mi, wi), mi.BSDFContext()
+    u = rng.random((3, N)).astype(np.float32)
+    bs, weight = bsdf.sample(ctx, si, mi.Float(u[0]), mi.Point2f(u[1:]))
+    wo = np.array(bs.wo).T
+    assert (wo[:, 2] > 0).all()
+    np.testing.assert_allclose(np.linalg.norm(wo, axis=1), 1.0, atol=1e-5)
+    value, pdf = (np.array(x) for x in bsdf.eval_pdf(ctx, si, bs.wo))
+    np.testing.assert_allclose(np.array(bs.pdf), pdf, rtol=1e-6)
+    np.testing.assert_allclose(np.array(weight), value / pdf, rtol=1e-5)
+
+
+@pytest.mark.parametrize("name", ["dry", "wet"])
+@pytest.mark.parametrize("theta_deg", [30.0, 75.0])
+def test_sample_weights_average_to_the_albedo(rgb, name, theta_deg):
+    # E[f cos θ_o / pdf] = ∫ f cos θ_o dω_o, the directional albedo (projected to RGB).
+    mi = rgb
+    params, sample = SANDS[name]
+    bsdf, app = mi.load_dict(params), appearance(sample)
+    n = 40000
+    th = np.radians(theta_deg)
+    wi = np.tile([np.sin(th), 0.0, np.cos(th)], (n, 1))
+    u = np.random.default_rng(6).random((3, n)).astype(np.float32)
+    _, weight = bsdf.sample(mi.BSDFContext(), interaction(mi, wi), mi.Float(u[0]), mi.Point2f(u[1:]))
+    weight = np.array(weight)
+    fine = np.arange(400.0, 701.0)
+    albedo = np.interp(PROJECTION_WAVELENGTHS_NM, fine, app.albedo(wi[0], fine)[0])
+    expected = rgb_projection() @ albedo
+    se = weight.std(axis=1) / np.sqrt(n)
+    assert (np.abs(weight.mean(axis=1) - expected) < 4 * se).all(), (weight.mean(axis=1), expected, se)
+
+
+def test_textured_saturation_blends_the_levels(rgb):
+    mi = rgb
+    import drjit as dr
+
+    levels = 5  # saturation 0, 0.25, 0.5, 0.75, 1
+    value = 0.6  # between the levels 0.5 and 0.75, weight 0.4 on 0.75
+    texture = {"type": "bitmap", "data": mi.TensorXf(np.full((2, 2, 1), value, dtype=np.float32)), "raw": True}
+    bsdf = mi.load_dict({"type": "sand", "saturation": texture, "levels": levels})
+    rng = np.random.default_rng(5)
+    wi, wo = directions(rng, 500), directions(rng, 500)
+    si, ctx = interaction(mi, wi), mi.BSDFContext()
+    got = np.array(bsdf.eval(ctx, si, vec(mi, wo))).T
+    fine = np.arange(400.0, 701.0)
+
+    def rgb_f(s):
+        f = appearance(SandSample(saturation=s)).brdf(wi, wo, fine)
+        wide = np.stack([np.interp(PROJECTION_WAVELENGTHS_NM, fine, row) for row in f])
+        return wide @ rgb_projection().T * wo[:, 2:3]
+
+    expected = 0.6 * rgb_f(0.5) + 0.4 * rgb_f(0.75)
+    np.testing.assert_allclose(got, expected, rtol=1e-4, atol=2e-6 * expected.max())
+    pdf = np.array(bsdf.pdf(ctx, si, vec(mi, wo)))
+    expected_pdf = 0.6 * appearance(SandSample(saturation=0.5)).pdf(wi, wo) + 0.4 * appearance(
+        SandSample(saturation=0.75)
+    ).pdf(wi, wo)
+    np.testing.assert_allclose(pdf, expected_pdf, rtol=1e-4, atol=1e-4)
+    params = mi.traverse(bsdf)
+    assert any(k.startswith("saturation") for k in params.keys())
+    assert dr.width(si) == 500
+
+
+@pytest.mark.parametrize(
+    ("params", "name"),
+    [
+        ({"saturation": 1.5}, "saturation"),
+        ({"preset": "no-such-sand"}, "preset"),
+        ({"colour": 0.3}, "colour"),
+        ({"combination": "sum"}, "combination"),
+        ({"levels": 8}, "levels"),
+        ({"sample_file": "/nonexistent/sand.toml"}, "sample_file"),
+        ({"preset": "wet-beach", "sample_file": "/nonexistent/sand.toml"}, "sample_file"),
+        ({"iron_oxide_form": "dust"}, "iron_oxide_form"),
+    ],
+)
+def test_bad_parameters_are_refused_by_name(rgb, params, name):
+    mi = rgb
+    with pytest.raises(RuntimeError, match=rf'\[sand\] parameter "?{name}"?'):
+        mi.load_dict({"type": "sand", **params})
+
+
+def test_bad_texture_parameters_are_refused_by_name(rgb):
+    mi = rgb
+
+    def tex():
+        return {"type": "bitmap", "data": mi.TensorXf(np.full((2, 2, 1), 0.5, dtype=np.float32)), "raw": True}
+
+    with pytest.raises(RuntimeError, match=r'\[sand\] parameter "?porosity"?'):
+        mi.load_dict({"type": "sand", "saturation": tex(), "porosity": tex()})
+    with pytest.raises(RuntimeError, match=r'\[sand\] parameter "?iron_oxide_form"?'):
+        mi.load_dict({"type": "sand", "iron_oxide_form": tex()})
+    with pytest.raises(RuntimeError, match=r'\[sand\] parameter "?levels"?'):
+        mi.load_dict({"type": "sand", "saturation": tex(), "levels": 1})
+
+
+def test_scalar_variants_are_refused(load_variant):
+    from sandlight.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="variant"):
+        load_variant("scalar_rgb")
