@@ -27,11 +27,12 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from sandlight.errors import ParameterError
+from sandlight.errors import ParameterError, SandlightError
 from sandlight.mitsuba.llvm import configure_llvm, find_libllvm
 from sandlight.mitsuba.parameters import PLUGIN_NAME, PluginParameterError, SandSpec
 
 __all__ = [
+    "MitsubaUnavailable",
     "PLUGIN_NAME",
     "PluginParameterError",
     "SandSpec",
@@ -44,6 +45,10 @@ __all__ = [
 
 #: Variant families the plugin supports (JIT variants: the plugin is traced into kernels).
 SUPPORTED_PREFIXES = ("llvm_ad_", "cuda_ad_", "llvm_", "cuda_")
+
+
+class MitsubaUnavailable(SandlightError, ImportError):
+    """Mitsuba is not installed, or the variant cannot start (no LLVM for the llvm variants)."""
 
 
 def register() -> None:
@@ -74,16 +79,23 @@ def load_mitsuba(variant: str = "llvm_ad_rgb") -> ModuleType:
     ------
     ParameterError
         ``variant`` is not one Mitsuba offers here, or not supported by the plugin.
-    ImportError
-        Mitsuba is not installed (``pip install 'sandlight[mitsuba]'``).
+    MitsubaUnavailable
+        Mitsuba is not installed (``pip install 'sandlight[mitsuba]'``), or the variant does not
+        start (the llvm variants need LLVM ≥ 16: ``apt-get install libllvm19``).
     """
     configure_llvm()
     try:
         import mitsuba as mi
     except ImportError as e:
-        raise ImportError("sandlight.mitsuba needs Mitsuba 3: pip install 'sandlight[mitsuba]'") from e
+        raise MitsubaUnavailable(f"sandlight.mitsuba needs Mitsuba 3 ({e}): pip install 'sandlight[mitsuba]'") from e
     if variant not in mi.variants():
         raise ParameterError("variant", variant, f"one of {mi.variants()}")
-    mi.set_variant(variant)
+    try:
+        mi.set_variant(variant)
+    except (ImportError, RuntimeError, AttributeError) as e:
+        raise MitsubaUnavailable(
+            f"Mitsuba variant {variant!r} does not start ({e}); llvm variants need LLVM >= 16 "
+            "(apt-get install libllvm19, or set DRJIT_LIBLLVM_PATH)"
+        ) from e
     register()
     return mi

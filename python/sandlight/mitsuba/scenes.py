@@ -154,12 +154,14 @@ def scene_dict(
     mesh_half_size_m: float = 150.0,
     mesh_stride: int = 2,
     max_depth: int | None = None,
+    terrain: object | None = None,
 ) -> dict:
     """The Mitsuba scene of frame ``frame`` of a sandlight `Scene` (module docstring).
 
     The sand is the scene's sample; with ``sand.vary`` (the beach's saturation) the plugin gets
     the frame's texture map and the scene's levels. Integrator: ``path`` with the scene's
     ``render.max_bounces`` ground interactions (``max_depth`` = bounces + 1) unless given.
+    ``terrain``: a mesh of `terrain_mesh` to reuse (the dune field is the same in every frame).
 
     Raises
     ------
@@ -170,8 +172,8 @@ def scene_dict(
         raise ParameterError("frame", frame, f"a frame number in [0, {scene.frames - 1}]")
     if scene.brdf != "appearance":
         raise ParameterError("sand.brdf", scene.brdf, "'appearance' (the Mitsuba plugin is SandAppearance)")
-    terrain = scene.build_terrain()
-    camera = scene.build_camera(terrain)
+    ground = scene.build_terrain()
+    camera = scene.build_camera(ground)
     bsdf: dict = {"type": "sand", **_sample_parameters(scene)}
     material = scene.build_material(float(scene.day_fractions()[frame]))
     if scene.vary is not None:
@@ -186,10 +188,10 @@ def scene_dict(
         "sky": sunsky(scene.sun_direction(time_h), scene.sun.turbidity),
     }
     if scene.terrain.kind == "plane":
-        out["ground"] = ground_plane(mi, bsdf, height_m=float(terrain.height_m))
+        out["ground"] = ground_plane(mi, bsdf, height_m=float(ground.height_m))
     else:
-        out["terrain"] = terrain_mesh(mi, terrain, camera.position, mesh_half_size_m, bsdf, mesh_stride)
-        low = float(np.min(terrain.heights_m))
+        out["terrain"] = terrain or terrain_mesh(mi, ground, camera.position, mesh_half_size_m, bsdf, mesh_stride)
+        low = float(np.min(ground.heights_m))
         out["far"] = ground_plane(mi, bsdf, height_m=low - 0.01)
     return out
 
