@@ -20,7 +20,9 @@ uses (its zenith is +z). What differs from sandlight's renderer (docs/mitsuba.md
   shading) over a square around the camera, and beyond it a plane at the field's lowest height,
   instead of bilinear patches repeated to the horizon;
 - the beach's saturation map is a ``bitmap`` texture (bilinear, clamped at its border, as
-  `MaterialMap.value_at`) on a plane.
+  `MaterialMap.value_at`) on a 4 km plane;
+- every scene has a far plane (`FAR_HALF_SIZE_M`) 1 cm below the ground, with the sand of the
+  map's border value in the camera's heading.
 """
 
 from __future__ import annotations
@@ -53,6 +55,9 @@ __all__ = [
 
 #: Half the side of the ground plane, metres (sandlight's renderer: the far field at 2 km).
 GROUND_HALF_SIZE_M = 2000.0
+#: Half the side of the far plane beyond it: rays heading 0.0006° below the horizon from 10 m
+#: still meet ground (beyond a 2 km plane, the sky below the horizon would show as a black line).
+FAR_HALF_SIZE_M = 1.0e6
 #: The shipped XML examples.
 EXAMPLES = ("desert.xml", "beach.xml")
 
@@ -187,12 +192,19 @@ def scene_dict(
         "sensor": camera_sensor(mi, camera, scene.settings.spp),
         "sky": sunsky(scene.sun_direction(time_h), scene.sun.turbidity),
     }
+    far_bsdf = dict(bsdf)
+    if scene.vary is not None:  # beyond the map: its border value in the camera's heading
+        ahead = camera.position[:2] + 1e7 * camera.forward[:2]
+        far_bsdf[scene.vary] = float(material.value_at(ahead[0], ahead[1]))
+        for name in ("levels", "level_min", "level_max"):
+            far_bsdf.pop(name)
     if scene.terrain.kind == "plane":
         out["ground"] = ground_plane(mi, bsdf, height_m=float(ground.height_m))
+        low = float(ground.height_m)
     else:
         out["terrain"] = terrain or terrain_mesh(mi, ground, camera.position, mesh_half_size_m, bsdf, mesh_stride)
         low = float(np.min(ground.heights_m))
-        out["far"] = ground_plane(mi, bsdf, height_m=low - 0.01)
+    out["far"] = ground_plane(mi, far_bsdf, height_m=low - 0.01, half_size_m=FAR_HALF_SIZE_M)
     return out
 
 
