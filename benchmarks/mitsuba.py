@@ -11,7 +11,10 @@ bounces + 1, in ``llvm_ad_rgb`` and ``llvm_ad_spectral`` (4 wavelengths per samp
 Both estimate the same direct lighting on the same plane. For each: the wall time of one render
 after a warm-up render (Mitsuba compiles its kernels once; the first render is reported
 separately), and samples (camera paths) per second. Set-up (BRDF tables, sky texture, scene
-loading) is excluded and reported.
+loading) is excluded and reported. Noise: on the crop of rows 22–61 of 180 (scaled to the
+height; for beach-drying the wet sand 0.3°–8° below the horizon, as benchmarks/render.py), the
+relative standard deviation of one render's luminance, σ/Y = rms(A − B)/(√2 Ȳ) from two renders
+with independent seeds; efficiency = samples/s ÷ (σ/Y)² (higher is better), relative to sandlight.
 """
 
 from __future__ import annotations
@@ -19,14 +22,33 @@ from __future__ import annotations
 import argparse
 import os
 import platform
+import sys
 import time
 import warnings
+from pathlib import Path
 
 import numpy as np
 
+# This file is named like the package it measures: keep its folder off the path so that
+# `import mitsuba` finds Mitsuba, not this script.
+sys.path = [p for p in sys.path if Path(p or ".").resolve() != Path(__file__).resolve().parent]
+
+
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
+
+
+def crop_noise(a, b):
+    """σ/Y of one render on the benchmark crop, from two renders' luminance images a, b."""
+    h = a.shape[0]
+    rows = slice(round(22 * h / 180), round(62 * h / 180))
+    a, b = a[rows], b[rows]
+    return float(np.sqrt(np.mean((a - b) ** 2) / 2) / np.mean(0.5 * (a + b)))
+
 
 def sandlight_frame(scene, frame):
-    from sandlight.render import render_image
+    import dataclasses
+
+    from sandlight.render import post, render_image
 
     t0 = time.perf_counter()
     terrain = scene.build_terrain()
@@ -35,8 +57,13 @@ def sandlight_frame(scene, frame):
     lighting = scene.build_lighting(float(scene.times_h()[frame]))
     material = scene.build_material(float(scene.day_fractions()[frame]))
     setup = time.perf_counter() - t0
-    image = render_image(camera, terrain, table, lighting, material, scene.settings, frame=frame)
-    return setup, image.elapsed_s
+    ys, seconds = [], []
+    for seed in range(2):
+        settings = dataclasses.replace(scene.settings, seed=seed)
+        image = render_image(camera, terrain, table, lighting, material, settings, frame=frame)
+        ys.append(post.spectral_to_xyz(image.radiance, scene.wavelength_nm)[..., 1])
+        seconds.append(image.elapsed_s)
+    return setup, min(seconds), crop_noise(*ys)
 
 
 def mitsuba_frame(scene, frame, variant):
@@ -47,13 +74,13 @@ def mitsuba_frame(scene, frame, variant):
     t0 = time.perf_counter()
     loaded = mi.load_dict(scene_dict(mi, scene, frame))
     setup = time.perf_counter() - t0
-    times = []
-    for seed in range(2):  # the first render compiles the kernels
+    times, ys = [], []
+    for seed in range(3):  # the first render compiles the kernels
         t0 = time.perf_counter()
-        image = mi.render(loaded, seed=seed)
-        np.array(image)  # wait for the kernels
+        image = np.array(mi.render(loaded, seed=seed))  # (waits for the kernels)
         times.append(time.perf_counter() - t0)
-    return setup, times[0], times[1]
+        ys.append(image[..., :3] @ LUMINANCE)
+    return setup, times[0], min(times[1:]), crop_noise(ys[1], ys[2])
 
 
 def main() -> int:
@@ -71,14 +98,20 @@ def main() -> int:
     samples = args.width * args.height * args.spp
     print(f"{platform.processor() or platform.machine()}, {os.cpu_count()} cores; {args.scene} frame {args.frame}")
     print(f"{args.width}×{args.height} px, {args.spp} spp = {samples:,} camera samples")
-    setup, seconds = sandlight_frame(scene, args.frame)
+    print(f"load average before: {os.getloadavg()[0]:.2f}")
+    setup, seconds, noise = sandlight_frame(scene, args.frame)
     base = samples / seconds
-    print(f"sandlight (Rust, 16 bands, MIS): {seconds:.2f} s = {base / 1e6:.3f} M samples/s (set-up {setup:.1f} s)")
+    base_eff = base / noise**2
+    print(
+        f"sandlight (Rust, 16 bands, MIS): {seconds:.2f} s = {base / 1e6:.3f} M samples/s, crop σ/Y {noise:.4f} "
+        f"(set-up {setup:.1f} s)"
+    )
     for variant in ("llvm_ad_rgb", "llvm_ad_spectral"):
-        setup, first, steady = mitsuba_frame(scene, args.frame, variant)
+        setup, first, steady, noise = mitsuba_frame(scene, args.frame, variant)
         rate = samples / steady
         print(
-            f"Mitsuba {variant}: {steady:.2f} s = {rate / 1e6:.3f} M samples/s, {rate / base:.2f}× sandlight "
+            f"Mitsuba {variant}: {steady:.2f} s = {rate / 1e6:.3f} M samples/s, {rate / base:.2f}× sandlight; "
+            f"crop σ/Y {noise:.4f}, efficiency {rate / noise**2 / base_eff:.2f}× sandlight "
             f"(first render with compilation {first:.1f} s; scene loading {setup:.1f} s)"
         )
     return 0

@@ -31,4 +31,6 @@ def test_chi2(rgb, name, incidence_deg):
     test = ChiSquareTest(
         domain=SphericalDomain(), sample_func=sample, pdf_func=pdf, sample_dim=3, sample_count=200_000, ires=ires
     )
-    assert test.run(), test.messages
+    passed = test.run()
+    print(f"chi2 {name} at {incidence_deg:g} deg: p = {test.p_value:.3f}")
+    assert passed, test.messages

@@ -48,9 +48,9 @@ def test_xml_examples_render(spectral, name):
     assert np.isfinite(image).all()
     # Spectral → linear sRGB leaves saturated oranges slightly out of gamut (small negatives).
     assert image.min() > -0.1 * image.max()
-    # Sky above, sand below: the sand is redder than the sky in both scenes.
+    # Sky above (bluish at midday), sand below (reddish) in both scenes.
     sky, sand = image[:10].mean(axis=(0, 1)), image[-60:].mean(axis=(0, 1))
-    assert sand[0] / sand[2] > sky[0] / sky[2]
+    assert sky[2] > sky[0] and sand[0] > sand[2] and sand[0] > 0.05
 
 
 def test_render_command_with_mitsuba(spectral, tmp_path):
