@@ -199,3 +199,21 @@ def test_scalar_variants_are_refused(load_variant):
 
     with pytest.raises(ParameterError, match="variant"):
         load_variant("scalar_rgb")
+
+
+def test_traverse_exposes_the_sample_and_rebuilds_on_change(rgb):
+    mi = rgb
+    bsdf = mi.load_dict({"type": "sand"})
+    params = mi.traverse(bsdf)
+    assert "saturation" in params.keys() and "iron_oxide" in params.keys()
+    rng = np.random.default_rng(8)
+    wi, wo = directions(rng, 200), directions(rng, 200)
+    ctx = mi.BSDFContext()
+    params["saturation"] = 1.0
+    params.update()
+    changed = np.array(bsdf.eval(ctx, interaction(mi, wi), vec(mi, wo)))
+    fresh = np.array(mi.load_dict({"type": "sand", "saturation": 1.0}).eval(ctx, interaction(mi, wi), vec(mi, wo)))
+    np.testing.assert_array_equal(changed, fresh)
+    params["saturation"] = 1.5
+    with pytest.raises(ValueError, match=r'\[sand\] parameter "?saturation"?'):
+        params.update()

@@ -281,11 +281,37 @@ def bsdf_class(variant: str) -> type:
 
         # ---- parameters ------------------------------------------------------------------
         def traverse(self, callback):  # noqa: ANN001, ANN201
+            """The textured parameter's texture, and the sample's other numeric parameters as
+            non-differentiable floats (changing one rebuilds the appearances)."""
             if self.texture is not None:
                 callback.put(self.spec.varied, self.texture, mi.ParamFlags.NonDifferentiable)
+            self.exposed = {
+                name: mi.Float(float(value))
+                for name, value in self.spec.sample.to_dict().items()
+                if name != self.spec.varied and isinstance(value, (int, float)) and math.isfinite(value)
+            }
+            for name, value in self.exposed.items():
+                callback.put(name, value, mi.ParamFlags.NonDifferentiable)
 
         def parameters_changed(self, keys=None):  # noqa: ANN001, ANN201
-            pass  # the texture is read at every evaluation; nothing is derived from it
+            changed = {k: float(self.exposed[k][0]) for k in (keys or []) if k in getattr(self, "exposed", {})}
+            if not changed:
+                return  # the texture is read at every evaluation; nothing is derived from it
+            values = {**self.spec.sample.to_dict(), **changed}
+            values.pop(self.spec.varied, None)
+            values = {k: v for k, v in values.items() if not (isinstance(v, float) and not math.isfinite(v))}
+            values["combination"] = self.spec.combination
+            for name in ("spectral_model", "spatial_model"):
+                if getattr(self.spec, name) is not None:
+                    values[name] = getattr(self.spec, name)
+            if self.spec.varied is not None:
+                values.update(
+                    levels=len(self.spec.level_values),
+                    level_min=self.spec.level_values[0],
+                    level_max=self.spec.level_values[-1],
+                )
+            self.spec = SandSpec.parse(values, (self.spec.varied,) if self.spec.varied else ())
+            self._upload(plugin_tables(self.spec))
 
         def to_string(self) -> str:
             s = self.spec
