@@ -29,7 +29,8 @@ def _sensor(camera, spp: int) -> str:
         <float name="fov" value="{camera.fov_deg:g}"/>
         <string name="fov_axis" value="x"/>
         <transform name="to_world">
-            <lookat origin="{o[0]:.6g}, {o[1]:.6g}, {o[2]:.6g}" target="{t[0]:.6g}, {t[1]:.6g}, {t[2]:.6g}" up="0, 0, 1"/>
+            <lookat origin="{o[0]:.6g}, {o[1]:.6g}, {o[2]:.6g}"
+                    target="{t[0]:.6g}, {t[1]:.6g}, {t[2]:.6g}" up="0, 0, 1"/>
         </transform>
         <sampler type="independent"><integer name="sample_count" value="{spp}"/></sampler>
         <film type="hdrfilm">
@@ -49,7 +50,9 @@ def _sky(sun, turbidity: float) -> str:
 
 def _ground(bsdf: str, half_size_m: float = 2000.0, z_m: float = 0.0) -> str:
     return f"""    <shape type="rectangle">
-        <transform name="to_world"><scale x="{half_size_m:g}" y="{half_size_m:g}" z="1"/><translate z="{z_m:g}"/></transform>
+        <transform name="to_world">
+            <scale x="{half_size_m:g}" y="{half_size_m:g}" z="1"/><translate z="{z_m:g}"/>
+        </transform>
 {bsdf}
     </shape>"""
 
@@ -127,7 +130,10 @@ def main() -> int:
         2,
     )
     (args.out / "beach.xml").write_text(xml, encoding="utf-8")
-    print(f"wrote {args.out / 'desert.xml'}, {args.out / 'beach.xml'}, {png} ({material.values.shape[1]}×{material.values.shape[0]} px)")
+    print(
+        f"wrote {args.out / 'desert.xml'}, {args.out / 'beach.xml'}, {png} "
+        f"({material.values.shape[1]}×{material.values.shape[0]} px)"
+    )
     return 0
 
 

@@ -157,7 +157,7 @@ def test_textured_saturation_blends_the_levels(rgb):
     ).pdf(wi, wo)
     np.testing.assert_allclose(pdf, expected_pdf, rtol=1e-4, atol=1e-4)
     params = mi.traverse(bsdf)
-    assert any(k.startswith("saturation") for k in params.keys())
+    assert "saturation" in params
     assert dr.width(si) == 500
 
 
@@ -205,7 +205,7 @@ def test_traverse_exposes_the_sample_and_rebuilds_on_change(rgb):
     mi = rgb
     bsdf = mi.load_dict({"type": "sand"})
     params = mi.traverse(bsdf)
-    assert "saturation" in params.keys() and "iron_oxide" in params.keys()
+    assert "saturation" in params and "iron_oxide" in params
     rng = np.random.default_rng(8)
     wi, wo = directions(rng, 200), directions(rng, 200)
     ctx = mi.BSDFContext()

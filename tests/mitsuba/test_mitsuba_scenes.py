@@ -30,7 +30,10 @@ def test_saturation_texture_puts_the_map_where_sandlight_does(rgb):
 def test_rectangle_uv_is_as_assumed(rgb):
     mi = rgb
     scene = mi.load_dict(
-        {"type": "scene", "g": {"type": "rectangle", "to_world": mi.ScalarTransform4f().scale([GROUND_HALF_SIZE_M] * 3)}}
+        {
+            "type": "scene",
+            "g": {"type": "rectangle", "to_world": mi.ScalarTransform4f().scale([GROUND_HALF_SIZE_M] * 3)},
+        }
     )
     x, y = np.array([-1500.0, 700.0]), np.array([300.0, -1900.0])
     ray = mi.Ray3f(mi.Point3f(x.astype(np.float32), y.astype(np.float32), [1.0, 1.0]), mi.Vector3f(0, 0, -1))

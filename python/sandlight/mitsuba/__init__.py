@@ -60,13 +60,14 @@ def register() -> None:
         No variant is set, or it is a scalar or polarised variant.
     """
     import mitsuba as mi
-
     from sandlight.mitsuba.bsdf import bsdf_class
 
     variant = mi.variant()
     if variant is None or not variant.startswith(SUPPORTED_PREFIXES) or "polarized" in variant:
         raise ParameterError(
-            "variant", variant, "a JIT, unpolarised Mitsuba variant (llvm_ad_rgb, llvm_ad_spectral, llvm_ad_mono, cuda_…)"
+            "variant",
+            variant,
+            "a JIT, unpolarised Mitsuba variant (llvm_ad_rgb, llvm_ad_spectral, llvm_ad_mono, cuda_…)",
         )
     cls = bsdf_class(variant)
     mi.register_bsdf(PLUGIN_NAME, lambda props: cls(props))

@@ -3,9 +3,10 @@
 For each frame of a sandlight `Scene`: the Mitsuba scene of `sandlight.mitsuba.scenes.scene_dict`
 (the frame's sun under ``sunsky``, the frame's saturation map), rendered in a spectral variant to
 linear sRGB, exposed like sandlight's ``exposure = "auto"`` (display white = the luminance of a
-white Lambertian horizontal surface under that sky, E_h/π, measured with `METER_SPP` samples), highlights rolled off as ``highlights = "soft"``,
-written as ``frame_NNNN.png``; the MP4 at the end. The texture transfer and grain post-processes
-and the linear NetCDF of sandlight's renderer are not applied (docs/mitsuba.md).
+white Lambertian horizontal surface under that sky, E_h/π, measured with `METER_SPP` samples),
+highlights rolled off as ``highlights = "soft"``, written as ``frame_NNNN.png``; the MP4 at the
+end. The texture transfer and grain post-processes and the linear NetCDF of sandlight's renderer
+are not applied (docs/mitsuba.md).
 """
 
 from __future__ import annotations
@@ -104,4 +105,3 @@ def render_scene_mitsuba(
         run.video = post.write_video(video, run.pngs, scene.fps)
     run.elapsed_s = time.perf_counter() - start
     return run
-

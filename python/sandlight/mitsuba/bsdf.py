@@ -51,6 +51,7 @@ def bsdf_class(variant: str) -> type:
     """The `sand` plugin class for Mitsuba variant ``variant`` (the current one; each variant
     has its own ``mitsuba.BSDF`` base class)."""
     import drjit as dr
+
     import mitsuba as mi
 
     if mi.variant() != variant:
@@ -62,7 +63,7 @@ def bsdf_class(variant: str) -> type:
         def __init__(self, props: mi.Properties) -> None:
             mi.BSDF.__init__(self, props)
             values, textures = {}, {}
-            for name in props.keys():
+            for name in props.keys():  # noqa: SIM118 (a mitsuba.Properties, not a dict)
                 if name in ("type", "id"):
                     continue
                 v = props[name]

@@ -184,6 +184,5 @@ class SandSpec:
 def appearance_levels(spec: SandSpec) -> tuple[SandAppearance, ...]:
     """`SandAppearance` of every level of ``spec`` (cached: equal specs share them)."""
     return tuple(
-        SandAppearance(s, spec.spectral_model, spec.spatial_model, combination=spec.combination)
-        for s in spec.samples()
+        SandAppearance(s, spec.spectral_model, spec.spatial_model, combination=spec.combination) for s in spec.samples()
     )

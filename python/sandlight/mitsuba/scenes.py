@@ -81,9 +81,7 @@ def camera_sensor(mi: ModuleType, camera: Camera, spp: int, *, sampler: str = "i
     }
 
 
-def ground_plane(
-    mi: ModuleType, bsdf: dict, *, height_m: float = 0.0, half_size_m: float = GROUND_HALF_SIZE_M
-) -> dict:
+def ground_plane(mi: ModuleType, bsdf: dict, *, height_m: float = 0.0, half_size_m: float = GROUND_HALF_SIZE_M) -> dict:
     """A horizontal ``rectangle`` (normal +z) of side 2·``half_size_m`` at ``height_m``."""
     to_world = mi.ScalarTransform4f().translate([0.0, 0.0, float(height_m)]) @ mi.ScalarTransform4f().scale(
         [half_size_m, half_size_m, 1.0]
