@@ -132,7 +132,6 @@ def test_sample_weights_average_to_the_albedo(rgb, name, theta_deg):
 
 def test_textured_saturation_blends_the_levels(rgb):
     mi = rgb
-    import drjit as dr
 
     levels = 5  # saturation 0, 0.25, 0.5, 0.75, 1
     value = 0.6  # between the levels 0.5 and 0.75, weight 0.4 on 0.75
@@ -157,8 +156,8 @@ def test_textured_saturation_blends_the_levels(rgb):
     ).pdf(wi, wo)
     np.testing.assert_allclose(pdf, expected_pdf, rtol=1e-4, atol=1e-4)
     params = mi.traverse(bsdf)
-    assert "saturation" in params
-    assert dr.width(si) == 500
+    assert any(k.startswith("saturation.") for k in params.keys())  # noqa: SIM118 (the texture's own parameters)
+    assert "saturation" not in params  # textured: not a plain float
 
 
 @pytest.mark.parametrize(
