@@ -33,6 +33,23 @@ def directions(rng, n):
     return v / np.linalg.norm(v, axis=1, keepdims=True)
 
 
+def reference_pdf(app, wi, wo):
+    """f_ref cos θ_o / A_ref (sandlight.mitsuba.tables, "Sampling tables") from SandAppearance:
+    f = a(λ) f̂ + b(λ) PP at two wavelengths gives f̂ and PP, f_ref = ā f̂ + b̄ PP; A_ref is the
+    mean of the albedo over the model's wavelengths."""
+    a, b = app.combination_terms.weights(app.normal_reflectance)
+    i, j = int(np.argmin(app.normal_reflectance)), int(np.argmax(app.normal_reflectance))
+    f = app.brdf(wi, wo, app.wavelengths_nm[[i, j]])
+    m = np.array([[a[i], b[i]], [a[j], b[j]]])
+    if abs(np.linalg.det(m)) > 1e-12:
+        g, pp = np.linalg.solve(m, f.T)
+        f_ref = a.mean() * g + b.mean() * pp
+    else:  # no diffuse term at either wavelength: f = a f̂
+        f_ref = a.mean() / a[i] * f[:, 0]
+    albedo = app.albedo(wi).mean(axis=1)
+    return f_ref * np.clip(wo[:, 2], 0, None) / albedo
+
+
 def interaction(mi, wi, wavelengths=None):
     import drjit as dr
 
@@ -60,8 +77,7 @@ def test_spectral_eval_and_pdf_are_the_appearances(spectral, name):
     expected = app.brdf(wi, wo, lam) * wo[:, 2:3]
     np.testing.assert_allclose(value, expected, rtol=2e-5, atol=2e-6 * expected.max())
     pdf = np.array(bsdf.pdf(ctx, si, vec(mi, wo)))
-    # The float32 sampler's cell laws differ from the float64 ones by ~1e-7 (tables.PluginTables.pmf).
-    np.testing.assert_allclose(pdf, app.pdf(wi, wo), rtol=1e-4, atol=1e-4)
+    np.testing.assert_allclose(pdf, reference_pdf(app, wi, wo), rtol=1e-4, atol=1e-6)
     both = bsdf.eval_pdf(ctx, si, vec(mi, wo))
     np.testing.assert_array_equal(np.array(both[0]).T, value)
     np.testing.assert_array_equal(np.array(both[1]), pdf)
@@ -151,13 +167,32 @@ def test_textured_saturation_blends_the_levels(rgb):
     expected = 0.6 * rgb_f(0.5) + 0.4 * rgb_f(0.75)
     np.testing.assert_allclose(got, expected, rtol=1e-4, atol=2e-6 * expected.max())
     pdf = np.array(bsdf.pdf(ctx, si, vec(mi, wo)))
-    expected_pdf = 0.6 * appearance(SandSample(saturation=0.5)).pdf(wi, wo) + 0.4 * appearance(
-        SandSample(saturation=0.75)
-    ).pdf(wi, wo)
-    np.testing.assert_allclose(pdf, expected_pdf, rtol=1e-4, atol=1e-4)
+    # pdf = Σ w f_ref cos θ_o / Σ w A_ref over the two levels (weights 0.6, 0.4).
+    lo, hi = appearance(SandSample(saturation=0.5)), appearance(SandSample(saturation=0.75))
+    f_cos = 0.6 * reference_pdf(lo, wi, wo) * lo.albedo(wi).mean(axis=1)
+    f_cos += 0.4 * reference_pdf(hi, wi, wo) * hi.albedo(wi).mean(axis=1)
+    expected_pdf = f_cos / (0.6 * lo.albedo(wi).mean(axis=1) + 0.4 * hi.albedo(wi).mean(axis=1))
+    np.testing.assert_allclose(pdf, expected_pdf, rtol=1e-4, atol=1e-6)
     params = mi.traverse(bsdf)
     assert any(k.startswith("saturation.") for k in params.keys())  # noqa: SIM118 (the texture's own parameters)
     assert "saturation" not in params  # textured: not a plain float
+
+
+@pytest.mark.parametrize("name", ["dry", "wet"])
+@pytest.mark.parametrize("theta_deg", [0.0, 70.0])
+def test_pdf_integrates_to_one(rgb, name, theta_deg):
+    mi = rgb
+    bsdf = mi.load_dict(SANDS[name][0])
+    # Midpoint rule in (θ, φ), 1800 × 180 cells: 0.05° in θ resolves the cap (θ < 2.7°).
+    theta = (np.arange(1800) + 0.5) * (np.pi / 2 / 1800)
+    phi = (np.arange(180) + 0.5) * (2 * np.pi / 180)
+    T, P = (x.ravel() for x in np.meshgrid(theta, phi, indexing="ij"))
+    wo = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], axis=1)
+    th = np.radians(theta_deg)
+    wi = np.tile([np.sin(th), 0.0, np.cos(th)], (wo.shape[0], 1))
+    pdf = np.array(bsdf.pdf(mi.BSDFContext(), interaction(mi, wi), vec(mi, wo)))
+    total = np.sum(pdf * np.sin(T)) * (np.pi / 2 / 1800) * (2 * np.pi / 180)
+    assert abs(total - 1.0) < 2e-3, total
 
 
 @pytest.mark.parametrize(

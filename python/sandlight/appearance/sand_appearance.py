@@ -154,11 +154,6 @@ class SandAppearance:
         nodes and the weights (a, b) of a reflectance (`sandlight.appearance.combination`)."""
         return self._combination
 
-    @property
-    def sampling_tables(self) -> SamplingTables:
-        """The BRDF-following sampler's cells and per-node laws (`sandlight.appearance.sampling`)."""
-        return self._sampling
-
     # ---- spectra -----------------------------------------------------------------------------
     def reflectance_at(self, wavelengths_nm: ArrayLike | None = None) -> np.ndarray:
         """r(λ) at the given wavelengths (nm), linear between the spectral model's wavelengths.

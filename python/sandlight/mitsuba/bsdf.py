@@ -9,17 +9,16 @@ plugin_tables
 
 Conventions. Mitsuba's ``si.wi`` points to the previous path vertex (the camera side) and
 ``wo`` to the next (the light side), both in the local shading frame (z = normal). The BRDF is
-reciprocal, so f(si.wi, wo) = `SandAppearance.brdf`(wi=si.wi, wo=wo) needs no swap; the
-sampler draws ``wo`` given ``si.wi`` with `SandAppearance.sample`'s law (the tables for the
-given direction's μ, `sandlight.appearance.sampling`), so the plugin's ``pdf`` is
-`SandAppearance.pdf`(si.wi, wo). ``eval`` returns f cos θ_o, ``sample`` the weight
-f cos θ_o / pdf, as Mitsuba expects. Both sides must be above the surface (one-sided, like
+reciprocal, so f(si.wi, wo) = `SandAppearance.brdf`(wi=si.wi, wo=wo) needs no swap. The
+sampler draws ``wo`` given ``si.wi`` exactly in proportion to f cos θ_o at the reference spectrum
+(`sandlight.mitsuba.tables`, "Sampling tables"): pdf = f_ref cos θ_o / A_ref, A_ref the reference
+albedo of the given direction. ``eval`` returns f cos θ_o, ``sample`` the weight
+f cos θ_o / pdf = A_ref f / f_ref, as Mitsuba expects. Both sides must be above the surface (one-sided, like
 Mitsuba's ``diffuse``).
 
 The evaluation is `sandlight.gonio.brdf.interpolate_band_grid` (trilinear in μ_i, μ_o, Δφ on
 the band grid, held below the lowest node) plus the combination's diffuse term, blended
-linearly between the levels around the textured parameter's value; the sampler is the same
-blend of the levels' samplers (`sandlight.mitsuba.tables`). Mitsuba computes in float32: the
+linearly between the levels around the textured parameter's value. Mitsuba computes in float32: the
 plugin agrees with `SandAppearance` to float32 rounding (tested), except exactly at the cap's
 step (its two nodes 10⁻⁸ apart in μ coincide in float32).
 """
@@ -34,10 +33,12 @@ import numpy as np
 from sandlight.mitsuba.parameters import PLUGIN_NAME, SandSpec, appearance_levels
 from sandlight.mitsuba.tables import PluginTables
 
-__all__ = ["bsdf_class", "plugin_tables", "LUMINANCE_WEIGHTS"]
+__all__ = ["bsdf_class", "plugin_tables", "LUMINANCE_WEIGHTS", "NEWTON_STEPS"]
 
 #: Linear-sRGB luminance weights (IEC 61966-2-1): the mono variants' weight from the RGB ones.
 LUMINANCE_WEIGHTS = (0.2126, 0.7152, 0.0722)
+#: Newton–bisection steps inverting a cell's cubic CDF in μ (float32: converged after ~5).
+NEWTON_STEPS = 8
 
 
 @functools.lru_cache(maxsize=32)
@@ -87,7 +88,7 @@ def bsdf_class(variant: str) -> type:
         # ---- data ------------------------------------------------------------------------
         def _upload(self, t: PluginTables) -> None:
             self.t = t
-            self.n, self.L, self.K, self.R = t.n_nodes, t.slices, t.n_levels, t.n_cells
+            self.n, self.L, self.K = t.n_nodes, t.slices, t.n_levels
             self.asc = [float(v) for v in t.nodes_ascending]
             self.asc_array = mi.Float(np.asarray(t.nodes_ascending, dtype=np.float32))
             self.grid = mi.Float(t.grid.astype(np.float32))
@@ -101,9 +102,9 @@ def bsdf_class(variant: str) -> type:
                 rgb_a, rgb_b = rgb_a @ np.array(LUMINANCE_WEIGHTS), rgb_b @ np.array(LUMINANCE_WEIGHTS)
             self.colour_a = mi.Float(np.ravel(rgb_a).astype(np.float32))
             self.colour_b = mi.Float(np.ravel(rgb_b).astype(np.float32))
-            self.band_z0 = [float(v) for v in t.band_z0]
-            for name in ("cell_z0", "cell_z1", "cell_phi0", "cell_phi1", "cell_projected", "cdf", "pmf"):
-                setattr(self, name, mi.Float(getattr(t, name).astype(np.float32)))
+            self.reference = mi.Float(t.reference_weights.ravel().astype(np.float32))
+            self.row_cdf = mi.Float(t.row_cdf.astype(np.float32))
+            self.row_albedo = mi.Float(t.row_albedo.astype(np.float32))
             self.last_cell = mi.UInt32(t.last_cell.astype(np.uint32))
 
         # ---- helpers ---------------------------------------------------------------------
@@ -182,45 +183,52 @@ def bsdf_class(variant: str) -> type:
             b = dr.select(bright & (r0 < 1.0), (r - r0) / (1.0 - r0), 0.0)
             return a, b
 
-        def _f(self, si: mi.SurfaceInteraction3f, wo: mi.Vector3f, active: mi.Bool) -> mi.Spectrum:
-            """f(si.wi, wo, λ), sr⁻¹ (no horizon test)."""
+        def _levels(self, si: mi.SurfaceInteraction3f, active: mi.Bool) -> list:
+            """[(level, weight)]: the one level, or the two around the texture's value."""
+            k0, k1, w = self._level(si, active)
+            return [(k0, 1.0 - w), (k1, w)] if self.K > 1 else [(k0, 1.0)]
+
+        def _f(self, si: mi.SurfaceInteraction3f, wo: mi.Vector3f, active: mi.Bool) -> tuple:
+            """(f(si.wi, wo, λ), f_ref(si.wi, wo)), sr⁻¹ (no horizon test)."""
             qi, qo = self._bracket(si.wi.z), self._bracket(wo.z)
             dphi = self._dphi(si.wi, wo)
-            k0, k1, w = self._level(si, active)
-            value = mi.Spectrum(0.0)
-            for k, wk in ((k0, 1.0 - w), (k1, w)) if self.K > 1 else ((k0, 1.0),):
+            value, ref = mi.Spectrum(0.0), mi.Float(0.0)
+            for k, wk in self._levels(si, active):
                 g, pp = self._spatial(k, qi, qo, dphi, active)
                 a, b = self._weights(k, si, active)
                 value += wk * (a * g + b * pp)
-            return value
+                a_ref = dr.gather(mi.Float, self.reference, 2 * k, active)
+                b_ref = dr.gather(mi.Float, self.reference, 2 * k + 1, active)
+                ref += wk * (a_ref * g + b_ref * pp)
+            return value, ref
 
-        def _cell(self, mu_o: mi.Float, dphi: mi.Float) -> mi.UInt32:
-            """The sampler's cell of an outgoing direction (`SamplingTables.cell_of`)."""
-            stacks, L = len(self.band_z0), self.L
-            band = mi.UInt32(0)
-            for z in self.band_z0:
-                band += dr.select(z > mu_o, mi.UInt32(1), mi.UInt32(0))
-            band = dr.minimum(band, stacks - 1)
-            x = dphi * (L / (2.0 * math.pi))
-            x = x - L * dr.floor(x / L)
-            k = mi.UInt32(dr.floor(x + 0.5))
-            k = dr.select(k >= L, k - L, k)
-            return dr.select(band == 0, mi.UInt32(0), 1 + (band - 1) * L + k)
-
-        def _pdf(self, si: mi.SurfaceInteraction3f, wo: mi.Vector3f, active: mi.Bool) -> mi.Float:
-            """`SandAppearance.pdf`(si.wi, wo, 'brdf'), blended over the levels, sr⁻¹."""
-            mu_o = wo.z
-            eps = self.t.cosine_share
+        def _rows(self, si: mi.SurfaceInteraction3f, active: mi.Bool) -> list:
+            """[(level, given-side node, weight w_c, row albedo A_c)] of the blend f_ref = Σ w_c h_c."""
             q0, q1, t = self._bracket(si.wi.z)
-            cell = self._cell(mu_o, self._dphi(si.wi, wo))
-            k0, k1, w = self._level(si, active)
-            tab = mi.Float(0.0)
-            for k, wk in ((k0, 1.0 - w), (k1, w)) if self.K > 1 else ((k0, 1.0),):
-                p0 = dr.gather(mi.Float, self.pmf, (k * self.n + q0) * self.R + cell, active)
-                p1 = dr.gather(mi.Float, self.pmf, (k * self.n + q1) * self.R + cell, active)
-                tab += wk * ((1.0 - t) * p0 + t * p1)
-            tab *= mu_o / dr.gather(mi.Float, self.cell_projected, cell, active)
-            return dr.select(active & (mu_o > 0), eps * mu_o / math.pi + (1.0 - eps) * tab, 0.0)
+            rows = []
+            for k, wk in self._levels(si, active):
+                for q, wq in ((q0, 1.0 - t), (q1, t)):
+                    rows.append((k, q, wk * wq, dr.gather(mi.Float, self.row_albedo, k * self.n + q, active)))
+            return rows
+
+        def _pdf(self, si: mi.SurfaceInteraction3f, wo: mi.Vector3f, f_ref: mi.Float, active: mi.Bool) -> mi.Float:
+            """f_ref cos θ_o / A_ref (`sandlight.mitsuba.tables`, "Sampling tables"), sr⁻¹."""
+            albedo = mi.Float(0.0)
+            for _, _, w, a in self._rows(si, active):
+                albedo += w * a
+            ok = active & (wo.z > 0) & (albedo > 0)
+            return dr.select(ok, f_ref * wo.z / albedo, 0.0)
+
+        def _row_value(self, k: mi.UInt32, q: mi.UInt32, i: mi.UInt32, j: mi.UInt32, active: mi.Bool) -> mi.Float:
+            """h_{k,q} at ascending sampled-side node i and Δφ node j."""
+            n = self.n
+            b = (n - 1) - i
+            f = dr.gather(mi.Float, self.grid, ((k * n + q) * n + b) * self.L + j, active)
+            pq = dr.gather(mi.Float, self.profile, k * n + q, active)
+            pb = dr.gather(mi.Float, self.profile, k * n + b, active)
+            a_ref = dr.gather(mi.Float, self.reference, 2 * k, active)
+            b_ref = dr.gather(mi.Float, self.reference, 2 * k + 1, active)
+            return a_ref * f + b_ref * pq * pb
 
         def _enabled(self, ctx: mi.BSDFContext, si: mi.SurfaceInteraction3f, active: mi.Bool) -> mi.Bool:
             return active & (si.wi.z > 0) & ctx.is_enabled(mi.BSDFFlags.GlossyReflection, 0)
@@ -228,51 +236,77 @@ def bsdf_class(variant: str) -> type:
         # ---- the BSDF interface -----------------------------------------------------------
         def eval(self, ctx, si, wo, active=True):  # noqa: ANN001, ANN201 (Mitsuba's signature)
             active = self._enabled(ctx, si, active) & (wo.z > 0)
-            value = self._f(si, wo, active) * wo.z
-            return dr.select(active, value, 0.0)
+            value, _ = self._f(si, wo, active)
+            return dr.select(active, value * wo.z, 0.0)
 
         def pdf(self, ctx, si, wo, active=True):  # noqa: ANN001, ANN201
-            return self._pdf(si, wo, self._enabled(ctx, si, active))
+            active = self._enabled(ctx, si, active)
+            _, ref = self._f(si, wo, active)
+            return self._pdf(si, wo, ref, active)
 
         def eval_pdf(self, ctx, si, wo, active=True):  # noqa: ANN001, ANN201
             active = self._enabled(ctx, si, active)
-            value = dr.select(active & (wo.z > 0), self._f(si, wo, active) * wo.z, 0.0)
-            return value, self._pdf(si, wo, active)
+            value, ref = self._f(si, wo, active)
+            return dr.select(active & (wo.z > 0), value * wo.z, 0.0), self._pdf(si, wo, ref, active)
 
         def sample(self, ctx, si, sample1, sample2, active=True):  # noqa: ANN001, ANN201
             active = self._enabled(ctx, si, active)
-            eps = self.t.cosine_share
-            wo_cos = mi.warp.square_to_cosine_hemisphere(sample2)
-            # The table branch: sample1 chooses the level, then the μ node (as the BRDF blends
-            # them); sample2.x the cell and μ_o within it (density ∝ μ_o), sample2.y Δφ.
-            v = (sample1 - eps) / (1.0 - eps)
-            k0, k1, w = self._level(si, active)
-            if self.K > 1:
-                first = v < (1.0 - w)
-                k = dr.select(first, k0, k1)
-                v = dr.select(first, v / (1.0 - w), (v - (1.0 - w)) / w)
-            else:
-                k = k0
-            q0, q1, t = self._bracket(si.wi.z)
-            row = dr.select(v < (1.0 - t), q0, q1)
-            base = (k * self.n + row) * self.R
-            u = sample2.x
-            cell = dr.binary_search(0, self.R - 1, lambda i: dr.gather(mi.Float, self.cdf, base + i, active) <= u)
-            cell = dr.minimum(cell, dr.gather(mi.UInt32, self.last_cell, k * self.n + row, active))
-            hi = dr.gather(mi.Float, self.cdf, base + cell, active)
-            lo = dr.select(cell > 0, dr.gather(mi.Float, self.cdf, base + cell - 1, active & (cell > 0)), 0.0)
-            within = dr.clip(dr.select(hi > lo, (u - lo) / (hi - lo), 0.5), 0.0, 1.0)
-            z0 = dr.gather(mi.Float, self.cell_z0, cell, active)
-            z1 = dr.gather(mi.Float, self.cell_z1, cell, active)
-            mu_o = dr.clip(dr.sqrt(z0 * z0 + within * (z1 * z1 - z0 * z0)), 1e-7, 1.0)
-            ph0 = dr.gather(mi.Float, self.cell_phi0, cell, active)
-            ph1 = dr.gather(mi.Float, self.cell_phi1, cell, active)
-            phi = dr.atan2(si.wi.y, si.wi.x) + ph0 + sample2.y * (ph1 - ph0)
+            n, L = self.n, self.L
+            # The row: c with probability w_c A_c / Σ w A (sample1).
+            rows = self._rows(si, active)
+            total = mi.Float(0.0)
+            for _, _, w, a in rows:
+                total += w * a
+            u, acc = sample1 * total, mi.Float(0.0)
+            k, q = rows[-1][0], rows[-1][1]
+            found = mi.Bool(False)
+            for kc, qc, w, a in rows:
+                acc += w * a
+                take = ~found & (u < acc)
+                k, q = dr.select(take, kc, k), dr.select(take, qc, q)
+                found |= take
+            # The cell by W / A (sample2.x); its residual samples Δφ, sample2.y samples μ.
+            base = (k * n + q) * (n * L)
+            x = sample2.x
+            cell = dr.binary_search(0, n * L - 1, lambda i: dr.gather(mi.Float, self.row_cdf, base + i, active) <= x)
+            cell = dr.minimum(cell, dr.gather(mi.UInt32, self.last_cell, k * n + q, active))
+            hi = dr.gather(mi.Float, self.row_cdf, base + cell, active)
+            lo = dr.select(cell > 0, dr.gather(mi.Float, self.row_cdf, base + cell - 1, active & (cell > 0)), 0.0)
+            xi_phi = dr.clip(dr.select(hi > lo, (x - lo) / (hi - lo), 0.5), 0.0, 1.0)
+            m, j = cell // L, cell % L
+            j1 = dr.select(j + 1 >= L, mi.UInt32(0), j + 1)
+            i0 = dr.select(m > 0, m - 1, mi.UInt32(0))
+            mu0 = dr.select(m > 0, dr.gather(mi.Float, self.asc_array, i0, active), 0.0)
+            mu1 = dr.gather(mi.Float, self.asc_array, m, active)
+            dmu = mu1 - mu0
+            v00, v01 = self._row_value(k, q, i0, j, active), self._row_value(k, q, i0, j1, active)
+            v10, v11 = self._row_value(k, q, m, j, active), self._row_value(k, q, m, j1, active)
+            # Δφ: the marginal (1 − u) c0 + u c1 on the cell, inverted in closed form.
+            c_a, c_b = dmu * (2.0 * mu0 + mu1) / 6.0, dmu * (mu0 + 2.0 * mu1) / 6.0
+            c0, c1 = v00 * c_a + v10 * c_b, v01 * c_a + v11 * c_b
+            root = dr.sqrt(dr.maximum(c0 * c0 + xi_phi * (c1 * c1 - c0 * c0), 0.0))
+            u_phi = dr.select(c0 + root > 0, xi_phi * (c0 + c1) / (c0 + root), xi_phi)
+            u_phi = dr.clip(u_phi, 0.0, 1.0)
+            # μ: density ∝ ((1 − s) e0 + s e1)(μ0 + s Δμ) on s ∈ [0, 1], its cubic CDF inverted by
+            # Newton steps kept inside a shrinking bracket (bisection when a step leaves it).
+            e0 = (1.0 - u_phi) * v00 + u_phi * v01
+            e1 = (1.0 - u_phi) * v10 + u_phi * v11
+            p1, p2, p3 = e0 * mu0, e0 * dmu + (e1 - e0) * mu0, (e1 - e0) * dmu
+            target = sample2.y * (p1 + p2 / 2.0 + p3 / 3.0)
+            s, s_lo, s_hi = mi.Float(sample2.y), mi.Float(0.0), mi.Float(1.0)
+            for _ in range(NEWTON_STEPS):
+                g = s * (p1 + s * (p2 / 2.0 + s * p3 / 3.0)) - target
+                d = p1 + s * (p2 + s * p3)
+                s_lo, s_hi = dr.select(g < 0, s, s_lo), dr.select(g >= 0, s, s_hi)
+                step = s - g / d
+                inside = (d > 0) & (step > s_lo) & (step < s_hi)
+                s = dr.select(inside, step, 0.5 * (s_lo + s_hi))
+            mu_o = dr.clip(mu0 + s * dmu, 1e-7, 1.0)
+            phi = dr.atan2(si.wi.y, si.wi.x) + (mi.Float(j) + u_phi) * (2.0 * math.pi / L)
             sin_o = dr.safe_sqrt(1.0 - mu_o * mu_o)
-            wo_tab = mi.Vector3f(sin_o * dr.cos(phi), sin_o * dr.sin(phi), mu_o)
 
             bs = dr.zeros(mi.BSDFSample3f)
-            bs.wo = dr.select(sample1 < eps, wo_cos, wo_tab)
+            bs.wo = mi.Vector3f(sin_o * dr.cos(phi), sin_o * dr.sin(phi), mu_o)
             value, bs.pdf = self.eval_pdf(ctx, si, bs.wo, active)
             bs.eta = 1.0
             bs.sampled_type = mi.UInt32(+mi.BSDFFlags.GlossyReflection)

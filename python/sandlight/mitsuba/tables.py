@@ -12,7 +12,21 @@ rgb_projection
 A *level* is the `SandAppearance` of one value of the parameter a texture varies (16
 saturations for the drying beach); an untextured plugin has one level. Between two levels the
 plugin blends the BRDFs linearly, as sandlight's renderer does (docs/rendering.md, "BRDF
-tables"), and the sampler is the same blend of the levels' samplers (so its pdf stays exact).
+tables").
+
+Sampling tables. f is linear in the given direction's μ between its two nodes (and in the
+level), so at the reference spectrum — the mean over the model's wavelengths of the weights,
+(ā, b̄), as `SandAppearance`'s sampler uses — f_ref is a blend Σ_c w_c h_c of at most four
+*rows* c (level k × given-side node q), each row h_{k,q}(μ, Δφ) = ā F_k[q, ·, ·] + b̄ P_k[q] P_k(·)
+bilinear in (μ, Δφ) on every *cell* between consecutive sampled-side nodes (μ below the lowest
+node: the held value) and Δφ nodes. A row's cell weight is its exact integral
+W = ∫∫ h μ dμ dΔφ = (ΔΔφ/2)[(h₀₀ + h₀₁) Δμ(2μ₀ + μ₁)/6 + (h₁₀ + h₁₁) Δμ(μ₀ + 2μ₁)/6], and the row's
+albedo A = Σ W (= ā A_f̂(node) + b̄ A_PP(node), the combination's albedo at the reference spectrum).
+The sampler (`sandlight.mitsuba.bsdf`) picks row c with probability w_c A_c / Σ w A, a cell by
+W / A, then Δφ from the cell's linear marginal and μ from the conditional (linear × μ), both
+exactly, so that pdf = f_ref cos θ / Σ_c w_c A_c: proportional to the BRDF at the reference
+spectrum, as sandlight's renderer samples its tables (docs/rendering.md, "Sampling that follows
+the table, exactly"), with no defensive cosine share (f = 0 wherever f_ref = 0).
 
 Spectral weights. f = a(λ) f̂ + b(λ) P P with (a, b) the combination's weights of r(λ)
 (`sandlight.appearance.combination`). r is kept on a regular 1 nm grid spanning the spectral
@@ -35,7 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sandlight.appearance import DEFENSIVE_COSINE_SHARE, SandAppearance
+from sandlight.appearance import SandAppearance
 from sandlight.errors import ParameterError
 
 __all__ = ["PluginTables", "rgb_projection", "PROJECTION_WAVELENGTHS_NM"]
@@ -91,19 +105,15 @@ class PluginTables:
         True for the paper's 'product' combination (b = 0).
     rgb_a, rgb_b : numpy.ndarray (K, 3)
         The RGB variants' weights (`rgb_projection`).
-    cell_z0, cell_z1, cell_phi0, cell_phi1, cell_projected : numpy.ndarray (R,)
-        The sampler's outgoing cells (`sandlight.appearance.sampling.outgoing_cells`) and their
-        projected solid angles, sr.
-    band_z0 : numpy.ndarray (stacks,)
-        Lower μ bound of each band (to locate a direction's cell).
-    cdf : numpy.ndarray (K·n·R,)
-        Running sums of the cell laws per level and μ node, float32-exact (last 1).
-    pmf : numpy.ndarray (K·n·R,)
-        Differences of `cdf` (the probabilities the float32 sampler realises, to ~10⁻⁷).
+    reference_weights : numpy.ndarray (K, 2)
+        (ā, b̄) of each level: the mean over the model's wavelengths of the weights (a, b).
+    row_cdf : numpy.ndarray (K·n·n·L,)
+        Running sums of W / A over the cells (m, j) of each row (k, q), float32-exact (last 1);
+        cell index m·L + j, m the sampled-side μ interval (0: [0, lowest node]).
+    row_albedo : numpy.ndarray (K·n,)
+        A of each row, dimensionless.
     last_cell : numpy.ndarray (K·n,), int
-        Last cell of positive probability of each law.
-    cosine_share : float
-        ε of the defensive cosine mixture.
+        Last cell of positive weight of each row.
     """
 
     levels: np.ndarray
@@ -117,16 +127,10 @@ class PluginTables:
     product: bool
     rgb_a: np.ndarray
     rgb_b: np.ndarray
-    cell_z0: np.ndarray
-    cell_z1: np.ndarray
-    cell_phi0: np.ndarray
-    cell_phi1: np.ndarray
-    cell_projected: np.ndarray
-    band_z0: np.ndarray
-    cdf: np.ndarray
-    pmf: np.ndarray
+    reference_weights: np.ndarray
+    row_cdf: np.ndarray
+    row_albedo: np.ndarray
     last_cell: np.ndarray
-    cosine_share: float
 
     @property
     def n_levels(self) -> int:
@@ -138,7 +142,8 @@ class PluginTables:
 
     @property
     def n_cells(self) -> int:
-        return int(self.cell_z0.size)
+        """Cells of a row: n μ intervals × L Δφ intervals."""
+        return self.n_nodes * self.slices
 
     @property
     def n_wavelengths(self) -> int:
@@ -180,13 +185,22 @@ class PluginTables:
             a, b = app.combination_terms.weights(r_wide)
             rgb_a.append(proj @ a)
             rgb_b.append(proj @ b)
-        sampling = [app.sampling_tables for app in apps]
-        cdf = np.stack([s.cdf for s in sampling]).astype(np.float32)
+        reference = np.array(
+            [[np.mean(w) for w in app.combination_terms.weights(app.normal_reflectance)] for app in apps]
+        )
+        rows = np.stack(
+            [
+                _row_cells(app.band_grid.grid, app.combination_terms.profile, nodes, a_ref, b_ref)
+                for app, (a_ref, b_ref) in zip(apps, reference)
+            ]
+        )  # (K, n, n·L)
+        albedo = rows.sum(axis=-1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cdf = np.where(albedo[..., None] > 0, np.cumsum(rows, axis=-1) / albedo[..., None], 1.0)
+        cdf = cdf.astype(np.float32)
         cdf[..., -1] = 1.0
-        pmf = np.diff(cdf.astype(np.float64), axis=-1, prepend=0.0)
-        positive = pmf > 0
+        positive = np.diff(cdf.astype(np.float64), axis=-1, prepend=0.0) > 0
         last = positive.shape[-1] - 1 - np.argmax(positive[..., ::-1], axis=-1)
-        s0 = sampling[0]
         return cls(
             levels=levels,
             nodes_ascending=nodes[::-1].copy(),
@@ -199,14 +213,33 @@ class PluginTables:
             product=first.combination == "product",
             rgb_a=np.array(rgb_a),
             rgb_b=np.array(rgb_b),
-            cell_z0=s0.cell_z0,
-            cell_z1=s0.cell_z1,
-            cell_phi0=s0.cell_phi0,
-            cell_phi1=s0.cell_phi1,
-            cell_projected=s0.cell_projected,
-            band_z0=s0.band_z0,
-            cdf=cdf.ravel().astype(np.float64),
-            pmf=pmf.ravel(),
+            reference_weights=reference,
+            row_cdf=cdf.ravel().astype(np.float64),
+            row_albedo=albedo.ravel(),
             last_cell=last.ravel().astype(np.int64),
-            cosine_share=DEFENSIVE_COSINE_SHARE,
         )
+
+
+def _row_cells(grid: np.ndarray, profile: np.ndarray, nodes: np.ndarray, a_ref: float, b_ref: float) -> np.ndarray:
+    """W of every cell of every row of one level (module docstring), shape (n, n·L).
+
+    ``grid`` F[q_i, q_o, j] and ``profile`` P[q] in the band grid's (decreasing) node order; rows
+    are the given side's nodes q, cells (m, j) with m the sampled side's μ interval in ascending
+    order (0: [0, lowest node], the held value; m ≥ 1: [asc[m − 1], asc[m]]).
+    """
+    n, _, L = grid.shape
+    asc = nodes[::-1]
+    # h[q, i, j]: the row function at ascending node i and Δφ node j.
+    h = a_ref * grid[:, ::-1, :] + b_ref * profile[:, None, None] * profile[::-1][None, :, None]
+    i0 = np.r_[0, np.arange(n - 1)]
+    i1 = np.arange(n)
+    mu0 = np.r_[0.0, asc[:-1]]
+    mu1 = asc
+    dmu = mu1 - mu0
+    c_a = dmu * (2 * mu0 + mu1) / 6.0  # ∫ (1 − s) μ dμ over the interval
+    c_b = dmu * (mu0 + 2 * mu1) / 6.0  # ∫ s μ dμ
+    j1 = (np.arange(L) + 1) % L
+    low = h[:, i0, :] + h[:, i0][:, :, j1]
+    high = h[:, i1, :] + h[:, i1][:, :, j1]
+    w = (np.pi / L) * (low * c_a[None, :, None] + high * c_b[None, :, None])  # Δφ/2 = π/L
+    return w.reshape(n, n * L)
