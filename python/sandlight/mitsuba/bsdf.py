@@ -13,13 +13,13 @@ reciprocal, so f(si.wi, wo) = `SandAppearance.brdf`(wi=si.wi, wo=wo) needs no sw
 sampler draws ``wo`` given ``si.wi`` exactly in proportion to f cos θ_o at the reference spectrum
 (`sandlight.mitsuba.tables`, "Sampling tables"): pdf = f_ref cos θ_o / A_ref, A_ref the reference
 albedo of the given direction. ``eval`` returns f cos θ_o, ``sample`` the weight
-f cos θ_o / pdf = A_ref f / f_ref, as Mitsuba expects. Both sides must be above the surface (one-sided, like
-Mitsuba's ``diffuse``).
+f cos θ_o / pdf = A_ref f / f_ref, as Mitsuba expects. Both sides must be above the surface
+(one-sided, like Mitsuba's ``diffuse``).
 
 The evaluation is `sandlight.gonio.brdf.interpolate_band_grid` (trilinear in μ_i, μ_o, Δφ on
 the band grid, held below the lowest node) plus the combination's diffuse term, blended
-linearly between the levels around the textured parameter's value. Mitsuba computes in float32: the
-plugin agrees with `SandAppearance` to float32 rounding (tested), except exactly at the cap's
+linearly between the levels around the textured parameter's value. Mitsuba computes in float32:
+the plugin agrees with `SandAppearance` to float32 rounding (tested), except exactly at the cap's
 step (its two nodes 10⁻⁸ apart in μ coincide in float32).
 """
 
@@ -30,7 +30,7 @@ import math
 
 import numpy as np
 
-from sandlight.mitsuba.parameters import PLUGIN_NAME, SandSpec, appearance_levels
+from sandlight.mitsuba.parameters import PLUGIN_NAME, PluginParameterError, SandSpec, appearance_levels
 from sandlight.mitsuba.tables import PluginTables
 
 __all__ = ["bsdf_class", "plugin_tables", "LUMINANCE_WEIGHTS", "NEWTON_STEPS"]
@@ -71,8 +71,6 @@ def bsdf_class(variant: str) -> type:
                 if isinstance(v, mi.Texture):
                     textures[name] = v
                 elif isinstance(v, mi.Object):
-                    from sandlight.mitsuba.parameters import PluginParameterError
-
                     raise PluginParameterError(name, type(v).__name__, "a number, a string or a texture")
                 else:
                     values[name] = v
@@ -96,7 +94,6 @@ def bsdf_class(variant: str) -> type:
             self.reflectance = mi.Float(t.reflectance.astype(np.float32))
             self.r0 = mi.Float(t.reference_reflectance.astype(np.float32))
             self.M = t.n_wavelengths
-            self.levels = mi.Float(t.levels.astype(np.float32))
             rgb_a, rgb_b = t.rgb_a, t.rgb_b
             if mi.is_monochromatic:  # mono variants: luminance
                 rgb_a, rgb_b = rgb_a @ np.array(LUMINANCE_WEIGHTS), rgb_b @ np.array(LUMINANCE_WEIGHTS)
