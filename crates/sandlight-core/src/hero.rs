@@ -54,6 +54,8 @@ pub struct HeroGroup {
     core_alpha: Vec<Option<Vec<f64>>>,
     water_alpha: Option<Vec<f64>>,
     water_n: Option<Vec<f64>>,
+    /// Core real indices per type, per wavelength; None where all are equal.
+    core_n: Vec<Option<Vec<f64>>>,
 }
 
 fn varies(v: Vec<f64>) -> Option<Vec<f64>> {
@@ -133,7 +135,8 @@ impl HeroGroup {
             (0..types).map(|t| varies(media.iter().map(|m| m.types[t].optics.core_alpha_per_mm).collect())).collect();
         let water_alpha = varies(media.iter().map(|m| m.pore.water_alpha_per_mm).collect());
         let water_n = varies(media.iter().map(|m| m.pore.water_n).collect());
-        Ok(HeroGroup { media, tables, exact, core_alpha, water_alpha, water_n })
+        let core_n = (0..types).map(|t| varies(media.iter().map(|m| m.types[t].optics.core_n).collect())).collect();
+        Ok(HeroGroup { media, tables, exact, core_alpha, water_alpha, water_n, core_n })
     }
 
     /// Wavelengths in the group.
@@ -148,6 +151,25 @@ impl HeroGroup {
     /// The medium at wavelength `j`.
     pub fn medium(&self, j: usize) -> &Particulate {
         &self.media[j]
+    }
+
+    /// The indices of the medium a stack `kind` of type `t` is entered from (per wavelength),
+    /// None where they are all equal (air, or no dispersion in the group).
+    #[inline]
+    fn incident_indices(&self, t: usize, kind: StackKind) -> Option<&[f64]> {
+        match (kind.exit, kind.water) {
+            (true, _) => self.core_n[t].as_deref(),
+            (false, true) => self.water_n.as_deref(),
+            (false, false) => None,
+        }
+    }
+
+    /// [R, R + T] of stack `kind` of type `t` for wavelength `j` at cosine `cos` (in [0, 1]).
+    #[inline]
+    fn rt_exact_or_table(&self, t: usize, kind: StackKind, cos: f64, j: usize) -> [f64; 2] {
+        let x = cos * STACK_CELLS as f64;
+        let cell = (x as usize).min(STACK_CELLS - 1);
+        self.rt_at(t, kind, cos, cell, x - cell as f64, j)
     }
 
     /// [R, R + T] of stack `kind` of type `t` for wavelength `j` at cosine `cos` (in [0, 1]),
@@ -215,7 +237,21 @@ impl PathChoices for Companions<'_> {
         };
         let p = |[r, rt]: [f64; 2]| if fate == StackFate::Reflect { r } else { rt - r };
         let p_hero = p([r, rt]);
-        self.weights.scale(|j| if j == hero { 1.0 } else { p(g.rt_at(t, kind, cos, cell, frac, j)) / p_hero });
+        match g.incident_indices(t, kind) {
+            None => self.weights.scale(|j| if j == hero { 1.0 } else { p(g.rt_at(t, kind, cos, cell, frac, j)) / p_hero }),
+            Some(n) => {
+                // Dispersion: wavelength j meets the interface with the hero's tangential
+                // invariant s = n_h sin θ_h (the hero's direction outside), at its own cosine.
+                let s2 = n[hero] * n[hero] * (1.0 - cos * cos);
+                self.weights.scale(|j| {
+                    if j == hero {
+                        return 1.0;
+                    }
+                    let cos_j = (1.0 - s2 / (n[j] * n[j])).max(0.0).sqrt();
+                    p(g.rt_exact_or_table(t, kind, cos_j, j)) / p_hero
+                })
+            }
+        }
         fate
     }
 
@@ -238,9 +274,17 @@ impl PathChoices for Companions<'_> {
     #[inline]
     fn water_surface(&mut self, from_air: bool, cos: f64, reflected: bool) {
         let Some(n) = &self.group.water_n else { return };
-        let r = |n: f64| if from_air { fresnel::dielectric(1.0, n, cos) } else { fresnel::dielectric(n, 1.0, cos) };
-        let p = |n: f64| if reflected { r(n) } else { 1.0 - r(n) };
         let hero = self.weights.hero();
+        // From the water, at each wavelength's own cosine for the hero's invariant n_h sin θ_h.
+        let s2 = n[hero] * n[hero] * (1.0 - cos * cos);
+        let r = |n: f64| {
+            if from_air {
+                fresnel::dielectric(1.0, n, cos)
+            } else {
+                fresnel::dielectric(n, 1.0, (1.0 - s2 / (n * n)).max(0.0).sqrt())
+            }
+        };
+        let p = |n: f64| if reflected { r(n) } else { 1.0 - r(n) };
         let p_hero = p(n[hero]);
         self.weights.scale(|j| if j == hero { 1.0 } else { p(n[j]) / p_hero });
     }
