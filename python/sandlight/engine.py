@@ -213,7 +213,11 @@ class ReflectanceResult:
             )
         coords = {"wavelength": ("wavelength", self.wavelengths, {"units": "nm", "long_name": "vacuum wavelength"})}
         if self.covariance is not None:
-            coords["wavelength_b"] = ("wavelength_b", self.wavelengths, {"units": "nm", "long_name": "vacuum wavelength"})
+            coords["wavelength_b"] = (
+                "wavelength_b",
+                self.wavelengths,
+                {"units": "nm", "long_name": "vacuum wavelength"},
+            )
             data["covariance"] = (
                 ("wavelength", "wavelength_b"),
                 self.covariance,

@@ -238,7 +238,9 @@ impl PathChoices for Companions<'_> {
         let p = |[r, rt]: [f64; 2]| if fate == StackFate::Reflect { r } else { rt - r };
         let p_hero = p([r, rt]);
         match g.incident_indices(t, kind) {
-            None => self.weights.scale(|j| if j == hero { 1.0 } else { p(g.rt_at(t, kind, cos, cell, frac, j)) / p_hero }),
+            None => {
+                self.weights.scale(|j| if j == hero { 1.0 } else { p(g.rt_at(t, kind, cos, cell, frac, j)) / p_hero })
+            }
             Some(n) => {
                 // Dispersion: wavelength j meets the interface with the hero's tangential
                 // invariant s = n_h sin θ_h (the hero's direction outside), at its own cosine.

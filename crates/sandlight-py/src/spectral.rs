@@ -88,7 +88,9 @@ impl PySpectralGroup {
         let limits = Limits { max_events, max_internal };
         let rays = Rays { seed, stream, first: first_ray, n: n_rays };
         let c = py
-            .detach(|| run_with_threads(threads, || spectral_directional_hemispherical(&self.group, dir, rays, &limits)))
+            .detach(|| {
+                run_with_threads(threads, || spectral_directional_hemispherical(&self.group, dir, rays, &limits))
+            })
             .map_err(PyRuntimeError::new_err)?;
         Ok((c.launched, c.capped, c.events, c.escaped, c.transmitted, c.products))
     }
