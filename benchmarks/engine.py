@@ -113,6 +113,7 @@ def spectral_job(sample, wl: np.ndarray, rays: int) -> dict:
     """Shared and independent runs of ``wl`` at ``rays``, and one wavelength (550 nm): CPU
     times, standard-error ratios, and shared times at equal standard error."""
     run = {"rays": rays, "seed": 1, "threads": 1, "progress": False}
+    sandlight.reflectance(sample, wl, **{**run, "rays": 100})  # loads the optical tables, untimed
     c0 = time.process_time()
     one = sandlight.reflectance(sample, [WAVELENGTH_NM], share=False, **run)
     c1 = time.process_time()
@@ -128,6 +129,7 @@ def spectral_job(sample, wl: np.ndarray, rays: int) -> dict:
         "t_one": t_one,
         "t_shared": t_shared,
         "t_indep": t_indep,
+        "per_wavelength": t_indep / wl.size,
         "ratio_median": float(np.median(ratio)),
         "ratio_max": float(ratio.max()),
         "equal_se_max": t_shared * float(ratio.max()) ** 2,
@@ -169,8 +171,8 @@ def print_spectral(names: list[str], rays: int, training_samples: int) -> None:
     }
     print(f"\nspectral path sharing, 1 thread, CPU seconds, {rays} rays per wavelength")
     header = (
-        f"{'sample':<14} {'grid':<14} {'groups':>6} {'1 λ':>7} {'shared':>8} {'indep.':>8} {'indep/shared':>12} "
-        f"{'se ratio med/max':>16} {'equal se (max) / 1 λ':>20} {'equal se (med) / 1 λ':>20}"
+        f"{'sample':<14} {'grid':<14} {'groups':>6} {'550 nm':>7} {'shared':>8} {'indep.':>8} {'indep/shared':>12} "
+        f"{'se ratio med/max':>16} {'equal se (max) / 550 nm':>23} {'(median)':>9} {'/ mean λ':>9}"
     )
     print(header)
     print("-" * len(header))
@@ -181,7 +183,8 @@ def print_spectral(names: list[str], rays: int, training_samples: int) -> None:
                 f"{name:<14} {label:<14} {r['groups']:>6d} {r['t_one']:>7.2f} "
                 f"{r['t_shared']:>8.2f} {r['t_indep']:>8.2f} "
                 f"{r['t_indep'] / r['t_shared']:>11.1f}× {r['ratio_median']:>8.2f}/{r['ratio_max']:<7.2f} "
-                f"{r['equal_se_max'] / r['t_one']:>19.1f}× {r['equal_se_median'] / r['t_one']:>19.1f}×",
+                f"{r['equal_se_max'] / r['t_one']:>22.1f}× {r['equal_se_median'] / r['t_one']:>8.1f}× "
+                f"{r['equal_se_max'] / r['per_wavelength']:>8.1f}×",
                 flush=True,
             )
     t = training_job(training_samples)
@@ -203,6 +206,12 @@ def print_spectral(names: list[str], rays: int, training_samples: int) -> None:
         f"{speedup / t['ratio_max'] ** 2:.1f}× (max) faster"
     )
     print("targets: 16 λ ≤ 2× one wavelength, 67 λ ≤ 5× one wavelength (same standard error); training ≥ 5× faster")
+    print(
+        "'550 nm': one independent wavelength at 550 nm; 'equal se (max)': the shared time scaled by the largest\n"
+        "squared standard-error ratio (every wavelength at least as precise as independent runs), '(median)' by\n"
+        "the median;"
+        "'/ mean λ': the equal-se (max) time over the mean time of one wavelength of the independent spectrum."
+    )
 
 
 def main(argv=None) -> None:

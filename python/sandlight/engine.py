@@ -114,8 +114,9 @@ def _trace_shared(
 
 def _shared_moments(tot: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(ρ, transmitted fraction, covariance of ρ) of a shared run's totals, in exact integer
-    arithmetic until the final division: Cov(ρ̂ᵢ, ρ̂ⱼ) = (N Σqᵢqⱼ − Σqᵢ Σqⱼ) / (N²(N − 1) s²)
-    with s the fixed-point scale."""
+    arithmetic until the final division: Cov(ρ̂ᵢ, ρ̂ⱼ) = (N Σqᵢqⱼ − Σqᵢ Σqⱼ) / (N³ s²) with s the
+    fixed-point scale (the plug-in estimate, which for one wavelength, weights 0 or 1, is the
+    binomial ρ(1 − ρ)/N of independent runs)."""
     n, one = tot["launched"], _native.SpectralGroup.fixed_one
     esc = tot["escaped"]
     m = len(esc)
@@ -124,7 +125,7 @@ def _shared_moments(tot: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     for i in range(m):
         for j in range(i, m):
             num = n * tot["products"][k] - esc[i] * esc[j]
-            cov[i, j] = cov[j, i] = num / (n * n * max(n - 1, 1)) / (one * one)
+            cov[i, j] = cov[j, i] = num / (n * n * n) / (one * one)
             k += 1
     rho = np.array([e / n / one for e in esc])
     transmitted = np.array([t / n / one for t in tot["transmitted"]])
