@@ -18,9 +18,23 @@ is printed before and after. Beside the wall-clock figures it prints events per 
 the process (1 thread) and the ratio of CPU times with 2 and 1 threads, which show the engine's
 own speed and parallel overhead when other load hides them. Nothing is asserted.
 
+Spectral path sharing (issue 22, docs/transport.md), side by side in the same run, 1 thread,
+process CPU time (other load does not inflate it):
+
+* 16 wavelengths 400–700 nm and the 67 wavelengths of the validation grid (400–700 every 10 nm,
+  750–2500 every 50 nm) for each ``--spectral-samples``: shared and independent runs at equal
+  rays, the standard-error ratio per wavelength, and the time of the shared spectrum at the
+  *same* standard error as the independent runs (rays scaled by the largest and by the median
+  squared ratio) over the time of one wavelength (550 nm) at the same rays;
+* training a narrow spectral model (the reference sand's iron_oxide × hematite_ratio domain of
+  ``scripts/data/train_default_spectral.py``, 16 wavelengths, 10 000 rays per sample, 3000
+  samples): ``--training-samples`` samples drawn from the domain, traced shared and independent,
+  the time per sample extrapolated to 3000, with the same standard-error scaling.
+
 Usage::
 
     python benchmarks/engine.py [--seconds 2] [--repeats 3] [--samples default red-dune ...]
+        [--part all|single|spectral] [--spectral-rays 20000] [--training-samples 12]
 """
 
 from __future__ import annotations
@@ -29,6 +43,8 @@ import argparse
 import os
 import platform
 import time
+
+import numpy as np
 
 import sandlight
 from sandlight.machine import cpu_model
@@ -93,11 +109,120 @@ def benchmark(name: str, seconds: float, repeats: int) -> dict:
     }
 
 
+def spectral_job(sample, wl: np.ndarray, rays: int) -> dict:
+    """Shared and independent runs of ``wl`` at ``rays``, and one wavelength (550 nm): CPU
+    times, standard-error ratios, and shared times at equal standard error."""
+    run = {"rays": rays, "seed": 1, "threads": 1, "progress": False}
+    sandlight.reflectance(sample, wl, **{**run, "rays": 100})  # loads the optical tables, untimed
+    c0 = time.process_time()
+    one = sandlight.reflectance(sample, [WAVELENGTH_NM], share=False, **run)
+    c1 = time.process_time()
+    shared = sandlight.reflectance(sample, wl, **run)
+    c2 = time.process_time()
+    indep = sandlight.reflectance(sample, wl, share=False, **run)
+    c3 = time.process_time()
+    ratio = shared.stderr / indep.stderr
+    t_one, t_shared, t_indep = c1 - c0, c2 - c1, c3 - c2
+    del one
+    return {
+        "groups": len(shared.groups),
+        "t_one": t_one,
+        "t_shared": t_shared,
+        "t_indep": t_indep,
+        "per_wavelength": t_indep / wl.size,
+        "ratio_median": float(np.median(ratio)),
+        "ratio_max": float(ratio.max()),
+        "equal_se_max": t_shared * float(ratio.max()) ** 2,
+        "equal_se_median": t_shared * float(np.median(ratio)) ** 2,
+    }
+
+
+def training_job(n_samples: int, rays: int = 10_000) -> dict:
+    """Time per sample of the narrow model's training runs, shared and independent."""
+    from sandlight.predictor import Dimension, Domain
+    from sandlight.predictor.training import wavelength_grid
+
+    domain = Domain.reference([Dimension("iron_oxide", 0.001, 0.05, "log"), Dimension("hematite_ratio", 0.0, 1.0)])
+    wl = wavelength_grid("400:700:20")
+    samples = [sandlight.SandSample(**p) for p in domain.draw(n_samples, seed=7)]
+    times, ratios = {}, []
+    for share in (True, False):
+        c0 = time.process_time()
+        results = [
+            sandlight.reflectance(s, wl, rays=rays, seed=k, threads=1, progress=False, share=share)
+            for k, s in enumerate(samples)
+        ]
+        times[share] = (time.process_time() - c0) / n_samples
+        ratios.append(np.array([r.stderr for r in results]))
+    ratio = ratios[0] / ratios[1]
+    return {
+        "wavelengths": wl.size,
+        "per_sample_shared": times[True],
+        "per_sample_indep": times[False],
+        "ratio_median": float(np.median(ratio)),
+        "ratio_max": float(ratio.max()),
+    }
+
+
+def print_spectral(names: list[str], rays: int, training_samples: int) -> None:
+    grids = {
+        "16 λ 400–700": np.linspace(400.0, 700.0, 16),
+        "67 λ 400–2500": np.concatenate([np.arange(400.0, 701.0, 10.0), np.arange(750.0, 2501.0, 50.0)]),
+    }
+    print(f"\nspectral path sharing, 1 thread, CPU seconds, {rays} rays per wavelength")
+    header = (
+        f"{'sample':<14} {'grid':<14} {'groups':>6} {'550 nm':>7} {'shared':>8} {'indep.':>8} {'indep/shared':>12} "
+        f"{'se ratio med/max':>16} {'equal se (max) / 550 nm':>23} {'(median)':>9} {'/ mean λ':>9}"
+    )
+    print(header)
+    print("-" * len(header))
+    for name in names:
+        for label, wl in grids.items():
+            r = spectral_job(sample_for(name), wl, rays)
+            print(
+                f"{name:<14} {label:<14} {r['groups']:>6d} {r['t_one']:>7.2f} "
+                f"{r['t_shared']:>8.2f} {r['t_indep']:>8.2f} "
+                f"{r['t_indep'] / r['t_shared']:>11.1f}× {r['ratio_median']:>8.2f}/{r['ratio_max']:<7.2f} "
+                f"{r['equal_se_max'] / r['t_one']:>22.1f}× {r['equal_se_median'] / r['t_one']:>8.1f}× "
+                f"{r['equal_se_max'] / r['per_wavelength']:>8.1f}×",
+                flush=True,
+            )
+    t = training_job(training_samples)
+    full = 3000
+    print(
+        f"\ntraining a narrow model (iron_oxide × hematite_ratio, {t['wavelengths']} λ, 10 000 rays, measured on "
+        f"{training_samples} samples, ×{full / training_samples:.0f} for {full}):"
+    )
+    print(
+        f"  per sample: shared {t['per_sample_shared']:.2f} s, independent {t['per_sample_indep']:.2f} s "
+        f"({t['per_sample_indep'] / t['per_sample_shared']:.1f}× faster at equal rays); 3000 samples: shared "
+        f"{full * t['per_sample_shared'] / 3600:.2f} h, independent "
+        f"{full * t['per_sample_indep'] / 3600:.2f} h (1 core)"
+    )
+    speedup = t["per_sample_indep"] / t["per_sample_shared"]
+    print(
+        f"  standard error shared/independent: median {t['ratio_median']:.2f}, max {t['ratio_max']:.2f}; at equal "
+        f"standard error (rays × ratio²): {speedup / t['ratio_median'] ** 2:.1f}× (median), "
+        f"{speedup / t['ratio_max'] ** 2:.1f}× (max) faster"
+    )
+    print("targets: 16 λ ≤ 2× one wavelength, 67 λ ≤ 5× one wavelength (same standard error); training ≥ 5× faster")
+    print(
+        "'550 nm': one independent wavelength at 550 nm; 'equal se (max)': the shared time scaled by the largest\n"
+        "squared standard-error ratio (every wavelength at least as precise as independent runs), '(median)' by\n"
+        "the median;"
+        "'/ mean λ': the equal-se (max) time over the mean time of one wavelength of the independent spectrum."
+    )
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seconds", type=float, default=2.0, help="target duration of one 1-thread run (s)")
     parser.add_argument("--repeats", type=int, default=3, help="repetitions; the best is reported")
     parser.add_argument("--samples", nargs="+", default=list(SAMPLES), help=f"any of {', '.join(SAMPLES)}")
+    parser.add_argument("--part", choices=("all", "single", "spectral"), default="all")
+    parser.add_argument("--spectral-samples", nargs="+", default=["default", "ottawa-quartz"])
+    parser.add_argument("--spectral-rays", type=int, default=20_000, help="rays per wavelength (spectral part)")
+    parser.add_argument("--training-samples", type=int, default=12, help="samples measured (spectral part)")
     args = parser.parse_args(argv)
 
     print(
@@ -106,6 +231,14 @@ def main(argv=None) -> None:
     )
     print(f"CPU: {cpu_model()}, {os.cpu_count()} logical cores")
     print(f"load average before: {load_average()}")
+    if args.part in ("all", "single"):
+        single_wavelength(args)
+    if args.part in ("all", "spectral"):
+        print_spectral(args.spectral_samples, args.spectral_rays, args.training_samples)
+    print(f"\nload average after: {load_average()}")
+
+
+def single_wavelength(args) -> None:
     print(
         f"λ = {WAVELENGTH_NM:g} nm, normal incidence; best of {args.repeats} runs of ≈ {args.seconds:g} s (1 thread)\n"
     )
@@ -123,7 +256,6 @@ def main(argv=None) -> None:
             f"{r['speedup']:>5.2f}× {r['cpu_ratio']:>9.2f} {r['projected_min']:>10.1f} min",
             flush=True,
         )
-    print(f"\nload average after: {load_average()}")
     print("targets (default sample): ≥ 5 Mevents/s/core, ≥ 1.8× from 1 to 2 threads, 1e8 rays < 10 min")
     print(
         "Mevents/s/core and rays/s are wall-clock (1 thread); 'per CPU-s' divides by the process's CPU time, which\n"

@@ -35,7 +35,7 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     ("test support", frozenset({"testing"})),
     ("predictors", frozenset({"predictor", "spatial"})),
     ("appearance", frozenset({"appearance"})),
-    ("colour/render", frozenset({"colour", "sky", "render"})),
+    ("colour/render", frozenset({"colour", "sky", "render", "mitsuba"})),
     ("cli", frozenset({"cli", "__main__"})),
 )
 LAYER_OF = {unit: rank for rank, (_, units) in enumerate(LAYERS) for unit in units}

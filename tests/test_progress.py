@@ -1,5 +1,7 @@
 """One progress display (issue 24): nested bars count into the outer one, plain lines off a terminal."""
 
+import re
+
 import sandlight
 from sandlight import _runner, engine, progress
 from sandlight.progress import progress_bar
@@ -24,10 +26,15 @@ def test_a_spectrum_shows_one_bar_over_all_its_wavelengths(monkeypatch, capsys):
     monkeypatch.setattr(progress, "PLAIN_EVERY_S", 0.0)
     monkeypatch.setattr(engine, "SHOW_AFTER_SECONDS", 0.0)
     monkeypatch.setattr(_runner, "SHOW_AFTER_SECONDS", 0.0)
-    sandlight.reflectance("red-dune", [450, 550, 650], rays=3000)
+    sandlight.reflectance("red-dune", [450, 550, 650], rays=3000, share=False)
     lines = capsys.readouterr().err.splitlines()
     assert lines and all("/9,000 rays)" in line for line in lines), lines
     assert lines[-1].startswith("λ = 650 nm (3/3): 100% (9,000/9,000 rays)")
+    # with shared paths, one bar over all the groups
+    sandlight.reflectance("red-dune", [450, 550, 650], rays=3000, share=True)
+    lines = capsys.readouterr().err.splitlines()
+    totals = {re.search(r"/([\d,]+) rays\)", line).group(1) for line in lines}
+    assert len(totals) == 1 and ": 100% (" in lines[-1], lines
 
 
 def test_disabled_bars_print_nothing(monkeypatch, capsys):

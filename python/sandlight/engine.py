@@ -2,7 +2,10 @@
 
 :func:`reflectance` traces rays through the sample with the native engine (docs/transport.md)
 and returns the directional-hemispherical reflectance ρ(θᵢ, λ) = escaped / launched with its
-standard error √(ρ(1 − ρ)/N) (docs/model.md §2.6). :func:`isotropic_halfspace` runs the same
+standard error √(ρ(1 − ρ)/N) (docs/model.md §2.6). By default the wavelengths of a sand
+medium share their paths (hero-wavelength sampling, docs/transport.md "Spectral path
+sharing"): ρ is then the mean of per-ray weights, with standard errors and covariances from
+their sums of squares and products. :func:`isotropic_halfspace` runs the same
 transport and boundary code with the particles replaced by isotropic point scatterers, whose
 exact answer (Chandrasekhar) checks the engine.
 """
@@ -20,9 +23,18 @@ import numpy.typing as npt
 
 from sandlight import _native
 from sandlight._runner import SHOW_AFTER_SECONDS, run_in_batches
-from sandlight.checks import check_count, check_incidence, check_seed, check_threads, check_wavelengths
-from sandlight.physics.media import IsotropicScatterers, as_traceable, engine_settings
+from sandlight.checks import (
+    check_count,
+    check_incidence,
+    check_real,
+    check_seed,
+    check_threads,
+    check_wavelengths,
+)
+from sandlight.errors import ParameterError
+from sandlight.physics.media import IsotropicScatterers, SandMedium, as_traceable, engine_settings
 from sandlight.physics.medium import Traceable
+from sandlight.physics.spectral_groups import DISPERSION_TOLERANCE, spectral_groups
 from sandlight.progress import progress_bar
 
 if TYPE_CHECKING:
@@ -30,7 +42,15 @@ if TYPE_CHECKING:
 
     from sandlight.sample import SandSample
 
-__all__ = ["ReflectanceResult", "reflectance", "isotropic_halfspace", "DEFAULT_MAX_EVENTS", "MAX_INTERNAL_REFLECTIONS"]
+__all__ = [
+    "ReflectanceResult",
+    "reflectance",
+    "isotropic_halfspace",
+    "shareable",
+    "DEFAULT_MAX_EVENTS",
+    "MAX_INTERNAL_REFLECTIONS",
+    "DISPERSION_TOLERANCE",
+]
 
 DEFAULT_MAX_EVENTS = 10_000_000
 MAX_INTERNAL_REFLECTIONS = 10_000
@@ -61,6 +81,58 @@ def _trace(
     return dict(zip(_COUNT_NAMES, (int(c) for c in counts)))
 
 
+def _trace_shared(
+    group: _native.SpectralGroup,
+    *,
+    rays: int,
+    incidence_deg: float,
+    seed: int,
+    threads: int | None,
+    max_events: int,
+    label: str,
+    progress: bool,
+    stream: int,
+) -> dict:
+    """Integer totals of a shared run over ``group``: launched, capped, events, and the
+    fixed-point sums escaped, transmitted (per wavelength) and products (i ≤ j, row by row)."""
+    m = len(group)
+    tot: dict = {"launched": 0, "capped": 0, "events": 0, "escaped": [0] * m, "transmitted": [0] * m}
+    tot["products"] = [0] * (m * (m + 1) // 2)
+
+    def batch(first: int, n: int):
+        launched, capped, events, escaped, transmitted, products = group.dhr(
+            incidence_deg, seed, stream, first, n, max_events, MAX_INTERNAL_REFLECTIONS, threads
+        )
+        tot["launched"] += launched
+        tot["capped"] += capped
+        tot["events"] += events
+        for key, new in (("escaped", escaped), ("transmitted", transmitted), ("products", products)):
+            tot[key] = [a + b for a, b in zip(tot[key], new)]
+
+    run_in_batches(batch, rays, label=label, progress=progress)
+    return tot
+
+
+def _shared_moments(tot: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(ρ, transmitted fraction, covariance of ρ) of a shared run's totals, in exact integer
+    arithmetic until the final division: Cov(ρ̂ᵢ, ρ̂ⱼ) = (N Σqᵢqⱼ − Σqᵢ Σqⱼ) / (N³ s²) with s the
+    fixed-point scale (the plug-in estimate, which for one wavelength, weights 0 or 1, is the
+    binomial ρ(1 − ρ)/N of independent runs)."""
+    n, one = tot["launched"], _native.SpectralGroup.fixed_one
+    esc = tot["escaped"]
+    m = len(esc)
+    cov = np.zeros((m, m))
+    k = 0
+    for i in range(m):
+        for j in range(i, m):
+            num = n * tot["products"][k] - esc[i] * esc[j]
+            cov[i, j] = cov[j, i] = num / (n * n * n) / (one * one)
+            k += 1
+    rho = np.array([e / n / one for e in esc])
+    transmitted = np.array([t / n / one for t in tot["transmitted"]])
+    return rho, transmitted, cov
+
+
 @dataclass(frozen=True)
 class ReflectanceResult:
     """Directional-hemispherical reflectance of a sample from a Monte Carlo run.
@@ -76,6 +148,15 @@ class ReflectanceResult:
     counts : dict[str, ndarray]
         Per wavelength: launched, escaped, absorbed, transmitted (through the bottom of a finite
         sample), capped (stopped by the event cap), events (particle events, summed over rays).
+        With spectral sharing escaped, absorbed and transmitted are sums of per-ray weights
+        (floats), and capped and events are those of the wavelength's group (shared paths).
+    covariance : ndarray, shape (n, n)
+        Covariance of the estimates ρ(λᵢ), ρ(λⱼ); its diagonal is ``stderr**2``. With sharing,
+        from the per-ray weights' products within a group and 0 between groups (independent
+        random streams); without, the off-diagonal is NaN (not estimated: the wavelengths use
+        common random numbers, so their errors are correlated).
+    shared : bool
+        Whether the wavelengths shared paths (``groups`` lists them).
     """
 
     wavelengths: np.ndarray
@@ -90,6 +171,10 @@ class ReflectanceResult:
     elapsed_s: float = 0.0
     geometry: str = "on-the-fly"
     memory: str = "none"
+    covariance: np.ndarray | None = None
+    shared: bool = False
+    groups: tuple = ()
+    dispersion_tolerance: float = DISPERSION_TOLERANCE
 
     @property
     def mean_events_per_ray(self) -> np.ndarray:
@@ -123,14 +208,23 @@ class ReflectanceResult:
             ),
         }
         for k, v in self.counts.items():
+            v = np.asarray(v)
             data[f"count_{k}"] = (
                 "wavelength",
-                np.asarray(v, dtype=np.int64),
+                v if v.dtype.kind == "f" else v.astype(np.int64),
                 {"units": "1", "long_name": f"rays {k}" if k != "events" else "particle events summed over rays"},
+            )
+        coords = {"wavelength": ("wavelength", self.wavelengths, WAVELENGTH_ATTRS)}
+        if self.covariance is not None:
+            coords["wavelength_b"] = ("wavelength_b", self.wavelengths, WAVELENGTH_ATTRS)
+            data["covariance"] = (
+                ("wavelength", "wavelength_b"),
+                self.covariance,
+                {"units": "1", "long_name": "covariance of the reflectance estimates (NaN: not estimated)"},
             )
         ds = xr.Dataset(
             data,
-            coords={"wavelength": ("wavelength", self.wavelengths, WAVELENGTH_ATTRS)},
+            coords=coords,
             attrs={
                 **cf_attributes("sandlight Monte Carlo reflectance", "sandlight.reflectance"),
                 "sandlight_version": sandlight.__version__,
@@ -142,6 +236,9 @@ class ReflectanceResult:
                 "elapsed_s": self.elapsed_s,
                 "geometry": self.geometry,
                 "memory": self.memory,
+                "spectral_sharing": int(self.shared),
+                "spectral_groups": json.dumps([[float(self.wavelengths[i]) for i in g] for g in self.groups]),
+                "dispersion_tolerance": self.dispersion_tolerance,
             },
         )
         return ds
@@ -188,6 +285,8 @@ def reflectance(
     geometry: str = "on-the-fly",
     memory: str | None = None,
     packing: _native.Packing | None = None,
+    share: bool = True,
+    dispersion_tolerance: float = DISPERSION_TOLERANCE,
 ) -> ReflectanceResult:
     """Monte Carlo directional-hemispherical reflectance of a sand sample.
 
@@ -223,6 +322,16 @@ def reflectance(
     packing : sandlight._native.Packing, optional
         A packing to trace (explicit geometry); generated from ``seed`` when None.
 
+    share : bool
+        Spectral path sharing (docs/transport.md): the wavelengths of each group of nearly
+        equal refractive indices are traced together, one path at a hero wavelength with a
+        weight per wavelength. Applies to an on-the-fly sand medium without path memory
+        (:func:`shareable`); other media are traced wavelength by wavelength. ``False`` traces
+        every wavelength on its own (the reference of the sharing's tests).
+    dispersion_tolerance : float
+        Largest spread of any material's real index within a group (``share`` only), in
+        [0, 1]; 0 groups only wavelengths of equal indices.
+
     ``geometry``, ``memory`` and ``packing`` apply to a sample (``sandlight.physics.media.as_traceable``);
     a Traceable carries its own.
 
@@ -233,9 +342,11 @@ def reflectance(
 
     Notes
     -----
-    The same random streams are used at every wavelength (common random numbers), so the Monte
-    Carlo noise is correlated across wavelengths and spectra come out smooth; each value's own
-    standard error is unaffected.
+    Without sharing the same random streams are used at every wavelength (common random
+    numbers), so the Monte Carlo noise is correlated across wavelengths and spectra come out
+    smooth; each value's own standard error is unaffected. With sharing the wavelengths of a
+    group share their paths (correlated errors, given in ``covariance``) and groups use
+    independent streams (group g: stream g + 1).
     """
     wl = check_wavelengths("wavelengths_nm", wavelengths_nm)
     rays = check_count("rays", rays)
@@ -243,31 +354,33 @@ def reflectance(
     seed = check_seed("seed", seed)
     threads = check_threads("threads", threads)
     max_events = check_count("max_events", max_events)
+    if not isinstance(share, bool):
+        raise ParameterError("share", share, "True or False")
+    dispersion_tolerance = check_real("dispersion_tolerance", dispersion_tolerance, 0.0, 1.0)
     start = time.perf_counter()
     traced = as_traceable(sample, geometry=geometry, memory=memory, packing=packing, seed=seed)
-    rows = []
-    # One bar over every wavelength (each wavelength's batches count into it).
-    with progress_bar("tracing", wl.size * rays, unit="rays", enabled=progress, show_after_s=SHOW_AFTER_SECONDS):
-        for i, lam in enumerate(wl):
-            rows.append(
-                _trace(
-                    traced.medium(float(lam)),
-                    rays=rays,
-                    incidence_deg=incidence_deg,
-                    seed=seed,
-                    threads=threads,
-                    max_events=max_events,
-                    progress=progress,
-                    label=f"λ = {lam:g} nm ({i + 1}/{wl.size})",
-                )
-            )
-    counts = {k: np.array([r[k] for r in rows], dtype=np.int64) for k in _COUNT_NAMES}
-    rho = counts["escaped"] / counts["launched"]
+    run = dict(incidence_deg=incidence_deg, seed=seed, threads=threads, max_events=max_events, progress=progress)
+    if share and shareable(traced):
+        values, stderr, counts, cov, groups = _shared_spectrum(traced, wl, rays, dispersion_tolerance, run)
+    else:
+        share = False
+        # One bar over every wavelength (each wavelength's batches count into it).
+        with progress_bar("tracing", wl.size * rays, unit="rays", enabled=progress, show_after_s=SHOW_AFTER_SECONDS):
+            rows = [
+                _trace(traced.medium(float(lam)), rays=rays, label=f"λ = {lam:g} nm ({i + 1}/{wl.size})", **run)
+                for i, lam in enumerate(wl)
+            ]
+        counts = {k: np.array([r[k] for r in rows], dtype=np.int64) for k in _COUNT_NAMES}
+        values = counts["escaped"] / counts["launched"]
+        stderr = np.sqrt(values * (1 - values) / counts["launched"])
+        cov = np.full((wl.size, wl.size), np.nan)
+        np.fill_diagonal(cov, stderr**2)
+        groups = tuple((i,) for i in range(wl.size))
     description, traced_geometry, traced_memory = engine_settings(traced.describe())
     return ReflectanceResult(
         wavelengths=wl,
-        values=rho,
-        stderr=np.sqrt(rho * (1 - rho) / counts["launched"]),
+        values=values,
+        stderr=stderr,
         counts=counts,
         rays=rays,
         incidence_deg=incidence_deg,
@@ -277,7 +390,53 @@ def reflectance(
         elapsed_s=time.perf_counter() - start,
         geometry=traced_geometry,
         memory=traced_memory,
+        covariance=cov,
+        shared=share,
+        groups=groups,
+        dispersion_tolerance=dispersion_tolerance,
     )
+
+
+def shareable(traced: Traceable) -> bool:
+    """Whether spectral path sharing applies to ``traced``: a sand medium on the fly without
+    path memory (the path memories and the explicit reference trace wavelength by wavelength,
+    docs/transport.md)."""
+    return isinstance(traced, SandMedium) and traced.memory == "none"
+
+
+def _shared_spectrum(
+    traced: SandMedium, wl: np.ndarray, rays: int, tolerance: float, run: dict
+) -> tuple[np.ndarray, np.ndarray, dict, np.ndarray, tuple]:
+    """Values, standard errors, counts, covariance and groups of a shared run over ``wl``."""
+    groups = spectral_groups(traced.composition, wl, tolerance, optical_constants=traced.optical_constants)
+    m = wl.size
+    values, transmitted, cov = np.zeros(m), np.zeros(m), np.zeros((m, m))
+    counts = {k: np.zeros(m, dtype=np.int64) for k in ("launched", "capped", "events")}
+    bar = progress_bar(
+        "tracing", len(groups) * rays, unit="rays", enabled=run["progress"], show_after_s=SHOW_AFTER_SECONDS
+    )
+    with bar:  # one bar over every group
+        for g, idx in enumerate(groups):
+            group = _native.SpectralGroup([traced.medium(float(wl[i])) for i in idx])
+            span = f"{wl[idx].min():g}–{wl[idx].max():g} nm" if idx.size > 1 else f"{wl[idx[0]]:g} nm"
+            label = f"λ = {span} (group {g + 1}/{len(groups)})"
+            tot = _trace_shared(group, rays=rays, label=label, stream=g + 1, **run)
+            rho, trans, c = _shared_moments(tot)
+            values[idx], transmitted[idx] = rho, trans
+            cov[np.ix_(idx, idx)] = c
+            for k in counts:
+                counts[k][idx] = tot[k]
+    launched = counts["launched"].astype(float)
+    counts = {
+        "launched": counts["launched"],
+        "escaped": values * launched,
+        "absorbed": launched * (1 - values - transmitted) - counts["capped"],
+        "transmitted": transmitted * launched,
+        "capped": counts["capped"],
+        "events": counts["events"],
+    }
+    stderr = np.sqrt(np.clip(np.diag(cov), 0.0, None))
+    return values, stderr, counts, cov, tuple(tuple(int(i) for i in g) for g in groups)
 
 
 def isotropic_halfspace(

@@ -33,6 +33,16 @@ def test_reflectance_writes_netcdf_csv_and_plot(tmp_path):
     assert png.stat().st_size > 1000
 
 
+def test_reflectance_shares_paths_unless_told_not_to(tmp_path):
+    for flag, shared in [([], 1), (["--no-share"], 0)]:
+        nc = tmp_path / f"r{shared}.nc"
+        args = ["reflectance", "--preset", "red-dune", "-w", "450,550", "-n", "1000", "-o", str(nc), *flag]
+        res = runner.invoke(app, args)
+        assert res.exit_code == 0, res.output
+        ds = xr.open_dataset(nc, engine="h5netcdf")
+        assert ds.attrs["spectral_sharing"] == shared and ds["covariance"].shape == (2, 2)
+
+
 def test_reflectance_with_path_memory_and_explicit_geometry(tmp_path):
     nc = tmp_path / "r.nc"
     res = runner.invoke(

@@ -37,7 +37,7 @@ use crate::error::SandlightError;
 use crate::math::Vec3;
 use crate::medium::Particulate;
 use crate::packing::{PackedParticle, Packing};
-use crate::particle::{interact_with_stacks, survives, Interaction};
+use crate::particle::{interact_with_stacks, survives, Interaction, Mono};
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
 use crate::transport::{enter_water_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, UP};
@@ -390,6 +390,7 @@ impl Explicit {
             water,
             rng,
             max_internal,
+            &mut Mono,
         )
     }
 
@@ -436,7 +437,7 @@ impl Explicit {
                     return done(Fate::Escaped(d), events);
                 }
                 // A water-filled surface pore: water → air at a flat surface (as on the fly).
-                match leave_water_surface(pore.water_n, d, rng) {
+                match leave_water_surface(pore.water_n, d, rng, &mut Mono) {
                     Some(out) => return done(Fate::Escaped(out), events),
                     None => {
                         o = o + d * t_top;
@@ -505,6 +506,7 @@ impl Explicit {
                         water,
                         rng,
                         limits.max_internal,
+                        &mut Mono,
                     ) {
                         Interaction::Reflected { dir } => d = dir,
                         Interaction::Transmitted { dir, exit_point, water: w } => {
@@ -532,7 +534,7 @@ impl Medium for Explicit {
         let mut d = dir_in;
         let water = pore.draw_water(rng);
         if water {
-            match enter_water_surface(pore.water_n, d, rng) {
+            match enter_water_surface(pore.water_n, d, rng, &mut Mono) {
                 Some(dir) => d = dir,
                 None => return RayOutcome { fate: Fate::Escaped(d.reflect(UP)), events: 0 },
             }
@@ -600,8 +602,18 @@ mod tests {
             let explicit =
                 ex.interact_packed(k, Hit { point: rel, normal: shape.normal_at(rel) }, d, false, &mut r1, 10_000);
             let (_, stacks) = m.type_tables(0);
-            let on_the_fly =
-                interact_with_stacks(&m.types[0].optics, stacks, &m.pore, &shape, h, d, false, &mut r2, 10_000);
+            let on_the_fly = interact_with_stacks(
+                &m.types[0].optics,
+                stacks,
+                &m.pore,
+                &shape,
+                h,
+                d,
+                false,
+                &mut r2,
+                10_000,
+                &mut Mono,
+            );
             match (explicit, on_the_fly) {
                 (Interaction::Reflected { dir: a }, Interaction::Reflected { dir: b }) => {
                     assert!((a - b).norm2() < 1e-20);

@@ -2,11 +2,13 @@
 //!
 //! Layering: a module uses only modules to its left, so there is no cycle.
 //! `error`, `math`, `rng` → `sampling` (generic samplers) → `fresnel` → `layers` → `spheroid`,
-//! `sizes`, `pair_correlation` → `particle` (one grain's interaction) → `medium` (sand and the
-//! reference media) → `populations` (the grains as they fill the volume) → `surface_layer` →
-//! `transport` (the `Medium` trait, free paths, the boundary) → `memory` (sand traced with
-//! near-surface path memory) → `driver` (parallel runs and tallies) → `gonio` (the virtual
-//! goniophotometer).
+//! `sizes`, `pair_correlation`, `spectral` (per-wavelength path weights) → `particle` (one
+//! grain's interaction, and the `PathChoices` through which every wavelength-dependent choice is
+//! made) → `medium` (sand and the reference media) → `populations` (the grains as they fill the
+//! volume) → `surface_layer` → `transport` (the `Medium` trait, free paths, the boundary) →
+//! `memory` (sand traced with near-surface path memory) → `driver` (parallel runs and tallies) →
+//! `hero` (spectral path sharing: a group of wavelengths traced together, fixed-point tallies)
+//! and `gonio` (the virtual goniophotometer).
 //! The explicit-geometry reference: `packing` (a stored random packing of the populations) →
 //! `deposition` (a gravity-settled surface on its cut) → `explicit` (traced with the same
 //! per-particle interaction and boundary as `transport`).
@@ -22,6 +24,7 @@ pub mod error;
 pub mod explicit;
 pub mod fresnel;
 pub mod gonio;
+pub mod hero;
 pub mod layers;
 pub mod math;
 pub mod medium;
@@ -36,6 +39,7 @@ pub mod render;
 pub mod rng;
 pub mod sampling;
 pub mod sizes;
+pub mod spectral;
 pub mod spheroid;
 pub mod surface_layer;
 pub mod transport;

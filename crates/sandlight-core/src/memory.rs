@@ -6,7 +6,7 @@
 use crate::math::Vec3;
 use crate::medium::Particulate;
 use crate::pair_correlation::PairCorrelation;
-use crate::particle::{interact_with_stacks, survives, Interaction};
+use crate::particle::{interact_with_stacks, survives, Interaction, Mono};
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
 use crate::surface_layer::SurfaceLayer;
@@ -162,7 +162,7 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
     let mut d = dir_in;
     let mut water = pore.draw_water(rng);
     if water {
-        match enter_water_surface(pore.water_n, d, rng) {
+        match enter_water_surface(pore.water_n, d, rng, &mut Mono) {
             Some(dir) => d = dir,
             None => return done(Fate::Escaped(d.reflect(UP)), 0),
         }
@@ -196,7 +196,7 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             flight_start = Vec3::new(x, y, top);
             (channel, prev, ahead, flown, to_ahead) = (None, None, None, 0.0, f64::INFINITY);
             walls = PoreWalls::default();
-            match leave_water_surface(pore.water_n, d, rng) {
+            match leave_water_surface(pore.water_n, d, rng, &mut Mono) {
                 Some(out) => return done(Fate::Escaped(out), events),
                 None => {
                     d.z = -d.z;
@@ -302,6 +302,7 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             water,
             rng,
             limits.max_internal,
+            &mut Mono,
         ) {
             Interaction::Reflected { dir } => {
                 // Back into the pore it came from: remember the segment just travelled and the

@@ -115,7 +115,7 @@ fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
 
 /// What a ray does at a stack of media: the three outcomes with probabilities R, T, 1 − R − T.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum StackFate {
+pub enum StackFate {
     Reflect,
     Transmit,
     Absorb,
@@ -247,7 +247,51 @@ pub struct Stacks {
     exit: [Stack; 2],
 }
 
+/// Which of a particle type's four stacks: into the particle (`exit` false) or out of it, with
+/// an air- or a water-filled pore on the outside.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct StackKind {
+    pub exit: bool,
+    pub water: bool,
+}
+
+impl StackKind {
+    pub const ALL: [StackKind; 4] = [
+        StackKind { exit: false, water: false },
+        StackKind { exit: false, water: true },
+        StackKind { exit: true, water: false },
+        StackKind { exit: true, water: true },
+    ];
+
+    /// Position in `ALL`.
+    #[inline]
+    pub fn index(self) -> usize {
+        2 * self.exit as usize + self.water as usize
+    }
+}
+
 impl Stacks {
+    #[inline]
+    fn of(&self, kind: StackKind) -> &Stack {
+        if kind.exit {
+            &self.exit[kind.water as usize]
+        } else {
+            &self.entry[kind.water as usize]
+        }
+    }
+
+    /// R and T of stack `kind` at incidence cosine `cos_0` (exact evaluation).
+    #[inline]
+    pub fn rt(&self, kind: StackKind, cos_0: f64) -> (f64, f64) {
+        self.of(kind).rt(cos_0)
+    }
+
+    /// The decision for a uniform `u` at stack `kind` (reflect if u < R, absorb if u ≥ R + T).
+    #[inline]
+    pub fn fate(&self, kind: StackKind, cos_0: f64, u: f64) -> StackFate {
+        self.of(kind).fate(cos_0, u)
+    }
+
     /// The stacks without bracket tables (cheap to build; every decision evaluates the stack).
     pub fn new(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
         Stacks {
@@ -269,6 +313,52 @@ impl Stacks {
             exit: [tab(xa, pore.water_filled_probability < 1.0), tab(xw, water_used)],
         }
     }
+}
+
+/// What is absorbing along a straight path.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Absorber {
+    /// The core of the current particle.
+    Core,
+    /// Pore water.
+    Water,
+}
+
+/// The wavelength-dependent random choices of a path, as the tracers make them: one
+/// wavelength (`Mono`, exactly the decisions of the engine before spectral sharing), or a hero
+/// wavelength with weights for its companions (`hero::Companions`, docs/transport.md,
+/// "Spectral path sharing"). A new λ-dependent event is one more method here.
+pub trait PathChoices {
+    /// The type (index into `Particulate::types`) of the particle about to be met.
+    fn particle(&mut self, type_index: usize);
+    /// Reflect, transmit or absorb at stack `kind` of the current particle (`stacks` are the
+    /// hero's), incidence cosine `cos`, uniform `u`.
+    fn stack_fate(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, u: f64) -> StackFate;
+    /// Survival over `len` (mm) in `absorber` of coefficient `alpha_per_mm` (the hero's); draws
+    /// a uniform from `rng` only when that coefficient is positive.
+    fn survives(&mut self, absorber: Absorber, alpha_per_mm: f64, len: f64, rng: &mut Rng) -> bool;
+    /// A flat water surface reflected (`reflected`) or transmitted the ray at incidence cosine
+    /// `cos`, arriving from the air (`from_air`) or from the water; the hero decided.
+    fn water_surface(&mut self, from_air: bool, cos: f64, reflected: bool);
+}
+
+/// A path at one wavelength: every choice is the hero's, nothing to weigh.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Mono;
+
+impl PathChoices for Mono {
+    #[inline(always)]
+    fn particle(&mut self, _type_index: usize) {}
+    #[inline(always)]
+    fn stack_fate(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, u: f64) -> StackFate {
+        stacks.fate(kind, cos, u)
+    }
+    #[inline(always)]
+    fn survives(&mut self, _absorber: Absorber, alpha_per_mm: f64, len: f64, rng: &mut Rng) -> bool {
+        alpha_per_mm <= 0.0 || survives(rng.uniform(), alpha_per_mm * len)
+    }
+    #[inline(always)]
+    fn water_surface(&mut self, _from_air: bool, _cos: f64, _reflected: bool) {}
 }
 
 /// Survival of Beer–Lambert attenuation over optical depth `x` = α L ≥ 0 for a uniform `u` in
@@ -294,11 +384,12 @@ pub fn interact(
     rng: &mut Rng,
     max_internal: u32,
 ) -> Interaction {
-    interact_with_stacks(p, &Stacks::new(p, pore), pore, shape, hit, d, water, rng, max_internal)
+    interact_with_stacks(p, &Stacks::new(p, pore), pore, shape, hit, d, water, rng, max_internal, &mut Mono)
 }
 
 /// `interact` with the particle type's layer stacks built beforehand (`Stacks::new(p, pore)`,
-/// or `Stacks::tabulated` for the same decisions with fewer Fresnel evaluations).
+/// or `Stacks::tabulated` for the same decisions with fewer Fresnel evaluations), making its
+/// wavelength-dependent choices through `choices` (`Mono` for one wavelength).
 ///
 /// Always inlined: it is the body of the hot loop of three tracers (classic, path memory,
 /// explicit), and as an out-of-line call the classic engine lost 10–12 % of its speed.
@@ -314,9 +405,10 @@ pub fn interact_with_stacks(
     water: bool,
     rng: &mut Rng,
     max_internal: u32,
+    choices: &mut impl PathChoices,
 ) -> Interaction {
     let cos_i = (-d.dot(hit.normal)).clamp(0.0, 1.0);
-    match stacks.entry[water as usize].fate(cos_i, rng.uniform()) {
+    match choices.stack_fate(stacks, StackKind { exit: false, water }, cos_i, rng.uniform()) {
         StackFate::Reflect => return Interaction::Reflected { dir: d.reflect(hit.normal) },
         StackFate::Absorb => return Interaction::Absorbed,
         StackFate::Transmit => {}
@@ -330,14 +422,14 @@ pub fn interact_with_stacks(
     for _ in 0..max_internal {
         let (len, x1) = shape.chord_from_surface(x, dir);
         // Beer–Lambert along the chord.
-        if p.core_alpha_per_mm > 0.0 && !survives(rng.uniform(), p.core_alpha_per_mm * len) {
+        if !choices.survives(Absorber::Core, p.core_alpha_per_mm, len, rng) {
             return Interaction::Absorbed;
         }
         let n1 = shape.normal_at(x1);
         let cos_in = dir.dot(n1).clamp(0.0, 1.0);
         // The pore beyond this point of the surface.
         let water_beyond = pore.draw_water(rng);
-        match stacks.exit[water_beyond as usize].fate(cos_in, rng.uniform()) {
+        match choices.stack_fate(stacks, StackKind { exit: true, water: water_beyond }, cos_in, rng.uniform()) {
             StackFate::Reflect => {
                 dir = dir.reflect(n1);
                 x = x1;

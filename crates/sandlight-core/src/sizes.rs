@@ -6,7 +6,7 @@ use crate::rng::Rng;
 
 /// Equally spaced quantiles q_j = F⁻¹(j/(M−1)), j = 0..M−1, of the size (mm) of the particles a
 /// ray meets (projected-area weighted). Sampling interpolates linearly between them.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct QuantileTable {
     q: Vec<f64>,
 }

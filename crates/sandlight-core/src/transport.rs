@@ -4,7 +4,7 @@
 use crate::fresnel;
 use crate::math::{refract, Vec3};
 use crate::medium::{IsotropicScatterers, LambertianSurface, Particulate};
-use crate::particle::{interact_with_stacks, survives, Interaction};
+use crate::particle::{interact_with_stacks, Absorber, Interaction, Mono, PathChoices};
 use crate::rng::Rng;
 use crate::sampling::{cosine_hemisphere, uniform_sphere};
 use crate::spheroid::Spheroid;
@@ -57,8 +57,15 @@ pub(crate) const UP: Vec3 = Vec3::new(0.0, 0.0, 1.0);
 /// `d.reflect(UP)`). The tracers draw the pore themselves: an entry function that also drew it
 /// and returned an enum made the loop of the memory tracer 3–5 % longer (valgrind).
 #[inline]
-pub(crate) fn enter_water_surface(water_n: f64, d: Vec3, rng: &mut Rng) -> Option<Vec3> {
-    if rng.uniform() < fresnel::dielectric(1.0, water_n, -d.z) {
+pub(crate) fn enter_water_surface(
+    water_n: f64,
+    d: Vec3,
+    rng: &mut Rng,
+    choices: &mut impl PathChoices,
+) -> Option<Vec3> {
+    let reflected = rng.uniform() < fresnel::dielectric(1.0, water_n, -d.z);
+    choices.water_surface(true, -d.z, reflected);
+    if reflected {
         return None;
     }
     // Air → water never reflects totally; `d` is kept only as a guard.
@@ -69,8 +76,15 @@ pub(crate) fn enter_water_surface(water_n: f64, d: Vec3, rng: &mut Rng) -> Optio
 /// Fresnel water → air, then Snell. The direction it escapes in, or None if it is reflected
 /// (by Fresnel or totally), back down with d.z negated.
 #[inline]
-pub(crate) fn leave_water_surface(water_n: f64, d: Vec3, rng: &mut Rng) -> Option<Vec3> {
-    if rng.uniform() < fresnel::dielectric(water_n, 1.0, d.z) {
+pub(crate) fn leave_water_surface(
+    water_n: f64,
+    d: Vec3,
+    rng: &mut Rng,
+    choices: &mut impl PathChoices,
+) -> Option<Vec3> {
+    let reflected = rng.uniform() < fresnel::dielectric(water_n, 1.0, d.z);
+    choices.water_surface(false, d.z, reflected);
+    if reflected {
         return None;
     }
     refract(d, -UP, water_n)
@@ -83,14 +97,22 @@ pub(crate) fn leave_water_surface(water_n: f64, d: Vec3, rng: &mut Rng) -> Optio
 impl Medium for Particulate {
     #[inline] // into `WithMemory::trace`, whose memory 'none' is this tracer
     fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
-        trace_classic(self, dir_in, rng, limits)
+        trace_classic(self, dir_in, rng, limits, &mut Mono)
     }
 }
 
+/// The classic tracer, its wavelength-dependent choices made through `choices` (`Mono`: this
+/// medium's wavelength alone; `hero::Companions`: spectral path sharing).
 // Always inlined, also into `WithMemory::trace`: a call per ray there cost 1 % of the
 // instructions of a classic run (valgrind).
 #[inline(always)]
-fn trace_classic(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
+pub(crate) fn trace_classic(
+    m: &Particulate,
+    dir_in: Vec3,
+    rng: &mut Rng,
+    limits: &Limits,
+    choices: &mut impl PathChoices,
+) -> RayOutcome {
     let pore = &m.pore;
     let ell = m.mean_free_path_mm;
     let mut z = 0.0f64;
@@ -100,7 +122,7 @@ fn trace_classic(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) 
     let mut d = dir_in;
     let mut water = pore.draw_water(rng);
     if water {
-        match enter_water_surface(pore.water_n, d, rng) {
+        match enter_water_surface(pore.water_n, d, rng, choices) {
             Some(dir) => d = dir,
             None => return done(Fate::Escaped(d.reflect(UP)), 0),
         }
@@ -113,10 +135,10 @@ fn trace_classic(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) 
             }
             // Through water to the water surface, then water → air.
             let to_surface = -z / d.z;
-            if !survives(rng.uniform(), pore.water_alpha_per_mm * to_surface) {
+            if !choices.survives(Absorber::Water, pore.water_alpha_per_mm, to_surface, rng) {
                 return done(Fate::Absorbed, events);
             }
-            match leave_water_surface(pore.water_n, d, rng) {
+            match leave_water_surface(pore.water_n, d, rng, choices) {
                 Some(out) => return done(Fate::Escaped(out), events),
                 None => {
                     d.z = -d.z;
@@ -128,7 +150,7 @@ fn trace_classic(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) 
         if d.z < 0.0 && z + s * d.z <= -m.depth_mm {
             return done(Fate::Transmitted, events);
         }
-        if water && pore.water_alpha_per_mm > 0.0 && !survives(rng.uniform(), pore.water_alpha_per_mm * s) {
+        if water && !choices.survives(Absorber::Water, pore.water_alpha_per_mm, s, rng) {
             return done(Fate::Absorbed, events);
         }
         z += s * d.z;
@@ -137,6 +159,7 @@ fn trace_classic(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) 
             return done(Fate::Capped, events);
         }
         let i = m.pick_index(rng.uniform());
+        choices.particle(i);
         let ptype = &m.types[i];
         let (a_over_d, stacks) = m.type_tables(i);
         let diameter = ptype.sizes.sample(rng);
@@ -144,7 +167,18 @@ fn trace_classic(m: &Particulate, dir_in: Vec3, rng: &mut Rng, limits: &Limits) 
         let Some(hit) = shape.sample_hit(d, rng, 10_000) else {
             return done(Fate::Capped, events);
         };
-        match interact_with_stacks(&ptype.optics, stacks, pore, &shape, hit, d, water, rng, limits.max_internal) {
+        match interact_with_stacks(
+            &ptype.optics,
+            stacks,
+            pore,
+            &shape,
+            hit,
+            d,
+            water,
+            rng,
+            limits.max_internal,
+            choices,
+        ) {
             Interaction::Reflected { dir } => d = dir,
             Interaction::Transmitted { dir, exit_point, water: w } => {
                 // The particle's extent along z: the ray leaves from the far side.
@@ -332,7 +366,7 @@ mod tests {
             let r = fresnel::dielectric(1.0, N_WATER, -d.z);
             let mut reflected = 0;
             for i in 0..n {
-                match enter_water_surface(N_WATER, d, &mut Rng::for_ray(2, 0, i)) {
+                match enter_water_surface(N_WATER, d, &mut Rng::for_ray(2, 0, i), &mut Mono) {
                     None => reflected += 1,
                     // sin θ_air = n sin θ_water, in the plane of incidence.
                     Some(dir) => assert!((d.x - N_WATER * dir.x).abs() < 1e-12 && dir.y == 0.0 && dir.z < 0.0),
@@ -370,7 +404,7 @@ mod tests {
             let r = if sin_w > sin_critical { 1.0 } else { fresnel::dielectric(N_WATER, 1.0, d.z) };
             let mut kept = 0;
             for i in 0..n {
-                match leave_water_surface(N_WATER, d, &mut Rng::for_ray(6, 0, i)) {
+                match leave_water_surface(N_WATER, d, &mut Rng::for_ray(6, 0, i), &mut Mono) {
                     Some(out) => assert!((out.x - N_WATER * sin_w).abs() < 1e-12 && out.z > 0.0),
                     None => kept += 1,
                 }

@@ -10,12 +10,14 @@ mod medium;
 mod mie;
 mod pool;
 mod render;
+mod spectral;
 
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add_class::<medium::PyMedium>()?;
     m.add_class::<medium::PyPacking>()?;
+    m.add_class::<spectral::PySpectralGroup>()?;
     gonio::register(m)?;
     render::register(m)?;
     appearance::register(m)?;

@@ -148,6 +148,13 @@ class SandAppearance:
         a_ref, b_ref = (float(np.mean(x)) for x in self._combination.weights(self.normal_reflectance))
         self._sampling = SamplingTables.build(self.band_grid, self._evaluator.evaluate_mu, a_ref, b_ref)
 
+    # ---- parts, for renderers that re-implement the evaluation (sandlight.mitsuba) --------------
+    @property
+    def combination_terms(self) -> Combination:
+        """The combination f = a(λ) f̂ + b(λ) P(μ_i) P(μ_o): r_0, the profile P at the band grid's
+        nodes and the weights (a, b) of a reflectance (`sandlight.appearance.combination`)."""
+        return self._combination
+
     # ---- spectra -----------------------------------------------------------------------------
     def reflectance_at(self, wavelengths_nm: ArrayLike | None = None) -> np.ndarray:
         """r(λ) at the given wavelengths (nm), linear between the spectral model's wavelengths.

@@ -55,6 +55,12 @@ def reflectance(
     ),
     memory: str | None = typer.Option(None, "--memory", help=MEMORY_HELP),
     geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
+    share: bool = typer.Option(
+        True,
+        "--share/--no-share",
+        help="Spectral path sharing: trace wavelengths of nearly equal indices together (default; "
+        "docs/transport.md). --no-share traces every wavelength on its own.",
+    ),
 ) -> None:
     """Monte Carlo directional-hemispherical reflectance of a sand sample."""
     from sandlight.engine import reflectance as run
@@ -66,7 +72,15 @@ def reflectance(
     echo(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
     with option_names(ENGINE_OPTIONS):
         result = run(
-            sample, wl, rays=n, incidence_deg=incidence, seed=seed, threads=threads, memory=memory, geometry=geometry
+            sample,
+            wl,
+            rays=n,
+            incidence_deg=incidence,
+            seed=seed,
+            threads=threads,
+            memory=memory,
+            geometry=geometry,
+            share=share,
         )
     _report(result, output, plot, title=str(sample_file or preset or DEFAULT_PRESET))
 

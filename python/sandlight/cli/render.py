@@ -14,6 +14,7 @@ import typer
 from sandlight.cli._app import app
 from sandlight.cli._common import SEED_HELP, THREADS_HELP, option_names
 from sandlight.cli._output import echo
+from sandlight.errors import ParameterError
 from sandlight.io import check_output_directory, check_output_file
 
 
@@ -38,6 +39,9 @@ def render(
         help="Per-frame NetCDF: 'spectral' (radiance and XYZ), 'xyz' or 'none' (overrides output.linear).",
     ),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar with an ETA."),
+    renderer: str = typer.Option(
+        "sandlight", help="'sandlight' (the spectral path tracer) or 'mitsuba' (Mitsuba 3, docs/mitsuba.md)."
+    ),
 ) -> None:
     """Render an animation of a sandy landscape under the sun and sky (paper §4.2): frames as
     sRGB PNG and linear NetCDF (XYZ, and with --linear spectral the spectral radiance),
@@ -53,8 +57,15 @@ def render(
         parsed = Scene.load(scene).with_overrides(
             width=width, height=height, frames=frames, spp=spp, seed=seed, threads=threads, write_linear=linear
         )
+    if renderer not in ("sandlight", "mitsuba"):
+        raise ParameterError("--renderer", renderer, "'sandlight' or 'mitsuba'")
     try:
-        run = render_scene(parsed, output, video=video, progress=progress, log=echo)
+        if renderer == "mitsuba":
+            from sandlight.mitsuba.animation import render_scene_mitsuba
+
+            run = render_scene_mitsuba(parsed, output, video=video, log=echo)
+        else:
+            run = render_scene(parsed, output, video=video, progress=progress, log=echo)
     except KeyboardInterrupt:
         kept = len(list(Path(output).glob("frame_*.png")))
         echo(f"interrupted: the {kept} finished frame(s) in {output} are complete; no video was written", err=True)

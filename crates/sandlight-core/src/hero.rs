@@ -1,0 +1,520 @@
+//! Spectral path sharing (docs/transport.md, "Spectral path sharing"): the sand media of a group
+//! of wavelengths traced together, one path per ray at a hero wavelength chosen uniformly in the
+//! group, with a weight per wavelength (`spectral::SpectralWeights`) and balance-heuristic
+//! estimates; and the deterministic fixed-point tallies of such runs.
+//!
+//! The media of a group share their geometry (particle types, sizes, shapes, free path, pore
+//! filling, film thickness, depth); their optics differ. The wavelength-dependent choices are
+//! the layer stacks at every particle (reflect / transmit / absorb), absorption along chords
+//! through cores and paths through pore water, and the flat water surface of a filled surface
+//! pore. Directions come from the hero's refractive indices (dispersion: docs/transport.md says
+//! how groups are formed and what this costs).
+//!
+//! The stacks' probabilities are read from tables of R and R + T over the incidence cosine,
+//! linearly interpolated (`STACK_CELLS` cells), for the hero's decision and the companions'
+//! ratios alike; cells where interpolation could be off by more than `TABLE_TOLERANCE` (near
+//! critical angles, steep grazing features) are evaluated exactly instead. The shared
+//! estimator is exact for these stacks, which differ from the exact ones by < 1e-6 in any
+//! probability (tested below; docs/transport.md).
+
+use crate::driver::{for_rays, Rays};
+use crate::error::SandlightError;
+use crate::fresnel;
+use crate::math::Vec3;
+use crate::medium::Particulate;
+use crate::particle::{survives, Absorber, PathChoices, StackFate, StackKind, Stacks};
+use crate::rng::Rng;
+use crate::spectral::SpectralWeights;
+use crate::transport::{trace_classic, Fate, Limits};
+
+/// Cells of the stack tables over the incidence cosine μ ∈ [0, 1].
+pub const STACK_CELLS: usize = 2048;
+
+/// Largest interpolation error of R or R + T allowed in a table cell, checked at interior
+/// points of each cell (a cell that fails is evaluated exactly).
+pub const TABLE_TOLERANCE: f64 = 5e-7;
+
+/// Most wavelengths in one group (the fixed-point products of `SpectralCounts` assume an
+/// estimate ≤ N ≤ 2¹⁶; 256 keeps the per-ray work of the products bounded).
+pub const MAX_GROUP: usize = 256;
+
+/// Fixed-point scale of the tallies: an estimate F ∈ [0, N] is counted as round(F · 2³²).
+pub const FIXED_ONE: f64 = 4_294_967_296.0;
+
+/// The sand media of a group of wavelengths, traced together.
+#[derive(Clone, Debug)]
+pub struct HeroGroup {
+    media: Vec<Particulate>,
+    /// Per particle type and `StackKind` (index `4 t + kind.index()`): [R, R + T] at node
+    /// μ = i / STACK_CELLS for every wavelength, at `i * n + j`.
+    tables: Vec<Vec<[f64; 2]>>,
+    /// Per table, the cells evaluated exactly (interpolation not within `TABLE_TOLERANCE`).
+    exact: Vec<Vec<bool>>,
+    /// Core absorption coefficients (mm⁻¹) per type, per wavelength; None where all are equal.
+    core_alpha: Vec<Option<Vec<f64>>>,
+    water_alpha: Option<Vec<f64>>,
+    water_n: Option<Vec<f64>>,
+    /// Core real indices per type, per wavelength; None where all are equal.
+    core_n: Vec<Option<Vec<f64>>>,
+}
+
+fn varies(v: Vec<f64>) -> Option<Vec<f64>> {
+    v.iter().any(|&x| x != v[0]).then_some(v)
+}
+
+impl HeroGroup {
+    /// The group of `media` (one per wavelength, at most `MAX_GROUP`), which must share their
+    /// geometry.
+    pub fn new(media: Vec<Particulate>) -> Result<HeroGroup, SandlightError> {
+        if media.is_empty() || media.len() > MAX_GROUP {
+            return Err(SandlightError::parameter(
+                "media",
+                format!("{} media", media.len()),
+                &format!("1 to {MAX_GROUP} media, one per wavelength"),
+            ));
+        }
+        let first = &media[0];
+        for (j, m) in media.iter().enumerate() {
+            let same_types = m.types.len() == first.types.len()
+                && m.types.iter().zip(&first.types).all(|(a, b)| {
+                    a.probability == b.probability
+                        && a.sizes == b.sizes
+                        && a.aspect_ratio == b.aspect_ratio
+                        && a.optics.wets == b.optics.wets
+                        && a.optics.coating.map(|c| c.thickness_mm) == b.optics.coating.map(|c| c.thickness_mm)
+                });
+            let same_pore = m.pore.film_thickness_mm == first.pore.film_thickness_mm
+                && m.pore.water_filled_probability == first.pore.water_filled_probability;
+            if !same_types
+                || !same_pore
+                || m.mean_free_path_mm != first.mean_free_path_mm
+                || m.depth_mm != first.depth_mm
+            {
+                return Err(SandlightError::parameter(
+                    &format!("media[{j}]"),
+                    "a medium of other geometry",
+                    "the media of a spectral group differ only in their optics (same particle types, sizes, shapes, \
+                     free path, pore filling, film thickness and depth)",
+                ));
+            }
+        }
+        let n = media.len();
+        let types = first.types.len();
+        let mut tables = Vec::with_capacity(4 * types);
+        let mut exact = Vec::with_capacity(4 * types);
+        for t in 0..types {
+            let stacks: Vec<&Stacks> = media.iter().map(|m| m.type_tables(t).1).collect();
+            for kind in StackKind::ALL {
+                let f = |s: &Stacks, mu: f64| {
+                    let (r, t) = s.rt(kind, mu);
+                    [r, r + t]
+                };
+                let mut tab = Vec::with_capacity((STACK_CELLS + 1) * n);
+                for i in 0..=STACK_CELLS {
+                    let mu = i as f64 / STACK_CELLS as f64;
+                    tab.extend(stacks.iter().map(|s| f(s, mu)));
+                }
+                // Interpolation checked at 3 interior points per cell, every wavelength (7 points
+                // marked the same 19.8 % of the cells for the default sample at 400–700 nm).
+                let cells = (0..STACK_CELLS)
+                    .map(|i| {
+                        stacks.iter().enumerate().any(|(j, s)| {
+                            let (a, b) = (tab[i * n + j], tab[(i + 1) * n + j]);
+                            [0.25, 0.5, 0.75].into_iter().any(|frac| {
+                                let v = f(s, (i as f64 + frac) / STACK_CELLS as f64);
+                                (0..2).any(|k| (a[k] + frac * (b[k] - a[k]) - v[k]).abs() > TABLE_TOLERANCE)
+                            })
+                        })
+                    })
+                    .collect();
+                tables.push(tab);
+                exact.push(cells);
+            }
+        }
+        let core_alpha =
+            (0..types).map(|t| varies(media.iter().map(|m| m.types[t].optics.core_alpha_per_mm).collect())).collect();
+        let water_alpha = varies(media.iter().map(|m| m.pore.water_alpha_per_mm).collect());
+        let water_n = varies(media.iter().map(|m| m.pore.water_n).collect());
+        let core_n = (0..types).map(|t| varies(media.iter().map(|m| m.types[t].optics.core_n).collect())).collect();
+        Ok(HeroGroup { media, tables, exact, core_alpha, water_alpha, water_n, core_n })
+    }
+
+    /// Wavelengths in the group.
+    pub fn len(&self) -> usize {
+        self.media.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.media.is_empty()
+    }
+
+    /// The medium at wavelength `j`.
+    pub fn medium(&self, j: usize) -> &Particulate {
+        &self.media[j]
+    }
+
+    /// The indices of the medium a stack `kind` of type `t` is entered from (per wavelength),
+    /// None where they are all equal (air, or no dispersion in the group).
+    #[inline]
+    fn incident_indices(&self, t: usize, kind: StackKind) -> Option<&[f64]> {
+        match (kind.exit, kind.water) {
+            (true, _) => self.core_n[t].as_deref(),
+            (false, true) => self.water_n.as_deref(),
+            (false, false) => None,
+        }
+    }
+
+    /// [R, R + T] of stack `kind` of type `t` for wavelength `j` at cosine `cos` (in [0, 1]).
+    #[inline]
+    fn rt_exact_or_table(&self, t: usize, kind: StackKind, cos: f64, j: usize) -> [f64; 2] {
+        let x = cos * STACK_CELLS as f64;
+        let cell = (x as usize).min(STACK_CELLS - 1);
+        self.rt_at(t, kind, cos, cell, x - cell as f64, j)
+    }
+
+    /// [R, R + T] of stack `kind` of type `t` for wavelength `j` at cosine `cos` (in [0, 1]),
+    /// interpolated in `cell` at `frac`, or exact where the cell is marked so.
+    #[inline]
+    fn rt_at(&self, t: usize, kind: StackKind, cos: f64, cell: usize, frac: f64, j: usize) -> [f64; 2] {
+        let k = 4 * t + kind.index();
+        if self.exact[k][cell] {
+            let (r, t) = self.media[j].type_tables(t).1.rt(kind, cos);
+            return [r, r + t];
+        }
+        let n = self.media.len();
+        let tab = &self.tables[k];
+        let (a, b) = (tab[cell * n + j], tab[(cell + 1) * n + j]);
+        [a[0] + frac * (b[0] - a[0]), a[1] + frac * (b[1] - a[1])]
+    }
+
+    /// Fraction of table cells evaluated exactly (over all types and stacks).
+    pub fn exact_fraction(&self) -> f64 {
+        let cells: usize = self.exact.iter().map(|e| e.iter().filter(|&&x| x).count()).sum();
+        cells as f64 / (self.exact.len() * STACK_CELLS) as f64
+    }
+
+    /// Traces one ray: the hero drawn from the ray's generator, then the path with the
+    /// companions' weights. Returns the fate and events; `weights` holds the path's weights.
+    pub fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits, weights: &mut SpectralWeights) -> (Fate, u64) {
+        let n = self.media.len();
+        let hero = ((rng.uniform() * n as f64) as usize).min(n - 1);
+        weights.reset(hero);
+        let mut companions = Companions { group: self, weights, particle: 0 };
+        let out = trace_classic(&self.media[hero], dir_in, rng, limits, &mut companions);
+        (out.fate, out.events)
+    }
+}
+
+/// The choices of a hero-wavelength path: the hero decides, every wavelength's weight takes
+/// the ratio of its probability of the outcome to the hero's.
+pub struct Companions<'a> {
+    group: &'a HeroGroup,
+    weights: &'a mut SpectralWeights,
+    particle: usize,
+}
+
+impl PathChoices for Companions<'_> {
+    #[inline]
+    fn particle(&mut self, type_index: usize) {
+        self.particle = type_index;
+    }
+
+    #[inline]
+    fn stack_fate(&mut self, _stacks: &Stacks, kind: StackKind, cos: f64, u: f64) -> StackFate {
+        let cos = cos.clamp(0.0, 1.0);
+        let x = cos * STACK_CELLS as f64;
+        let cell = (x as usize).min(STACK_CELLS - 1);
+        let frac = x - cell as f64;
+        let (g, t, hero) = (self.group, self.particle, self.weights.hero());
+        let [r, rt] = g.rt_at(t, kind, cos, cell, frac, hero);
+        let fate = if u < r {
+            StackFate::Reflect
+        } else if u >= rt {
+            // The path ends with no light for any wavelength: no weight to update.
+            return StackFate::Absorb;
+        } else {
+            StackFate::Transmit
+        };
+        let p = |[r, rt]: [f64; 2]| if fate == StackFate::Reflect { r } else { rt - r };
+        let p_hero = p([r, rt]);
+        match g.incident_indices(t, kind) {
+            None => {
+                self.weights.scale(|j| if j == hero { 1.0 } else { p(g.rt_at(t, kind, cos, cell, frac, j)) / p_hero })
+            }
+            Some(n) => {
+                // Dispersion: wavelength j meets the interface with the hero's tangential
+                // invariant s = n_h sin θ_h (the hero's direction outside), at its own cosine.
+                let s2 = n[hero] * n[hero] * (1.0 - cos * cos);
+                self.weights.scale(|j| {
+                    if j == hero {
+                        return 1.0;
+                    }
+                    let cos_j = (1.0 - s2 / (n[j] * n[j])).max(0.0).sqrt();
+                    p(g.rt_exact_or_table(t, kind, cos_j, j)) / p_hero
+                })
+            }
+        }
+        fate
+    }
+
+    #[inline]
+    fn survives(&mut self, absorber: Absorber, alpha_per_mm: f64, len: f64, rng: &mut Rng) -> bool {
+        if alpha_per_mm > 0.0 && !survives(rng.uniform(), alpha_per_mm * len) {
+            return false;
+        }
+        let alphas = match absorber {
+            Absorber::Core => &self.group.core_alpha[self.particle],
+            Absorber::Water => &self.group.water_alpha,
+        };
+        if let Some(a) = alphas {
+            let a_hero = a[self.weights.hero()];
+            self.weights.attenuate(|j| a[j] - a_hero, len);
+        }
+        true
+    }
+
+    #[inline]
+    fn water_surface(&mut self, from_air: bool, cos: f64, reflected: bool) {
+        let Some(n) = &self.group.water_n else { return };
+        let hero = self.weights.hero();
+        // From the water, at each wavelength's own cosine for the hero's invariant n_h sin θ_h.
+        let s2 = n[hero] * n[hero] * (1.0 - cos * cos);
+        let r = |n: f64| {
+            if from_air {
+                fresnel::dielectric(1.0, n, cos)
+            } else {
+                fresnel::dielectric(n, 1.0, (1.0 - s2 / (n * n)).max(0.0).sqrt())
+            }
+        };
+        let p = |n: f64| if reflected { r(n) } else { 1.0 - r(n) };
+        let p_hero = p(n[hero]);
+        self.weights.scale(|j| if j == hero { 1.0 } else { p(n[j]) / p_hero });
+    }
+}
+
+/// Fixed-point tallies of a shared run: integer sums, so that any split of the rays over
+/// threads and batches gives bit-identical totals (docs/transport.md). Estimates F_j ∈ [0, N]
+/// enter as q_j = round(F_j · 2³²).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SpectralCounts {
+    pub launched: u64,
+    pub capped: u64,
+    /// Particle events summed over rays (shared by the group's wavelengths).
+    pub events: u64,
+    /// Σ q_j over escaped rays.
+    pub escaped: Vec<u128>,
+    /// Σ q_j over rays transmitted through the bottom.
+    pub transmitted: Vec<u128>,
+    /// Σ q_i q_j over escaped rays, i ≤ j, row by row (the diagonal is Σ q_j²).
+    pub products: Vec<u128>,
+}
+
+impl SpectralCounts {
+    pub fn zeros(n: usize) -> SpectralCounts {
+        SpectralCounts {
+            escaped: vec![0; n],
+            transmitted: vec![0; n],
+            products: vec![0; n * (n + 1) / 2],
+            ..Default::default()
+        }
+    }
+
+    pub fn merge(mut self, o: SpectralCounts) -> SpectralCounts {
+        self.launched += o.launched;
+        self.capped += o.capped;
+        self.events += o.events;
+        let add = |a: &mut Vec<u128>, b: &[u128]| a.iter_mut().zip(b).for_each(|(x, y)| *x += y);
+        add(&mut self.escaped, &o.escaped);
+        add(&mut self.transmitted, &o.transmitted);
+        add(&mut self.products, &o.products);
+        self
+    }
+}
+
+/// A block's tally with the scratch space of its rays.
+struct Block {
+    counts: SpectralCounts,
+    weights: SpectralWeights,
+    estimates: Vec<f64>,
+    q: Vec<u64>,
+}
+
+/// Directional-hemispherical reflectance tallies of a shared run over `group` (docs/model.md
+/// §2.6 with the estimates of `spectral`): ρ_j = Σ F_j / launched over escaped rays.
+pub fn spectral_directional_hemispherical(
+    group: &HeroGroup,
+    dir_in: Vec3,
+    rays: Rays,
+    limits: &Limits,
+) -> SpectralCounts {
+    let n = group.len();
+    let init = || Block {
+        counts: SpectralCounts::zeros(n),
+        weights: SpectralWeights::new(n, 0),
+        estimates: vec![0.0; n],
+        q: vec![0; n],
+    };
+    let body = |b: &mut Block, i: u64| {
+        let (fate, events) = group.trace(dir_in, &mut rays.rng(i), limits, &mut b.weights);
+        let c = &mut b.counts;
+        c.launched += 1;
+        c.events += events;
+        let escaped = match fate {
+            Fate::Escaped(_) => true,
+            Fate::Transmitted => false,
+            Fate::Capped => {
+                c.capped += 1;
+                return;
+            }
+            Fate::Absorbed => return,
+        };
+        b.weights.estimates(&mut b.estimates);
+        for (q, &f) in b.q.iter_mut().zip(&b.estimates) {
+            *q = (f * FIXED_ONE).round() as u64;
+        }
+        if !escaped {
+            c.transmitted.iter_mut().zip(&b.q).for_each(|(s, &q)| *s += q as u128);
+            return;
+        }
+        c.escaped.iter_mut().zip(&b.q).for_each(|(s, &q)| *s += q as u128);
+        let mut k = 0;
+        for (a, &qa) in b.q.iter().enumerate() {
+            for (p, &qb) in c.products[k..k + n - a].iter_mut().zip(&b.q[a..]) {
+                *p += qa as u128 * qb as u128;
+            }
+            k += n - a;
+        }
+    };
+    let merge = |mut a: Block, b: Block| {
+        a.counts = a.counts.merge(b.counts);
+        a
+    };
+    for_rays(rays.first, rays.n, 16, init, body, merge).counts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::driver::{directional_hemispherical, incident_direction};
+    use crate::medium::ParticleType;
+    use crate::particle::{Coating, ParticleOptics, PoreOptics};
+    use crate::sizes::QuantileTable;
+
+    /// A quartz-like sand with a weakly absorbing coating and wet pores, whose absorption
+    /// (core, coating, water) is scaled by `absorb` and whose indices are shifted by `dn`.
+    fn sand(absorb: f64, dn: f64) -> Particulate {
+        let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
+        let optics = ParticleOptics {
+            core_n: 1.55 + dn,
+            core_k: 1e-6 * absorb,
+            core_alpha_per_mm: 0.2 * absorb,
+            coating: Some(Coating { n: 1.9 + dn, alpha_per_mm: 40.0 * absorb, thickness_mm: 5e-4 }),
+            wets: true,
+        };
+        let t = ParticleType { probability: 1.0, sizes, aspect_ratio: 1.3, optics };
+        let pore = PoreOptics {
+            water_n: 1.333 + dn,
+            water_alpha_per_mm: 0.5 * absorb,
+            film_thickness_mm: 2e-3,
+            water_filled_probability: 0.3,
+        };
+        Particulate::new(vec![t], 0.12, pore, f64::INFINITY).unwrap()
+    }
+
+    fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+        rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(f)
+    }
+
+    #[test]
+    fn stack_tables_are_close_to_the_exact_stacks() {
+        // Interpolated or exact by cell: within 1e-6 of the exact R and R + T at 40 001
+        // cosines, every stack, including the square-root edges at critical cosines; most cells
+        // are interpolated.
+        let g = HeroGroup::new(vec![sand(1.0, 0.0), sand(3.0, 0.02)]).unwrap();
+        let mut worst = 0.0f64;
+        for j in 0..2 {
+            let (_, stacks) = g.medium(j).type_tables(0);
+            for kind in StackKind::ALL {
+                for i in 0..=40_000 {
+                    let mu = i as f64 / 40_000.0;
+                    let x = mu * STACK_CELLS as f64;
+                    let cell = (x as usize).min(STACK_CELLS - 1);
+                    let [r, rt] = g.rt_at(0, kind, mu, cell, x - cell as f64, j);
+                    let (re, te) = stacks.rt(kind, mu);
+                    worst = worst.max((r - re).abs()).max((rt - re - te).abs());
+                }
+            }
+        }
+        assert!(worst < 1e-6, "worst interpolation error {worst}");
+        assert!(g.exact_fraction() < 0.3, "{}", g.exact_fraction());
+    }
+
+    #[test]
+    fn a_group_of_one_wavelength_agrees_with_the_classic_tracer() {
+        // One wavelength: every weight is 1, the estimate the indicator of escape; the tallies
+        // count escapes exactly as the classic tracer does (different random streams).
+        let m = sand(1.0, 0.0);
+        let g = HeroGroup::new(vec![m.clone()]).unwrap();
+        let dir = incident_direction(0.5);
+        let n = 40_000;
+        let c =
+            spectral_directional_hemispherical(&g, dir, Rays { seed: 1, stream: 1, first: 0, n }, &Limits::default());
+        assert_eq!(c.escaped[0] % FIXED_ONE as u128, 0);
+        let shared = c.escaped[0] as f64 / FIXED_ONE / n as f64;
+        let classic = directional_hemispherical(&m, dir, Rays { seed: 1, stream: 0, first: 0, n }, &Limits::default());
+        let mono = classic.escaped as f64 / n as f64;
+        let se = (2.0 * mono * (1.0 - mono) / n as f64).sqrt();
+        assert!((shared - mono).abs() < 4.0 * se, "{shared} vs {mono} ± {se}");
+    }
+
+    #[test]
+    fn shared_estimates_agree_with_independent_runs() {
+        // Five wavelengths whose absorption differs (core, coating, film and bulk water by a
+        // factor 12): each shared estimate within 4 standard errors of its own classic run.
+        let absorb = [0.25, 0.5, 1.0, 2.0, 3.0];
+        let g = HeroGroup::new(absorb.iter().map(|&a| sand(a, 0.0)).collect()).unwrap();
+        let dir = incident_direction(0.3);
+        let n = 60_000;
+        let c =
+            spectral_directional_hemispherical(&g, dir, Rays { seed: 4, stream: 1, first: 0, n }, &Limits::default());
+        for (j, &a) in absorb.iter().enumerate() {
+            let s1 = c.escaped[j] as f64 / FIXED_ONE;
+            let k = j * absorb.len() - j * (j.saturating_sub(1)) / 2;
+            let s2 = c.products[k] as f64 / (FIXED_ONE * FIXED_ONE);
+            let (rho, var) = (s1 / n as f64, (s2 / n as f64 - (s1 / n as f64).powi(2)) / (n - 1) as f64);
+            let classic = directional_hemispherical(
+                &sand(a, 0.0),
+                dir,
+                Rays { seed: 4, stream: 0, first: 0, n },
+                &Limits::default(),
+            );
+            let mono = classic.escaped as f64 / n as f64;
+            let se = (var + mono * (1.0 - mono) / n as f64).sqrt();
+            assert!((rho - mono).abs() < 4.0 * se, "absorption ×{a}: shared {rho} vs {mono} ± {se}");
+        }
+    }
+
+    #[test]
+    fn shared_tallies_do_not_depend_on_threads_or_batches() {
+        let g = HeroGroup::new(vec![sand(0.5, 0.0), sand(2.0, 0.01), sand(4.0, 0.02)]).unwrap();
+        let dir = incident_direction(0.7);
+        let run = |first, n| {
+            spectral_directional_hemispherical(&g, dir, Rays { seed: 9, stream: 2, first, n }, &Limits::default())
+        };
+        let one = on_threads(1, || run(0, 3000));
+        for threads in [2, 3] {
+            assert_eq!(on_threads(threads, || run(0, 3000)), one, "{threads} threads");
+        }
+        let batches = on_threads(2, || run(0, 1000).merge(run(1000, 1)).merge(run(1001, 1999)));
+        assert_eq!(batches, one);
+        assert!(one.escaped.iter().all(|&e| e > 0));
+    }
+
+    #[test]
+    fn media_of_other_geometry_are_refused() {
+        let mut other = sand(1.0, 0.0);
+        other.depth_mm = 3.0;
+        assert!(HeroGroup::new(vec![sand(1.0, 0.0), other]).is_err());
+        assert!(HeroGroup::new(vec![]).is_err());
+    }
+}

@@ -1,0 +1,97 @@
+//! `sandlight._native.SpectralGroup`: the sand media of a group of wavelengths traced together
+//! with spectral path sharing (docs/transport.md, "Spectral path sharing").
+
+use pyo3::exceptions::PyRuntimeError;
+use pyo3::prelude::*;
+use sandlight_core::driver::{incident_direction, Rays};
+use sandlight_core::error::SandlightError;
+use sandlight_core::hero::{spectral_directional_hemispherical, HeroGroup, FIXED_ONE};
+use sandlight_core::memory::Memory;
+use sandlight_core::transport::Limits;
+
+use crate::errors::to_py;
+use crate::medium::{Kind, PyMedium};
+use crate::pool::run_with_threads;
+
+#[pyclass(frozen, name = "SpectralGroup", module = "sandlight._native")]
+pub struct PySpectralGroup {
+    group: HeroGroup,
+}
+
+/// Totals of a shared run: (launched, capped, events, escaped, transmitted, products), the
+/// last three fixed-point integer sums (see `sandlight_core::hero::SpectralCounts`).
+type SharedCounts = (u64, u64, u64, Vec<u128>, Vec<u128>, Vec<u128>);
+
+#[pymethods]
+impl PySpectralGroup {
+    /// The group of `media` (one on-the-fly sand medium without path memory per wavelength,
+    /// same geometry).
+    #[new]
+    fn new(py: Python<'_>, media: Vec<PyRef<'_, PyMedium>>) -> PyResult<Self> {
+        let mut list = Vec::with_capacity(media.len());
+        for (j, m) in media.iter().enumerate() {
+            match &m.kind {
+                Kind::Particulate(w) if w.memory == Memory::None => list.push(w.medium.clone()),
+                _ => {
+                    return Err(to_py(
+                        py,
+                        SandlightError::parameter(
+                            &format!("media[{j}]"),
+                            "another kind of medium",
+                            "an on-the-fly sand medium with memory 'none' (spectral sharing traces the classic model)",
+                        ),
+                    ))
+                }
+            }
+        }
+        HeroGroup::new(list).map(|group| PySpectralGroup { group }).map_err(|e| to_py(py, e))
+    }
+
+    /// Wavelengths in the group.
+    fn __len__(&self) -> usize {
+        self.group.len()
+    }
+
+    /// Fixed-point scale of the integer sums (an estimate F counts as round(F · scale)).
+    #[classattr]
+    fn fixed_one() -> f64 {
+        FIXED_ONE
+    }
+
+    /// Fraction of the layer-stack table cells evaluated exactly rather than interpolated.
+    fn exact_fraction(&self) -> f64 {
+        self.group.exact_fraction()
+    }
+
+    /// Traces rays `first_ray .. first_ray + n_rays` at incidence `theta_deg` and returns
+    /// (launched, capped, events, escaped, transmitted, products) with escaped and transmitted
+    /// per wavelength and the products Σ q_i q_j (i ≤ j, row by row) as Python integers. The GIL
+    /// is released.
+    #[pyo3(signature = (theta_deg, seed, stream, first_ray, n_rays, max_events, max_internal, threads = None))]
+    #[allow(clippy::too_many_arguments)] // one argument per Python parameter
+    fn dhr(
+        &self,
+        py: Python<'_>,
+        theta_deg: f64,
+        seed: u64,
+        stream: u64,
+        first_ray: u64,
+        n_rays: u64,
+        max_events: u64,
+        max_internal: u32,
+        threads: Option<usize>,
+    ) -> PyResult<SharedCounts> {
+        if !(0.0..90.0).contains(&theta_deg) {
+            return Err(to_py(py, SandlightError::parameter("incidence_deg", theta_deg, "must be in [0, 90)")));
+        }
+        let dir = incident_direction(theta_deg.to_radians());
+        let limits = Limits { max_events, max_internal };
+        let rays = Rays { seed, stream, first: first_ray, n: n_rays };
+        let c = py
+            .detach(|| {
+                run_with_threads(threads, || spectral_directional_hemispherical(&self.group, dir, rays, &limits))
+            })
+            .map_err(PyRuntimeError::new_err)?;
+        Ok((c.launched, c.capped, c.events, c.escaped, c.transmitted, c.products))
+    }
+}

@@ -1,0 +1,245 @@
+"""The arrays the Mitsuba plugin evaluates and samples: one or more `SandAppearance` levels, flat.
+
+Public objects
+--------------
+PluginTables
+    Every level's band grid f̂, diffuse profile P, reflectance r(λ), r_0 and sampling laws, on
+    the shared μ nodes, as flat float arrays (NumPy; `sandlight.mitsuba.bsdf` uploads them).
+rgb_projection
+    The matrix that turns a spectral weight on a 1 nm grid into linear sRGB (the RGB variants'
+    conversion).
+
+A *level* is the `SandAppearance` of one value of the parameter a texture varies (16
+saturations for the drying beach); an untextured plugin has one level. Between two levels the
+plugin blends the BRDFs linearly, as sandlight's renderer does (docs/rendering.md, "BRDF
+tables").
+
+Sampling tables. f is linear in the given direction's μ between its two nodes (and in the
+level), so at the reference spectrum — the mean over the model's wavelengths of the weights,
+(ā, b̄), as `SandAppearance`'s sampler uses — f_ref is a blend Σ_c w_c h_c of at most four
+*rows* c (level k × given-side node q), each row h_{k,q}(μ, Δφ) = ā F_k[q, ·, ·] + b̄ P_k[q] P_k(·)
+bilinear in (μ, Δφ) on every *cell* between consecutive sampled-side nodes (μ below the lowest
+node: the held value) and Δφ nodes. A row's cell weight is its exact integral
+W = ∫∫ h μ dμ dΔφ = (ΔΔφ/2)[(h₀₀ + h₀₁) Δμ(2μ₀ + μ₁)/6 + (h₁₀ + h₁₁) Δμ(μ₀ + 2μ₁)/6], and the row's
+albedo A = Σ W (= ā A_f̂(node) + b̄ A_PP(node), the combination's albedo at the reference spectrum).
+The sampler (`sandlight.mitsuba.bsdf`) picks row c with probability w_c A_c / Σ w A, a cell by
+W / A, then Δφ from the cell's linear marginal and μ from the conditional (linear × μ), both
+exactly, so that pdf = f_ref cos θ / Σ_c w_c A_c: proportional to the BRDF at the reference
+spectrum, as sandlight's renderer samples its tables (docs/rendering.md, "Sampling that follows
+the table, exactly"), with no defensive cosine share (f = 0 wherever f_ref = 0).
+
+Spectral weights. f = a(λ) f̂ + b(λ) P P with (a, b) the combination's weights of r(λ)
+(`sandlight.appearance.combination`). r is kept on a regular 1 nm grid spanning the spectral
+model's wavelengths (linear interpolation of its nodes, so the 1 nm grid reproduces
+`SandAppearance.reflectance_at` exactly when the nodes are whole nanometres, as the shipped
+400:700:20 are); outside that range r is held at its end values (Mitsuba samples 360–830 nm).
+RGB variants use, per channel c, the weights a_c = Σ_λ w_c(λ) a(λ) with w the CIE 1931 2°
+colour-matching functions under illuminant D65 taken to linear sRGB (Rec. 709 primaries) and
+normalised so that a(λ) ≡ 1 gives (1, 1, 1): the linear-sRGB albedo colour of the spectral BRDF
+under daylight, the convention of Mitsuba's own RGB reflectances. Mono variants use the
+luminance row (Y) of the same map. Being linear in (a, b), the projection commutes with the
+blend of levels and with the BRDF's angular part.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from sandlight.appearance import SandAppearance
+from sandlight.errors import ParameterError
+
+__all__ = ["PluginTables", "rgb_projection", "PROJECTION_WAVELENGTHS_NM"]
+
+#: The 1 nm grid of the RGB projection: Mitsuba's spectral range.
+PROJECTION_WAVELENGTHS_NM = np.arange(360.0, 831.0)
+
+
+@functools.cache
+def rgb_projection() -> np.ndarray:
+    """Matrix (3, 471): linear sRGB of a reflectance spectrum on `PROJECTION_WAVELENGTHS_NM`.
+
+    Rows: R, G, B; row sums 1 (a white reflectance maps to (1, 1, 1)). CIE 1931 2° observer,
+    illuminant D65 (both from colour-science, interpolated to 1 nm), IEC 61966-2-1 XYZ → linear
+    sRGB matrix.
+    """
+    import colour
+
+    wl = PROJECTION_WAVELENGTHS_NM
+    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"]
+    xyz_bar = np.stack([np.interp(wl, cmfs.wavelengths, cmfs.values[:, i]) for i in range(3)])
+    d65 = colour.SDS_ILLUMINANTS["D65"]
+    e = np.interp(wl, d65.wavelengths, d65.values)
+    weights = xyz_bar * e[None, :]  # (3, W): XYZ of a reflectance under D65, up to a constant
+    m = np.asarray(colour.RGB_COLOURSPACES["sRGB"].matrix_XYZ_to_RGB, dtype=float)
+    rgb = m @ weights
+    return rgb / rgb.sum(axis=1, keepdims=True)
+
+
+@dataclass(frozen=True, eq=False)
+class PluginTables:
+    """Flat arrays of K levels (module docstring); float64 here, float32 once uploaded.
+
+    Attributes
+    ----------
+    levels : numpy.ndarray (K,)
+        Values of the varied parameter at the levels (one level: its own value, or 0).
+    nodes_ascending : numpy.ndarray (n,)
+        μ of the band grid's nodes, ascending (shared by every level).
+    slices : int
+        Δφ nodes 2πk/L.
+    grid : numpy.ndarray (K·n·n·L,)
+        f̂ values, index ((k·n + q_i)·n + q_o)·L + j with q the node in the band grid's (decreasing) order.
+    profile : numpy.ndarray (K·n,)
+        P at the nodes, sr^-1/2.
+    wavelength0_nm : float
+        First wavelength of the 1 nm reflectance grid.
+    reflectance : numpy.ndarray (K·M,)
+        r(λ) on the 1 nm grid (M points), clipped to [0, 1] as `SandAppearance` does.
+    reference_reflectance : numpy.ndarray (K,)
+        r_0 of each level.
+    product : bool
+        True for the paper's 'product' combination (b = 0).
+    rgb_a, rgb_b : numpy.ndarray (K, 3)
+        The RGB variants' weights (`rgb_projection`).
+    reference_weights : numpy.ndarray (K, 2)
+        (ā, b̄) of each level: the mean over the model's wavelengths of the weights (a, b).
+    row_cdf : numpy.ndarray (K·n·n·L,)
+        Running sums of W / A over the cells (m, j) of each row (k, q), float32-exact (last 1);
+        cell index m·L + j, m the sampled-side μ interval (0: [0, lowest node]).
+    row_albedo : numpy.ndarray (K·n,)
+        A of each row, dimensionless.
+    last_cell : numpy.ndarray (K·n,), int
+        Last cell of positive weight of each row.
+    """
+
+    levels: np.ndarray
+    nodes_ascending: np.ndarray
+    slices: int
+    grid: np.ndarray
+    profile: np.ndarray
+    wavelength0_nm: float
+    reflectance: np.ndarray
+    reference_reflectance: np.ndarray
+    product: bool
+    rgb_a: np.ndarray
+    rgb_b: np.ndarray
+    reference_weights: np.ndarray
+    row_cdf: np.ndarray
+    row_albedo: np.ndarray
+    last_cell: np.ndarray
+
+    @property
+    def n_levels(self) -> int:
+        return int(self.levels.size)
+
+    @property
+    def n_nodes(self) -> int:
+        return int(self.nodes_ascending.size)
+
+    @property
+    def n_cells(self) -> int:
+        """Cells of a row: n μ intervals × L Δφ intervals."""
+        return self.n_nodes * self.slices
+
+    @property
+    def n_wavelengths(self) -> int:
+        """Points M of the 1 nm reflectance grid."""
+        return self.reflectance.size // self.n_levels
+
+    @classmethod
+    def build(cls, appearances: Sequence[SandAppearance], levels: Sequence[float] | None = None) -> PluginTables:
+        """Tables of the appearances (one per level, in increasing level order).
+
+        Raises
+        ------
+        ParameterError
+            The appearances do not share the spatial model's nodes, wavelengths or combination.
+        """
+        apps = list(appearances)
+        levels = np.zeros(1) if levels is None else np.asarray(levels, dtype=float)
+        first = apps[0]
+        nodes = first.band_grid.nodes
+        for app in apps[1:]:
+            same = (
+                app.band_grid.grid.shape == first.band_grid.grid.shape
+                and np.array_equal(app.band_grid.nodes, nodes)
+                and np.array_equal(app.wavelengths_nm, first.wavelengths_nm)
+                and app.combination == first.combination
+            )
+            if not same:
+                raise ParameterError(
+                    "levels", repr(app), "appearances of one spatial model, spectral model and combination"
+                )
+        wl = first.wavelengths_nm
+        fine = np.arange(np.floor(wl[0]), np.ceil(wl[-1]) + 1.0)
+        proj = rgb_projection()
+        rgb_a, rgb_b, refl = [], [], []
+        for app in apps:
+            refl.append(np.interp(fine, wl, app.normal_reflectance))
+            # a, b on Mitsuba's whole range (r held outside the model's), projected to RGB.
+            r_wide = np.interp(PROJECTION_WAVELENGTHS_NM, wl, app.normal_reflectance)
+            a, b = app.combination_terms.weights(r_wide)
+            rgb_a.append(proj @ a)
+            rgb_b.append(proj @ b)
+        reference = np.array(
+            [[np.mean(w) for w in app.combination_terms.weights(app.normal_reflectance)] for app in apps]
+        )
+        rows = np.stack(
+            [
+                _row_cells(app.band_grid.grid, app.combination_terms.profile, nodes, a_ref, b_ref)
+                for app, (a_ref, b_ref) in zip(apps, reference)
+            ]
+        )  # (K, n, n·L)
+        albedo = rows.sum(axis=-1)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cdf = np.where(albedo[..., None] > 0, np.cumsum(rows, axis=-1) / albedo[..., None], 1.0)
+        cdf = cdf.astype(np.float32)
+        cdf[..., -1] = 1.0
+        positive = np.diff(cdf.astype(np.float64), axis=-1, prepend=0.0) > 0
+        last = positive.shape[-1] - 1 - np.argmax(positive[..., ::-1], axis=-1)
+        return cls(
+            levels=levels,
+            nodes_ascending=nodes[::-1].copy(),
+            slices=first.band_grid.slices,
+            grid=np.concatenate([app.band_grid.grid.ravel() for app in apps]),
+            profile=np.concatenate([app.combination_terms.profile for app in apps]),
+            wavelength0_nm=float(fine[0]),
+            reflectance=np.concatenate(refl),
+            reference_reflectance=np.array([app.reference_reflectance for app in apps]),
+            product=first.combination == "product",
+            rgb_a=np.array(rgb_a),
+            rgb_b=np.array(rgb_b),
+            reference_weights=reference,
+            row_cdf=cdf.ravel().astype(np.float64),
+            row_albedo=albedo.ravel(),
+            last_cell=last.ravel().astype(np.int64),
+        )
+
+
+def _row_cells(grid: np.ndarray, profile: np.ndarray, nodes: np.ndarray, a_ref: float, b_ref: float) -> np.ndarray:
+    """W of every cell of every row of one level (module docstring), shape (n, n·L).
+
+    ``grid`` F[q_i, q_o, j] and ``profile`` P[q] in the band grid's (decreasing) node order; rows
+    are the given side's nodes q, cells (m, j) with m the sampled side's μ interval in ascending
+    order (0: [0, lowest node], the held value; m ≥ 1: [asc[m − 1], asc[m]]).
+    """
+    n, _, L = grid.shape
+    asc = nodes[::-1]
+    # h[q, i, j]: the row function at ascending node i and Δφ node j.
+    h = a_ref * grid[:, ::-1, :] + b_ref * profile[:, None, None] * profile[::-1][None, :, None]
+    i0 = np.r_[0, np.arange(n - 1)]
+    i1 = np.arange(n)
+    mu0 = np.r_[0.0, asc[:-1]]
+    mu1 = asc
+    dmu = mu1 - mu0
+    c_a = dmu * (2 * mu0 + mu1) / 6.0  # ∫ (1 − s) μ dμ over the interval
+    c_b = dmu * (mu0 + 2 * mu1) / 6.0  # ∫ s μ dμ
+    j1 = (np.arange(L) + 1) % L
+    low = h[:, i0, :] + h[:, i0][:, :, j1]
+    high = h[:, i1, :] + h[:, i1][:, :, j1]
+    w = (np.pi / L) * (low * c_a[None, :, None] + high * c_b[None, :, None])  # Δφ/2 = π/L
+    return w.reshape(n, n * L)

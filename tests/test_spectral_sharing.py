@@ -1,0 +1,121 @@
+"""Spectral path sharing (docs/transport.md, "Spectral path sharing"): shared spectra agree with
+independent runs in expectation, their standard errors are right, and they are deterministic."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import sandlight
+from sandlight.errors import ParameterError
+from sandlight.optics import complex_index
+from sandlight.physics.media import IsotropicScatterers, as_traceable
+from sandlight.physics.spectral_groups import direction_indices, spectral_groups
+
+
+def absorption_only(name: str):
+    """The preset with every real index frozen at its 550 nm value: only absorption varies."""
+
+    def index(material: str, wavelength_nm: float) -> complex:
+        return complex(complex_index(material, 550.0).real, complex_index(material, wavelength_nm).imag)
+
+    return dataclasses.replace(as_traceable(name), optical_constants=index)
+
+
+def z_scores(traced, wl, rays: int, seeds: range) -> np.ndarray:
+    """z = (shared − independent)/√(se_s² + se_i²) per (seed, wavelength); each independent run
+    has its own seed, so that independent errors are independent."""
+    out = []
+    for seed in seeds:
+        shared = sandlight.reflectance(traced, wl, rays=rays, seed=seed, progress=False)
+        assert shared.shared
+        for k, lam in enumerate(wl):
+            ind = sandlight.reflectance(
+                traced, [lam], rays=rays, seed=10_000 + 100 * seed + k, progress=False, share=False
+            )
+            se = np.hypot(shared.stderr[k], ind.stderr[0])
+            out.append((shared.values[k] - ind.values[0]) / se)
+    return np.array(out)
+
+
+def test_absorption_only_media_agree_with_independent_runs():
+    # Red dune sand with its indices frozen: iron-oxide absorption makes ρ go from 0.03 to 0.6
+    # over 450–650 nm, all six wavelengths in one group.
+    traced = absorption_only("red-dune")
+    wl = np.linspace(450.0, 650.0, 6)
+    assert len(spectral_groups(traced.composition, wl, 0.0, optical_constants=traced.optical_constants)) == 1
+    z = z_scores(traced, wl, rays=3000, seeds=range(1, 31))
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
+def test_real_presets_350_to_2500_nm_agree_with_independent_runs():
+    # Real dispersion, grouped by the default tolerance (docs/transport.md reports the bigger
+    # run of scripts/studies/spectral_sharing_check.py).
+    wl = np.array([350.0, 450.0, 550.0, 700.0, 1000.0, 1300.0, 1700.0, 2100.0, 2500.0])
+    z = np.concatenate([z_scores(name, wl, rays=2000, seeds=range(1, 7)) for name in ("red-dune", "yellow-dune")])
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
+def test_shared_results_do_not_depend_on_the_thread_count():
+    wl = np.linspace(400.0, 700.0, 8)
+    runs = [sandlight.reflectance("red-dune", wl, rays=3000, seed=5, threads=t, progress=False) for t in (1, 2, 3)]
+    for r in runs[1:]:
+        np.testing.assert_array_equal(r.values, runs[0].values)
+        np.testing.assert_array_equal(r.covariance, runs[0].covariance)
+        np.testing.assert_array_equal(r.counts["events"], runs[0].counts["events"])
+
+
+def test_covariance_is_a_covariance_and_is_written():
+    wl = np.array([450.0, 550.0, 650.0, 1200.0, 2400.0])
+    r = sandlight.reflectance("red-dune", wl, rays=4000, seed=2, progress=False)
+    c = r.covariance
+    np.testing.assert_allclose(np.diag(c), r.stderr**2, rtol=1e-12)
+    np.testing.assert_array_equal(c, c.T)
+    assert np.linalg.eigvalsh(c).min() > -1e-12 * np.abs(c).max()
+    # Wavelengths of one group are positively correlated (shared paths); groups are independent.
+    same = [g for g in r.groups if len(g) > 1][0]
+    assert c[same[0], same[1]] > 0
+    other = [g for g in r.groups if same[0] not in g][0]
+    assert c[same[0], other[0]] == 0
+    ds = r.to_xarray()
+    assert ds["covariance"].dims == ("wavelength", "wavelength_b") and ds.attrs["spectral_sharing"] == 1
+
+
+def test_share_false_is_the_per_wavelength_engine():
+    wl = [500.0, 600.0]
+    r = sandlight.reflectance("red-dune", wl, rays=3000, seed=3, progress=False, share=False)
+    assert not r.shared and r.counts["escaped"].dtype == np.int64
+    np.testing.assert_allclose(r.values, r.counts["escaped"] / 3000)
+    assert np.isnan(r.covariance[0, 1]) and r.covariance[0, 0] == r.stderr[0] ** 2
+    one = sandlight.reflectance("red-dune", [600.0], rays=3000, seed=3, progress=False, share=False)
+    assert one.values[0] == r.values[1]  # common random numbers, as before sharing existed
+
+
+def test_media_that_cannot_share_fall_back_to_independent_runs():
+    r = sandlight.reflectance(IsotropicScatterers(0.9), [500.0, 600.0], rays=2000, progress=False)
+    assert not r.shared
+    r = sandlight.reflectance("red-dune", [500.0, 600.0], rays=500, memory="channel", progress=False)
+    assert not r.shared
+
+
+def test_groups_follow_the_indices_that_set_directions():
+    comp = as_traceable("ottawa-quartz").composition
+    wl = np.linspace(350.0, 2500.0, 67)
+    groups = spectral_groups(comp, wl, 0.02)
+    assert sorted(np.concatenate(groups).tolist()) == list(range(67))
+    for g in groups:
+        n = np.array([direction_indices(comp, lam) for lam in wl[g]])
+        assert np.all(n.max(axis=0) - n.min(axis=0) <= 0.02)
+    assert len(spectral_groups(comp, wl, 0.0)) == 67
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"), [({"share": "yes"}, "share"), ({"dispersion_tolerance": -1}, "dispersion_tolerance")]
+)
+def test_bad_sharing_options_are_refused(kwargs, name):
+    with pytest.raises(ParameterError, match=name):
+        sandlight.reflectance("red-dune", [500.0], rays=10, progress=False, **kwargs)
