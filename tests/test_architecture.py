@@ -28,7 +28,7 @@ RUST_SRC = REPO / "crates" / "sandlight-core" / "src"
 #: module or subpackage of ``sandlight``; it may import units of its own layer or below. Units
 #: planned but not yet written are declared too, so that they land in their layer.
 LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
-    ("foundation", frozenset({"_native", "errors", "checks", "io", "machine", "_runner", "jobs", "plots"})),
+    ("foundation", frozenset({"_native", "errors", "checks", "io", "machine", "_runner", "progress", "jobs", "plots"})),
     ("data", frozenset({"sample", "optics", "measured"})),
     ("physics", frozenset({"physics"})),
     ("measurement", frozenset({"engine", "gonio", "validation", "calibration"})),

@@ -248,7 +248,10 @@ def test_result_files(tmp_path):
     assert np.allclose(ds["reflectance"].values, r.values) and ds["wavelength"].attrs["units"] == "nm"
     assert ds.attrs["rays"] == 500
     r.to_csv(tmp_path / "r.csv")
-    table = np.loadtxt(tmp_path / "r.csv", delimiter=",", skiprows=1)
+    lines = (tmp_path / "r.csv").read_text().splitlines()
+    comments = [line for line in lines if line.startswith("# ")]  # the metadata, then the header
+    assert "# rays: 500" in comments and lines[len(comments)].startswith("wavelength_nm,reflectance,")
+    table = np.loadtxt(tmp_path / "r.csv", delimiter=",", skiprows=len(comments) + 1)
     assert np.allclose(table[:, 1], r.values)
     r.plot(tmp_path / "r.png")
     assert (tmp_path / "r.png").stat().st_size > 1000

@@ -11,7 +11,7 @@ from __future__ import annotations
 import time
 from collections.abc import Callable
 
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from sandlight.progress import progress_bar
 
 TARGET_BATCH_SECONDS = 0.25
 FIRST_BATCH = 2048
@@ -30,14 +30,16 @@ def run_in_batches(
 ) -> None:
     """Calls ``run_batch(first, count)`` over ``start_at .. total`` in adaptively sized batches.
 
-    A progress bar appears once the run has taken more than a second. ``on_checkpoint(done)``
+    A progress bar (`sandlight.progress`) appears once the run has taken more than a second;
+    inside a bar of rays already showing (the wavelengths of one `sandlight.reflectance`), the
+    rays count into that one. ``on_checkpoint(done)``
     is called every ``checkpoint_seconds`` and at the end, so a long run can be resumed.
     """
     done, batch = start_at, min(FIRST_BATCH, total - start_at)
-    start = time.perf_counter()
-    last_checkpoint = start
-    bar = task = None
-    try:
+    last_checkpoint = time.perf_counter()
+    with progress_bar(
+        label, total, unit="rays", completed=start_at, enabled=progress, show_after_s=SHOW_AFTER_SECONDS
+    ) as bar:
         while done < total:
             n = min(batch, total - done)
             t0 = time.perf_counter()
@@ -46,24 +48,7 @@ def run_in_batches(
             done += n
             # Aim for a fixed wall time per batch, growing at most 4× at a time.
             batch = int(max(256, min(4 * n, n * TARGET_BATCH_SECONDS / max(dt, 1e-6))))
-            if progress and bar is None and time.perf_counter() - start > SHOW_AFTER_SECONDS and done < total:
-                bar = Progress(
-                    TextColumn("{task.description}"),
-                    BarColumn(),
-                    MofNCompleteColumn(),
-                    TextColumn("{task.fields[rate]}"),
-                    TimeElapsedColumn(),
-                    TimeRemainingColumn(),
-                    transient=True,
-                )
-                bar.start()
-                task = bar.add_task(label, total=total, completed=done, rate="")
-            if bar is not None:
-                rate = (done - start_at) / (time.perf_counter() - start)
-                bar.update(task, completed=done, rate=f"{rate:,.0f} rays/s")
+            bar.advance(n, description=label)
             if on_checkpoint is not None and time.perf_counter() - last_checkpoint > checkpoint_seconds:
                 on_checkpoint(done)
                 last_checkpoint = time.perf_counter()
-    finally:
-        if bar is not None:
-            bar.stop()

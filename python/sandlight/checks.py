@@ -22,6 +22,8 @@ check_seed, check_threads
     The engine's master seed and worker-thread count.
 check_choice
     One of a fixed set of names.
+CONTROL_CHARACTERS, check_printable
+    Text without terminal control characters (names shown in progress bars and messages).
 check_wavelengths, check_incidence
     The engine's wavelengths (nm) and incidence zenith angle (degrees).
 check_allocation
@@ -38,6 +40,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -74,6 +77,8 @@ __all__ = [
     "check_seed",
     "check_threads",
     "check_choice",
+    "CONTROL_CHARACTERS",
+    "check_printable",
     "check_wavelengths",
     "check_incidence",
     "parse_range",
@@ -267,6 +272,21 @@ def check_choice(name: str, value: Any, allowed: Sequence[str]) -> str:
     return value
 
 
+#: C0 control characters except tab and newline, DEL, C1 control characters (ESC starts the
+#: terminal's escape sequences, CR overwrites the line), and the bidirectional embeddings,
+#: overrides and isolates, which reorder what the terminal shows.
+CONTROL_CHARACTERS = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\u202a-\u202e\u2066-\u2069]")
+
+
+def check_printable(name: str, value: str) -> str:
+    """``value`` if it holds none of `CONTROL_CHARACTERS` (a name read from a file and shown on
+    the terminal: ``ESC[2J`` in it would clear the screen)."""
+    found = CONTROL_CHARACTERS.search(value)
+    if found is not None:
+        raise ParameterError(name, value, f"text without control characters (found {found.group()!r})")
+    return value
+
+
 def check_wavelengths(name: str, value: Any) -> np.ndarray:
     """Vacuum wavelengths (nm) for the engine: a non-empty 1-D float array, each finite and in
     :data:`WAVELENGTH_RANGE_NM` (a scalar becomes one wavelength)."""
@@ -276,7 +296,9 @@ def check_wavelengths(name: str, value: Any) -> np.ndarray:
     low, high = WAVELENGTH_RANGE_NM
     bad = ~np.isfinite(wl) | (wl < low) | (wl > high)
     if bad.any():
-        raise ParameterError(name, float(wl[bad][0]), f"finite wavelengths in [{low:g}, {high:g}] nm")
+        raise ParameterError(
+            name, float(wl[bad][0]), f"wavelengths in [{low:g}, {high:g}] nm (the range of the optical constants)"
+        )
     return wl
 
 

@@ -22,7 +22,7 @@ import numpy as np
 import numpy.typing as npt
 
 from sandlight import _native
-from sandlight._runner import run_in_batches
+from sandlight._runner import SHOW_AFTER_SECONDS, run_in_batches
 from sandlight.checks import (
     check_count,
     check_incidence,
@@ -35,6 +35,7 @@ from sandlight.errors import ParameterError
 from sandlight.physics.media import IsotropicScatterers, SandMedium, as_traceable, engine_settings
 from sandlight.physics.medium import Traceable
 from sandlight.physics.spectral_groups import DISPERSION_TOLERANCE, spectral_groups
+from sandlight.progress import progress_bar
 
 if TYPE_CHECKING:
     import xarray as xr
@@ -192,6 +193,7 @@ class ReflectanceResult:
         import xarray as xr
 
         import sandlight
+        from sandlight.io import WAVELENGTH_ATTRS, cf_attributes
 
         data = {
             "reflectance": (
@@ -212,13 +214,9 @@ class ReflectanceResult:
                 v if v.dtype.kind == "f" else v.astype(np.int64),
                 {"units": "1", "long_name": f"rays {k}" if k != "events" else "particle events summed over rays"},
             )
-        coords = {"wavelength": ("wavelength", self.wavelengths, {"units": "nm", "long_name": "vacuum wavelength"})}
+        coords = {"wavelength": ("wavelength", self.wavelengths, WAVELENGTH_ATTRS)}
         if self.covariance is not None:
-            coords["wavelength_b"] = (
-                "wavelength_b",
-                self.wavelengths,
-                {"units": "nm", "long_name": "vacuum wavelength"},
-            )
+            coords["wavelength_b"] = ("wavelength_b", self.wavelengths, WAVELENGTH_ATTRS)
             data["covariance"] = (
                 ("wavelength", "wavelength_b"),
                 self.covariance,
@@ -228,11 +226,11 @@ class ReflectanceResult:
             data,
             coords=coords,
             attrs={
-                "title": "sandlight Monte Carlo reflectance",
+                **cf_attributes("sandlight Monte Carlo reflectance", "sandlight.reflectance"),
                 "sandlight_version": sandlight.__version__,
                 "rays": self.rays,
                 "incidence_deg": self.incidence_deg,
-                "seed": str(self.seed),
+                "seed": np.uint64(self.seed),  # an integer of the full range [0, 2**64)
                 "max_events": self.max_events,
                 "sample": json.dumps(self.sample),
                 "elapsed_s": self.elapsed_s,
@@ -253,19 +251,19 @@ class ReflectanceResult:
             self.to_xarray().to_netcdf(tmp, engine="h5netcdf")
 
     def to_csv(self, path: str | os.PathLike) -> None:
-        """Writes ``wavelength_nm,reflectance,stderr,mean_events_per_ray,capped`` rows, atomically."""
-        from sandlight.io import atomic_path
+        """Writes ``wavelength_nm,reflectance,stderr,mean_events_per_ray,capped`` rows, atomically,
+        after ``# key: value`` comment lines holding the NetCDF output's attributes and the units."""
+        from sandlight.io import write_csv
 
         table = np.column_stack([self.wavelengths, self.values, self.stderr, self.mean_events_per_ray, self.capped])
-        with atomic_path(path) as tmp:
-            np.savetxt(
-                tmp,
-                table,
-                delimiter=",",
-                fmt=["%.6g", "%.8f", "%.8f", "%.6g", "%d"],
-                header="wavelength_nm,reflectance,stderr,mean_events_per_ray,capped",
-                comments="",
-            )
+        units = "wavelength_nm nm; reflectance 1; stderr 1; mean_events_per_ray 1; capped rays"
+        write_csv(
+            path,
+            ("wavelength_nm", "reflectance", "stderr", "mean_events_per_ray", "capped"),
+            table,
+            ("%.6g", "%.8f", "%.8f", "%.6g", "%d"),
+            {**self.to_xarray().attrs, "units": units},
+        )
 
     def plot(self, path: str | os.PathLike, *, title: str | None = None) -> None:
         """Plots the spectrum with ±2 standard-error band to a PNG."""
@@ -366,10 +364,12 @@ def reflectance(
         values, stderr, counts, cov, groups = _shared_spectrum(traced, wl, rays, dispersion_tolerance, run)
     else:
         share = False
-        rows = [
-            _trace(traced.medium(float(lam)), rays=rays, label=f"λ = {lam:g} nm ({i + 1}/{wl.size})", **run)
-            for i, lam in enumerate(wl)
-        ]
+        # One bar over every wavelength (each wavelength's batches count into it).
+        with progress_bar("tracing", wl.size * rays, unit="rays", enabled=progress, show_after_s=SHOW_AFTER_SECONDS):
+            rows = [
+                _trace(traced.medium(float(lam)), rays=rays, label=f"λ = {lam:g} nm ({i + 1}/{wl.size})", **run)
+                for i, lam in enumerate(wl)
+            ]
         counts = {k: np.array([r[k] for r in rows], dtype=np.int64) for k in _COUNT_NAMES}
         values = counts["escaped"] / counts["launched"]
         stderr = np.sqrt(values * (1 - values) / counts["launched"])
@@ -412,15 +412,20 @@ def _shared_spectrum(
     m = wl.size
     values, transmitted, cov = np.zeros(m), np.zeros(m), np.zeros((m, m))
     counts = {k: np.zeros(m, dtype=np.int64) for k in ("launched", "capped", "events")}
-    for g, idx in enumerate(groups):
-        group = _native.SpectralGroup([traced.medium(float(wl[i])) for i in idx])
-        span = f"{wl[idx].min():g}–{wl[idx].max():g} nm" if idx.size > 1 else f"{wl[idx[0]]:g} nm"
-        tot = _trace_shared(group, rays=rays, label=f"λ = {span} (group {g + 1}/{len(groups)})", stream=g + 1, **run)
-        rho, trans, c = _shared_moments(tot)
-        values[idx], transmitted[idx] = rho, trans
-        cov[np.ix_(idx, idx)] = c
-        for k in counts:
-            counts[k][idx] = tot[k]
+    bar = progress_bar(
+        "tracing", len(groups) * rays, unit="rays", enabled=run["progress"], show_after_s=SHOW_AFTER_SECONDS
+    )
+    with bar:  # one bar over every group
+        for g, idx in enumerate(groups):
+            group = _native.SpectralGroup([traced.medium(float(wl[i])) for i in idx])
+            span = f"{wl[idx].min():g}–{wl[idx].max():g} nm" if idx.size > 1 else f"{wl[idx[0]]:g} nm"
+            label = f"λ = {span} (group {g + 1}/{len(groups)})"
+            tot = _trace_shared(group, rays=rays, label=label, stream=g + 1, **run)
+            rho, trans, c = _shared_moments(tot)
+            values[idx], transmitted[idx] = rho, trans
+            cov[np.ix_(idx, idx)] = c
+            for k in counts:
+                counts[k][idx] = tot[k]
     launched = counts["launched"].astype(float)
     counts = {
         "launched": counts["launched"],

@@ -18,11 +18,13 @@ import os
 import re
 import stat
 import uuid
-from collections.abc import Callable, Iterator, Sequence
+import warnings
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    import PIL.Image
     import xarray as xr
 
 from sandlight.errors import ParameterError
@@ -127,6 +129,44 @@ def read_regular_file(path: str | os.PathLike[str], what: str, *, max_bytes: int
     if len(data) > max_bytes:
         raise ParameterError(what, str(path), f"a file of at most {max_bytes:,} bytes")
     return bytes(data)
+
+
+@contextlib.contextmanager
+def open_image(path: str | os.PathLike[str], what: str, *, bytes_per_pixel: float) -> Iterator[PIL.Image.Image]:
+    """The image file at ``path`` opened by pillow, its pixels not yet decoded, once its size is
+    known to fit: ``bytes_per_pixel`` (what the caller's work needs per pixel, estimated) times
+    the pixel count must be within `sandlight.checks.MAX_ALLOCATION_BYTES`.
+
+    Pillow's own guard against decompression bombs (an error beyond about 179 million pixels, a
+    warning from half that) is turned into the same kind of message: a 30000² heightfield raised
+    an uncaught ``DecompressionBombError``, a 12000² photo to colourise needed 7.3 GB.
+
+    Raises
+    ------
+    FileNotFoundError
+        Nothing at ``path``.
+    ParameterError
+        ``what`` = the path: too many pixels, with the memory needed and the limit.
+    PIL.UnidentifiedImageError, OSError
+        Not an image pillow reads (the callers say what they expected).
+    """
+    from PIL import Image
+
+    from sandlight.checks import MAX_ALLOCATION_BYTES, check_allocation
+
+    path = Path(path)
+    with warnings.catch_warnings():
+        # The check below says more than pillow's warning (the memory and the limit).
+        warnings.simplefilter("ignore", Image.DecompressionBombWarning)
+        try:
+            image = Image.open(path)
+        except Image.DecompressionBombError as exc:
+            most = int(MAX_ALLOCATION_BYTES / bytes_per_pixel)
+            raise ParameterError(what, str(path), f"an image of at most {most:,} pixels (pillow: {exc})") from None
+    with image:
+        width, height = image.size
+        check_allocation(what, f"{path} ({width}×{height} pixels)", width * height * bytes_per_pixel)
+        yield image
 
 
 def _existing_ancestor(path: Path) -> Path:
@@ -235,6 +275,56 @@ def write_atomically(path: str | os.PathLike[str], write: Callable[[Path], objec
     with atomic_path(path, make_dirs=make_dirs) as tmp:
         write(tmp)
     return Path(path)
+
+
+#: The version of the CF metadata conventions the NetCDF outputs follow: global ``Conventions``,
+#: ``title``, ``source``, ``history`` and ``references``; ``units`` and ``long_name`` on every
+#: variable and coordinate.
+CF_CONVENTIONS = "CF-1.10"
+
+#: The CF attributes of a wavelength coordinate.
+WAVELENGTH_ATTRS = {"units": "nm", "long_name": "vacuum wavelength", "standard_name": "radiation_wavelength"}
+
+
+def cf_attributes(title: str, made_by: str) -> dict[str, str]:
+    """The CF global attributes of a NetCDF output: ``Conventions``, ``title``, ``source`` (this
+    sandlight's version), ``history`` (what wrote the file, ``made_by``, e.g. "sandlight.reflectance")
+    and ``references``.
+
+    ``history`` has no time stamp, so that the same inputs give the same file, byte for byte.
+    """
+    import sandlight
+
+    version = sandlight.__version__
+    return {
+        "Conventions": CF_CONVENTIONS,
+        "title": title,
+        "source": f"sandlight {version} (Monte Carlo light transport in sand)",
+        "history": f"written by {made_by} (sandlight {version})",
+        "references": "Sandlight documentation, docs/ in the source distribution",
+    }
+
+
+def write_csv(
+    path: str | os.PathLike[str],
+    columns: Sequence[str],
+    rows: Sequence[Sequence[object]] | object,
+    formats: Sequence[str],
+    metadata: Mapping[str, object],
+) -> Path:
+    """Write a CSV file atomically: its metadata as ``# key: value`` comment lines (what a NetCDF
+    output keeps in its attributes: what made it, units, settings), then the header of
+    ``columns`` and one line per row, each value formatted with its ``formats`` entry ("%.6g").
+
+    Read it back with ``pandas.read_csv(path, comment="#")``.
+    """
+    # "Conventions" names the NetCDF conventions: not said of a CSV file.
+    comment = "".join(
+        f"# {key}: {' '.join(str(value).splitlines())}\n" for key, value in metadata.items() if key != "Conventions"
+    )
+    body = "".join(",".join(f % v for f, v in zip(formats, row)) + "\n" for row in rows)
+    text = comment + ",".join(columns) + "\n" + body
+    return write_atomically(path, lambda tmp: tmp.write_text(text, encoding="utf-8"))
 
 
 def read_netcdf_file(path: str | os.PathLike, *, kind: str, format_name: str, max_version: int) -> xr.Dataset:

@@ -6,7 +6,7 @@ import subprocess
 import sys
 import time
 
-import numpy as np
+import pandas as pd
 import xarray as xr
 from typer.testing import CliRunner
 
@@ -25,7 +25,11 @@ def test_reflectance_writes_netcdf_csv_and_plot(tmp_path):
     assert ds["reflectance"].shape == (2,) and ds.attrs["rays"] == 2000
     res = runner.invoke(app, ["reflectance", "--preset", "red-dune", "-w", "450:650:100", "-n", "1e3", "-o", str(csv)])
     assert res.exit_code == 0, res.output
-    assert np.loadtxt(csv, delimiter=",", skiprows=1).shape == (3, 5)
+    table = pd.read_csv(csv, comment="#")
+    assert table.shape == (3, 5) and list(table.columns)[:2] == ["wavelength_nm", "reflectance"]
+    comments = [line for line in csv.read_text().splitlines() if line.startswith("# ")]
+    assert "# rays: 1000" in comments and "# seed: 0" in comments
+    assert any("units: wavelength_nm nm" in c for c in comments)
     assert png.stat().st_size > 1000
 
 
@@ -60,12 +64,15 @@ def test_reflectance_from_a_sample_file(tmp_path):
 
 def test_bad_inputs_exit_2_with_a_message(tmp_path):
     for args, needle in [
-        (["reflectance", "--preset", "red-dune", "-w", "200", "-n", "10"], "wavelengths_nm"),
+        (["reflectance", "--preset", "red-dune", "-w", "200", "-n", "10"], "--wavelengths = 200.0 is not allowed"),
         (["reflectance", "--preset", "red-dune", "-n", "lots"], "--rays"),
         (["reflectance", "--preset", "no-such-preset", "-n", "10"], "no-such-preset"),
         (["reflectance", str(tmp_path / "missing.toml"), "-n", "10"], "missing.toml"),
         (["reflectance", "--preset", "red-dune", "-w", "400:300:10"], "--wavelengths"),
-        (["brdf", "--preset", "red-dune", "--stacks", "1", "-n", "10", "-o", str(tmp_path / "b.nc")], "stacks"),
+        (
+            ["brdf", "--preset", "red-dune", "--stacks", "1", "-n", "10", "-o", str(tmp_path / "b.nc")],
+            "--stacks = 1 is not allowed",
+        ),
     ]:
         res = runner.invoke(app, args)
         assert res.exit_code == 2, (args, res.output)
@@ -137,6 +144,9 @@ def test_brdf_with_too_few_rays_warns_of_the_nan_values(tmp_path):
     res = runner.invoke(app, ["brdf", "--preset", "red-dune", "--rays", "100", "-o", str(out)])
     assert res.exit_code == 0, res.output
     assert "13561 of 13561 BRDF values are NaN" in res.output and "at least about 10280 rays" in res.output
+    # after the warning, the summary line said "normal-incidence reflectance nan"
+    assert "normal-incidence reflectance unknown (too few rays: see the warning)" in res.output
+    assert "nan" not in res.output
 
 
 def test_ctrl_c_stops_a_long_run_cleanly(tmp_path):

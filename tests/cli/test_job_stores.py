@@ -18,9 +18,9 @@ SPATIAL = ["train-spatial", "-n", "1000", "--stacks", "5", "--slices", "4", "--a
     ("args", "message"),
     [
         # failed inside every task, after 3 attempts each, with "run the job again to retry"
-        (["--wavelengths", "300:400:50"], "wavelengths = 300.0 is not allowed: wavelengths in [350, 2500] nm"),
-        (["--seed", "-1"], "seed = -1 is not allowed: an integer in [0, 2**64)"),  # a traceback
-        (["--holdout", "-1"], "n_holdout = -1 is not allowed: an integer >= 0"),  # silently meant none
+        (["--wavelengths", "300:400:50"], "--wavelengths = 300.0 is not allowed: wavelengths in [350, 2500] nm"),
+        (["--seed", "-1"], "--seed = -1 is not allowed: an integer in [0, 2**64)"),  # a traceback
+        (["--holdout", "-1"], "--holdout = -1 is not allowed: an integer >= 0"),  # silently meant none
     ],
 )
 def test_train_spectral_checks_its_settings_before_any_task(tmp_path, args, message):
@@ -31,7 +31,7 @@ def test_train_spectral_checks_its_settings_before_any_task(tmp_path, args, mess
 
 def test_train_spatial_checks_its_wavelength_before_any_task(tmp_path):
     res = runner.invoke(app, [*SPATIAL, "--out", str(tmp_path / "run"), "--wavelength", "300"])
-    assert res.exit_code == 2 and "wavelength_nm = 300.0 is not allowed" in res.output, res.output
+    assert res.exit_code == 2 and "--wavelengths = 300.0 is not allowed" in res.output, res.output
     assert not list(tmp_path.rglob("shard-*.nc"))
 
 

@@ -63,3 +63,11 @@ def test_digits_inside_names_are_not_highlighted(tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert "\x1b[" in proc.stdout  # a colour terminal indeed (the table's styles)
     assert f"wrote {out}\n" in proc.stdout
+
+
+def test_a_scene_name_with_control_characters_is_refused_before_the_progress_bar_shows_it(tmp_path):
+    scene = tmp_path / "esc.toml"
+    scene.write_text('[scene]\nname = "x\\u001b[2Jy"\n')
+    res = runner.invoke(app, ["render", str(scene), "-o", str(tmp_path / "frames"), "--width", "8", "--height", "8"])
+    assert res.exit_code == 2 and "scene.name = 'x\\x1b[2Jy' is not allowed: text without control" in res.output
+    assert "\x1b" not in res.output and not (tmp_path / "frames").exists()

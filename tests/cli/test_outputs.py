@@ -42,15 +42,15 @@ CASES = [
     (["brdf", *RUN, "-o", "b.txt"], "a file name ending in .nc"),
     (
         ["demo", "-n", "1000", "-o", "file.txt"],
-        "--output-dir = 'file.txt' is not allowed: a directory, but this is a file",
+        "--output = 'file.txt' is not allowed: a directory, but this is a file",
     ),
     (
         ["train-spectral", "--out", "file.txt", "--samples", "20", "--rays", "100", "--workers", "1"],
-        "--out = 'file.txt' is not allowed: a directory",
+        "--output = 'file.txt' is not allowed: a directory",
     ),
     (
         ["train-spatial", "--out", "ro/run", "-n", "1000", "--axis", "saturation=0:1:2", "--workers", "1"],
-        "--out = 'ro/run' is not allowed",
+        "--output = 'ro/run' is not allowed",
     ),
     (["predict", "--preset", "red-dune", "-o", "dir"], "--output = 'dir' is not allowed"),
     (["predict", "--preset", "red-dune", "-o", "r.txt"], "a file name ending in .csv"),
@@ -58,7 +58,7 @@ CASES = [
         ["predict", "--preset", "red-dune", "--plot", "dir"],
         "--plot = 'dir' is not allowed: a file, but this is a directory",
     ),
-    (["appearance", "--preset", "red-dune", "--table", "t.csv"], "--table = 't.csv' is not allowed"),
+    (["appearance", "--preset", "red-dune", "--table", "t.csv"], "--output = 't.csv' is not allowed"),
     (["sky", "--latitude", "30", "--day", "100", "--time", "12", "-o", "k.jpg"], "a file name ending in .png"),
     (["swatches", "-o", "ro/g.png"], "--output = 'ro/g.png' is not allowed"),
     (["colourise", "--preset", "red-dune", "-o", "dir.png"], "--output = 'dir.png' is not allowed: a file, but"),

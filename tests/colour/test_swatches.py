@@ -226,4 +226,4 @@ class TestSwatchesWithTheEngine:
     def test_engine_rays_must_be_positive(self, tmp_path):
         result = CliRunner().invoke(app, ["swatches", "--engine-rays", "0", "-o", str(tmp_path / "g.png")])
         assert result.exit_code == 2
-        assert "--engine-rays 0" in result.output and "Traceback" not in result.output
+        assert "--engine-rays = '0' is not allowed" in result.output and "Traceback" not in result.output

@@ -436,7 +436,7 @@ class TestCommandLine:
             "predict", "--preset", "red-dune", "--model", path, "-o", out, "--plot", tmp_path / "r.png", "--extrapolate"
         )
         assert result.exit_code == 0, result.output
-        rows = out.read_text().splitlines()
+        rows = [row for row in out.read_text().splitlines() if not row.startswith("# ")]  # metadata comments
         assert rows[0] == "wavelength_nm,reflectance" and len(rows) == 17
         assert (tmp_path / "r.png").stat().st_size > 1000
         # a sample file: TOML with a [sample] table, inside the domain

@@ -23,6 +23,7 @@ from sandlight.appearance.band_grid import BandGrid, hat_quadrature
 from sandlight.appearance.combination import Combination, check_combination, measured_reflectance
 from sandlight.appearance.sampling import SamplingTables, check_sampling_method
 from sandlight.appearance.sources import resolve_sample, resolve_spatial, resolve_spectral
+from sandlight.checks import check_allocation
 from sandlight.errors import ParameterError
 
 if TYPE_CHECKING:
@@ -344,6 +345,10 @@ class SandAppearance:
         mu = np.linspace(0.0, 1.0, int(n_mu))
         dphi = np.linspace(0.0, math.pi, int(n_dphi))
         x, W = hat_quadrature(self.band_grid.nodes, mu)  # points (P,), weights (n_mu, P) normalised per node
+        # float64 arrays: about 8 over the quadrature points (the meshgrids, g, pp and their
+        # temporaries) and 3 over the table (f, its transpose average, the file's copy).
+        need = 8 * (8 * x.size**2 * int(n_dphi) + 3 * wl.size * int(n_mu) ** 2 * int(n_dphi))
+        check_allocation("n_mu, n_dphi", (int(n_mu), int(n_dphi)), need)
         XI, XO, DP = np.meshgrid(x, x, dphi, indexing="ij")
         g, pp = self._evaluator.evaluate_mu(XI.ravel(), XO.ravel(), DP.ravel())
         shape = XI.shape

@@ -112,6 +112,7 @@ def table_dataset(
     import xarray as xr
 
     import sandlight
+    from sandlight.io import WAVELENGTH_ATTRS, cf_attributes
 
     if (level_name is None) != (level_values is None) or np.ndim(f) != (4 if level_name is None else 5):
         raise ParameterError(
@@ -137,15 +138,16 @@ def table_dataset(
             },
         )
     coords = {
-        "wavelength": ("wavelength", wavelength_nm, {"units": "nm"}),
+        "wavelength": ("wavelength", wavelength_nm, WAVELENGTH_ATTRS),
         "mu_i": ("mu_i", mu_i, {"units": "1", "long_name": "cosine of the incident zenith angle"}),
         "mu_o": ("mu_o", mu_o, {"units": "1", "long_name": "cosine of the outgoing zenith angle"}),
         "dphi": ("dphi", dphi, {"units": "rad", "long_name": "azimuth difference |phi_o - phi_i|"}),
     }
     if level_name is not None:
-        coords = {level_name: (level_name, level_values, {"long_name": f"{level_name} of each level"}), **coords}
+        level_attrs = {"units": "1", "long_name": f"{level_name} of each level"}
+        coords = {level_name: (level_name, level_values, level_attrs), **coords}
     global_attrs = {
-        "title": title,
+        **cf_attributes(title, "sandlight.appearance"),
         "format": FORMAT_NAME,
         "format_version": FORMAT_VERSION,
         "sandlight_version": sandlight.__version__,

@@ -25,10 +25,35 @@ def exit_code(exc: BaseException) -> int:
     return 2 if isinstance(exc, (ParameterError, OSError, JobError)) else 1
 
 
+def _without_placeholder(option: click.Parameter | None) -> Any:
+    # typer's help shows a flag's type as "<bool>", as if it took a value; an empty metavar
+    # shows nothing.
+    if option is not None and getattr(option, "is_flag", False):
+        option.metavar = ""
+    return option
+
+
+def _without_flag_placeholders(command: click.Command) -> None:
+    """The help of ``command`` without "<bool>" beside its flags (and its --help)."""
+    for param in command.params:
+        _without_placeholder(param)
+    own = command.get_help_option
+    command.get_help_option = lambda ctx: _without_placeholder(own(ctx))  # type: ignore[method-assign]
+
+
 class _Commands(TyperGroup):
     """Runs each command with plain one-line warnings and turns sandlight's errors, OS errors
     (a directory where a file was expected, a read-only directory) and Ctrl-C into a message
     and an exit code instead of a traceback."""
+
+    def get_command(self, ctx: click.Context, cmd_name: str) -> click.Command | None:
+        command = super().get_command(ctx, cmd_name)
+        if command is not None:
+            _without_flag_placeholders(command)
+        return command
+
+    def get_help_option(self, ctx: click.Context) -> click.Option | None:
+        return _without_placeholder(super().get_help_option(ctx))
 
     def invoke(self, ctx: click.Context) -> Any:
         with warnings.catch_warnings():

@@ -1,13 +1,51 @@
-"""Argument parsing shared by the command modules: samples, ranges."""
+"""Argument parsing shared by the command modules: samples, the names of options in messages."""
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import TYPE_CHECKING
+
+from sandlight.errors import ParameterError
 
 if TYPE_CHECKING:
     from sandlight.sample import SandSample
 
+#: Help of the options every command that takes them shares (one name, one meaning, units and
+#: defaults stated).
+SAMPLE_HELP = "Sample description: a TOML or JSON file (keys at the top level or in a [sample] table)."
+PRESET_HELP = "A named preset instead of a sample file (e.g. red-dune; the list: docs/sample.md)."
+SEED_HELP = (
+    "Master seed of the random streams, an integer in [0, 2^64): the same seed gives the same result for any --threads."
+)
+THREADS_HELP = "Worker threads (default: all cores); results do not depend on it."
+STACKS_HELP = "Collector hemisphere: polar stacks, 2–10000, the top one the undivided cap (paper: 31)."
+SLICES_HELP = (
+    "Collector hemisphere: azimuthal slices of every stack below the cap, 1–10000 (paper: 30; "
+    "1 + (stacks − 1)·slices equal-solid-angle patches)."
+)
+#: How counts are written (checks.check_count): rays, trials.
+COUNT_FORM = "a whole number ≥ 1, written like 100000 or 1e5"
+WAVELENGTHS_HELP = (
+    "Wavelengths in nm, each in [350, 2500]: start:stop:step (stop included when on the grid) or a "
+    "comma-separated list."
+)
+WAVELENGTH_HELP = "Wavelength in nm, in [350, 2500] (one)."
+#: The engine's parameters (sandlight.reflectance, gonio.brdf) as the options of the commands.
+ENGINE_OPTIONS = {
+    "wavelengths_nm": "--wavelengths",
+    "wavelength_nm": "--wavelengths",
+    "rays": "--rays",
+    "incidence_deg": "--incidence",
+    "seed": "--seed",
+    "threads": "--threads",
+    "memory": "--memory",
+    "geometry": "--geometry",
+    "stacks": "--stacks",
+    "slices": "--slices",
+    "method": "--method",
+}
 #: Help of the --memory and --geometry options of the commands that trace rays.
 MEMORY_HELP = (
     "Path memory of the fast engine: none (the classic model, default), channel, cut, or packed "
@@ -29,13 +67,12 @@ def load_sample(
 ) -> SandSample:
     """The sample of every command that takes one: a TOML/JSON file or a preset name, not both.
 
-    ``default`` is the sample (or the name of the preset) without either; None means one of
-    them is required.
+    ``default`` is the sample (or the name of the preset, which the command then says it uses)
+    without either; None means one of them is required.
     ``file_option`` names the file's argument in messages (``SAMPLE`` or ``--sample``). Files are
     read by `SandSample.from_file` (regular files of bounded size, keys at the top level or in a
     ``[sample]`` table, nothing else).
     """
-    from sandlight.errors import ParameterError
     from sandlight.sample import SandSample
 
     both = f"{file_option}/--preset"
@@ -44,7 +81,26 @@ def load_sample(
     if sample_file is not None:
         return SandSample.from_file(sample_file)
     if preset is not None:
-        return SandSample.preset(preset)
+        with option_names({"preset": "--preset"}):
+            return SandSample.preset(preset)
     if default is None:
         raise ParameterError(both, None, "a sample file (TOML or JSON) or a preset name")
-    return SandSample.preset(default) if isinstance(default, str) else default
+    if isinstance(default, str):
+        from sandlight.cli._output import echo
+
+        echo(f"no sample given: using the {default} preset (give a sample file or --preset)")
+        return SandSample.preset(default)
+    return default
+
+
+@contextlib.contextmanager
+def option_names(names: Mapping[str, str]) -> Iterator[None]:
+    """A `ParameterError` raised inside names the command's option instead of the API's
+    parameter (``names``: parameter -> option, e.g. ``{"tile_px": "--tile"}``), so that the
+    message says what the user typed."""
+    try:
+        yield
+    except ParameterError as exc:
+        if exc.name not in names:
+            raise
+        raise ParameterError(names[exc.name], exc.value, exc.allowed) from None

@@ -15,7 +15,6 @@ The few styles (the red ``error:``, the yellow ``warning:``) are applied here, t
 
 from __future__ import annotations
 
-import re
 from collections.abc import Iterable, Sequence
 from typing import NoReturn
 
@@ -24,10 +23,7 @@ from rich.console import Console, RenderableType
 from rich.table import Table
 from rich.text import Text
 
-#: C0 control characters except tab and newline, DEL, C1 control characters (ESC starts the
-#: terminal's escape sequences, CR overwrites the line), and the bidirectional embeddings,
-#: overrides and isolates, which reorder what the terminal shows.
-_CONTROL = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\u202a-\u202e\u2066-\u2069]")
+from sandlight.checks import CONTROL_CHARACTERS
 
 # Consoles without markup, highlighting or emoji codes; soft wrap keeps a long message on one
 # logical line (the terminal wraps it) instead of breaking it where rich guesses the width.
@@ -36,8 +32,8 @@ _stderr = Console(stderr=True, markup=False, highlight=False, emoji=False, soft_
 
 
 def printable(text: object) -> str:
-    """``str(text)`` without control characters (see `_CONTROL`)."""
-    return _CONTROL.sub("", str(text))
+    """``str(text)`` without control characters (`sandlight.checks.CONTROL_CHARACTERS`)."""
+    return CONTROL_CHARACTERS.sub("", str(text))
 
 
 def echo(message: object, *, err: bool = False) -> None:

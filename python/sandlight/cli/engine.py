@@ -7,13 +7,21 @@ from typing import TYPE_CHECKING
 
 import typer
 
-from sandlight.checks import check_count, parse_range
+from sandlight.checks import check_count, check_wavelengths, parse_range
 from sandlight.cli._app import app
 from sandlight.cli._common import (
+    COUNT_FORM,
     DEFAULT_PRESET,
+    ENGINE_OPTIONS,
     GEOMETRY_HELP,
     MEMORY_HELP,
+    PRESET_HELP,
+    SAMPLE_HELP,
+    SEED_HELP,
+    THREADS_HELP,
+    WAVELENGTHS_HELP,
     load_sample,
+    option_names,
 )
 from sandlight.cli._output import echo, table
 from sandlight.io import check_output_directory, check_output_file
@@ -32,13 +40,13 @@ def version() -> None:
 
 @app.command()
 def reflectance(
-    sample_file: Path | None = typer.Argument(None, help="Sample description (TOML or JSON)."),
-    preset: str | None = typer.Option(None, "--preset", help="Named preset instead of a file (e.g. red-dune)."),
-    wavelengths: str = typer.Option("400:700:20", "--wavelengths", "-w", help="start:stop:step in nm, or a list."),
-    rays: str = typer.Option("1e5", "--rays", "-n", help="Rays per wavelength."),
-    incidence: float = typer.Option(0.0, "--incidence", help="Incidence zenith angle (degrees)."),
-    seed: int = typer.Option(0, "--seed"),
-    threads: int | None = typer.Option(None, "--threads", help="Worker threads (default: all cores)."),
+    sample_file: Path | None = typer.Argument(None, help=f"{SAMPLE_HELP} Default: the {DEFAULT_PRESET} preset."),
+    preset: str | None = typer.Option(None, "--preset", help=PRESET_HELP),
+    wavelengths: str = typer.Option("400:700:20", "--wavelengths", "-w", help=WAVELENGTHS_HELP),
+    rays: str = typer.Option("1e5", "--rays", "-n", help=f"Rays per wavelength, {COUNT_FORM}."),
+    incidence: float = typer.Option(0.0, "--incidence", help="Incidence zenith angle θᵢ in degrees, in [0, 90)."),
+    seed: int = typer.Option(0, "--seed", help=SEED_HELP),
+    threads: int | None = typer.Option(None, "--threads", help=THREADS_HELP),
     output: Path | None = typer.Option(
         None, "-o", "--output", help="Write .nc (NetCDF) or .csv, as the suffix says (overwritten if it exists)."
     ),
@@ -59,19 +67,21 @@ def reflectance(
 
     _check_outputs(output, plot)
     sample = load_sample(sample_file, preset)
-    wl, n = parse_range("--wavelengths", wavelengths), check_count("--rays", rays)
+    wl = check_wavelengths("--wavelengths", parse_range("--wavelengths", wavelengths))
+    n = check_count("--rays", rays)
     echo(f"tracing {n:,} rays at each of {wl.size} wavelength(s)…")
-    result = run(
-        sample,
-        wl,
-        rays=n,
-        incidence_deg=incidence,
-        seed=seed,
-        threads=threads,
-        memory=memory,
-        geometry=geometry,
-        share=share,
-    )
+    with option_names(ENGINE_OPTIONS):
+        result = run(
+            sample,
+            wl,
+            rays=n,
+            incidence_deg=incidence,
+            seed=seed,
+            threads=threads,
+            memory=memory,
+            geometry=geometry,
+            share=share,
+        )
     _report(result, output, plot, title=str(sample_file or preset or DEFAULT_PRESET))
 
 
@@ -108,23 +118,25 @@ def demo(
     output_dir: Path = typer.Option(
         Path("sandlight-demo"),
         "-o",
+        "--output",
         "--output-dir",
         help="Where to write red-dune.nc and red-dune.png (created if missing; the files are overwritten).",
     ),
-    rays: str = typer.Option("2e5", "--rays", "-n", help="Rays per wavelength."),
+    rays: str = typer.Option("2e5", "--rays", "-n", help=f"Rays per wavelength, {COUNT_FORM}."),
 ) -> None:
     """The main job on its embedded default: the reflectance spectrum of a red dune sand,
     computed with the Monte Carlo engine and plotted."""
     from sandlight.engine import reflectance as run
     from sandlight.sample import SandSample
 
-    check_output_directory(output_dir, "--output-dir")
+    check_output_directory(output_dir, "--output")
+    n = check_count("--rays", rays)
     sample = SandSample.preset(DEFAULT_PRESET)
     echo(f"sandlight demo: {DEFAULT_PRESET} sand, 400–2500 nm")
     result = run(
         sample,
         parse_range("wavelengths", "400:700:20").tolist() + [800, 900, 1000, 1200, 1400, 1600, 1900, 2200, 2500],
-        rays=check_count("--rays", rays),
+        rays=n,
     )
     _report(
         result,

@@ -2,31 +2,62 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import typer
 
+from sandlight.checks import check_count
 from sandlight.cli._app import app
-from sandlight.cli._common import MEMORY_HELP, load_sample
+from sandlight.cli._common import (
+    COUNT_FORM,
+    MEMORY_HELP,
+    PRESET_HELP,
+    SAMPLE_HELP,
+    SEED_HELP,
+    WAVELENGTHS_HELP,
+    load_sample,
+    option_names,
+)
 from sandlight.cli._output import echo, show, table
-from sandlight.io import check_output_directory, check_output_file, write_atomically
+from sandlight.io import cf_attributes, check_output_directory, check_output_file, write_atomically, write_csv
+
+#: The parameters of predictor.training.train_spectral as this command's options.
+_TRAINING_OPTIONS = {
+    "n_samples": "--samples",
+    "wavelengths": "--wavelengths",
+    "rays": "--rays",
+    "seed": "--seed",
+    "n_holdout": "--holdout",
+    "holdout_rays": "--holdout-rays",
+    "memory": "--memory",
+    "n_components": "--components",
+    "variance_threshold": "--variance",
+    "ridge": "--ridge",
+    "degree": "--degree",
+    "forms": "--forms",
+}
 
 
 @app.command("train-spectral")
 def train_spectral_command(
     out: Path = typer.Option(
         ...,
+        "-o",
+        "--output",
         "--out",
         help="Output directory: job stores (resumed), model and report (overwritten).",
     ),
-    samples: int = typer.Option(3000, "--samples", help="Training samples (paper: 3000)."),
-    rays: int = typer.Option(100_000, "--rays", help="Rays per sample and wavelength."),
-    wavelengths: str = typer.Option(
-        "400:700:20", "--wavelengths", help="nm: 'start:stop:step' (stop included) or 'w1,w2,..'."
+    samples: int = typer.Option(3000, "--samples", help="Training samples, ≥ 1 (paper: 3000)."),
+    rays: str = typer.Option("1e5", "--rays", "-n", help=f"Rays per sample and wavelength, {COUNT_FORM}."),
+    wavelengths: str = typer.Option("400:700:20", "--wavelengths", "-w", help=WAVELENGTHS_HELP),
+    seed: int = typer.Option(0, "--seed", help=f"{SEED_HELP} It sets the draws and every engine seed."),
+    holdout: int | None = typer.Option(
+        None, "--holdout", help="Hold-out samples, ≥ 0 (default: max(20, N/10) of --samples N)."
     ),
-    seed: int = typer.Option(0, "--seed", help="Master seed (draws and engine seeds)."),
-    holdout: int | None = typer.Option(None, "--holdout", help="Hold-out samples (default: max(20, N/10))."),
-    holdout_rays: int | None = typer.Option(None, "--holdout-rays", help="Rays per hold-out sample (default: --rays)."),
+    holdout_rays: str | None = typer.Option(
+        None, "--holdout-rays", help=f"Rays per hold-out sample and wavelength, {COUNT_FORM} (default: --rays)."
+    ),
     workers: int | None = typer.Option(
         None, "--workers", help="Local worker processes (1: in-process) (default: one per CPU)."
     ),
@@ -36,11 +67,17 @@ def train_spectral_command(
     n_components: int | None = typer.Option(
         None, "--components", help="Principal components (default: by --variance)."
     ),
-    variance: float = typer.Option(0.999, "--variance", help="Explained variance threshold."),
-    ridge: float = typer.Option(0.0, "--ridge", help="Ridge penalty (0: least squares)."),
+    variance: float = typer.Option(
+        0.999, "--variance", help="Explained-variance threshold in (0, 1]: the fewest components reaching it."
+    ),
+    ridge: float = typer.Option(0.0, "--ridge", help="Ridge penalty, ≥ 0 (0: least squares)."),
     degree: int = typer.Option(3, "--degree", help="Degree of the monomials (paper: 3)."),
-    forms: str = typer.Option("separate", "--forms", help="'separate' or 'onehot'."),
-    progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
+    forms: str = typer.Option(
+        "separate",
+        "--forms",
+        help="The iron-oxide form: 'separate' (one regression per form) or 'onehot' (indicator inputs).",
+    ),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar with an ETA."),
     memory: str = typer.Option("none", "--memory", help=MEMORY_HELP),
 ) -> None:
     """Generate a training set with the engine and fit the spectral predictor (resumable:
@@ -48,28 +85,31 @@ def train_spectral_command(
     from sandlight.jobs import make_executor
     from sandlight.predictor.training import train_spectral
 
-    check_output_directory(out, "--out")
+    check_output_directory(out, "--output")
+    n = check_count("--rays", rays)
+    n_holdout = None if holdout_rays is None else check_count("--holdout-rays", holdout_rays)
     executor = None if fit_only else make_executor(workers, dask_local, scheduler)
-    run = train_spectral(
-        out,
-        samples,
-        rays,
-        wavelengths,
-        seed,
-        n_holdout=holdout,
-        executor=executor,
-        fit_only=fit_only,
-        progress=progress,
-        holdout_rays=holdout_rays,
-        memory=memory,
-        model_params={
-            "n_components": n_components,
-            "variance_threshold": variance,
-            "ridge": ridge,
-            "forms": forms,
-            "degree": degree,
-        },
-    )
+    with option_names(_TRAINING_OPTIONS):
+        run = train_spectral(
+            out,
+            samples,
+            n,
+            wavelengths,
+            seed,
+            n_holdout=holdout,
+            executor=executor,
+            fit_only=fit_only,
+            progress=progress,
+            holdout_rays=n_holdout,
+            memory=memory,
+            model_params={
+                "n_components": n_components,
+                "variance_threshold": variance,
+                "ridge": ridge,
+                "forms": forms,
+                "degree": degree,
+            },
+        )
     model, report = run.model, run.report
     ratio = model.explained_variance_ratio_
     echo(f"training set: {run.training.dataset_path} ({run.training.n_total} samples, engine memory {model.memory_!r})")
@@ -87,8 +127,8 @@ def train_spectral_command(
 
 @app.command()
 def predict(
-    sample_file: Path | None = typer.Argument(None, help="Sample description (TOML or JSON)."),
-    preset: str | None = typer.Option(None, "--preset", help="A named SandSample preset."),
+    sample_file: Path | None = typer.Argument(None, help=f"{SAMPLE_HELP} This or --preset is required."),
+    preset: str | None = typer.Option(None, "--preset", help=PRESET_HELP),
     model_path: Path | None = typer.Option(None, "--model", help="Model file (default: the shipped model)."),
     output: Path | None = typer.Option(
         None, "-o", "--output", help="Write a CSV file (.csv, overwritten if it exists)."
@@ -121,9 +161,14 @@ def predict(
     )
     wavelengths = model.wavelengths_
     if output is not None:
-        lines = ["wavelength_nm,reflectance"] + [f"{w:g},{r:.6f}" for w, r in zip(wavelengths, reflectance)]
-        text = "\n".join(lines) + "\n"
-        write_atomically(output, lambda tmp: tmp.write_text(text, encoding="utf-8"))
+        metadata = {
+            **cf_attributes("sandlight spectral predictor reflectance", "sandlight predict"),
+            "model": model.name_,
+            "sample": json.dumps(sample.to_dict(), sort_keys=True),
+            "extrapolated": outside,
+            "units": "wavelength_nm nm; reflectance 1 (directional-hemispherical, normal incidence)",
+        }
+        write_csv(output, ("wavelength_nm", "reflectance"), zip(wavelengths, reflectance), ("%g", "%.6f"), metadata)
     else:
         rows = [(f"{w:g}", f"{r:.4f}") for w, r in zip(wavelengths, reflectance)]
         table(("wavelength (nm)", "reflectance"), rows, title=f"reflectance of {label}")

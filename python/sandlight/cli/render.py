@@ -12,6 +12,7 @@ from pathlib import Path
 import typer
 
 from sandlight.cli._app import app
+from sandlight.cli._common import SEED_HELP, THREADS_HELP, option_names
 from sandlight.cli._output import echo
 from sandlight.errors import ParameterError
 from sandlight.io import check_output_directory, check_output_file
@@ -26,18 +27,18 @@ def render(
     video: Path | None = typer.Option(
         None, "--video", help="Also encode the frames as this MP4 file (.mp4, overwritten if it exists)."
     ),
-    width: int | None = typer.Option(None, help="Image width in pixels (overrides output.width)."),
-    height: int | None = typer.Option(None, help="Image height in pixels (overrides output.height)."),
-    frames: int | None = typer.Option(None, help="Number of frames (overrides output.frames)."),
-    spp: int | None = typer.Option(None, help="Samples per pixel (overrides render.spp)."),
-    seed: int | None = typer.Option(None, help="Random seed (overrides render.seed)."),
-    threads: int | None = typer.Option(None, help="Worker threads (default: all cores); images do not depend on it."),
+    width: int | None = typer.Option(None, help="Image width in pixels, 1–16384 (overrides output.width)."),
+    height: int | None = typer.Option(None, help="Image height in pixels, 1–16384 (overrides output.height)."),
+    frames: int | None = typer.Option(None, help="Number of frames, 1–100000 (overrides output.frames)."),
+    spp: int | None = typer.Option(None, help="Samples per pixel, ≥ 1 (overrides render.spp)."),
+    seed: int | None = typer.Option(None, help=f"{SEED_HELP} Overrides render.seed."),
+    threads: int | None = typer.Option(None, help=THREADS_HELP),
     linear: str | None = typer.Option(
         None,
         "--linear",
         help="Per-frame NetCDF: 'spectral' (radiance and XYZ), 'xyz' or 'none' (overrides output.linear).",
     ),
-    progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar."),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar with an ETA."),
     renderer: str = typer.Option(
         "sandlight", help="'sandlight' (the spectral path tracer) or 'mitsuba' (Mitsuba 3, docs/mitsuba.md)."
     ),
@@ -51,9 +52,11 @@ def render(
     check_output_directory(output, "--output")
     if video is not None:
         check_output_file(video, "--video", (".mp4",), make_dirs=True)
-    parsed = Scene.load(scene).with_overrides(
-        width=width, height=height, frames=frames, spp=spp, seed=seed, threads=threads, write_linear=linear
-    )
+    overrides = {"width", "height", "frames", "spp", "seed", "threads", "linear"}
+    with option_names({name: f"--{name}" for name in overrides}):
+        parsed = Scene.load(scene).with_overrides(
+            width=width, height=height, frames=frames, spp=spp, seed=seed, threads=threads, write_linear=linear
+        )
     if renderer not in ("sandlight", "mitsuba"):
         raise ParameterError("--renderer", renderer, "'sandlight' or 'mitsuba'")
     try:

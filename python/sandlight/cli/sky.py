@@ -8,17 +8,31 @@ from pathlib import Path
 import typer
 
 from sandlight.cli._app import app
+from sandlight.cli._common import option_names
 from sandlight.cli._output import echo
+from sandlight.errors import ParameterError
 from sandlight.io import check_output_file
+
+#: The parameters of the sky functions as this command's options, for messages.
+_OPTIONS = {
+    "latitude_deg": "--latitude",
+    "day_of_year": "--day",
+    "time_h": "--time",
+    "standard_time_h": "--time",
+    "times_h": "--times",
+    "turbidity": "--turbidity",
+    "longitude_deg": "--longitude",
+    "utc_offset_h": "--utc-offset",
+    "size": "--size",
+    "exposure_cd_m2": "--exposure",
+}
 
 
 def _parse_times(text: str) -> list[float]:
     try:
         return [float(item) for item in text.split(",") if item.strip()]
     except ValueError:
-        raise typer.BadParameter(
-            f"{text!r} is not a comma-separated list of hours, e.g. 6,8,10,12", param_hint="--times"
-        ) from None
+        raise ParameterError("--times", text, "a comma-separated list of hours, e.g. 6,8,10,12") from None
 
 
 @app.command()
@@ -50,27 +64,25 @@ def sky(
 ) -> None:
     """Draw the Preetham et al. (1999) clear sky as an equidistant fisheye PNG (looking up:
     north at the top, east on the left), the sun marked."""
-    from sandlight.errors import ParameterError
     from sandlight.sky import PreethamSky, sun_position
     from sandlight.sky.plots import plot_sky_day, plot_sky_dome
 
     check_output_file(output, "--output", (".png",), make_dirs=True)
     if (time is None) == (times is None):
-        raise typer.BadParameter(
-            "give exactly one of --time (one dome) or --times (a strip)", param_hint="--time/--times"
-        )
+        raise ParameterError("--time/--times", "both" if time is not None else "neither", "exactly one of them")
     exposure_cd_m2 = None if exposure is None else exposure * 1000.0
     if exposure is not None and not exposure > 0.0:
-        raise typer.BadParameter(f"{exposure} is not allowed: a luminance > 0 in kcd/m^2", param_hint="--exposure")
-    try:
+        raise ParameterError("--exposure", exposure, "a luminance > 0 in kcd/m^2")
+    with option_names(_OPTIONS):
         if time is not None:
             zenith, azimuth = sun_position(latitude, day, time, longitude_deg=longitude, utc_offset_h=utc_offset)
             elevation = 90.0 - math.degrees(float(zenith))
             if elevation <= 0.0:
-                raise typer.BadParameter(
-                    f"the sun is {-elevation:.1f}° below the horizon at {time} h on day {day} "
-                    f"at latitude {latitude}°: choose a daytime hour",
-                    param_hint="--time",
+                raise ParameterError(
+                    "--time",
+                    time,
+                    f"a daytime hour: the sun is {-elevation:.1f}° below the horizon at {time} h on day {day} "
+                    f"at latitude {latitude}°",
                 )
             model = PreethamSky.from_location(
                 turbidity, latitude, day, time, longitude_deg=longitude, utc_offset_h=utc_offset
@@ -93,18 +105,4 @@ def sky(
                 size=size,
                 exposure_cd_m2=exposure_cd_m2,
             )
-    except ParameterError as error:
-        option = {
-            "latitude_deg": "--latitude",
-            "day_of_year": "--day",
-            "time_h": "--time",
-            "standard_time_h": "--time",
-            "times_h": "--times",
-            "turbidity": "--turbidity",
-            "longitude_deg": "--longitude",
-            "utc_offset_h": "--utc-offset",
-            "size": "--size",
-            "exposure_cd_m2": "--exposure",
-        }.get(error.name)
-        raise typer.BadParameter(str(error), param_hint=option) from None
     echo(f"wrote {path}")

@@ -9,7 +9,20 @@ import typer
 
 from sandlight.checks import check_count
 from sandlight.cli._app import app
-from sandlight.cli._common import MEMORY_HELP, load_sample
+from sandlight.cli._common import (
+    COUNT_FORM,
+    DEFAULT_PRESET,
+    ENGINE_OPTIONS,
+    MEMORY_HELP,
+    PRESET_HELP,
+    SAMPLE_HELP,
+    SEED_HELP,
+    SLICES_HELP,
+    STACKS_HELP,
+    WAVELENGTH_HELP,
+    load_sample,
+    option_names,
+)
 from sandlight.cli._output import echo, show
 from sandlight.io import check_output_directory, check_output_file
 
@@ -62,9 +75,11 @@ def train_spatial_command(
     sample_file: Path | None = typer.Argument(
         None, help="Base sample (TOML/JSON) giving the parameters the mesh does not vary (default: SandSample())."
     ),
-    preset: str | None = typer.Option(None, "--preset", help="Base sample: a named preset."),
+    preset: str | None = typer.Option(None, "--preset", help=f"Base sample: {PRESET_HELP[0].lower()}{PRESET_HELP[1:]}"),
     out: Path = typer.Option(
         ...,
+        "-o",
+        "--output",
         "--out",
         help="Output directory: job stores (resumed), model and report (overwritten).",
     ),
@@ -77,31 +92,43 @@ def train_spatial_command(
     nodes: Path | None = typer.Option(
         None, "--nodes", help="Scattered nodes: CSV with a header of parameter names (instead of --axis)."
     ),
-    rays: str = typer.Option("1e7", "--rays", "-n", help="Goniophotometer trials per node."),
-    wavelength: float = typer.Option(550.0, "--wavelength", "-w", help="Wavelength of the measurements (nm)."),
-    seed: int = typer.Option(0, "--seed", help="Master seed."),
+    rays: str = typer.Option("1e7", "--rays", "-n", help=f"Goniophotometer trials per node, {COUNT_FORM}."),
+    wavelength: float = typer.Option(
+        550.0, "--wavelengths", "--wavelength", "-w", help=f"{WAVELENGTH_HELP} The wavelength of the measurements."
+    ),
+    seed: int = typer.Option(0, "--seed", help=f"{SEED_HELP} It sets every node's engine seed."),
     holdout: list[str] = typer.Option(
         None,
         "--holdout",
         help="Held-out point NAME=VALUE[,NAME=VALUE] measured and compared with the prediction (repeatable).",
     ),
-    holdout_rays: str | None = typer.Option(None, "--holdout-rays", help="Trials per held-out point (default --rays)."),
-    stacks: int = typer.Option(31, "--stacks"),
-    slices: int = typer.Option(30, "--slices"),
-    method: str = typer.Option("average", "--method", help="Reduction: average (the paper) or pooled."),
-    threads: int = typer.Option(1, "--threads", help="Engine threads per node."),
-    workers: int | None = typer.Option(None, "--workers", help="Local worker processes (1: in-process)."),
+    holdout_rays: str | None = typer.Option(
+        None, "--holdout-rays", help=f"Trials per held-out point, {COUNT_FORM} (default: --rays)."
+    ),
+    stacks: int = typer.Option(31, "--stacks", help=STACKS_HELP),
+    slices: int = typer.Option(30, "--slices", help=SLICES_HELP),
+    method: str = typer.Option(
+        "average", "--method", help="Reduction of the counts to a BRDF: average (the paper) or pooled."
+    ),
+    threads: int = typer.Option(
+        1, "--threads", help="Engine threads per node, ≥ 1 (nodes run side by side); results do not depend on it."
+    ),
+    workers: int | None = typer.Option(
+        None, "--workers", help="Local worker processes (1: in-process) (default: one per CPU)."
+    ),
     dask_local: int | None = typer.Option(None, "--dask-local", help="Start a Dask LocalCluster of N workers."),
     scheduler: str | None = typer.Option(None, "--scheduler", help="Dask scheduler address, tcp://HOST:PORT."),
     components: int | None = typer.Option(
         None, "--components", help="Principal components ℓ (default: by --variance)."
     ),
-    variance: float = typer.Option(0.999, "--variance", help="Signal-variance threshold for ℓ."),
+    variance: float = typer.Option(
+        0.999, "--variance", help="Signal-variance threshold in (0, 1]: the fewest components ℓ reaching it."
+    ),
     scaling: str = typer.Option(
         "relative", "--scaling", help="Scaling of the values before the PCA: relative, none (the paper) or noise."
     ),
     fit_only: bool = typer.Option(False, "--fit-only", help="Only refit from the complete datasets in --out."),
-    progress: bool = typer.Option(True, "--progress/--no-progress", help="Progress bars."),
+    progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar with an ETA."),
     memory: str = typer.Option("none", "--memory", help=MEMORY_HELP),
 ) -> None:
     """Measure the BRDF at every mesh node and fit the spatial predictor (paper §3.2).
@@ -111,7 +138,7 @@ def train_spatial_command(
     from sandlight.sample import SandSample
     from sandlight.spatial import Mesh, train_spatial
 
-    check_output_directory(out, "--out")
+    check_output_directory(out, "--output")
     base = load_sample(sample_file, preset, default=SandSample())
     if nodes is not None:
         if axis:
@@ -130,25 +157,26 @@ def train_spatial_command(
         raise ParameterError("--holdout", missing[0], f"a value for each mesh parameter {mesh.parameters}")
     executor = None if fit_only else make_executor(workers, dask_local, scheduler)
     n = check_count("--rays", rays)
-    run = train_spatial(
-        out,
-        mesh,
-        n,
-        wavelength,
-        seed,
-        holdout=[[p[k] for k in mesh.parameters] for p in points],
-        holdout_rays=None if holdout_rays is None else check_count("--holdout-rays", holdout_rays),
-        stacks=stacks,
-        slices=slices,
-        method=method,
-        executor=executor,
-        threads=threads,
-        checkpoint=scheduler is None,
-        fit_only=fit_only,
-        progress=progress,
-        memory=memory,
-        model_params={"n_components": components, "variance_threshold": variance, "scaling": scaling},
-    )
+    with option_names({**ENGINE_OPTIONS, "variance_threshold": "--variance", "n_components": "--components"}):
+        run = train_spatial(
+            out,
+            mesh,
+            n,
+            wavelength,
+            seed,
+            holdout=[[p[k] for k in mesh.parameters] for p in points],
+            holdout_rays=None if holdout_rays is None else check_count("--holdout-rays", holdout_rays),
+            stacks=stacks,
+            slices=slices,
+            method=method,
+            executor=executor,
+            threads=threads,
+            checkpoint=scheduler is None,
+            fit_only=fit_only,
+            progress=progress,
+            memory=memory,
+            model_params={"n_components": components, "variance_threshold": variance, "scaling": scaling},
+        )
     if not run.complete:
         echo(f"stopped with {run.nodes.n_done}/{run.nodes.n_total} nodes: run again to continue")
         raise typer.Exit(1)
@@ -172,15 +200,17 @@ def train_spatial_command(
 
 @app.command()
 def appearance(
-    sample_file: Path | None = typer.Argument(None, help="Sample description (TOML or JSON)."),
-    preset: str | None = typer.Option(None, "--preset", help="Named preset instead of a file."),
+    sample_file: Path | None = typer.Argument(None, help=f"{SAMPLE_HELP} Default: the {DEFAULT_PRESET} preset."),
+    preset: str | None = typer.Option(None, "--preset", help=PRESET_HELP),
     table: Path | None = typer.Option(
         None,
+        "-o",
+        "--output",
         "--table",
         help="Write the BRDF table (.nc: NetCDF, format sandlight-brdf-table; overwritten if it exists).",
     ),
-    n_mu: int = typer.Option(32, "--n-mu", help="Table points in cos θ_i and cos θ_o (uniform on [0, 1])."),
-    n_dphi: int = typer.Option(32, "--n-dphi", help="Table points in Δφ (uniform on [0, π])."),
+    n_mu: int = typer.Option(32, "--n-mu", help="Table points in cos θ_i and cos θ_o, 2–4096 (uniform on [0, 1])."),
+    n_dphi: int = typer.Option(32, "--n-dphi", help="Table points in Δφ, 2–4096 (uniform on [0, π] radians)."),
     spectral_model: Path | None = typer.Option(
         None, "--spectral-model", help="Spectral model file (default: the shipped one)."
     ),
@@ -198,7 +228,7 @@ def appearance(
     from sandlight.spatial import SpatialApproximationWarning
 
     if table is not None:
-        check_output_file(table, "--table", (".nc",), make_dirs=True)
+        check_output_file(table, "--output", (".nc",), make_dirs=True)
     sample = load_sample(sample_file, preset)
     with warnings.catch_warnings():
         warnings.simplefilter("always", SpatialApproximationWarning)  # shown on every run, as one line
@@ -214,5 +244,6 @@ def appearance(
     for a, row in zip(angles, albedo):
         echo(f"  {a:4g}°" + "".join(f"{row[i]:>12.4f}" for i in pick))
     if table is not None:
-        app_.to_table(table, n_mu, n_dphi)
+        with option_names({"n_mu": "--n-mu", "n_dphi": "--n-dphi", "n_mu, n_dphi": "--n-mu, --n-dphi"}):
+            app_.to_table(table, n_mu, n_dphi)
         echo(f"wrote {table} ({len(wl)} wavelengths × {n_mu} × {n_mu} × {n_dphi})")

@@ -8,6 +8,7 @@ import typer
 
 from sandlight.checks import check_count
 from sandlight.cli._app import app
+from sandlight.cli._common import COUNT_FORM, SEED_HELP
 from sandlight.cli._output import echo
 from sandlight.io import check_output_directory, check_output_file
 
@@ -18,7 +19,7 @@ DEFAULT_REPORT = Path("sandlight-validation") / "validation.md"
 
 @app.command()
 def validate(
-    rays: str = typer.Option("1e5", "--rays", "-n", help="Rays per wavelength for the validation runs."),
+    rays: str = typer.Option("1e5", "--rays", "-n", help=f"Rays per wavelength for the validation runs, {COUNT_FORM}."),
     output: Path = typer.Option(
         DEFAULT_REPORT,
         "-o",
@@ -31,12 +32,19 @@ def validate(
         "--figures",
         help="Folder for the PNG plots (default: img beside the report; created; plots overwritten).",
     ),
-    sample: list[str] | None = typer.Option(None, "--sample", help="Validate only this sample (repeatable)."),
+    sample: list[str] | None = typer.Option(
+        None,
+        "--sample",
+        help="Validate only this validation sample, by USGS name, spectrum or preset (e.g. ottawa-gds74; "
+        "repeatable; default: all).",
+    ),
     variant_rays: str | None = typer.Option(
-        None, "--variant-rays", help="Rays per wavelength for the diagnostic variants and Figure 3 (default: rays / 5)."
+        None,
+        "--variant-rays",
+        help=f"Rays per wavelength for the diagnostic variants and Figure 3, {COUNT_FORM} (default: --rays / 5).",
     ),
     no_variants: bool = typer.Option(False, "--no-variants", help="Skip the diagnostic variants and Figure 3."),
-    seed: int = typer.Option(0, "--seed"),
+    seed: int = typer.Option(0, "--seed", help=SEED_HELP),
 ) -> None:
     """Run the model for the USGS validation samples (presets set from the sample descriptions,
     never fitted), score it against the measured spectra (RMS and maximum error over 400–700 and

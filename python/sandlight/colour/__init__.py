@@ -8,6 +8,7 @@ Modules, one concept each:
 - :mod:`~sandlight.colour.sample_colour`: the colour of sand samples.
 - :mod:`~sandlight.colour.swatches`: swatch grids, the paper's Figures 6 and 7.
 - :mod:`~sandlight.colour.colourise`: colourisation of a photo of sand (§4.1.1).
+- :mod:`~sandlight.colour.spectral_distribution`: spectra as ``colour.SpectralDistribution``.
 
 See ``docs/colour.md``.
 """
@@ -27,6 +28,7 @@ from sandlight.colour.provider import (
     reflectance_of,
 )
 from sandlight.colour.sample_colour import sample_lab, sample_rgb, sample_xyz
+from sandlight.colour.spectral_distribution import from_spectral_distribution, to_spectral_distribution
 from sandlight.colour.spectrum import (
     DEFAULT_ILLUMINANT,
     DEFAULT_OBSERVER,
@@ -52,6 +54,8 @@ from sandlight.colour.swatches import (
 )
 
 __all__ = [
+    "to_spectral_distribution",
+    "from_spectral_distribution",
     "ColourisedGrid",
     "colourise",
     "colourise_grid",

@@ -201,8 +201,8 @@ def _validated_reflectance(reflectance: ArrayLike, n_wavelengths: int) -> NDArra
 
 
 def spectrum_to_xyz(
-    wavelengths_nm: ArrayLike,
-    reflectance: ArrayLike,
+    wavelengths_nm: ArrayLike | colour.SpectralDistribution,
+    reflectance: ArrayLike | None = None,
     *,
     illuminant: str = DEFAULT_ILLUMINANT,
     observer: str = DEFAULT_OBSERVER,
@@ -213,7 +213,8 @@ def spectrum_to_xyz(
     ----------
     wavelengths_nm
         Wavelengths λ of the samples, nm, shape (n,), strictly increasing, covering at least
-        400–700 nm. Any sampling: the predictor's 16 bands or dense spectra.
+        400–700 nm. Any sampling: the predictor's 16 bands or dense spectra. Or a
+        ``colour.SpectralDistribution`` of reflectance (then without ``reflectance``).
     reflectance
         Spectral reflectance R(λ) as a fraction, shape (..., n); leading axes are batch axes.
     illuminant
@@ -251,6 +252,14 @@ def spectrum_to_xyz(
     >>> spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, np.full(16, 0.5)).round(4)
     array([ 0.4836,  0.5   ,  0.4071])
     """
+    if isinstance(wavelengths_nm, colour.SpectralDistribution):
+        if reflectance is not None:
+            raise ParameterError("reflectance", "an array", "None with a colour.SpectralDistribution (it holds both)")
+        from sandlight.colour.spectral_distribution import from_spectral_distribution
+
+        wavelengths_nm, reflectance = from_spectral_distribution(wavelengths_nm)
+    elif reflectance is None:
+        raise ParameterError("reflectance", None, "the reflectance at each of wavelengths_nm")
     grid, weights = _integration_weights(illuminant, observer)
     wl = _validated_wavelengths(wavelengths_nm)
     r = _validated_reflectance(reflectance, wl.size)

@@ -69,6 +69,8 @@ _COMPRESSED = {"zlib": True, "complevel": 4}
 def _dataset(brdf: MeasuredBRDF) -> xr.Dataset:
     import xarray as xr
 
+    from sandlight.io import cf_attributes
+
     h = brdf.hemisphere
     classes = brdf.classes
     red = brdf.reduced
@@ -110,7 +112,7 @@ def _dataset(brdf: MeasuredBRDF) -> xr.Dataset:
         "projected_solid_angle": var("patch", h.projected_solid_angles, "sr", "projected solid angle of the patch"),
     }
     attrs = {
-        "title": "BRDF measured by the sandlight virtual goniophotometer",
+        **cf_attributes("BRDF measured by the sandlight virtual goniophotometer", "sandlight.gonio.brdf"),
         "format": FORMAT_NAME,
         "format_version": FORMAT_VERSION,
         "sandlight_version": brdf.sandlight_version,
@@ -121,7 +123,7 @@ def _dataset(brdf: MeasuredBRDF) -> xr.Dataset:
         "sample": json.dumps(brdf.sample, sort_keys=True),
     }
     if brdf.seed is not None:
-        attrs["seed"] = brdf.seed
+        attrs["seed"] = np.uint64(brdf.seed)  # an integer of the full range [0, 2**64)
     if brdf.wavelength_nm is not None:
         attrs["wavelength_nm"] = brdf.wavelength_nm
     return xr.Dataset(data, attrs=attrs)

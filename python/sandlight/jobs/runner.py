@@ -35,10 +35,10 @@ from sandlight.jobs.executors import Executor, make_executor
 from sandlight.jobs.lock import store_lock
 from sandlight.jobs.seeds import task_seed
 from sandlight.jobs.store import ShardStore, dumps, to_json_value
+from sandlight.progress import progress_bar
 
 if TYPE_CHECKING:
     import xarray as xr
-    from rich.progress import Task as ProgressTask
 
 #: Settings the runner records itself; user settings may not use these names.
 _RESERVED_SETTINGS = ("n_tasks", "master_seed", "payloads_sha256", "task_dim", "result_dims")
@@ -85,51 +85,6 @@ def run_task(fn: Callable, task: Task) -> tuple[int, dict]:
             f"task function returned {type(results).__name__}, expected a mapping of result names to arrays"
         )
     return task.index, {str(k): np.asarray(v) for k, v in results.items()}
-
-
-def _rate_column(unit: str):
-    """Rich progress column: tasks per second (or seconds per task when slower than 1/s)."""
-    from rich.progress import ProgressColumn
-    from rich.text import Text
-
-    class RateColumn(ProgressColumn):
-        def render(self, task: ProgressTask) -> Text:
-            speed = task.finished_speed or task.speed
-            if not speed:
-                return Text(f"– {unit}/s", style="progress.data.speed")
-            text = f"{speed:.3g} {unit}/s" if speed >= 1 else f"{1 / speed:.3g} s/{unit}"
-            return Text(text, style="progress.data.speed")
-
-    return RateColumn()
-
-
-@contextlib.contextmanager
-def _progress_bar(enabled: bool, description: str, total: int, completed: int, unit: str):
-    """Yield ``advance(n)``: a rich progress bar with count, rate and ETA (or a no-op)."""
-    if not enabled:
-        yield lambda n: None
-        return
-    from rich.progress import (
-        BarColumn,
-        MofNCompleteColumn,
-        Progress,
-        TextColumn,
-        TimeElapsedColumn,
-        TimeRemainingColumn,
-    )
-
-    columns = (
-        TextColumn("{task.description}", markup=False),
-        BarColumn(),
-        MofNCompleteColumn(),
-        _rate_column(unit),
-        TimeElapsedColumn(),
-        TextColumn("ETA"),
-        TimeRemainingColumn(),
-    )
-    with Progress(*columns, transient=False) as progress:
-        task_id = progress.add_task(description, total=total, completed=completed)
-        yield lambda n: progress.update(task_id, advance=n)
 
 
 @contextlib.contextmanager
@@ -350,9 +305,11 @@ class Job:
                 with (
                     _stop_requests() as stop,
                     executor,
-                    _progress_bar(progress, description, self.n_tasks, len(done), unit) as advance,
+                    progress_bar(
+                        description, self.n_tasks, unit=f"{unit}s", completed=len(done), enabled=progress
+                    ) as bar,
                 ):
-                    self._run_tasks(store, executor, todo, done, max_retries, advance, stop)
+                    self._run_tasks(store, executor, todo, done, max_retries, bar.advance, stop)
             if len(done) == self.n_tasks and not store.dataset_path.exists():
                 self._consolidate(store, columns)
             dataset = store.dataset_path if store.dataset_path.exists() else None

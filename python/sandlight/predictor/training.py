@@ -39,12 +39,12 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import numpy.typing as npt
 
-from sandlight.checks import check_choice, check_seed, check_whole_number
+from sandlight.checks import check_choice, check_seed, check_wavelengths, check_whole_number, parse_range
 from sandlight.errors import ParameterError
 from sandlight.io import write_atomically
 from sandlight.jobs import Job, JobStatus, derive_seed
 from sandlight.jobs.executors import Executor, resolve_executor
-from sandlight.optics import MAX_WAVELENGTHS, WAVELENGTH_RANGE_NM
+from sandlight.optics import MAX_WAVELENGTHS
 from sandlight.predictor.domain import FORM_PARAMETER, Domain
 from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
 
@@ -74,23 +74,14 @@ def wavelength_grid(spec: str | npt.ArrayLike) -> np.ndarray:
     """
     if not isinstance(spec, str):
         grid = np.asarray(spec, dtype=float)
-    elif ":" in spec:
-        try:
-            start, stop, step = (float(x) for x in spec.split(":"))
-        except ValueError:
-            raise ParameterError("wavelengths", spec, "'start:stop:step' in nm, e.g. '400:700:20'") from None
-        if not (np.isfinite([start, stop, step]).all() and step > 0 and stop >= start):
-            raise ParameterError("wavelengths", spec, "finite start <= stop and step > 0")
-        # The count is checked before anything is allocated ('400:700:1e-9': 3e11 wavelengths).
-        if (stop - start) / step >= MAX_WAVELENGTHS:
-            raise ParameterError("wavelengths", spec, f"a grid of at most {MAX_WAVELENGTHS:,} wavelengths")
-        # stop is included: half a step of slack against round-off
-        grid = np.arange(start, stop + step / 2, step)
     else:
-        try:
-            grid = np.array([float(x) for x in spec.split(",")])
-        except ValueError:
-            raise ParameterError("wavelengths", spec, "'start:stop:step' or a comma-separated list in nm") from None
+        grid = parse_range("wavelengths", spec)  # the bounded parser of every command
+        if ":" in spec:
+            # The values np.arange gives, as training sets have always recorded them (start + i·step
+            # differs in the last bits for fractional steps, and a store's grid must match exactly);
+            # the count is the parser's, so the grid never passes stop (400:411:3 ended at 412).
+            start, stop, step = (float(x) for x in spec.split(":"))
+            grid = np.arange(start, stop + step / 2, step)[: grid.size]
     if grid.size > MAX_WAVELENGTHS:
         raise ParameterError("wavelengths", spec, f"at most {MAX_WAVELENGTHS:,} wavelengths")
     if grid.ndim != 1 or grid.size == 0 or not np.all(np.isfinite(grid)) or np.any(np.diff(grid) <= 0) or grid[0] <= 0:
@@ -184,21 +175,6 @@ def check_engine_memory(memory: str, custom: Callable | None = None, custom_name
     return check_choice("memory", memory, MEMORIES)
 
 
-def check_engine_wavelengths(wavelengths_nm: np.ndarray, custom: object = None, name: str = "wavelengths") -> None:
-    """With sandlight's engine (no ``custom`` function standing in for it), every wavelength
-    must lie in the range of the optical constants, `sandlight.optics.WAVELENGTH_RANGE_NM`.
-    Checked before a job starts: inside the tasks it failed every task after every retry."""
-    if custom is not None:
-        return
-    low, high = WAVELENGTH_RANGE_NM
-    wl = np.atleast_1d(np.asarray(wavelengths_nm, dtype=float))
-    outside = ~((wl >= low) & (wl <= high))
-    if outside.any():
-        raise ParameterError(
-            name, float(wl[outside][0]), f"wavelengths in [{low:g}, {high:g}] nm (the range of the optical constants)"
-        )
-
-
 def engine_memory_record(memory: str) -> dict:
     """The engine memory as recorded in datasets, job settings and models: by omission for the
     classic model ('none'), as in everything written before path memory existed, so that those
@@ -223,7 +199,9 @@ def training_job(
 
     domain = Domain.default() if domain is None else domain
     wavelengths = wavelength_grid(wavelengths_nm)
-    check_engine_wavelengths(wavelengths, simulate)
+    if simulate is None:
+        check_wavelengths("wavelengths", wavelengths)  # inside the tasks it failed every task after every retry
+    check_whole_number("n_samples", n_samples, 1)
     check_whole_number("rays", rays, 1)
     check_seed("seed", seed)
     memory = check_engine_memory(memory, simulate)
@@ -492,6 +470,7 @@ def train_spectral(
     Other parameters are those of :func:`generate_training_set`.
     """
     out = Path(out_dir)
+    SpectralModel(**(model_params or {})).validate_params()  # before hours of generation, not after
     if n_holdout is not None and not (isinstance(n_holdout, (int, np.integer)) and n_holdout >= 0):
         # -1 silently meant no hold-out set
         raise ParameterError("n_holdout", n_holdout, "an integer >= 0 (0: no hold-out set), or None for the default")

@@ -18,19 +18,32 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from sandlight.checks import check_allocation
 from sandlight.errors import ParameterError
+from sandlight.progress import progress_bar
 from sandlight.render import post
 from sandlight.render.image import interrupt_requests, render_image
 from sandlight.render.scene import Scene
 
 if TYPE_CHECKING:
-    from rich.progress import Progress, TaskID
-
+    from sandlight.progress import ProgressBar
     from sandlight.render.camera import Camera
     from sandlight.render.tables import BrdfTable
     from sandlight.render.terrain import HeightfieldTerrain, PlaneTerrain
 
-__all__ = ["render_scene", "SceneRun"]
+__all__ = ["render_scene", "SceneRun", "frame_bytes"]
+
+#: Memory per pixel of one frame besides its spectral radiance (float32 per band): coverage
+#: (float32), XYZ, the shown XYZ and the sRGB (float64 × 3 each), texture and grain quotients
+#: (float64), the 8-bit PNG, bytes.
+_FRAME_BYTES_PER_PIXEL = 4 + 3 * 24 + 16 + 3
+
+
+def frame_bytes(scene: Scene) -> int:
+    """Estimated memory of one frame's arrays, bytes: checked before anything is rendered, since
+    a size inside the allowed 1–16384 pixels can still need more than a machine has (16384² at
+    16 bands needs about 40 GiB)."""
+    return scene.width * scene.height * (4 * scene.wavelength_nm.size + _FRAME_BYTES_PER_PIXEL)
 
 
 @dataclass
@@ -95,6 +108,7 @@ def render_scene(
     -------
     SceneRun
     """
+    check_allocation("width × height", f"{scene.width}×{scene.height} pixels", frame_bytes(scene))
     start = time.perf_counter()
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
@@ -123,28 +137,11 @@ def render_scene(
         fixed_white = post.white_level(scene.exposure, None, wl)
 
     run = SceneRun(scene)
-    bar = task = None
-    if progress:
-        from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
-
-        bar = Progress(
-            TextColumn("{task.description}", markup=False),
-            BarColumn(),
-            TextColumn("{task.percentage:>3.0f}%"),
-            TimeElapsedColumn(),
-            TimeRemainingColumn(),
-            transient=True,
-        )
-        bar.start()
-        task = bar.add_task(scene.name, total=scene.frames * scene.height)
-    try:
-        with interrupt_requests() as interrupted:
-            _render_frames(
-                scene, out, run, camera, terrain, table, quotient, grain, fixed_white, bar, task, interrupted, log
-            )
-    finally:
-        if bar is not None:
-            bar.stop()
+    with (
+        progress_bar(scene.name, scene.frames * scene.height, unit="rows", enabled=progress) as bar,
+        interrupt_requests() as interrupted,
+    ):
+        _render_frames(scene, out, run, camera, terrain, table, quotient, grain, fixed_white, bar, interrupted, log)
     if video is not None:
         run.video = post.write_video(video, run.pngs, scene.fps)
     run.elapsed_s = time.perf_counter() - start
@@ -161,8 +158,7 @@ def _render_frames(
     quotient: np.ndarray | None,
     grain: np.ndarray | None,
     fixed_white: float | None,
-    bar: Progress | None,
-    task: TaskID | None,
+    bar: ProgressBar,
     interrupted: list[bool],
     log: Callable[[str], object] | None,
 ) -> None:
@@ -173,12 +169,11 @@ def _render_frames(
             raise KeyboardInterrupt
         lighting = scene.build_lighting(t)
         material = scene.build_material(float(frac))
-        if bar is not None:
-            bar.update(
-                task,
-                description=f"{scene.name}: frame {k + 1}/{scene.frames}, "
-                f"{int(t):02d}:{int(round(t % 1 * 60)) % 60:02d}, sun {lighting.sun_elevation_deg:.1f}°",
-            )
+        bar.advance(
+            0,
+            description=f"{scene.name}: frame {k + 1}/{scene.frames}, "
+            f"{int(t):02d}:{int(round(t % 1 * 60)) % 60:02d}, sun {lighting.sun_elevation_deg:.1f}°",
+        )
         image = render_image(
             camera,
             terrain,
@@ -187,7 +182,7 @@ def _render_frames(
             material,
             scene.settings,
             frame=k,
-            on_rows=(lambda n: bar.advance(task, n)) if bar is not None else None,
+            on_rows=bar.advance,
         )
         xyz = post.spectral_to_xyz(image.radiance, wl)
         shown = xyz

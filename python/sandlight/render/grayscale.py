@@ -7,6 +7,11 @@ from pathlib import Path
 
 import numpy as np
 
+#: Memory per pixel of reading one (the decoded pixels, up to 8 B; float64 copies of up to four
+#: channels, the luminance and the scaled result), bytes: a 30000² heightfield is refused
+#: before it is decoded.
+BYTES_PER_PIXEL = 64
+
 
 def read_grayscale(path: str | os.PathLike, what: str) -> np.ndarray:
     """The image at ``path`` as floats in [0, 1], top row first.
@@ -14,15 +19,16 @@ def read_grayscale(path: str | os.PathLike, what: str) -> np.ndarray:
     8- and 16-bit images are scaled by their full range (other types by their maximum); colour
     images become their Rec. 709 luminance (alpha ignored). ``what`` names the image in errors.
     """
-    from PIL import Image, UnidentifiedImageError
+    from PIL import UnidentifiedImageError
 
     from sandlight.errors import ModelFileError
+    from sandlight.io import open_image
 
     path = Path(path)
     if not path.is_file():
         raise FileNotFoundError(f"{what} {str(path)!r} does not exist")
     try:
-        with Image.open(path) as im:
+        with open_image(path, what, bytes_per_pixel=BYTES_PER_PIXEL) as im:
             raw = np.asarray(im)
     except (UnidentifiedImageError, OSError) as exc:
         raise ModelFileError(f"{path}: not a readable image ({exc})") from exc

@@ -20,6 +20,7 @@ import numpy as np
 
 from sandlight.checks import check_choice, check_whole_number
 from sandlight.errors import ParameterError
+from sandlight.progress import progress_bar
 from sandlight.render.camera import Camera
 from sandlight.render.light import Lighting
 from sandlight.render.maps import MaterialMap
@@ -214,45 +215,29 @@ def render_image(
     h, w, nb = camera.height, camera.width, lighting.wavelength_nm.size
     radiance = np.empty((h, w, nb), dtype=np.float32)
     coverage = np.empty((h, w), dtype=np.float32)
-    bar = task = None
-    if progress:
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeRemainingColumn
-
-        bar = Progress(
-            TextColumn("rendering"),
-            BarColumn(),
-            MofNCompleteColumn(),
-            TextColumn("rows"),
-            TimeRemainingColumn(),
-            transient=True,
-        )
-        bar.start()
-        task = bar.add_task("rows", total=h)
     start = time.perf_counter()
-    try:
-        with interrupt_requests() as interrupted:
-            row, batch = 0, 1
-            while row < h:
-                if interrupted[0]:
-                    raise KeyboardInterrupt
-                n = min(batch, h - row)
-                t0 = time.perf_counter()
-                rad, cov = scene.render_rows(row, n, settings.spp, settings.seed, frame, settings.threads)
-                radiance[row : row + n] = rad
-                coverage[row : row + n] = cov
-                row += n
-                dt = time.perf_counter() - t0
-                # Aim for a fixed wall time per call (Ctrl-C latency), growing at most 4× at a time.
-                batch = int(max(1, min(4 * n, n * TARGET_BATCH_SECONDS / max(dt, 1e-6))))
-                if on_rows is not None:
-                    on_rows(n)
-                if bar is not None:
-                    bar.update(task, completed=row)
+    with (
+        progress_bar("rendering", h, unit="rows", enabled=progress) as bar,
+        interrupt_requests() as interrupted,
+    ):
+        row, batch = 0, 1
+        while row < h:
             if interrupted[0]:
                 raise KeyboardInterrupt
-    finally:
-        if bar is not None:
-            bar.stop()
+            n = min(batch, h - row)
+            t0 = time.perf_counter()
+            rad, cov = scene.render_rows(row, n, settings.spp, settings.seed, frame, settings.threads)
+            radiance[row : row + n] = rad
+            coverage[row : row + n] = cov
+            row += n
+            dt = time.perf_counter() - t0
+            # Aim for a fixed wall time per call (Ctrl-C latency), growing at most 4× at a time.
+            batch = int(max(1, min(4 * n, n * TARGET_BATCH_SECONDS / max(dt, 1e-6))))
+            if on_rows is not None:
+                on_rows(n)
+            bar.advance(n)
+        if interrupted[0]:
+            raise KeyboardInterrupt
     return RenderedImage(
         radiance,
         coverage,

@@ -251,10 +251,12 @@ def write_netcdf(
         raise ParameterError("xyz", None, "an XYZ image when the spectral radiance is not written")
     import xarray as xr
 
-    from sandlight.io import write_atomically
+    from sandlight.io import WAVELENGTH_ATTRS, cf_attributes, write_atomically
 
     h, w, _ = image.radiance.shape
-    data = {"coverage": (("y", "x"), image.coverage, {"long_name": "fraction of samples that saw the ground"})}
+    data = {
+        "coverage": (("y", "x"), image.coverage, {"units": "1", "long_name": "fraction of samples that saw the ground"})
+    }
     if spectral:
         data["radiance"] = (
             ("y", "x", "wavelength"),
@@ -265,17 +267,24 @@ def write_netcdf(
         data["XYZ"] = (
             ("y", "x", "channel"),
             xyz.astype(np.float32),
-            {"long_name": "CIE XYZ (1964 10 deg observer, Y = 1 for a flat unit spectrum), before exposure"},
+            {
+                "units": "W m-2 sr-1 nm-1",
+                "long_name": "CIE XYZ (1964 10 deg observer, Y = 1 for a flat unit spectrum), before exposure",
+            },
         )
     meta = {
         k: (v if isinstance(v, (int, float, str)) else str(v)) for k, v in {**image.metadata, **(attrs or {})}.items()
     }
-    coords = {"y": np.arange(h), "x": np.arange(w)}
+    coords = {
+        "y": ("y", np.arange(h), {"units": "1", "long_name": "pixel row (0 = top)"}),
+        "x": ("x", np.arange(w), {"units": "1", "long_name": "pixel column (0 = left)"}),
+    }
     if spectral:
-        coords["wavelength"] = ("wavelength", image.wavelength_nm, {"units": "nm"})
+        coords["wavelength"] = ("wavelength", image.wavelength_nm, WAVELENGTH_ATTRS)
     if xyz is not None:
-        coords["channel"] = ["X", "Y", "Z"]
-    ds = xr.Dataset(data, coords=coords, attrs={"creator": "sandlight.render", "spp": image.spp, **meta})
+        coords["channel"] = ("channel", ["X", "Y", "Z"], {"long_name": "CIE tristimulus channel"})
+    attrs = {**cf_attributes("Rendered frame (sandlight)", "sandlight.render"), "creator": "sandlight.render"}
+    ds = xr.Dataset(data, coords=coords, attrs={**attrs, "spp": image.spp, **meta})
     encoding = {name: {"compression": "gzip", "compression_opts": 4} for name in data}
     return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding))
 

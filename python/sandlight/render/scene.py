@@ -25,7 +25,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from sandlight.checks import Table, check_choice, check_whole_number
+from sandlight.checks import CONTROL_CHARACTERS, Table, check_choice, check_printable, check_whole_number
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.render.camera import Camera
 from sandlight.render.image import ESTIMATORS, HEURISTICS, SAMPLINGS, RenderSettings
@@ -190,7 +190,9 @@ class Scene:
 
         root = Table(doc, "", source)
         scene_t = root.table("scene")
-        name = scene_t.string("name", Path(source).stem if source else "scene")
+        # The name is shown in the progress bar: no terminal control characters in it.
+        default_name = CONTROL_CHARACTERS.sub("", Path(source).stem) if source else "scene"
+        name = check_printable(scene_t.name("name"), scene_t.string("name", default_name or "scene"))
         description = scene_t.raw("description", "")
         if not isinstance(description, str):
             raise scene_t.error("scene.description", description, "a string")

@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import numpy.typing as npt
 
-from sandlight.checks import check_real, check_real_array, check_whole_number
+from sandlight.checks import check_allocation, check_real, check_real_array, check_whole_number
 from sandlight.errors import ParameterError
 from sandlight.io import write_atomically
 from sandlight.sky import sun as _sun
@@ -259,6 +259,12 @@ def plot_sky_dome(
     return path
 
 
+#: Memory per dome pixel of a strip, bytes: the dome's XYZ (float64 × 3) and mask kept for the
+#: shared exposure, the RGBA image matplotlib keeps (float64 × 4), the canvas (RGBA, 1.15 times
+#: the panel) and the resampling temporaries: 1000 domes of 512² needed about 20 GiB.
+_STRIP_BYTES_PER_PIXEL = 80
+
+
 def plot_sky_day(
     latitude_deg: npt.ArrayLike,
     day_of_year: npt.ArrayLike | datetime.date,
@@ -312,6 +318,7 @@ def plot_sky_day(
 
     size = _check_size(size)
     times = check_real_array("times_h", times_h, 0.0, 24.0).reshape(-1)
+    check_allocation("times_h", f"{times.size} domes of {size}² pixels", times.size * size**2 * _STRIP_BYTES_PER_PIXEL)
     check_whole_number("columns", columns, 1)
     latitude = check_real("latitude_deg", latitude_deg, -90.0, 90.0)
     turbidity = check_real("turbidity", turbidity, *TURBIDITY_RANGE)

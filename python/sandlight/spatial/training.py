@@ -38,7 +38,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from sandlight.checks import check_whole_number
+from sandlight.checks import check_wavelengths, check_whole_number
 from sandlight.errors import ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
@@ -213,7 +213,7 @@ def node_job(
         refused. Only with the default ``measure``.
     """
     from sandlight import __version__
-    from sandlight.predictor.training import check_engine_memory, check_engine_wavelengths, engine_memory_record
+    from sandlight.predictor.training import check_engine_memory, engine_memory_record
 
     CollectorHemisphere(stacks, slices)  # validates the geometry
     rays = check_whole_number("rays", rays, 1)
@@ -224,7 +224,8 @@ def node_job(
         wl = float(wavelength_nm)
     except (TypeError, ValueError):
         raise ParameterError("wavelength_nm", wavelength_nm, "a wavelength in nm") from None
-    check_engine_wavelengths(wl, measure, "wavelength_nm")
+    if measure is None:
+        check_wavelengths("wavelength_nm", wl)
     if isinstance(mesh_or_samples, Mesh):
         samples = [mesh_or_samples.sample_dict(x) for x in mesh_or_samples.nodes]
         mesh_dict = mesh_or_samples.to_dict()
@@ -598,6 +599,7 @@ def train_spatial(
 
     if method not in REDUCTION_METHODS:
         raise ParameterError("method", method, f"one of {REDUCTION_METHODS}")
+    SpatialModel(**dict(model_params or {})).validate_params()  # before the measurements, not after
     out = Path(out_dir)
     options = {
         "stacks": stacks,

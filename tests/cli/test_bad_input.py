@@ -1,0 +1,100 @@
+"""Every subcommand's bad-input path (issue 24, Proof): exit code 2, one message naming the
+option, the value and what is allowed, no traceback, no file written. And one consistent
+command line: every option has help, flags show no "<bool>", counts are accepted as 1e5."""
+
+import click
+import pytest
+import typer
+from typer.testing import CliRunner
+
+from sandlight.cli import app
+
+runner = CliRunner()
+
+#: One bad value per subcommand: (arguments, what the message must say). The arguments name
+#: outputs relative to the working directory (a fresh tmp_path), checked to stay empty.
+BAD = {
+    "version": (["version", "--foo"], "No such option: --foo"),
+    "reflectance": (["reflectance", "-n", "0", "-o", "r.nc"], "--rays = '0' is not allowed: a whole number ≥ 1"),
+    "demo": (["demo", "-n", "1e5x", "-o", "d"], "--rays = '1e5x' is not allowed"),
+    "brdf": (["brdf", "--slices", "0", "-o", "b.nc"], "--slices = 0 is not allowed: a whole number in [1, 10000]"),
+    "train-spectral": (["train-spectral", "--rays", "1.5", "-o", "ts"], "--rays = '1.5' is not allowed"),
+    "predict": (["predict", "--preset", "nope", "-o", "p.csv"], "--preset = 'nope' is not allowed: one of"),
+    "train-spatial": (["train-spatial", "--axis", "saturation", "-o", "sp"], "--axis = 'saturation' is not allowed"),
+    "appearance": (["appearance", "--n-mu", "1", "-o", "t.nc"], "--n-mu = 1 is not allowed: an integer in [2, 4096]"),
+    "swatches": (["swatches", "--size", "10x10", "-o", "s.png"], "--size = (10, 10) is not allowed: width 168"),
+    "colourise": (
+        ["colourise", "--preset", "red-dune", "--engine-rays", "0", "-o", "c.png"],
+        "--engine-rays = '0' is not allowed",
+    ),
+    "render": (["render", "desert-day", "-o", "fr", "--spp", "0"], "--spp = 0 is not allowed: a whole number in"),
+    "sky": (
+        ["sky", "--latitude", "30", "--day", "100", "--time", "12", "--size", "5", "-o", "k.png"],
+        "--size = 5 is not allowed: a whole number of pixels in [16, 4096]",
+    ),
+    "validate": (["validate", "--rays", "0", "-o", "v/report.md"], "--rays = '0' is not allowed"),
+}
+
+
+def _commands():
+    group = typer.main.get_command(app)
+    ctx = click.Context(group)
+    return {name: group.get_command(ctx, name) for name in group.list_commands(ctx)}
+
+
+def test_every_subcommand_has_a_bad_input_case():
+    assert set(_commands()) == set(BAD)
+
+
+@pytest.mark.parametrize("command", sorted(BAD))
+def test_bad_input_exits_2_naming_the_option_without_traceback_or_file(tmp_path, monkeypatch, command):
+    monkeypatch.chdir(tmp_path)
+    args, message = BAD[command]
+    res = runner.invoke(app, args)
+    text = " ".join(res.output.replace("│", " ").split())  # usage errors come in a box
+    assert res.exit_code == 2 and message in text, res.output
+    assert "Traceback" not in res.output and res.exception is None or isinstance(res.exception, SystemExit)
+    assert not list(tmp_path.iterdir()), list(tmp_path.iterdir())
+
+
+def test_every_option_has_help_and_flags_show_no_type():
+    for name, command in _commands().items():
+        for param in command.params:
+            if isinstance(param, click.Option):
+                assert param.help, (name, param.name)
+        res = runner.invoke(app, [name, "--help"], terminal_width=200)
+        assert res.exit_code == 0 and "<bool>" not in res.output, (name, res.output)
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["reflectance", "-w", "550", "--rays", "1e2"],
+        [
+            "train-spectral",
+            "--rays",
+            "1e2",
+            "--samples",
+            "12",
+            "--degree",
+            "1",
+            "--holdout",
+            "0",
+            "-w",
+            "550",
+            "--workers",
+            "1",
+        ],
+        ["swatches", "--engine-rays", "1e2", "--x", "iron_oxide=0.01:0.02:2", "--y", "saturation=0:1:2"],
+    ],
+)
+def test_counts_written_like_1e2_are_accepted_everywhere(tmp_path, args):
+    out = tmp_path / ("s.png" if args[0] == "swatches" else "run" if args[0] == "train-spectral" else "r.nc")
+    res = runner.invoke(app, [*args, "-o", str(out), *(["--no-progress"] if args[0] == "train-spectral" else [])])
+    assert res.exit_code == 0, res.output
+    assert out.exists()
+
+
+def test_reflectance_without_a_sample_says_which_it_uses():
+    res = runner.invoke(app, ["reflectance", "-w", "550", "-n", "100"])
+    assert res.exit_code == 0 and "no sample given: using the red-dune preset" in res.output, res.output
