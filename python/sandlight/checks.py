@@ -118,6 +118,17 @@ def interval_text(
     return f" in {'(' if low_open else '['}{_number_text(low)}, {_number_text(high)}{')' if high_open else ']'}"
 
 
+def in_interval(
+    x: Any, low: float | None = None, high: float | None = None, low_open: bool = False, high_open: bool = False
+) -> np.bool_ | np.ndarray:
+    """Whether ``x`` (a number, or an array element by element) lies in the interval of
+    :func:`interval_text`: a bound None is no bound, ``low_open``/``high_open`` exclude the bound.
+    NaN lies in no interval. Numbers are compared as they are (a Python int of any size exactly)."""
+    above = True if low is None else (x > low if low_open else x >= low)
+    below = True if high is None else (x < high if high_open else x <= high)
+    return np.logical_and(above, below)
+
+
 def _number_text(x: float) -> str:
     # Integers in full (a seed bound of 2**64 - 1 must not read 1.84467e+19), other numbers in %g.
     return str(int(x)) if isinstance(x, (int, np.integer)) else f"{x:g}"
@@ -165,11 +176,7 @@ def check_real_array(
         raise ParameterError(name, value, f"a real number{interval}") from None
     if array.size == 0:
         raise ParameterError(name, value, f"at least one real number{interval}")
-    bad = ~np.isfinite(array)
-    if low is not None:
-        bad |= (array <= low) if low_open else (array < low)
-    if high is not None:
-        bad |= (array >= high) if high_open else (array > high)
+    bad = ~np.isfinite(array) | ~in_interval(array, low, high, low_open, high_open)
     if bad.any():
         first = array.reshape(-1)[np.flatnonzero(bad.reshape(-1))[0]]
         reported = first.item() if array.ndim else value
@@ -226,12 +233,7 @@ def check_whole_number(
 
     ``noun`` starts the message (e.g. ``"a whole number of pixels"``).
     """
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, (int, np.integer))
-        or (low is not None and value < low)
-        or (high is not None and value > high)
-    ):
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or not in_interval(value, low, high):
         raise ParameterError(name, value, noun + interval_text(low, high))
     return int(value)
 
@@ -473,9 +475,7 @@ class Table:
         if not is_number(value) or not math.isfinite(float(value)):
             raise self.error(self.name(key), value, "a finite number" + interval)
         v = float(value)
-        if (lo is not None and (v < lo or (lo_open and v == lo))) or (
-            hi is not None and (v > hi or (hi_open and v == hi))
-        ):
+        if not in_interval(v, lo, hi, lo_open, hi_open):
             raise self.error(self.name(key), value, "a number" + interval)
         return v
 
@@ -488,7 +488,7 @@ class Table:
         if isinstance(value, bool) or not is_number(value) or float(value) != int(value):
             raise self.error(self.name(key), value, allowed)
         v = int(value)
-        if (lo is not None and v < lo) or (hi is not None and v > hi):
+        if not in_interval(v, lo, hi):
             raise self.error(self.name(key), value, allowed)
         return v
 
@@ -538,7 +538,7 @@ class Table:
         ):
             raise self.error(self.name(key), value, allowed)
         array = np.array([float(v) for v in value])
-        if (lo is not None and (array < lo).any()) or (hi is not None and (array > hi).any()):
+        if not in_interval(array, lo, hi).all():
             raise self.error(self.name(key), value, allowed)
         return array
 

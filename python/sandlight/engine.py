@@ -13,10 +13,12 @@ exact answer (Chandrasekhar) checks the engine.
 from __future__ import annotations
 
 import math
+import operator
 import os
 import time
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import numpy.typing as npt
@@ -57,8 +59,34 @@ MAX_INTERNAL_REFLECTIONS = 10_000
 _COUNT_NAMES = ("launched", "escaped", "absorbed", "transmitted", "capped", "events")
 
 
+def _add_exact(total: tuple, new: tuple) -> tuple:
+    """Field by field sum of two shared-run totals: integers, and lists element by element."""
+    return tuple(a + b if isinstance(a, int) else [x + y for x, y in zip(a, b)] for a, b in zip(total, new))
+
+
+@dataclass(frozen=True)
+class _CountLayout:
+    """How the totals of a tracer's ``dhr`` batches are kept: their names, a batch's form
+    (``convert``), the sum of two (``add``) and the totals as returned (``finish``)."""
+
+    names: tuple[str, ...]
+    convert: Callable[[tuple], Any]
+    add: Callable[[Any, Any], Any]
+    finish: Callable[[Any], Iterable]
+
+
+#: A Medium's counts, summed as uint64, returned as Python integers.
+_COUNTS = _CountLayout(_COUNT_NAMES, lambda c: np.array(c, dtype=np.uint64), operator.add, lambda t: map(int, t))
+#: A SpectralGroup's totals: launched, capped, events, and the fixed-point 128-bit sums escaped,
+#: transmitted (per wavelength) and products (i ≤ j, row by row), as exact Python integers.
+_SHARED_SUMS = _CountLayout(
+    ("launched", "capped", "events", "escaped", "transmitted", "products"), tuple, _add_exact, tuple
+)
+
+
 def _trace(
-    medium: _native.Medium,
+    tracer: _native.Medium | _native.SpectralGroup,
+    layout: _CountLayout,
     *,
     rays: int,
     incidence_deg: float,
@@ -69,48 +97,18 @@ def _trace(
     progress: bool,
     stream: int = 0,
 ) -> dict:
-    counts = np.zeros(len(_COUNT_NAMES), dtype=np.uint64)
+    """Totals of ``tracer.dhr`` over ``rays`` (≥ 1) traced in batches, kept as ``layout`` says."""
+    total = None
 
     def batch(first: int, n: int):
-        counts[:] += np.array(
-            medium.dhr(incidence_deg, seed, stream, first, n, max_events, MAX_INTERNAL_REFLECTIONS, threads),
-            dtype=np.uint64,
+        nonlocal total
+        new = layout.convert(
+            tracer.dhr(incidence_deg, seed, stream, first, n, max_events, MAX_INTERNAL_REFLECTIONS, threads)
         )
+        total = new if total is None else layout.add(total, new)
 
     run_in_batches(batch, rays, label=label, progress=progress)
-    return dict(zip(_COUNT_NAMES, (int(c) for c in counts)))
-
-
-def _trace_shared(
-    group: _native.SpectralGroup,
-    *,
-    rays: int,
-    incidence_deg: float,
-    seed: int,
-    threads: int | None,
-    max_events: int,
-    label: str,
-    progress: bool,
-    stream: int,
-) -> dict:
-    """Integer totals of a shared run over ``group``: launched, capped, events, and the
-    fixed-point sums escaped, transmitted (per wavelength) and products (i ≤ j, row by row)."""
-    m = len(group)
-    tot: dict = {"launched": 0, "capped": 0, "events": 0, "escaped": [0] * m, "transmitted": [0] * m}
-    tot["products"] = [0] * (m * (m + 1) // 2)
-
-    def batch(first: int, n: int):
-        launched, capped, events, escaped, transmitted, products = group.dhr(
-            incidence_deg, seed, stream, first, n, max_events, MAX_INTERNAL_REFLECTIONS, threads
-        )
-        tot["launched"] += launched
-        tot["capped"] += capped
-        tot["events"] += events
-        for key, new in (("escaped", escaped), ("transmitted", transmitted), ("products", products)):
-            tot[key] = [a + b for a, b in zip(tot[key], new)]
-
-    run_in_batches(batch, rays, label=label, progress=progress)
-    return tot
+    return dict(zip(layout.names, layout.finish(total)))
 
 
 def _shared_moments(tot: dict) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -367,7 +365,9 @@ def reflectance(
         # One bar over every wavelength (each wavelength's batches count into it).
         with progress_bar("tracing", wl.size * rays, unit="rays", enabled=progress, show_after_s=SHOW_AFTER_SECONDS):
             rows = [
-                _trace(traced.medium(float(lam)), rays=rays, label=f"λ = {lam:g} nm ({i + 1}/{wl.size})", **run)
+                _trace(
+                    traced.medium(float(lam)), _COUNTS, rays=rays, label=f"λ = {lam:g} nm ({i + 1}/{wl.size})", **run
+                )
                 for i, lam in enumerate(wl)
             ]
         counts = {k: np.array([r[k] for r in rows], dtype=np.int64) for k in _COUNT_NAMES}
@@ -420,7 +420,7 @@ def _shared_spectrum(
             group = _native.SpectralGroup([traced.medium(float(wl[i])) for i in idx])
             span = f"{wl[idx].min():g}–{wl[idx].max():g} nm" if idx.size > 1 else f"{wl[idx[0]]:g} nm"
             label = f"λ = {span} (group {g + 1}/{len(groups)})"
-            tot = _trace_shared(group, rays=rays, label=label, stream=g + 1, **run)
+            tot = _trace(group, _SHARED_SUMS, rays=rays, label=label, stream=g + 1, **run)
             rho, trans, c = _shared_moments(tot)
             values[idx], transmitted[idx] = rho, trans
             cov[np.ix_(idx, idx)] = c
@@ -469,6 +469,7 @@ def isotropic_halfspace(
     """
     c = _trace(
         IsotropicScatterers(albedo, depth).medium(0.0),
+        _COUNTS,
         rays=check_count("rays", rays),
         incidence_deg=check_incidence("incidence_deg", incidence_deg),
         seed=check_seed("seed", seed),

@@ -179,12 +179,10 @@ def read_usgs(path: str | os.PathLike, wavelengths: str | os.PathLike | None = N
         line = int(np.flatnonzero(steps <= 0)[0]) + 3
         raise ModelFileError(f"{wavelength_path}, line {line}: wavelengths are not strictly increasing")
     wavelength_nm = wavelength_um * 1000.0  # splib07 wavelength files are in micrometres
-    return xr.DataArray(
+    return _spectrum(
         values,
-        dims="wavelength",
-        coords={"wavelength": ("wavelength", wavelength_nm, {"units": "nm", "long_name": "vacuum wavelength"})},
-        name="reflectance",
-        attrs={
+        wavelength_nm,
+        {
             "title": " ".join(header.split()),
             "source_file": str(path),
             "wavelength_file": str(wavelength_path),
@@ -193,6 +191,18 @@ def read_usgs(path: str | os.PathLike, wavelengths: str | os.PathLike | None = N
             "deleted_channels": int(np.count_nonzero(np.isnan(values))),
             "citation": USGS_CITATION,
         },
+    )
+
+
+def _spectrum(values: np.ndarray, wavelength_nm: np.ndarray, attrs: dict) -> xr.DataArray:
+    """A measured reflectance spectrum as the readers return it: ``values`` on the vacuum
+    wavelengths ``wavelength_nm`` (nm), with the file's ``attrs``."""
+    return xr.DataArray(
+        values,
+        dims="wavelength",
+        coords={"wavelength": ("wavelength", wavelength_nm, {"units": "nm", "long_name": "vacuum wavelength"})},
+        name="reflectance",
+        attrs=attrs,
     )
 
 
@@ -305,12 +315,10 @@ def read_csv(path: str | os.PathLike) -> xr.DataArray:
     scale = "percent" if (says_percent or peak > _FRACTION_MAX) else "fraction"
     if scale == "percent":
         reflectance = reflectance / 100.0
-    return xr.DataArray(
+    return _spectrum(
         reflectance,
-        dims="wavelength",
-        coords={"wavelength": ("wavelength", wavelength, {"units": "nm", "long_name": "vacuum wavelength"})},
-        name="reflectance",
-        attrs={
+        wavelength,
+        {
             "title": path.stem,
             "source_file": str(path),
             "units": "1",

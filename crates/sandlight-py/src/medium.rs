@@ -35,6 +35,41 @@ pub struct PyMedium {
     pub kind: Kind,
 }
 
+/// `$body` with `$m` bound to the medium of `$kind` (a `&Kind`), whatever its type: the runs are
+/// generic over the medium, so each variant is its own instance.
+macro_rules! on_medium {
+    ($kind:expr, $m:ident => $body:expr) => {
+        match $kind {
+            Kind::Particulate($m) => $body,
+            Kind::Explicit($m) => $body,
+            Kind::Isotropic($m) => $body,
+            Kind::Lambertian($m) => $body,
+        }
+    };
+}
+
+/// The incident direction of a directional-hemispherical run from zenith `theta_deg`, refused
+/// (naming the Python parameter `incidence_deg`) outside [0, 90) degrees.
+pub(crate) fn checked_incidence(py: Python<'_>, theta_deg: f64) -> PyResult<Vec3> {
+    if !(0.0..90.0).contains(&theta_deg) {
+        return Err(to_py(py, SandlightError::parameter("incidence_deg", theta_deg, "must be in [0, 90)")));
+    }
+    Ok(incident_direction(theta_deg.to_radians()))
+}
+
+/// The rays `first_ray .. first_ray + n_rays` of stream `stream` of `seed`, and each path's limits
+/// (particle events, internal reflections), as the Python run methods give them.
+pub(crate) fn rays_and_limits(
+    seed: u64,
+    stream: u64,
+    first_ray: u64,
+    n_rays: u64,
+    max_events: u64,
+    max_internal: u32,
+) -> (Rays, Limits) {
+    (Rays { seed, stream, first: first_ray, n: n_rays }, Limits { max_events, max_internal })
+}
+
 fn same_len(name: &str, got: usize, want: usize) -> Result<(), SandlightError> {
     if got == want {
         Ok(())
@@ -175,19 +210,10 @@ impl PyMedium {
         max_internal: u32,
         threads: Option<usize>,
     ) -> PyResult<(u64, u64, u64, u64, u64, u64)> {
-        if !(0.0..90.0).contains(&theta_deg) {
-            return Err(to_py(py, SandlightError::parameter("incidence_deg", theta_deg, "must be in [0, 90)")));
-        }
-        let dir = incident_direction(theta_deg.to_radians());
-        let limits = Limits { max_events, max_internal };
-        let rays = Rays { seed, stream, first: first_ray, n: n_rays };
+        let dir = checked_incidence(py, theta_deg)?;
+        let (rays, limits) = rays_and_limits(seed, stream, first_ray, n_rays, max_events, max_internal);
         let run = || -> Result<_, String> {
-            run_with_threads(threads, || match &self.kind {
-                Kind::Particulate(m) => directional_hemispherical(m, dir, rays, &limits),
-                Kind::Explicit(m) => directional_hemispherical(m, dir, rays, &limits),
-                Kind::Isotropic(m) => directional_hemispherical(m, dir, rays, &limits),
-                Kind::Lambertian(m) => directional_hemispherical(m, dir, rays, &limits),
-            })
+            run_with_threads(threads, || on_medium!(&self.kind, m => directional_hemispherical(m, dir, rays, &limits)))
         };
         let c = py.detach(run).map_err(PyRuntimeError::new_err)?;
         Ok((c.launched, c.escaped, c.absorbed, c.transmitted, c.capped, c.events))
@@ -217,15 +243,9 @@ impl PyMedium {
         Bound<'py, PyArray1<u64>>,
     )> {
         let h = CollectorHemisphere::new(stacks, slices).map_err(|e| to_py(py, e))?;
-        let limits = Limits { max_events, max_internal };
-        let rays = Rays { seed, stream, first: first_ray, n: n_rays };
+        let (rays, limits) = rays_and_limits(seed, stream, first_ray, n_rays, max_events, max_internal);
         let run = || -> Result<BrdfTally, String> {
-            run_with_threads(threads, || match &self.kind {
-                Kind::Particulate(m) => measure_brdf(m, &h, rays, &limits),
-                Kind::Explicit(m) => measure_brdf(m, &h, rays, &limits),
-                Kind::Isotropic(m) => measure_brdf(m, &h, rays, &limits),
-                Kind::Lambertian(m) => measure_brdf(m, &h, rays, &limits),
-            })
+            run_with_threads(threads, || on_medium!(&self.kind, m => measure_brdf(m, &h, rays, &limits)))
         };
         let t = py.detach(run).map_err(PyRuntimeError::new_err)?;
         let r = t.n_patches;
@@ -261,15 +281,12 @@ impl PyMedium {
         let h = CollectorHemisphere::new(stacks, slices).map_err(|e| to_py(py, e))?;
         let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
         let toward_light = Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
-        let limits = Limits { max_events, max_internal };
-        let rays = Rays { seed, stream, first: first_ray, n: n_rays };
+        let (rays, limits) = rays_and_limits(seed, stream, first_ray, n_rays, max_events, max_internal);
         let run = || -> Result<FixedIncidenceTally, String> {
-            run_with_threads(threads, || match &self.kind {
-                Kind::Particulate(m) => measure_fixed_incidence(m, &h, toward_light, rays, &limits),
-                Kind::Explicit(m) => measure_fixed_incidence(m, &h, toward_light, rays, &limits),
-                Kind::Isotropic(m) => measure_fixed_incidence(m, &h, toward_light, rays, &limits),
-                Kind::Lambertian(m) => measure_fixed_incidence(m, &h, toward_light, rays, &limits),
-            })
+            run_with_threads(
+                threads,
+                || on_medium!(&self.kind, m => measure_fixed_incidence(m, &h, toward_light, rays, &limits)),
+            )
         };
         let t = py.detach(run).map_err(PyRuntimeError::new_err)?;
         Ok((t.counts.into_pyarray(py), t.absorbed, t.launched, t.lost))

@@ -3,14 +3,12 @@
 
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
-use sandlight_core::driver::{incident_direction, Rays};
 use sandlight_core::error::SandlightError;
 use sandlight_core::hero::{spectral_directional_hemispherical, HeroGroup, FIXED_ONE};
 use sandlight_core::memory::Memory;
-use sandlight_core::transport::Limits;
 
 use crate::errors::to_py;
-use crate::medium::{Kind, PyMedium};
+use crate::medium::{checked_incidence, rays_and_limits, Kind, PyMedium};
 use crate::pool::run_with_threads;
 
 #[pyclass(frozen, name = "SpectralGroup", module = "sandlight._native")]
@@ -81,12 +79,8 @@ impl PySpectralGroup {
         max_internal: u32,
         threads: Option<usize>,
     ) -> PyResult<SharedCounts> {
-        if !(0.0..90.0).contains(&theta_deg) {
-            return Err(to_py(py, SandlightError::parameter("incidence_deg", theta_deg, "must be in [0, 90)")));
-        }
-        let dir = incident_direction(theta_deg.to_radians());
-        let limits = Limits { max_events, max_internal };
-        let rays = Rays { seed, stream, first: first_ray, n: n_rays };
+        let dir = checked_incidence(py, theta_deg)?;
+        let (rays, limits) = rays_and_limits(seed, stream, first_ray, n_rays, max_events, max_internal);
         let c = py
             .detach(|| {
                 run_with_threads(threads, || spectral_directional_hemispherical(&self.group, dir, rays, &limits))

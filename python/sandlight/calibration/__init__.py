@@ -21,18 +21,11 @@ The method, its assumptions and the first results are in docs/optical-constants.
 ("Calibration on pure end-members"); the command is ``scripts/data/calibrate_optical_constants.py``.
 """
 
+from sandlight.calibration import report
 from sandlight.calibration.end_members import MEASUREMENT_SIGMA, EndMember, end_members, measured_reflectance
 from sandlight.calibration.fit import KFit, holdout
 from sandlight.calibration.forward import EnginePowder
-from sandlight.calibration.report import (
-    IDENTIFIABLE_SIGMA_LOG10_K,
-    Identifiability,
-    identifiability,
-    markdown_identifiability,
-    markdown_residuals,
-    plot_calibration,
-    write_k_table,
-)
+from sandlight.calibration.report import *  # noqa: F403 - the names of report.__all__, listed there once
 from sandlight.calibration.synthetic import edge_and_band_log10_k, synthetic_spectra
 from sandlight.calibration.tables import ReflectanceTable, tabulate
 
@@ -48,11 +41,5 @@ __all__ = [
     "holdout",
     "synthetic_spectra",
     "edge_and_band_log10_k",
-    "IDENTIFIABLE_SIGMA_LOG10_K",
-    "Identifiability",
-    "identifiability",
-    "markdown_residuals",
-    "markdown_identifiability",
-    "plot_calibration",
-    "write_k_table",
+    *report.__all__,
 ]

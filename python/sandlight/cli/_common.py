@@ -5,7 +5,9 @@ from __future__ import annotations
 import contextlib
 from collections.abc import Iterator, Mapping
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Annotated
+
+import typer
 
 from sandlight.errors import ParameterError
 
@@ -56,6 +58,17 @@ GEOMETRY_HELP = "on-the-fly (fast, default) or explicit (the slow reference: a s
 
 #: The sample of reflectance, brdf and appearance when neither a file nor a preset is given.
 DEFAULT_PRESET = "red-dune"
+
+#: The options the commands that trace a sample share, as parameter types (one declaration:
+#: ``seed: SeedOption = 0``); the default stays at the command.
+SampleFileArgument = Annotated[Path | None, typer.Argument(help=f"{SAMPLE_HELP} Default: the {DEFAULT_PRESET} preset.")]
+PresetOption = Annotated[str | None, typer.Option("--preset", help=PRESET_HELP)]
+SeedOption = Annotated[int, typer.Option("--seed", help=SEED_HELP)]
+ThreadsOption = Annotated[int | None, typer.Option("--threads", help=THREADS_HELP)]
+MemoryOption = Annotated[str | None, typer.Option("--memory", help=MEMORY_HELP)]
+GeometryOption = Annotated[str, typer.Option("--geometry", help=GEOMETRY_HELP)]
+StacksOption = Annotated[int, typer.Option("--stacks", help=STACKS_HELP)]
+SlicesOption = Annotated[int, typer.Option("--slices", help=SLICES_HELP)]
 
 
 def load_sample(

@@ -13,13 +13,13 @@ from sandlight.cli._common import (
     COUNT_FORM,
     DEFAULT_PRESET,
     ENGINE_OPTIONS,
-    GEOMETRY_HELP,
-    MEMORY_HELP,
-    PRESET_HELP,
-    SAMPLE_HELP,
-    SEED_HELP,
-    THREADS_HELP,
     WAVELENGTHS_HELP,
+    GeometryOption,
+    MemoryOption,
+    PresetOption,
+    SampleFileArgument,
+    SeedOption,
+    ThreadsOption,
     load_sample,
     option_names,
 )
@@ -40,21 +40,21 @@ def version() -> None:
 
 @app.command()
 def reflectance(
-    sample_file: Path | None = typer.Argument(None, help=f"{SAMPLE_HELP} Default: the {DEFAULT_PRESET} preset."),
-    preset: str | None = typer.Option(None, "--preset", help=PRESET_HELP),
+    sample_file: SampleFileArgument = None,
+    preset: PresetOption = None,
     wavelengths: str = typer.Option("400:700:20", "--wavelengths", "-w", help=WAVELENGTHS_HELP),
     rays: str = typer.Option("1e5", "--rays", "-n", help=f"Rays per wavelength, {COUNT_FORM}."),
     incidence: float = typer.Option(0.0, "--incidence", help="Incidence zenith angle θᵢ in degrees, in [0, 90)."),
-    seed: int = typer.Option(0, "--seed", help=SEED_HELP),
-    threads: int | None = typer.Option(None, "--threads", help=THREADS_HELP),
+    seed: SeedOption = 0,
+    threads: ThreadsOption = None,
     output: Path | None = typer.Option(
         None, "-o", "--output", help="Write .nc (NetCDF) or .csv, as the suffix says (overwritten if it exists)."
     ),
     plot: Path | None = typer.Option(
         None, "--plot", help="Write a PNG plot of the spectrum (.png, overwritten if it exists)."
     ),
-    memory: str | None = typer.Option(None, "--memory", help=MEMORY_HELP),
-    geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
+    memory: MemoryOption = None,
+    geometry: GeometryOption = "on-the-fly",
     share: bool = typer.Option(
         True,
         "--share/--no-share",

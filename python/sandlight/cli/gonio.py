@@ -11,17 +11,16 @@ from sandlight.checks import check_count
 from sandlight.cli._app import app
 from sandlight.cli._common import (
     COUNT_FORM,
-    DEFAULT_PRESET,
     ENGINE_OPTIONS,
-    GEOMETRY_HELP,
-    MEMORY_HELP,
-    PRESET_HELP,
-    SAMPLE_HELP,
-    SEED_HELP,
-    SLICES_HELP,
-    STACKS_HELP,
-    THREADS_HELP,
     WAVELENGTH_HELP,
+    GeometryOption,
+    MemoryOption,
+    PresetOption,
+    SampleFileArgument,
+    SeedOption,
+    SlicesOption,
+    StacksOption,
+    ThreadsOption,
     load_sample,
     option_names,
 )
@@ -31,16 +30,16 @@ from sandlight.io import check_output_file
 
 @app.command()
 def brdf(
-    sample_file: Path | None = typer.Argument(None, help=f"{SAMPLE_HELP} Default: the {DEFAULT_PRESET} preset."),
-    preset: str | None = typer.Option(None, "--preset", help=PRESET_HELP),
+    sample_file: SampleFileArgument = None,
+    preset: PresetOption = None,
     wavelength: float = typer.Option(550.0, "--wavelengths", "--wavelength", "-w", help=WAVELENGTH_HELP),
     rays: str = typer.Option(
         "1e6", "--rays", "-n", help=f"Trials (rays), {COUNT_FORM} (the paper uses 1e8; 901 patches need about 1e4)."
     ),
-    stacks: int = typer.Option(31, "--stacks", help=STACKS_HELP),
-    slices: int = typer.Option(30, "--slices", help=SLICES_HELP),
-    seed: int = typer.Option(0, "--seed", help=SEED_HELP),
-    threads: int | None = typer.Option(None, "--threads", help=THREADS_HELP),
+    stacks: StacksOption = 31,
+    slices: SlicesOption = 30,
+    seed: SeedOption = 0,
+    threads: ThreadsOption = None,
     method: str = typer.Option(
         "average", "--method", help="Reduction of the counts to a BRDF: average (the paper) or pooled."
     ),
@@ -50,8 +49,8 @@ def brdf(
     plot: Path | None = typer.Option(
         None, "--plot", help="PNG: polar map at 30° and principal-plane curves (.png, overwritten if it exists)."
     ),
-    memory: str | None = typer.Option(None, "--memory", help=MEMORY_HELP),
-    geometry: str = typer.Option("on-the-fly", "--geometry", help=GEOMETRY_HELP),
+    memory: MemoryOption = None,
+    geometry: GeometryOption = "on-the-fly",
 ) -> None:
     """Measure the BRDF of a sand sample with the virtual goniophotometer (paper §3.2.1).
 

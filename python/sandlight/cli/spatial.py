@@ -11,15 +11,15 @@ from sandlight.checks import check_count
 from sandlight.cli._app import app
 from sandlight.cli._common import (
     COUNT_FORM,
-    DEFAULT_PRESET,
     ENGINE_OPTIONS,
     MEMORY_HELP,
     PRESET_HELP,
-    SAMPLE_HELP,
     SEED_HELP,
-    SLICES_HELP,
-    STACKS_HELP,
     WAVELENGTH_HELP,
+    PresetOption,
+    SampleFileArgument,
+    SlicesOption,
+    StacksOption,
     load_sample,
     option_names,
 )
@@ -105,8 +105,8 @@ def train_spatial_command(
     holdout_rays: str | None = typer.Option(
         None, "--holdout-rays", help=f"Trials per held-out point, {COUNT_FORM} (default: --rays)."
     ),
-    stacks: int = typer.Option(31, "--stacks", help=STACKS_HELP),
-    slices: int = typer.Option(30, "--slices", help=SLICES_HELP),
+    stacks: StacksOption = 31,
+    slices: SlicesOption = 30,
     method: str = typer.Option(
         "average", "--method", help="Reduction of the counts to a BRDF: average (the paper) or pooled."
     ),
@@ -200,8 +200,8 @@ def train_spatial_command(
 
 @app.command()
 def appearance(
-    sample_file: Path | None = typer.Argument(None, help=f"{SAMPLE_HELP} Default: the {DEFAULT_PRESET} preset."),
-    preset: str | None = typer.Option(None, "--preset", help=PRESET_HELP),
+    sample_file: SampleFileArgument = None,
+    preset: PresetOption = None,
     table: Path | None = typer.Option(
         None,
         "-o",

@@ -34,7 +34,6 @@ continuous BRDF is built on that grid. Write μ = cos θ and Δφ = φ_o − φ_
 
 from __future__ import annotations
 
-import functools
 import json
 import math
 from dataclasses import dataclass, field
@@ -45,7 +44,7 @@ from numpy.typing import ArrayLike
 from sandlight.errors import ParameterError
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import ReducedBRDF, check_counts, reduce_counts
-from sandlight.gonio.symmetry import EquivalenceClasses
+from sandlight.gonio.symmetry import EquivalenceClasses, PatchClasses
 
 __all__ = ["MeasuredBRDF", "band_grid", "band_grid_f", "interpolate_band_grid", "mu_bracket"]
 
@@ -57,7 +56,7 @@ def _version() -> str:
 
 
 @dataclass(frozen=True, eq=False)
-class MeasuredBRDF:
+class MeasuredBRDF(PatchClasses):
     """BRDF of a sample measured by the virtual goniophotometer.
 
     Build it with `MeasuredBRDF.from_counts`; read it with `sandlight.gonio.io.read_netcdf`.
@@ -184,15 +183,6 @@ class MeasuredBRDF:
         )
 
     # Geometry and the full arrays -------------------------------------------------------------
-
-    # Built once per object: the classes take ~0.1 s at 901 patches and every array property uses them.
-    @functools.cached_property
-    def hemisphere(self) -> CollectorHemisphere:
-        return CollectorHemisphere(self.stacks, self.slices)
-
-    @functools.cached_property
-    def classes(self) -> EquivalenceClasses:
-        return EquivalenceClasses(self.hemisphere)
 
     @property
     def unique_values(self) -> np.ndarray:

@@ -5,6 +5,8 @@ Public objects
 EquivalenceClasses
     The partition of the r × r (incoming, outgoing) patch pairs into the m classes of values
     known to be equal; class means, exact compression to the m unique values, and expansion.
+PatchClasses
+    Base of the BRDF objects: their hemisphere and classes, built once per object.
 
 Definition of the classes
 -------------------------
@@ -47,7 +49,7 @@ from numpy.typing import ArrayLike
 from sandlight.errors import ParameterError
 from sandlight.gonio.hemisphere import CollectorHemisphere
 
-__all__ = ["EquivalenceClasses"]
+__all__ = ["EquivalenceClasses", "PatchClasses"]
 
 
 def _canonical_key(b_in: ArrayLike, b_out: ArrayLike, delta: ArrayLike, stacks: int, slices: int) -> np.ndarray:
@@ -233,3 +235,20 @@ class EquivalenceClasses:
         a = self._check_full("cell_values", cell_values)
         sums = np.bincount(self._group_of.ravel(), weights=a.ravel(), minlength=self._group_class.size)
         return sums, self._group_class, self._group_row
+
+
+class PatchClasses:
+    """Base of the BRDFs on a collector hemisphere of ``stacks`` × ``slices``: the hemisphere and
+    its :class:`EquivalenceClasses`, built once per object (the classes take ~0.1 s at 901 patches
+    and every array property uses them)."""
+
+    stacks: int
+    slices: int
+
+    @functools.cached_property
+    def hemisphere(self) -> CollectorHemisphere:
+        return CollectorHemisphere(self.stacks, self.slices)
+
+    @functools.cached_property
+    def classes(self) -> EquivalenceClasses:
+        return EquivalenceClasses(self.hemisphere)

@@ -54,6 +54,7 @@ fractions. *Applied Optics* 15, 668–671.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -153,6 +154,19 @@ def _scalar_or_array(a: np.ndarray):
     return a[()] if a.ndim == 0 else a
 
 
+def _at_cosines(native: Callable, m: ArrayLike, x: ArrayLike, mu: ArrayLike):
+    """``native(n, k, x, μ)`` of one sphere (``m``, ``x`` checked) at the cosines ``mu`` (any
+    shape, checked): its output, or each of a tuple of outputs, shaped like ``mu``."""
+    m, x = _scalar_sphere(m, x)
+    mu = _cosines(mu)
+    out = native(m.real, m.imag, x, np.ascontiguousarray(mu.ravel()))
+
+    def shaped(a: np.ndarray):
+        return _scalar_or_array(a.reshape(mu.shape))
+
+    return tuple(map(shaped, out)) if isinstance(out, tuple) else shaped(out)
+
+
 def mie_efficiencies(m: ArrayLike, x: ArrayLike) -> MieEfficiencies:
     """Extinction, scattering and absorption efficiencies, asymmetry parameter and albedo.
 
@@ -233,10 +247,7 @@ def scattering_amplitudes(m: complex, x: float, mu: ArrayLike) -> tuple[np.ndarr
     >>> s1.round(6).tolist()
     [(0.58408-0.190515j), (0.348844-0.146829j)]
     """
-    m, x = _scalar_sphere(m, x)
-    mu = _cosines(mu)
-    s1, s2 = _native.mie_amplitudes(m.real, m.imag, x, np.ascontiguousarray(mu.ravel()))
-    return _scalar_or_array(s1.reshape(mu.shape)), _scalar_or_array(s2.reshape(mu.shape))
+    return _at_cosines(_native.mie_amplitudes, m, x, mu)
 
 
 def phase_function(m: complex, x: float, mu: ArrayLike) -> np.ndarray:
@@ -247,12 +258,9 @@ def phase_function(m: complex, x: float, mu: ArrayLike) -> np.ndarray:
 
     Parameters
     ----------
-    m : complex
-        Relative refractive index n + ik (domain as in :func:`mie_efficiencies`).
-    x : float
-        Size parameter (domain as in :func:`mie_efficiencies`).
-    mu : float or array_like of float
-        Cosine of the scattering angle θ (μ = 1 forward), any shape. Domain: [−1, 1].
+    m, x, mu
+        The sphere's relative index n + ik and size parameter, and the cosines μ of the
+        scattering angle θ (μ = 1 forward): as in :func:`scattering_amplitudes`.
 
     Returns
     -------
@@ -271,10 +279,7 @@ def phase_function(m: complex, x: float, mu: ArrayLike) -> np.ndarray:
     >>> (p * 16 * np.pi / 3).round(4).tolist()
     [2.0, 1.0, 2.0]
     """
-    m, x = _scalar_sphere(m, x)
-    mu = _cosines(mu)
-    p = _native.mie_phase_function(m.real, m.imag, x, np.ascontiguousarray(mu.ravel()))
-    return _scalar_or_array(p.reshape(mu.shape))
+    return _at_cosines(_native.mie_phase_function, m, x, mu)
 
 
 def phase_table(m: complex, x: float) -> PhaseTable:

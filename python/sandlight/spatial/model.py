@@ -60,7 +60,7 @@ from sandlight.checks import Interval, StrOptions
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF, band_grid, band_grid_f
 from sandlight.gonio.hemisphere import CollectorHemisphere
-from sandlight.gonio.symmetry import EquivalenceClasses
+from sandlight.gonio.symmetry import EquivalenceClasses, PatchClasses
 from sandlight.predictor.estimator import Estimator
 from sandlight.predictor.model_file import ModelFileFormat, jsonable
 from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
@@ -100,7 +100,7 @@ class SpatialApproximationWarning(UserWarning):
 
 
 @dataclass(frozen=True, eq=False)
-class SpatialBRDF:
+class SpatialBRDF(PatchClasses):
     """A BRDF normalised to unit reflectance at normal incidence, predicted by a `SpatialModel`.
 
     Attributes
@@ -124,15 +124,6 @@ class SpatialBRDF:
     nodes: np.ndarray
     weights: np.ndarray
     sample: dict = field(default_factory=dict)
-
-    # Built once per object: the classes take ~0.1 s at 901 patches and every array property uses them.
-    @functools.cached_property
-    def hemisphere(self) -> CollectorHemisphere:
-        return CollectorHemisphere(self.stacks, self.slices)
-
-    @functools.cached_property
-    def classes(self) -> EquivalenceClasses:
-        return EquivalenceClasses(self.hemisphere)
 
     @property
     def values(self) -> np.ndarray:

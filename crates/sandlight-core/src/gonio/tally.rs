@@ -121,13 +121,7 @@ impl BrdfTally {
     /// # Errors
     /// `SandlightError::Parameter` if the two tallies have different numbers of patches.
     pub fn merge(&mut self, other: &BrdfTally) -> Result<(), SandlightError> {
-        if other.n_patches != self.n_patches {
-            return Err(SandlightError::parameter(
-                "other.n_patches",
-                other.n_patches,
-                &format!("must equal the n_patches of the tally merged into ({})", self.n_patches),
-            ));
-        }
+        same_patches(self.n_patches, other.n_patches)?;
         add_into(&mut self.counts, &other.counts);
         add_into(&mut self.absorbed, &other.absorbed);
         add_into(&mut self.launched, &other.launched);
@@ -204,18 +198,25 @@ impl FixedIncidenceTally {
     /// # Errors
     /// `SandlightError::Parameter` if the two tallies have different numbers of patches.
     pub fn merge(&mut self, other: &FixedIncidenceTally) -> Result<(), SandlightError> {
-        if other.n_patches != self.n_patches {
-            return Err(SandlightError::parameter(
-                "other.n_patches",
-                other.n_patches,
-                &format!("must equal the n_patches of the tally merged into ({})", self.n_patches),
-            ));
-        }
+        same_patches(self.n_patches, other.n_patches)?;
         add_into(&mut self.counts, &other.counts);
         self.absorbed += other.absorbed;
         self.launched += other.launched;
         self.lost += other.lost;
         Ok(())
+    }
+}
+
+/// Refuses to merge a tally of `other` patches into one of `own`.
+fn same_patches(own: usize, other: usize) -> Result<(), SandlightError> {
+    if other == own {
+        Ok(())
+    } else {
+        Err(SandlightError::parameter(
+            "other.n_patches",
+            other,
+            &format!("must equal the n_patches of the tally merged into ({own})"),
+        ))
     }
 }
 
