@@ -55,7 +55,9 @@ def brdf_answer(
     app, notes = appearance_of(sample)
     low, high = float(app.wavelengths_nm[0]), float(app.wavelengths_nm[-1])
     if not low <= wavelength_nm <= high:
-        raise ParameterError("wavelength_nm", wavelength_nm, f"a wavelength in [{low:g}, {high:g}] nm (the models' range)")
+        raise ParameterError(
+            "wavelength_nm", wavelength_nm, f"a wavelength in [{low:g}, {high:g}] nm (the models' range)"
+        )
     wi = _directions(np.array(incidence_deg), np.array(0.0))
     theta = (np.arange(n_theta) + 0.5) * 90.0 / n_theta
     phi = (np.arange(n_phi) + 0.5) * 360.0 / n_phi

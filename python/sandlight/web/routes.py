@@ -25,7 +25,19 @@ from sandlight.web.jobs import JobManager
 from sandlight.web.limits import Limits
 from sandlight.web.requests import json_body, keys_allowed, number_in, sample_in
 
-__all__ = ["schema", "validate", "spectrum", "colour", "brdf", "measured", "export", "start_job", "job_status", "job_events", "cancel_job"]
+__all__ = [
+    "schema",
+    "validate",
+    "spectrum",
+    "colour",
+    "brdf",
+    "measured",
+    "export",
+    "start_job",
+    "job_status",
+    "job_events",
+    "cancel_job",
+]
 
 
 def _jobs(request: Request) -> JobManager:
@@ -206,9 +218,7 @@ async def job_events(request: Request) -> StreamingResponse:
     """``GET /api/jobs/{id}/events``: server-sent events until the job finishes."""
     jobs = _jobs(request)
     job = jobs.get(request.path_params["id"])
-    return StreamingResponse(
-        jobs.events(job), media_type="text/event-stream", headers={"x-accel-buffering": "no"}
-    )
+    return StreamingResponse(jobs.events(job), media_type="text/event-stream", headers={"x-accel-buffering": "no"})
 
 
 async def cancel_job(request: Request) -> JSONResponse:

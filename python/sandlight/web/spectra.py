@@ -140,7 +140,12 @@ def _sample_colour(sample: SandSample) -> dict[str, Any]:
     p = predict(sample)
     if not p.covered:
         return _uncovered(p)
-    return {"covered": True, "model": p.model, "holdout_rms": p.holdout_rms, **colour_of(p.wavelengths_nm, p.reflectance)}
+    return {
+        "covered": True,
+        "model": p.model,
+        "holdout_rms": p.holdout_rms,
+        **colour_of(p.wavelengths_nm, p.reflectance),
+    }
 
 
 def colour_answer(sample: SandSample, compare: SandSample | None) -> dict[str, Any]:
