@@ -7,11 +7,12 @@ import contextlib
 from collections.abc import AsyncIterator, Sequence
 
 from starlette.applications import Starlette
+from starlette.concurrency import run_in_threadpool
 from starlette.middleware import Middleware
 from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.routing import Route
 
-from sandlight.web import assets, routes, spectra
+from sandlight.web import assets, preview, routes, spectra
 from sandlight.web.errors import EXCEPTION_HANDLERS
 from sandlight.web.jobs import JobManager
 from sandlight.web.limits import Limits
@@ -61,7 +62,9 @@ def create_app(limits: Limits = Limits(), *, allowed_hosts: Sequence[str] | None
 
     @contextlib.asynccontextmanager
     async def lifespan(app: Starlette) -> AsyncIterator[None]:
-        spectra.bank()  # load the models before the first request
+        # Load the models and build the preview's dune field before the first request.
+        spectra.bank()
+        await run_in_threadpool(preview.dune_tile)
         try:
             yield
         finally:

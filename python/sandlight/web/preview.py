@@ -40,7 +40,7 @@ from sandlight.web.jobs import JobContext
 from sandlight.web.limits import Limits
 from sandlight.web.requests import number_in
 
-__all__ = ["PREVIEW_OPTIONS", "preview_work"]
+__all__ = ["PREVIEW_OPTIONS", "preview_work", "dune_tile"]
 
 #: The options of a preview request with their defaults (the page's controls).
 PREVIEW_OPTIONS: dict[str, Any] = {
@@ -62,15 +62,17 @@ BANDS_NM = np.arange(400.0, 701.0, 20.0)
 
 
 @functools.cache
-def _dunes() -> Any:
-    # A coarser tile than the desert-day scene's (256 cells of 0.8 m): a preview is small.
-    return dune_field(size_m=204.8, cells=256, seed=1)
+def dune_tile() -> Any:
+    """The preview's dune field (built once, about a second; the app builds it at start-up)."""
+    # A coarser tile than the desert-day scene's (256 cells of 0.8 m): a preview is small, and
+    # wind ripples (0.8 m) would need a finer grid than the preview's pixels can show.
+    return dune_field(size_m=204.8, cells=256, ripple_height_m=0.0, seed=1)
 
 
 def _camera(terrain: str, width: int, height: int) -> tuple[Any, Camera]:
     if terrain == "flat":
         return PlaneTerrain(0.0), Camera.heading([0.0, 0.0, 1.7], 20.0, -25.0, 60.0, width, height)
-    ground = _dunes()
+    ground = dune_tile()
     position = [30.0, 10.0, float(ground.height_at(30.0, 10.0)) + 10.0]
     return ground, Camera.heading(position, 20.0, -9.0, 60.0, width, height)
 

@@ -259,30 +259,36 @@ function el(name, attrs, parent) {
   return e;
 }
 
+// A round step (1, 2 or 5 × 10ⁿ) at least `rough`, and the multiples of a step inside [lo, hi].
+function niceStep(rough) {
+  const power = 10 ** Math.floor(Math.log10(rough));
+  return [1, 2, 5, 10].map((k) => k * power).find((k) => k >= rough * (1 - 1e-9));
+}
+function ticks(lo, hi, stepSize) {
+  const out = [];
+  for (let k = Math.ceil(lo / stepSize - 1e-9); k * stepSize <= hi + 1e-9; k++) out.push(k * stepSize);
+  return out;
+}
+
 function linePlot(svg, series, xRange, yLabel, xLabel) {
   svg.replaceChildren();
   const [w, h] = [svg.viewBox.baseVal.width, svg.viewBox.baseVal.height];
-  const m = { l: 52, r: 10, t: 10, b: 36 };
+  const m = { l: 52, r: 22, t: 10, b: 36 };
   let yMax = 0;
   for (const s of series) for (const y of [...s.y, ...(s.upper || [])]) if (y !== null && y > yMax) yMax = y;
-  // A round step (1, 2 or 5 × 10ⁿ) and an axis top on a whole number of steps.
-  const rough = (yMax > 0 ? yMax * 1.05 : 1) / 4;
-  const power = 10 ** Math.floor(Math.log10(rough));
-  const yStep = [1, 2, 5, 10].map((k) => k * power).find((k) => k >= rough);
-  const nTicks = Math.ceil((yMax > 0 ? yMax * 1.05 : 1) / yStep);
-  yMax = nTicks * yStep;
+  const yStep = niceStep((yMax > 0 ? yMax * 1.02 : 1) / 5);
+  yMax = Math.ceil((yMax > 0 ? yMax * 1.02 : 1) / yStep) * yStep;
   const X = (x) => m.l + ((x - xRange[0]) / (xRange[1] - xRange[0])) * (w - m.l - m.r);
   const Y = (y) => h - m.b - (y / yMax) * (h - m.t - m.b);
   const axis = el("g", { class: "axis" }, svg);
   el("line", { x1: m.l, y1: h - m.b, x2: w - m.r, y2: h - m.b }, axis);
   el("line", { x1: m.l, y1: m.t, x2: m.l, y2: h - m.b }, axis);
-  const ticks = (lo, hi, n) => { const s = (hi - lo) / n; return Array.from({ length: n + 1 }, (_, i) => lo + i * s); };
-  for (const x of ticks(xRange[0], xRange[1], 6)) {
+  for (const x of ticks(xRange[0], xRange[1], niceStep((xRange[1] - xRange[0]) / 6))) {
     el("line", { x1: X(x), y1: h - m.b, x2: X(x), y2: h - m.b + 4 }, axis);
     el("text", { x: X(x), y: h - m.b + 16, "text-anchor": "middle" }, axis).textContent = Math.round(x);
   }
-  const digits = Math.max(0, -Math.floor(Math.log10(yStep)));
-  for (const y of ticks(0, yMax, nTicks)) {
+  const digits = Math.max(0, -Math.floor(Math.log10(yStep) + 1e-9));
+  for (const y of ticks(0, yMax, yStep)) {
     el("line", { x1: m.l - 4, y1: Y(y), x2: m.l, y2: Y(y) }, axis);
     el("text", { x: m.l - 6, y: Y(y) + 4, "text-anchor": "end" }, axis).textContent = y.toFixed(digits);
   }
