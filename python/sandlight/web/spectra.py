@@ -14,6 +14,7 @@ perfect reflector under each illuminant, and CIEDE2000 between two samples under
 
 from __future__ import annotations
 
+import functools
 import warnings
 from dataclasses import dataclass
 from typing import Any
@@ -70,17 +71,22 @@ def bank() -> ModelBank:
         return default_model()
 
 
+@functools.lru_cache(maxsize=1024)
 def predict(sample: SandSample) -> Prediction:
-    """The spectrum of ``sample`` from the first model of the bank that covers it."""
+    """The spectrum of ``sample`` from the first model of the bank that covers it.
+
+    The last 1024 answers are kept: the page asks for the same sample's spectrum, colour,
+    overlay and export (samples are immutable and hashable, the bank never changes)."""
     models = bank()
     try:
         values, used = models.predict([sample], return_models=True)
     except ParameterError as exc:  # outside every model's domain: the message says which parameter
         return Prediction(None, None, None, None, str(exc))
     name = str(used[0])
-    return Prediction(
-        models.wavelengths_.copy(), values[0], name, holdout_rms(models.model(name)), models.describe(name)
-    )
+    wavelengths, reflectance = models.wavelengths_.copy(), values[0]
+    for shared in (wavelengths, reflectance):  # a kept answer must not change
+        shared.setflags(write=False)
+    return Prediction(wavelengths, reflectance, name, holdout_rms(models.model(name)), models.describe(name))
 
 
 def colour_of(wavelengths_nm: ArrayLike, reflectance: ArrayLike) -> dict[str, Any]:
@@ -137,6 +143,11 @@ def spectrum_answer(sample: SandSample) -> dict[str, Any]:
 
 
 def _sample_colour(sample: SandSample) -> dict[str, Any]:
+    return dict(_kept_sample_colour(sample))
+
+
+@functools.lru_cache(maxsize=1024)
+def _kept_sample_colour(sample: SandSample) -> dict[str, Any]:
     p = predict(sample)
     if not p.covered:
         return _uncovered(p)

@@ -438,7 +438,8 @@ function refreshBrdf(mine) {
         sample: state.a, incidence_deg: state.incidence, wavelength_nm: state.wavelength,
       });
       if (mine !== sequence) return;
-      $("brdf-error").textContent = answer.warnings.join(" ");
+      $("brdf-error").textContent = "";
+      $("brdf-note").textContent = answer.warnings.join(" ");
       drawPolar(answer);
       const p = answer.principal_plane;
       linePlot($("plane-svg"), [{ name: "plane", x: p.theta_deg, y: p.f, colour: "#b8562a" }], [-90, 90], "f (1/sr)", "view zenith θ (°)");
