@@ -123,15 +123,20 @@ def _uncovered(prediction: Prediction) -> dict[str, Any]:
     }
 
 
+def _answered_by(p: Prediction) -> dict[str, Any]:
+    """The fields of an answer that name the model (or, uncovered, why there is none)."""
+    if not p.covered:
+        return _uncovered(p)
+    return {"covered": True, "model": p.model, "holdout_rms": p.holdout_rms}
+
+
 def spectrum_answer(sample: SandSample) -> dict[str, Any]:
     """The body of ``POST /api/spectrum`` (docs/explorer.md)."""
     p = predict(sample)
     if not p.covered:
         return _uncovered(p)
     return {
-        "covered": True,
-        "model": p.model,
-        "holdout_rms": p.holdout_rms,
+        **_answered_by(p),
         "description": p.description,
         "wavelengths_nm": p.wavelengths_nm.tolist(),
         "reflectance": p.reflectance.tolist(),
@@ -149,14 +154,7 @@ def _sample_colour(sample: SandSample) -> dict[str, Any]:
 @functools.lru_cache(maxsize=1024)
 def _kept_sample_colour(sample: SandSample) -> dict[str, Any]:
     p = predict(sample)
-    if not p.covered:
-        return _uncovered(p)
-    return {
-        "covered": True,
-        "model": p.model,
-        "holdout_rms": p.holdout_rms,
-        **colour_of(p.wavelengths_nm, p.reflectance),
-    }
+    return _answered_by(p) if not p.covered else {**_answered_by(p), **colour_of(p.wavelengths_nm, p.reflectance)}
 
 
 def colour_answer(sample: SandSample, compare: SandSample | None) -> dict[str, Any]:
