@@ -23,7 +23,7 @@ TEST_LIMITS = Limits(max_rays=5000, max_upload_bytes=64 * 1024, max_jobs_per_cli
 def client():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        with TestClient(create_app(TEST_LIMITS)) as c:
+        with TestClient(create_app(TEST_LIMITS), base_url="http://127.0.0.1") as c:
             yield c
 
 

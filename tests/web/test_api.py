@@ -155,3 +155,11 @@ def test_brdf_maps_have_the_requested_grid_and_the_mirror_symmetry_of_the_model(
 def test_brdf_bad_options_are_named(client, field, value, named):
     res = client.post("/api/brdf", json={"sample": "red-dune", field: value})
     assert res.status_code == 400 and res.json()["parameter"] == named, res.text
+
+
+def test_an_error_in_the_comparison_sample_names_it(client):
+    res = client.post("/api/colour", json={"sample": "red-dune", "compare": {"iron_oxide": 0.5}})
+    assert res.status_code == 400
+    body = res.json()
+    assert body["parameter"] == "compare.iron_oxide" and body["allowed"] == "a real number in [0, 0.1]"
+    assert body["message"].startswith("compare.iron_oxide = 0.5 is not allowed")

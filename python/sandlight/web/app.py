@@ -21,7 +21,7 @@ from sandlight.web.security import BodyLimit, SameOrigin, SecurityHeaders
 __all__ = ["create_app", "LOCAL_HOSTS", "UPLOAD_PATH"]
 
 #: The host names a server bound to the loopback interface answers for.
-LOCAL_HOSTS = ("127.0.0.1", "localhost", "[::1]", "::1", "testserver")
+LOCAL_HOSTS = ("127.0.0.1", "localhost", "[::1]", "::1")
 #: The one route that takes an upload (its body limit is `Limits.max_upload_bytes`).
 UPLOAD_PATH = "/api/measured"
 
@@ -51,7 +51,7 @@ def create_app(limits: Limits = Limits(), *, allowed_hosts: Sequence[str] | None
         Bounds on requests, uploads, rays, images and jobs.
     allowed_hosts : sequence of str or None
         Host names answered (``Host`` header); the default serves only the loopback names
-        ("testserver" is the name of Starlette's test client). None answers any host (a server
+        (a test client must use one, e.g. ``base_url="http://127.0.0.1"``). None answers any host (a server
         made reachable from other machines with ``--allow-remote``).
 
     Returns
@@ -62,9 +62,9 @@ def create_app(limits: Limits = Limits(), *, allowed_hosts: Sequence[str] | None
 
     @contextlib.asynccontextmanager
     async def lifespan(app: Starlette) -> AsyncIterator[None]:
-        # Load the models and build the preview's dune field before the first request.
+        # Load the models and warm the preview's caches before the first request.
         spectra.bank()
-        await run_in_threadpool(preview.dune_tile)
+        await run_in_threadpool(preview.warm_up)
         try:
             yield
         finally:

@@ -36,11 +36,11 @@ from sandlight.render.terrain import PlaneTerrain, dune_field
 from sandlight.sample import SandSample
 from sandlight.sky import sun_direction
 from sandlight.web.brdf_maps import appearance_of
-from sandlight.web.jobs import JobContext
+from sandlight.web.jobs import Job, JobContext
 from sandlight.web.limits import Limits
 from sandlight.web.requests import number_in
 
-__all__ = ["PREVIEW_OPTIONS", "preview_work", "dune_tile"]
+__all__ = ["PREVIEW_OPTIONS", "preview_work", "dune_tile", "warm_up"]
 
 #: The options of a preview request with their defaults (the page's controls).
 PREVIEW_OPTIONS: dict[str, Any] = {
@@ -67,6 +67,14 @@ def dune_tile() -> Any:
     # A coarser tile than the desert-day scene's (256 cells of 0.8 m): a preview is small, and
     # wind ripples (0.8 m) would need a finer grid than the preview's pixels can show.
     return dune_field(size_m=204.8, cells=256, ripple_height_m=0.0, seed=1)
+
+
+def warm_up() -> None:
+    """Build what every first preview needs (the dune tile, the spatial model, the sky and sun
+    tables) with a tiny render of the default sample, so that the first image of the first
+    preview comes as fast as the later ones (the app runs this at start-up)."""
+    work = preview_work(SandSample(), {"width": 8, "height": 8, "spp": 1, "terrain": "dunes"}, Limits())
+    work(JobContext(Job("warm-up", "preview", "server")))
 
 
 def _camera(terrain: str, width: int, height: int) -> tuple[Any, Camera]:

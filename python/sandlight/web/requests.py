@@ -62,7 +62,8 @@ def keys_allowed(body: dict[str, Any], allowed: tuple[str, ...]) -> None:
 
 def sample_in(body: dict[str, Any], key: str = "sample") -> SandSample:
     """The sample under ``key``: a table of parameters (``{"preset": "red-dune", "iron_oxide": 0.02}``),
-    a preset name, or absent (the default sample).
+    a preset name, or absent (the default sample). An error in a sample other than ``"sample"``
+    names the parameter with the key in front (``compare.iron_oxide``).
 
     Raises
     ------
@@ -71,11 +72,15 @@ def sample_in(body: dict[str, Any], key: str = "sample") -> SandSample:
         type, inconsistent separates, an unknown preset.
     """
     value = body.get(key, {})
-    if isinstance(value, str):
-        return SandSample.preset(value)
-    if not isinstance(value, dict):
+    if not isinstance(value, (str, dict)):
         raise ParameterError(key, value, "a table of sample parameters (with an optional 'preset') or a preset name")
-    return SandSample.from_dict(value)
+    try:
+        return SandSample.preset(value) if isinstance(value, str) else SandSample.from_dict(value)
+    except ParameterError as exc:
+        if key == "sample":
+            raise
+        # Another sample of the request (the comparison B): say which one is wrong.
+        raise ParameterError(f"{key}.{exc.name}", exc.value, exc.allowed) from None
 
 
 def number_in(body: dict[str, Any], key: str, default: float, low: float, high: float) -> float:

@@ -176,7 +176,13 @@ function clearErrors() {
 function showError(error) {
   // The API names the parameter: show its message beside it, or above the editor.
   const body = error.body || {};
-  const name = body.parameter;
+  // "compare.x" names parameter x of sample B; the editor shows the sample being edited.
+  const ofB = (body.parameter || "").startsWith("compare.");
+  const name = ofB ? body.parameter.slice(8) : body.parameter;
+  if (ofB !== (state.editing === "b")) {
+    $("sample-error").textContent = `sample ${ofB ? "B" : "A"}: ${error.message}`;
+    return;
+  }
   const p = name && schema.parameters.find((q) => q.name === name);
   if (p) {
     $(`error-${name}`).textContent = body.message;
@@ -196,25 +202,25 @@ async function refresh() {
   writeHash();
   const a = state.a, b = state.compare ? state.b : null;
   if (mc && mc.key !== key(a)) mc = null;
-  try {
-    const [sa, sb, colour] = await Promise.all([
-      api("/api/spectrum", { sample: a }),
-      b ? api("/api/spectrum", { sample: b }) : Promise.resolve(null),
-      api("/api/colour", { sample: a, compare: b }),
-    ]);
-    if (mine !== sequence) return;
-    clearErrors();
-    spectra = { a: sa, b: sb };
-    showModel(sa);
-    showColour(colour);
-    if (measured) await uploadMeasured(measured.file);
-    plotSpectrum();
-  } catch (error) {
-    if (mine !== sequence) return;
-    clearErrors();
-    showError(error);
+  const results = await Promise.allSettled([
+    api("/api/spectrum", { sample: a }),
+    b ? api("/api/spectrum", { sample: b }) : Promise.resolve(null),
+    api("/api/colour", { sample: a, compare: b }),
+  ]);
+  if (mine !== sequence) return;
+  clearErrors();
+  // The colour request names a parameter of B as "compare.x": its error says which sample is wrong.
+  const failure = results[2].status === "rejected" ? results[2] : results.find((r) => r.status === "rejected");
+  if (failure) {
+    showError(failure.reason);
     return;
   }
+  const [sa, sb, colour] = results.map((r) => r.value);
+  spectra = { a: sa, b: sb };
+  showModel(sa);
+  showColour(colour);
+  if (measured) await uploadMeasured(measured.file);
+  plotSpectrum();
   refreshBrdf(mine);
 }
 
