@@ -36,7 +36,9 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     ("predictors", frozenset({"predictor", "spatial"})),
     ("appearance", frozenset({"appearance"})),
     ("colour/render", frozenset({"colour", "sky", "render", "mitsuba"})),
-    ("cli", frozenset({"cli", "__main__"})),
+    # The command line and the web explorer are the top layer; `sandlight serve` (cli) starts the
+    # web application inside the command's function, and the web layer never imports the cli.
+    ("cli/web", frozenset({"cli", "__main__", "web"})),
 )
 LAYER_OF = {unit: rank for rank, (_, units) in enumerate(LAYERS) for unit in units}
 #: What may be imported from the package root (``sandlight/__init__.py``, the public facade,

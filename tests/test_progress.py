@@ -2,8 +2,11 @@
 
 import re
 
+import pytest
+
 import sandlight
 from sandlight import _runner, engine, progress
+from sandlight.errors import Cancelled
 from sandlight.progress import progress_bar
 
 
@@ -42,3 +45,24 @@ def test_disabled_bars_print_nothing(monkeypatch, capsys):
     with progress_bar("quiet", 4, unit="rays", enabled=False) as bar:
         bar.advance(4)
     assert capsys.readouterr().err == ""
+
+
+def test_progress_to_sends_the_outer_bar_to_the_receiver_and_prints_nothing(capsys):
+    seen = []
+    with progress.progress_to(lambda done, total, text: seen.append((done, total, text))):
+        sandlight.reflectance("red-dune", [450, 550, 650], rays=3000, share=False)
+    assert seen and seen[-1][:2] == (9000.0, 9000.0)
+    assert [s[0] for s in seen] == sorted(s[0] for s in seen)
+    assert capsys.readouterr().err == ""
+
+
+def test_a_receiver_that_raises_stops_the_run_within_a_batch():
+    calls = []
+
+    def cancel(done, total, text):
+        calls.append(done)
+        raise sandlight.errors.Cancelled("stopped by the test")
+
+    with pytest.raises(Cancelled), progress.progress_to(cancel):
+        sandlight.reflectance("red-dune", [450, 550, 650], rays=200000, share=False)
+    assert len(calls) == 1 and calls[0] < 200000

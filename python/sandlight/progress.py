@@ -7,6 +7,9 @@ a plain line with the same figures is printed every `PLAIN_EVERY_S` seconds inst
 Bars nest: a bar opened while another is showing does not show itself but counts into the outer
 one when both count the same unit, so that long work shows one overall bar (`sandlight.reflectance`
 over 216 wavelengths showed 216 bars one after the other, each restarting at 0).
+
+Inside `progress_to(receiver)` nothing is displayed: the outermost bar sends its figures to the
+receiver instead (a web job's progress stream), and the receiver may stop the work by raising.
 """
 
 from __future__ import annotations
@@ -15,12 +18,21 @@ import contextlib
 import contextvars
 import sys
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 
 #: Seconds between the plain progress lines written when the output is not a terminal.
 PLAIN_EVERY_S = 30.0
 
-_current: contextvars.ContextVar[ProgressBar | None] = contextvars.ContextVar("sandlight_progress", default=None)
+_current: contextvars.ContextVar[ProgressBar | _Reported | None] = contextvars.ContextVar(
+    "sandlight_progress", default=None
+)
+
+#: ``receiver(completed, total, description)``: where the progress goes instead of a display.
+ProgressReceiver = Callable[[float, float, str], None]
+
+_receiver: contextvars.ContextVar[ProgressReceiver | None] = contextvars.ContextVar(
+    "sandlight_progress_receiver", default=None
+)
 
 
 def _duration(seconds: float) -> str:
@@ -104,10 +116,25 @@ class ProgressBar:
             self._rich[0].stop()
 
 
+class _Reported:
+    """The outermost bar inside `progress_to`: sends every advance to the receiver."""
+
+    def __init__(self, description: str, total: float, unit: str, completed: float, receiver: ProgressReceiver) -> None:
+        self.description, self.total, self.unit = description, float(total), unit
+        self.completed = float(completed)
+        self._receiver = receiver
+
+    def advance(self, n: float = 1, *, description: str | None = None) -> None:
+        self.completed += n
+        if description is not None:
+            self.description = description
+        self._receiver(self.completed, self.total, self.description)
+
+
 class _Joined:
     """A bar opened inside another: counts into the outer bar when they share the unit."""
 
-    def __init__(self, outer: ProgressBar, unit: str) -> None:
+    def __init__(self, outer: ProgressBar | _Reported, unit: str) -> None:
         self._outer = outer if outer.unit == unit else None
 
     def advance(self, n: float = 1, *, description: str | None = None) -> None:
@@ -143,7 +170,7 @@ def progress_bar(
     completed: float = 0,
     enabled: bool = True,
     show_after_s: float = 0.0,
-) -> Iterator[ProgressBar | _Joined | _Off]:
+) -> Iterator[ProgressBar | _Reported | _Joined | _Off]:
     """Report the progress of ``total`` units of work (``unit``, plural: "rays", "samples").
 
     Parameters
@@ -168,10 +195,32 @@ def progress_bar(
     if outer is not None:
         yield _Joined(outer, unit)
         return
-    bar = ProgressBar(description, total, unit, completed, show_after_s)
+    receiver = _receiver.get()
+    if receiver is None:
+        bar = ProgressBar(description, total, unit, completed, show_after_s)
+    else:
+        bar = _Reported(description, total, unit, completed, receiver)
     token = _current.set(bar)
     try:
         yield bar
     finally:
         _current.reset(token)
-        bar._close()
+        if isinstance(bar, ProgressBar):
+            bar._close()
+
+
+@contextlib.contextmanager
+def progress_to(receiver: ProgressReceiver) -> Iterator[None]:
+    """Send the progress of the work inside the block to ``receiver`` instead of displaying it.
+
+    The outermost enabled bar opened in the block calls ``receiver(completed, total,
+    description)`` on every advance (bars nested in it count into it as usual); nothing is
+    printed. An exception the receiver raises (`sandlight.errors.Cancelled` for a cancelled web
+    job) leaves ``advance`` and so stops the work between two batches, with nothing half-done.
+    The receiver holds for the current context only (one thread, one asyncio task).
+    """
+    token = _receiver.set(receiver)
+    try:
+        yield
+    finally:
+        _receiver.reset(token)

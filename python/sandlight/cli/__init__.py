@@ -9,6 +9,7 @@ from sandlight.cli import engine as _engine  # noqa: F401,E402
 from sandlight.cli import gonio as _gonio  # noqa: F401,E402
 from sandlight.cli import predict as _predict  # noqa: F401,E402
 from sandlight.cli import render as _render  # noqa: F401,E402
+from sandlight.cli import serve as _serve  # noqa: F401,E402
 from sandlight.cli import sky as _sky  # noqa: F401,E402
 from sandlight.cli import spatial as _spatial  # noqa: F401,E402
 from sandlight.cli import validate as _validate  # noqa: F401,E402
