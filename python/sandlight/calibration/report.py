@@ -308,12 +308,14 @@ def plot_calibration(
     mineral: str,
     errors: str,
     reference: tuple[ArrayLike, ArrayLike] | None = None,
+    reference_label: str = "shipped table",
     truth: tuple[ArrayLike, ArrayLike] | None = None,
 ) -> None:
-    """Three panels: k(λ) fitted (band: ±σ of the fit; grey: not identifiable) against the
-    shipped table (``reference``: (wavelengths, k)) and a known ``truth`` (same form, synthetic
-    runs); σ(log10 k) per end-member with the threshold; measured (lines) vs model (dots).
-    ``errors`` names the errors ``ident`` was computed with (the σ panel's label)."""
+    """Three panels: k(λ) fitted (band: ±σ of the fit; grey: not identifiable) against a
+    reference k (``reference``: (wavelengths, k), named ``reference_label``, e.g. the
+    literature prior) and a known ``truth`` (same form, synthetic runs); σ(log10 k) per
+    end-member with the threshold; measured (lines) vs model (dots). ``errors`` names the
+    errors ``ident`` was computed with (the σ panel's label)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -330,7 +332,7 @@ def plot_calibration(
     band = [10 ** np.clip(fit.log10_k_ + sign * fit.sigma_log10_k_, low, high) for sign in (-1, 1)]
     a.fill_between(wl, band[0], band[1], color="C3", alpha=0.25, lw=0)
     if reference is not None:
-        a.semilogy(reference[0], reference[1], "k--", lw=1, label="shipped table")
+        a.semilogy(reference[0], reference[1], "k--", lw=1, label=reference_label)
     if truth is not None:
         a.semilogy(truth[0], truth[1], "C0:", lw=2, label="true k (synthetic)")
     a.set_ylabel("k")
@@ -393,7 +395,7 @@ def write_k_table(
     rms = ", ".join(f"{m} {r:.4f}" for m, r in fit.rms_.items())
     header = [
         f"material: {mineral}",
-        "status: derived by calibration (reduced-size run; not a shipped table)",
+        "status: derived by calibration (the effective k of the engine's powders; docs/optical-constants.md)",
         "source: USGS Spectral Library Version 7 (Kokaly et al. 2017, doi:10.3133/ds1035), end-member spectra",
         f"origin: {inputs}",
         "licence: MIT (values computed by sandlight); input spectra public domain",
