@@ -80,7 +80,11 @@ class Population:
 
 @dataclass(frozen=True)
 class Composition:
-    """The particle populations and pore space of a sample (wavelength independent)."""
+    """The particle populations and pore space of a sample (wavelength independent).
+
+    ``host_absorption`` is the factor on the k of the quartz host (``SandSample.host_absorption``;
+    applied where the native medium is built, :func:`sandlight.physics.medium.native_medium`).
+    """
 
     populations: tuple
     porosity: float
@@ -88,6 +92,7 @@ class Composition:
     film_thickness_mm: float
     water_filled_probability: float
     depth_mm: float
+    host_absorption: float = 1.0
 
     def encounter_probabilities(self) -> list[float]:
         """P(type i) ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩ (docs/model.md §2.2)."""
@@ -228,4 +233,5 @@ def compose(sample: SandSample) -> Composition:
         film_thickness_mm=film,
         water_filled_probability=min(max(filled, 0.0), 1.0),
         depth_mm=sample.depth_mm,
+        host_absorption=sample.host_absorption,
     )

@@ -10,7 +10,8 @@ pure-material powder in :mod:`sandlight.physics.powder`.
 wavelength. Mixing rules (docs/transport.md): a core or coating made of several materials gets
 the volume-weighted mean of their complex indices, n̄ = Σ vⱼ nⱼ and k̄ = Σ vⱼ kⱼ, hence the
 volume-weighted absorption coefficient ᾱ = Σ vⱼ αⱼ — the dilute-inclusion limit of
-docs/model.md §2.4 (Maxwell Garnett is the refinement for dense inclusions).
+docs/model.md §2.4 (Maxwell Garnett is the refinement for dense inclusions). The quartz host's
+k is multiplied by the composition's ``host_absorption`` first (:func:`with_host_absorption`).
 """
 
 from __future__ import annotations
@@ -24,7 +25,10 @@ from sandlight import _native
 from sandlight.optics import complex_index
 from sandlight.physics.composition import Composition
 
-__all__ = ["Traceable", "OpticalConstants", "native_medium", "absorption_per_mm"]
+__all__ = ["Traceable", "OpticalConstants", "native_medium", "absorption_per_mm", "with_host_absorption"]
+
+#: The material of the host grains (sand and silt cores) that ``host_absorption`` scales.
+HOST_MATERIAL = "quartz"
 
 #: Optical constants as a function ``(material, wavelength_nm) -> n + ik`` (the default is
 #: :func:`sandlight.optics.complex_index`).
@@ -61,6 +65,19 @@ def _mix(materials: dict, wavelength_nm: float, index: OpticalConstants) -> comp
     return sum(v * complex(index(m, wavelength_nm)) for m, v in materials.items())
 
 
+def with_host_absorption(index: OpticalConstants, factor: float) -> OpticalConstants:
+    """``index`` with the quartz host's k multiplied by ``factor`` (n unchanged); ``index``
+    itself when ``factor`` is 1."""
+    if factor == 1.0:
+        return index
+
+    def scaled(material: str, wavelength_nm: float) -> complex:
+        m = complex(index(material, wavelength_nm))
+        return complex(m.real, m.imag * factor) if material == HOST_MATERIAL else m
+
+    return scaled
+
+
 def native_medium(
     comp: Composition, wavelength_nm: float, memory: str = "none", *, optical_constants: OpticalConstants | None = None
 ) -> _native.Medium:
@@ -68,9 +85,12 @@ def native_medium(
 
     ``memory`` is the on-the-fly engine's near-surface path memory, 'none' (the classic model),
     'channel', 'cut' or 'packed' (docs/geometry.md). ``optical_constants`` replaces the shipped
-    tables (:func:`sandlight.optics.complex_index`), e.g. for a what-if run.
+    tables (:func:`sandlight.optics.complex_index`), e.g. for a what-if run; the composition's
+    ``host_absorption`` applies to either.
     """
-    index = complex_index if optical_constants is None else optical_constants
+    index = with_host_absorption(
+        complex_index if optical_constants is None else optical_constants, comp.host_absorption
+    )
     probs = comp.encounter_probabilities()
     quantiles, aspect, core_n, core_k, core_a, coat_n, coat_a, coat_t = ([] for _ in range(8))
     for p in comp.populations:
