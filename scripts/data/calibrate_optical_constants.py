@@ -14,10 +14,12 @@ spectra by penalised least squares (sandlight.calibration.KFit). The script repo
 * for hematite, the cross-validation on the GDS69 grain-size series: fit on a, c, e, g, predict
   b, d, f (target RMS ≤ 0.02).
 
-For goethite and quartz the fit has a weak literature prior on log10 k
-(sandlight.calibration.priors, σ --prior-sigma decades): it decides k only where no powder
-constrains it, and the reports compare the fit with it. Hematite has none (its shipped k stays
-Querry/Longtin: docs/optical-constants.md says why).
+For goethite the fit has a weak literature prior on log10 k (sandlight.calibration.priors, σ
+--prior-sigma decades): it decides k only where no powder constrains it (the opaque blue). The
+quartz powders see k at every wavelength, so quartz has none (with the model error as large as it
+is, a prior would pull an identified k); its reports, like goethite's, compare the fit with the
+literature k. Hematite has neither (its shipped k stays Querry/Longtin: docs/optical-constants.md
+says why).
 
 Nothing shipped is changed: the derived table (<mineral>-k.csv, in the format of
 sandlight/data/optical/), the figures and report.md go to --out. The csv records the canonical
@@ -67,6 +69,7 @@ class Setup:
     truth: dict = field(default_factory=dict)  # sandlight.calibration.edge_and_band_log10_k parameters
     train: tuple[str, ...] = ()  # cross-validation: fit on these ...
     test: tuple[str, ...] = ()  # ... predict these
+    prior: bool = False  # fit with the literature prior (sandlight.calibration.priors)
 
 
 SETUPS = {
@@ -77,7 +80,8 @@ SETUPS = {
         ("GDS69.a", "GDS69.c", "GDS69.e", "GDS69.g"),
         ("GDS69.b", "GDS69.d", "GDS69.f"),
     ),
-    "goethite": Setup((-6.0, 0.25), {"opaque": -0.5, "floor": -3.3, "edge_nm": 540.0, "band_nm": 920.0}),
+    # The prior decides k in the blue, where every goethite powder is opaque.
+    "goethite": Setup((-6.0, 0.25), {"opaque": -0.5, "floor": -3.3, "edge_nm": 540.0, "band_nm": 920.0}, prior=True),
     "quartz": Setup(
         (-8.0, -3.0),
         {"opaque": -5.5, "floor": -7.0, "edge_nm": 450.0, "edge_width_nm": 60.0, "band_nm": 2200.0, "band_depth": 0.5},
@@ -126,7 +130,7 @@ def parse_args(argv):
         "--prior-sigma",
         type=float,
         default=1.0,
-        help="σ of the literature prior on log10 k, decades (KFit.prior_sigma_log10_k, default 1; goethite, quartz)",
+        help="σ of the literature prior on log10 k, decades (KFit.prior_sigma_log10_k, default 1; goethite only)",
     )
     parser.add_argument("--seed", type=int, default=0, help="master seed of the engine (default 0)")
     parser.add_argument("--threads", type=int, default=1, help="engine threads (RAYON_NUM_THREADS, default 1)")
@@ -159,10 +163,11 @@ def parse_args(argv):
 def canonical_command(args) -> str:
     """The command with every option that decides the fitted k, in a fixed order and without
     paths or thread counts (which do not change the values): what the k csv records."""
+    prior = f" --prior-sigma {args.prior_sigma:g}" if SETUPS[args.mineral].prior else ""
     return (
         f"{SCRIPT} --mineral {args.mineral} --scale {args.scale:g} --smoothing {args.smoothing:g} "
-        f"--model-sigma {args.model_sigma if args.model_sigma == 'auto' else format(args.model_sigma, 'g')} "
-        f"--prior-sigma {args.prior_sigma:g} --seed {args.seed}"
+        f"--model-sigma {args.model_sigma if args.model_sigma == 'auto' else format(args.model_sigma, 'g')}"
+        f"{prior} --seed {args.seed}"
     )
 
 
@@ -190,12 +195,11 @@ def main(argv=None) -> int:
     excluded = [m for m in cal.end_members(args.mineral) if not m.use_in_fit]
     forward = cal.EnginePowder(rays=rays, seed=args.seed)
     command = canonical_command(args)
-    if args.mineral in cal.PRIOR_MINERALS:
-        prior_k = cal.literature_k(args.mineral, wl)
-        prior_log10_k = np.log10(prior_k)
-        reference, reference_label = (wl, prior_k), "literature prior"
+    prior_log10_k = np.log10(cal.literature_k(args.mineral, wl)) if setup.prior else None
+    if args.mineral in cal.LITERATURE_MINERALS:
+        reference = (wl, cal.literature_k(args.mineral, wl))
+        reference_label = "literature prior" if setup.prior else "literature k"
     else:
-        prior_log10_k = None
         shipped = table(args.mineral)
         reference, reference_label = (shipped["wavelength"].values, shipped["k"].values), "shipped table"
     args.out.mkdir(parents=True, exist_ok=True)

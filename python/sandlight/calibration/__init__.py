@@ -12,7 +12,7 @@ ReflectanceTable, tabulate
     ρ(λᵢ, kⱼ) per end-member on a log-spaced k grid, restartable (:mod:`.tables`).
 KFit, holdout
     The penalised least-squares fit of log10 k(λ) and the hold-out check (:mod:`.fit`).
-literature_k, goethite_literature_k, quartz_literature_k, PRIOR_MINERALS
+literature_k, goethite_literature_k, quartz_literature_k, LITERATURE_MINERALS
     Weak literature priors on log10 k (:mod:`.priors`).
 synthetic_spectra, edge_and_band_log10_k
     Synthetic spectra at a known k(λ), for the round trip (:mod:`.synthetic`).
@@ -27,7 +27,7 @@ from sandlight.calibration import report
 from sandlight.calibration.end_members import MEASUREMENT_SIGMA, EndMember, end_members, measured_reflectance
 from sandlight.calibration.fit import KFit, holdout
 from sandlight.calibration.forward import EnginePowder
-from sandlight.calibration.priors import PRIOR_MINERALS, goethite_literature_k, literature_k, quartz_literature_k
+from sandlight.calibration.priors import LITERATURE_MINERALS, goethite_literature_k, literature_k, quartz_literature_k
 from sandlight.calibration.report import *  # noqa: F403 - the names of report.__all__, listed there once
 from sandlight.calibration.synthetic import edge_and_band_log10_k, synthetic_spectra
 from sandlight.calibration.tables import ReflectanceTable, tabulate
@@ -45,7 +45,7 @@ __all__ = [
     "literature_k",
     "goethite_literature_k",
     "quartz_literature_k",
-    "PRIOR_MINERALS",
+    "LITERATURE_MINERALS",
     "synthetic_spectra",
     "edge_and_band_log10_k",
     *report.__all__,

@@ -3,7 +3,7 @@
 Public objects
 --------------
 literature_k
-    The literature k(λ) of a mineral the calibration can use as a prior.
+    The literature k(λ) of a mineral: the calibration's prior, or its reports' reference.
 goethite_literature_k
     Goethite: a charge-transfer edge and two crystal-field bands placed where the literature
     puts them, with magnitudes of the quoted order.
@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 
-__all__ = ["literature_k", "goethite_literature_k", "quartz_literature_k", "PRIOR_MINERALS"]
+__all__ = ["literature_k", "goethite_literature_k", "quartz_literature_k", "LITERATURE_MINERALS"]
 
 HC_EV_NM = 1239.84198  # h c in eV nm: photon energy E = HC_EV_NM / λ
 LAMBDA_MAX_NM = 2500.0
@@ -91,12 +91,12 @@ def quartz_literature_k(wavelength_nm: ArrayLike) -> np.ndarray:
 
 
 _PRIORS = {"goethite": goethite_literature_k, "quartz": quartz_literature_k}
-#: Minerals with a literature prior.
-PRIOR_MINERALS = tuple(sorted(_PRIORS))
+#: Minerals with a literature k (a prior, or the reference the reports compare with).
+LITERATURE_MINERALS = tuple(sorted(_PRIORS))
 
 
 def literature_k(mineral: str, wavelength_nm: ArrayLike) -> np.ndarray:
-    """The literature k(λ) of ``mineral`` (one of :data:`PRIOR_MINERALS`) at ``wavelength_nm``."""
+    """The literature k(λ) of ``mineral`` (one of :data:`LITERATURE_MINERALS`) at ``wavelength_nm``."""
     if mineral not in _PRIORS:
-        raise ParameterError("mineral", mineral, "one with a literature prior: " + ", ".join(PRIOR_MINERALS))
+        raise ParameterError("mineral", mineral, "one with a literature prior: " + ", ".join(LITERATURE_MINERALS))
     return _PRIORS[mineral](wavelength_nm)
