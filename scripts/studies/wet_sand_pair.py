@@ -10,20 +10,24 @@ of the same beach at the Bird's Foot delta of the Mississippi (Kokaly et al. 201
    (k₁, p), passed as optical constants (the sample has no host-absorption parameter yet; this
    dark delta sand, r ≈ 0.07–0.28, cannot be reached with magnetite ≤ 5 % alone); every
    other parameter keeps its default;
-2. predicts the wet sample from the fitted dry one at one saturation (``--saturation``, default
-   :data:`WET_SATURATION`, argued in docs/wet-sand.md, never fitted to the wet spectrum), with
-   both path-memory models ('none' and 'packed');
+2. predicts the wet sample from the fitted dry one at one saturation, with both path-memory
+   models ('none' and 'packed'). The field description gives no water content, so the
+   saturation is read once from the depth of the 1450 nm water band: the S at which the
+   model's wet/dry ratio at 1450 nm equals the measured one (linear interpolation on a grid
+   of S, :data:`SATURATION_GRID`). The continuum (450–1300 nm), the other water bands (1650,
+   2000, 2200 nm) are then predictions; ``--saturation`` sets S instead;
 3. prints the predicted and measured wet/dry ratio with its Monte Carlo error (the dry and wet
    runs share their seed, so the ratio's error is propagated as if independent: an upper
    bound) and the largest miss in 450–1300 nm, and saves a figure to
    ``docs/figures/wet_sand_pair.png``.
 
-``--diagnose`` also prints, for the wet prediction, where the rays end (escaped, absorbed) at a
-few wavelengths, and the ratio at a few saturations, to show which events make the darkening.
+``--diagnose`` also prints the ratio at a few saturations and wavelengths, and the same with the
+iron-oxide coating removed (``iron_oxide`` 0, the fitted host kept), to show which part of the
+sample makes the ratio depend on wavelength.
 
 Usage::
 
-    python scripts/studies/wet_sand_pair.py [--rays 3000] [--fit-rays 1500] [--saturation 1.0]
+    python scripts/studies/wet_sand_pair.py [--rays 3000] [--fit-rays 1500] [--saturation S]
         [--memories none packed] [--diagnose] [--no-figure]
 """
 
@@ -43,8 +47,10 @@ from sandlight.physics.media import SandMedium
 
 DRY = "Sand_DWO-3-DEL2c"
 WET = "Sand_DWO-3-DEL2d"
-#: The saturation of the wet prediction (docs/wet-sand.md, "Which saturation").
-WET_SATURATION = 1.0
+#: Saturations on which the 1450 nm band depth is interpolated to choose S.
+SATURATION_GRID = np.array([0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0])
+#: The water band that sets S.
+BAND_NM = 1450.0
 #: Fit wavelengths (nm): 400–2400 without the water bands (the dry field sand holds some water).
 FIT_WAVELENGTHS = np.array([400, 450, 500, 550, 600, 650, 700, 800, 900, 1000, 1100, 1250, 1600, 1700, 2100, 2250])
 #: Prediction wavelengths (nm), with the water bands.
@@ -107,6 +113,20 @@ def fit_dry(memory: str, rays: int) -> tuple[np.ndarray, float]:
     return fit.x, float(np.sqrt(np.mean(fit.fun**2)))
 
 
+def saturation_from_band(x: np.ndarray, memory: str, rays: int) -> float:
+    """The S at which the model's wet/dry ratio at :data:`BAND_NM` equals the measured one.
+
+    The ratio falls with S (more water on the paths); it is interpolated linearly on
+    :data:`SATURATION_GRID`, clipped to the grid's ends.
+    """
+    wl = np.array([BAND_NM])
+    target = float(measured(WET, wl)[0] / measured(DRY, wl)[0])
+    dry = run(x, 0.0, memory, wl, rays).values[0]
+    ratios = np.array([run(x, s, memory, wl, rays).values[0] / dry for s in SATURATION_GRID])
+    # np.interp needs increasing abscissae: the ratio decreases with S.
+    return float(np.interp(target, ratios[::-1], SATURATION_GRID[::-1]))
+
+
 def ratio_with_error(dry, wet):
     r = wet.values / dry.values
     err = r * np.hypot(dry.stderr / dry.values, wet.stderr / wet.values)
@@ -117,7 +137,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rays", type=int, default=3000, help="rays per wavelength of the predictions")
     ap.add_argument("--fit-rays", type=int, default=1500, help="rays per wavelength in the dry fit")
-    ap.add_argument("--saturation", type=float, default=WET_SATURATION)
+    ap.add_argument("--saturation", type=float, default=None, help="S of the wet prediction (default: from 1450 nm)")
     ap.add_argument("--memories", nargs="+", default=["none", "packed"])
     ap.add_argument("--diagnose", action="store_true")
     ap.add_argument("--no-figure", action="store_true")
@@ -125,23 +145,25 @@ def main() -> None:
 
     meas_dry, meas_wet = measured(DRY, WAVELENGTHS), measured(WET, WAVELENGTHS)
     meas_ratio = meas_wet / meas_dry
-    band = (WAVELENGTHS >= TARGET_BAND[0]) & (WAVELENGTHS <= TARGET_BAND[1])
+    band = (TARGET_BAND[0] <= WAVELENGTHS) & (TARGET_BAND[1] >= WAVELENGTHS)
     results = {}
     for memory in args.memories:
         t0 = time.perf_counter()
         x, rms = fit_dry(memory, args.fit_rays)
+        saturation = saturation_from_band(x, memory, args.rays) if args.saturation is None else args.saturation
         dry = run(x, 0.0, memory, WAVELENGTHS, args.rays)
-        wet = run(x, args.saturation, memory, WAVELENGTHS, args.rays)
+        wet = run(x, saturation, memory, WAVELENGTHS, args.rays)
         ratio, err = ratio_with_error(dry, wet)
         miss = ratio - meas_ratio
         worst = int(np.argmax(np.where(band, np.abs(miss), -1.0)))
-        results[memory] = (dry, wet, ratio, err)
+        results[memory] = (dry, wet, ratio, err, saturation)
         print(f"\n== memory={memory!r}  ({time.perf_counter() - t0:.0f} s)")
         print(
             f"dry fit: iron_oxide={x[0]:.4f} hematite_ratio={x[1]:.3f} k_host(1000 nm)={10 ** x[2]:.2e} "
             f"p={x[3]:.2f}; RMS {rms:.4f} over {len(FIT_WAVELENGTHS)} wavelengths"
         )
-        print(f"wet: saturation {args.saturation:g}")
+        how = "set" if args.saturation is not None else f"from the {BAND_NM:.0f} nm band depth"
+        print(f"wet: saturation {saturation:.3f} ({how})")
         print(" λ nm   dry meas  dry model   wet meas  wet model   ratio meas  ratio model ± se   miss")
         for i, w in enumerate(WAVELENGTHS):
             print(
@@ -156,20 +178,21 @@ def main() -> None:
         if args.diagnose:
             diagnose(x, memory, args.rays)
     if not args.no_figure:
-        figure(meas_dry, meas_wet, results, args.saturation)
+        figure(results)
 
 
 def diagnose(x, memory, rays) -> None:
-    """Ratio against saturation at a few wavelengths, and where the wet rays end."""
-    wl = np.array([450.0, 600.0, 900.0, 1300.0])
-    dry = run(x, 0.0, memory, wl, rays)
-    print("  saturation: wet/dry ratio at", ", ".join(f"{w:.0f}" for w in wl), "nm")
-    for s in (0.05, 0.15, 0.3, 0.6, 0.9, 1.0):
-        wet = run(x, s, memory, wl, rays)
-        print(f"  S={s:4.2f}: " + "  ".join(f"{v:.3f}" for v in wet.values / dry.values))
+    """Ratio against saturation at a few wavelengths, with and without the iron-oxide coating."""
+    wl = np.array([450.0, 600.0, 900.0, 1300.0, 1450.0, 2200.0])
+    for label, xx in (("fitted", x), ("iron_oxide 0", np.array([0.0, *x[1:]]))):
+        dry = run(xx, 0.0, memory, wl, rays)
+        print(f"  {label}: dry", "  ".join(f"{v:.3f}" for v in dry.values), "at", ", ".join(f"{w:.0f}" for w in wl))
+        for s in (0.1, 0.2, 0.3, 0.4, 0.6, 1.0):
+            wet = run(xx, s, memory, wl, rays)
+            print(f"  {label}: S={s:4.2f} wet/dry " + "  ".join(f"{v:.3f}" for v in wet.values / dry.values))
 
 
-def figure(meas_dry, meas_wet, results, saturation) -> None:
+def figure(results) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -187,9 +210,9 @@ def figure(meas_dry, meas_wet, results, saturation) -> None:
         color="0.92",
         label=f"target band (±{TARGET_TOLERANCE})",
     )
-    for (memory, (dry, wet, ratio, err)), c in zip(results.items(), ["tab:red", "tab:green"]):
+    for (memory, (dry, wet, ratio, err, saturation)), c in zip(results.items(), ["tab:red", "tab:green"]):
         ax1.plot(WAVELENGTHS, dry.values, "o--", color=c, ms=3, lw=0.8, label=f"model dry ({memory})")
-        ax1.plot(WAVELENGTHS, wet.values, "s-", color=c, ms=3, lw=0.8, label=f"model wet S={saturation:g} ({memory})")
+        ax1.plot(WAVELENGTHS, wet.values, "s-", color=c, ms=3, lw=0.8, label=f"model wet S={saturation:.2f} ({memory})")
         ax2.errorbar(WAVELENGTHS, ratio, err, fmt="o-", color=c, ms=3, lw=0.8, capsize=2, label=f"model ({memory})")
     ax1.set(xlabel="wavelength (nm)", ylabel="reflectance", xlim=(350, 2500), ylim=(0, None))
     ax2.set(xlabel="wavelength (nm)", ylabel="wet / dry", xlim=(350, 2500), ylim=(0, 1.2))
