@@ -6,6 +6,7 @@ wet/dry ratio's error is propagated as if dry and wet were independent, an upper
 runs share their seed, so their noise is correlated.
 """
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -13,6 +14,7 @@ import pytest
 
 import sandlight
 from sandlight.optics import complex_index
+from sandlight.physics.composition import compose
 from sandlight.physics.media import SandMedium
 from sandlight.physics.medium import absorption_per_mm
 from sandlight.sample import SandSample
@@ -70,3 +72,25 @@ def test_water_band_deepens_with_saturation(memory):
         depth.append((r[1] / r[0], (r[1] / r[0]) * np.hypot(se[0] / r[0], se[1] / r[1])))
     (d_low, se_low), (d_high, se_high) = depth
     assert d_high + 4 * np.hypot(se_low, se_high) < d_low, depth
+
+
+def test_pendular_rings_darken_a_coated_sand_less_in_the_blue_than_a_uniform_film():
+    # The default sample (1 % iron oxide as a coating) with films only (S = 0.1 < S_f). Under
+    # water the coating's outer interface reflects less, so more light crosses the absorbing
+    # coating, which matters where it absorbs (450 nm). Pendular rings wet only part of the
+    # surface (film_coverage ≈ 0.52 here), a uniform film of the same water all of it: the
+    # rings must darken the blue less.
+    wl = [450.0]
+    dry = compose(SandSample())
+    rings = compose(SandSample(saturation=0.1))
+    uniform = dataclasses.replace(
+        rings, film_coverage=1.0, film_thickness_mm=rings.film_thickness_mm * rings.film_coverage
+    )
+    assert 0.3 < rings.film_coverage < 0.7
+    runs = [
+        sandlight.reflectance(SandMedium(c, "none"), wl, rays=40_000, seed=8, progress=False, share=False)
+        for c in (dry, rings, uniform)
+    ]
+    v, se = np.array([r.values[0] for r in runs]), np.array([r.stderr[0] for r in runs])
+    assert v[1] < v[0] - 4 * np.hypot(se[0], se[1])  # the rings darken
+    assert v[2] + 4 * np.hypot(se[1], se[2]) < v[1], (v, se)  # the uniform film darkens more
