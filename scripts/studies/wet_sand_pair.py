@@ -21,6 +21,13 @@ of the same beach at the Bird's Foot delta of the Mississippi (Kokaly et al. 201
    bound) and the largest miss in 450–1300 nm, and saves a figure to
    ``docs/figures/wet_sand_pair.png``.
 
+``--uniform-films`` replaces the pendular rings by the film of the same water on every
+particle surface (``film_coverage`` 1), the model before issue 17, for comparison.
+
+``--default-sample`` prints the wet/dry ratio of the default sample (no fit) at 450–700 nm for a
+few saturations, with pendular rings and with uniform films, both memories (the hue change of
+issue 17).
+
 ``--diagnose`` also prints the ratio at a few saturations and wavelengths, and the same with the
 iron-oxide coating removed (``iron_oxide`` 0, the fitted host kept), to show which part of the
 sample makes the ratio depend on wavelength.
@@ -28,12 +35,13 @@ sample makes the ratio depend on wavelength.
 Usage::
 
     python scripts/studies/wet_sand_pair.py [--rays 3000] [--fit-rays 1500] [--saturation S]
-        [--memories none packed] [--diagnose] [--no-figure]
+        [--memories none packed] [--uniform-films] [--diagnose] [--default-sample] [--no-figure]
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import time
 from pathlib import Path
 
@@ -43,6 +51,7 @@ from scipy.optimize import least_squares
 import sandlight
 from sandlight.measured import read_usgs, usgs_library
 from sandlight.optics import complex_index
+from sandlight.physics.composition import compose
 from sandlight.physics.media import SandMedium
 
 DRY = "Sand_DWO-3-DEL2c"
@@ -62,6 +71,8 @@ TARGET_BAND = (450.0, 1300.0)
 TARGET_TOLERANCE = 0.05
 FIGURE = Path(__file__).resolve().parents[2] / "docs" / "figures" / "wet_sand_pair.png"
 SEED = 17
+#: Set by ``--uniform-films``: films on every surface instead of pendular rings.
+UNIFORM_FILMS = False
 
 
 def measured(stem: str, wl: np.ndarray) -> np.ndarray:
@@ -82,10 +93,19 @@ def host_constants(k1: float, p: float):
     return index
 
 
+def sand_medium(sample, memory: str, uniform_films: bool, optical_constants=None) -> SandMedium:
+    """``sample``'s medium; with ``uniform_films`` its pendular water spread over every surface."""
+    comp = compose(sample)
+    if uniform_films:
+        water = comp.film_thickness_mm * comp.film_coverage
+        comp = dataclasses.replace(comp, film_coverage=1.0, film_thickness_mm=water)
+    return SandMedium(comp, memory, sample.to_dict(), optical_constants)
+
+
 def medium(x: np.ndarray, saturation: float, memory: str) -> SandMedium:
     """The sample of fit vector x = (iron_oxide, hematite_ratio, log10 k₁, p)."""
     sample = sandlight.SandSample(iron_oxide=x[0], hematite_ratio=x[1], saturation=saturation)
-    return SandMedium.from_sample(sample, memory, optical_constants=host_constants(10.0 ** x[2], x[3]))
+    return sand_medium(sample, memory, UNIFORM_FILMS, host_constants(10.0 ** x[2], x[3]))
 
 
 def run(x, saturation, memory, wl, rays):
@@ -139,9 +159,13 @@ def main() -> None:
     ap.add_argument("--fit-rays", type=int, default=1500, help="rays per wavelength in the dry fit")
     ap.add_argument("--saturation", type=float, default=None, help="S of the wet prediction (default: from 1450 nm)")
     ap.add_argument("--memories", nargs="+", default=["none", "packed"])
+    ap.add_argument("--uniform-films", action="store_true", help="films on every surface (before issue 17)")
     ap.add_argument("--diagnose", action="store_true")
+    ap.add_argument("--default-sample", action="store_true", help="the default sample's ratio, both film models")
     ap.add_argument("--no-figure", action="store_true")
     args = ap.parse_args()
+    global UNIFORM_FILMS
+    UNIFORM_FILMS = args.uniform_films
 
     meas_dry, meas_wet = measured(DRY, WAVELENGTHS), measured(WET, WAVELENGTHS)
     meas_ratio = meas_wet / meas_dry
@@ -177,7 +201,9 @@ def main() -> None:
         )
         if args.diagnose:
             diagnose(x, memory, args.rays)
-    if not args.no_figure:
+    if args.default_sample:
+        default_sample(args.memories, args.rays)
+    if not args.no_figure and not args.uniform_films:
         figure(results)
 
 
@@ -190,6 +216,20 @@ def diagnose(x, memory, rays) -> None:
         for s in (0.1, 0.2, 0.3, 0.4, 0.6, 1.0):
             wet = run(xx, s, memory, wl, rays)
             print(f"  {label}: S={s:4.2f} wet/dry " + "  ".join(f"{v:.3f}" for v in wet.values / dry.values))
+
+
+def default_sample(memories, rays) -> None:
+    """The default sample's wet/dry ratio at 450–700 nm, pendular rings and uniform films."""
+    wl = np.arange(450.0, 701.0, 50.0)
+    print("\n== default sample: wet/dry ratio at", ", ".join(f"{w:.0f}" for w in wl), "nm")
+    for memory in memories:
+        dry = sandlight.reflectance(sandlight.SandSample(), wl, rays=rays, seed=SEED, progress=False, memory=memory)
+        for s in (0.1, 0.4, 0.8):
+            for uniform in (False, True):
+                m = sand_medium(sandlight.SandSample(saturation=s), memory, uniform)
+                wet = sandlight.reflectance(m, wl, rays=rays, seed=SEED, progress=False)
+                label = "uniform films" if uniform else "rings"
+                print(f"  {memory:6s} S={s:.1f} {label:13s} " + "  ".join(f"{v:.3f}" for v in wet.values / dry.values))
 
 
 def figure(results) -> None:
