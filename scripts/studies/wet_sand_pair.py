@@ -35,7 +35,7 @@ sample makes the ratio depend on wavelength.
 Usage::
 
     python scripts/studies/wet_sand_pair.py [--rays 3000] [--fit-rays 1500] [--saturation S]
-        [--memories none packed] [--uniform-films] [--diagnose] [--default-sample] [--no-figure]
+        [--seed 17] [--memories none packed] [--uniform-films] [--diagnose] [--default-sample] [--no-figure]
 """
 
 from __future__ import annotations
@@ -154,18 +154,19 @@ def ratio_with_error(dry, wet):
 
 
 def main() -> None:
+    global UNIFORM_FILMS, SEED
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rays", type=int, default=3000, help="rays per wavelength of the predictions")
     ap.add_argument("--fit-rays", type=int, default=1500, help="rays per wavelength in the dry fit")
     ap.add_argument("--saturation", type=float, default=None, help="S of the wet prediction (default: from 1450 nm)")
     ap.add_argument("--memories", nargs="+", default=["none", "packed"])
+    ap.add_argument("--seed", type=int, default=SEED, help="seed of every run (fit and predictions)")
     ap.add_argument("--uniform-films", action="store_true", help="films on every surface (before issue 17)")
     ap.add_argument("--diagnose", action="store_true")
     ap.add_argument("--default-sample", action="store_true", help="the default sample's ratio, both film models")
     ap.add_argument("--no-figure", action="store_true")
     args = ap.parse_args()
-    global UNIFORM_FILMS
-    UNIFORM_FILMS = args.uniform_films
+    UNIFORM_FILMS, SEED = args.uniform_films, args.seed
 
     meas_dry, meas_wet = measured(DRY, WAVELENGTHS), measured(WET, WAVELENGTHS)
     meas_ratio = meas_wet / meas_dry
