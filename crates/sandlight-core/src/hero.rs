@@ -45,7 +45,7 @@ pub const FIXED_ONE: f64 = 4_294_967_296.0;
 #[derive(Clone, Debug)]
 pub struct HeroGroup {
     media: Vec<Particulate>,
-    /// Per particle type and `StackKind` (index `4 t + kind.index()`): [R, R + T] at node
+    /// Per particle type and `StackKind` (index `6 t + kind.index()`): [R, R + T] at node
     /// μ = i / STACK_CELLS for every wavelength, at `i * n + j`.
     tables: Vec<Vec<[f64; 2]>>,
     /// Per table, the cells evaluated exactly (interpolation not within `TABLE_TOLERANCE`).
@@ -84,6 +84,7 @@ impl HeroGroup {
                         && a.optics.coating.map(|c| c.thickness_mm) == b.optics.coating.map(|c| c.thickness_mm)
                 });
             let same_pore = m.pore.film_thickness_mm == first.pore.film_thickness_mm
+                && m.pore.film_coverage == first.pore.film_coverage
                 && m.pore.water_filled_probability == first.pore.water_filled_probability;
             if !same_types
                 || !same_pore
@@ -94,14 +95,14 @@ impl HeroGroup {
                     &format!("media[{j}]"),
                     "a medium of other geometry",
                     "the media of a spectral group differ only in their optics (same particle types, sizes, shapes, \
-                     free path, pore filling, film thickness and depth)",
+                     free path, pore filling, film thickness and coverage, and depth)",
                 ));
             }
         }
         let n = media.len();
         let types = first.types.len();
-        let mut tables = Vec::with_capacity(4 * types);
-        let mut exact = Vec::with_capacity(4 * types);
+        let mut tables = Vec::with_capacity(StackKind::ALL.len() * types);
+        let mut exact = Vec::with_capacity(StackKind::ALL.len() * types);
         for t in 0..types {
             let stacks: Vec<&Stacks> = media.iter().map(|m| m.type_tables(t).1).collect();
             for kind in StackKind::ALL {
@@ -176,7 +177,7 @@ impl HeroGroup {
     /// interpolated in `cell` at `frac`, or exact where the cell is marked so.
     #[inline]
     fn rt_at(&self, t: usize, kind: StackKind, cos: f64, cell: usize, frac: f64, j: usize) -> [f64; 2] {
-        let k = 4 * t + kind.index();
+        let k = StackKind::ALL.len() * t + kind.index();
         if self.exact[k][cell] {
             let (r, t) = self.media[j].type_tables(t).1.rt(kind, cos);
             return [r, r + t];
@@ -416,6 +417,7 @@ mod tests {
             water_n: 1.333 + dn,
             water_alpha_per_mm: 0.5 * absorb,
             film_thickness_mm: 2e-3,
+            film_coverage: 0.6,
             water_filled_probability: 0.3,
         };
         Particulate::new(vec![t], 0.12, pore, f64::INFINITY).unwrap()

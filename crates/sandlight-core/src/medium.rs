@@ -59,6 +59,7 @@ impl Particulate {
         check_range("water_n", pore.water_n, 1.0, 10.0)?;
         check_range("water_alpha_per_mm", pore.water_alpha_per_mm, 0.0, 1e12)?;
         check_range("film_thickness_mm", pore.film_thickness_mm, 0.0, 10.0)?;
+        check_range("film_coverage", pore.film_coverage, 0.0, 1.0)?;
         check_range("water_filled_probability", pore.water_filled_probability, 0.0, 1.0)?;
         if depth_mm.is_nan() || depth_mm <= 0.0 {
             return Err(SandlightError::parameter(

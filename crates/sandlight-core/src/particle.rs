@@ -33,20 +33,29 @@ pub struct ParticleOptics {
     pub wets: bool,
 }
 
-/// The pore space: water optics, film thickness and the chance that a pore is water-filled.
+/// The pore space: water optics, the pendular water on the particles, and the chance that a
+/// pore is water-filled.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PoreOptics {
     pub water_n: f64,
     pub water_alpha_per_mm: f64,
-    /// Thickness (mm) of the water film on every particle facing an air-filled pore.
+    /// Thickness (mm) of the water film where it wets a particle facing an air-filled pore.
     pub film_thickness_mm: f64,
+    /// Fraction of a particle's surface facing an air-filled pore that the film covers (the
+    /// wetted caps of the pendular rings, docs/model.md §2.5); 1 wets every particle everywhere.
+    pub film_coverage: f64,
     /// Probability that a pore the ray enters is filled with water (bulk water).
     pub water_filled_probability: f64,
 }
 
 impl PoreOptics {
-    pub const DRY: PoreOptics =
-        PoreOptics { water_n: 1.333, water_alpha_per_mm: 0.0, film_thickness_mm: 0.0, water_filled_probability: 0.0 };
+    pub const DRY: PoreOptics = PoreOptics {
+        water_n: 1.333,
+        water_alpha_per_mm: 0.0,
+        film_thickness_mm: 0.0,
+        film_coverage: 1.0,
+        water_filled_probability: 0.0,
+    };
 
     #[inline]
     pub fn index(&self, water: bool) -> f64 {
@@ -60,6 +69,14 @@ impl PoreOptics {
     #[inline]
     pub fn draw_water(&self, rng: &mut Rng) -> bool {
         self.water_filled_probability > 0.0 && rng.uniform() < self.water_filled_probability
+    }
+    /// Draws whether the point of a particle surface met from an air-filled pore is wetted by
+    /// the film; draws a uniform only for a partial coverage (0 < coverage < 1).
+    #[inline]
+    pub fn draw_film(&self, rng: &mut Rng) -> bool {
+        self.film_thickness_mm > 0.0
+            && self.film_coverage > 0.0
+            && (self.film_coverage >= 1.0 || rng.uniform() < self.film_coverage)
     }
 }
 
@@ -82,15 +99,16 @@ pub enum Interaction {
     Capped,
 }
 
-/// Media from the pore (index 0) to the core (last), with the film only facing an air pore.
-fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
+/// Media from the pore (index 0) to the core (last), with the film only on a wetted point
+/// (`film`) facing an air pore.
+fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, film: bool) -> Stack {
     let mut out = Stack { media: [Slab::semi_infinite(1.0); MAX_MEDIA], len: 0, brackets: None };
     let mut push = |s: Slab| {
         out.media[out.len] = s;
         out.len += 1;
     };
     push(Slab::semi_infinite(pore.index(water)));
-    if !water && p.wets && pore.film_thickness_mm > 0.0 {
+    if !water && film && p.wets && pore.film_thickness_mm > 0.0 {
         push(Slab {
             n: pore.water_n,
             alpha_per_mm: pore.water_alpha_per_mm,
@@ -106,8 +124,8 @@ fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
 }
 
 /// The same media in reverse order (core first); Fresnel from inside uses the real core index.
-fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
-    let mut out = entry_stack(p, pore, water);
+fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, film: bool) -> Stack {
+    let mut out = entry_stack(p, pore, water, film);
     out.media[..out.len].reverse();
     out.media[0].k_fresnel = 0.0;
     out
@@ -238,35 +256,50 @@ impl Stack {
 }
 
 /// The layer stacks of one particle type in one pore space: into the particle and out of it,
-/// each for an air- and a water-filled pore. They depend only on the optics, so a medium builds
-/// them once (`Particulate::new`, with bracket tables) rather than at every interaction.
+/// each for a dry point facing an air-filled pore, a wetted one (film) and a water-filled pore.
+/// They depend only on the optics, so a medium builds them once (`Particulate::new`, with
+/// bracket tables) rather than at every interaction.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stacks {
-    /// Indexed by `water as usize`.
-    entry: [Stack; 2],
-    exit: [Stack; 2],
+    /// Indexed by `StackKind::side`.
+    entry: [Stack; 3],
+    exit: [Stack; 3],
 }
 
-/// Which of a particle type's four stacks: into the particle (`exit` false) or out of it, with
-/// an air- or a water-filled pore on the outside.
+/// Which of a particle type's six stacks: into the particle (`exit` false) or out of it, with
+/// an air-filled pore (a dry point, or a wetted one: `film`) or a water-filled pore on the
+/// outside. `film` is false with `water` (a filled pore has no film).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StackKind {
     pub exit: bool,
     pub water: bool,
+    pub film: bool,
 }
 
 impl StackKind {
-    pub const ALL: [StackKind; 4] = [
-        StackKind { exit: false, water: false },
-        StackKind { exit: false, water: true },
-        StackKind { exit: true, water: false },
-        StackKind { exit: true, water: true },
+    pub const ALL: [StackKind; 6] = [
+        StackKind { exit: false, water: false, film: false },
+        StackKind { exit: false, water: false, film: true },
+        StackKind { exit: false, water: true, film: false },
+        StackKind { exit: true, water: false, film: false },
+        StackKind { exit: true, water: false, film: true },
+        StackKind { exit: true, water: true, film: false },
     ];
+
+    /// The outside: 0 a dry point in an air pore, 1 a wetted one, 2 a water-filled pore.
+    #[inline]
+    fn side(self) -> usize {
+        if self.water {
+            2
+        } else {
+            self.film as usize
+        }
+    }
 
     /// Position in `ALL`.
     #[inline]
     pub fn index(self) -> usize {
-        2 * self.exit as usize + self.water as usize
+        3 * self.exit as usize + self.side()
     }
 }
 
@@ -274,9 +307,9 @@ impl Stacks {
     #[inline]
     fn of(&self, kind: StackKind) -> &Stack {
         if kind.exit {
-            &self.exit[kind.water as usize]
+            &self.exit[kind.side()]
         } else {
-            &self.entry[kind.water as usize]
+            &self.entry[kind.side()]
         }
     }
 
@@ -295,8 +328,16 @@ impl Stacks {
     /// The stacks without bracket tables (cheap to build; every decision evaluates the stack).
     pub fn new(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
         Stacks {
-            entry: [entry_stack(p, pore, false), entry_stack(p, pore, true)],
-            exit: [exit_stack(p, pore, false), exit_stack(p, pore, true)],
+            entry: [
+                entry_stack(p, pore, false, false),
+                entry_stack(p, pore, false, true),
+                entry_stack(p, pore, true, false),
+            ],
+            exit: [
+                exit_stack(p, pore, false, false),
+                exit_stack(p, pore, false, true),
+                exit_stack(p, pore, true, false),
+            ],
         }
     }
 
@@ -305,12 +346,15 @@ impl Stacks {
     pub fn tabulated(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
         let s = Stacks::new(p, pore);
         let water_used = pore.water_filled_probability > 0.0;
-        let [ea, ew] = s.entry;
-        let [xa, xw] = s.exit;
+        let air_used = pore.water_filled_probability < 1.0;
+        let film = pore.film_thickness_mm > 0.0 && pore.film_coverage > 0.0;
+        let dry_used = !film || pore.film_coverage < 1.0;
+        let [ed, ef, ew] = s.entry;
+        let [xd, xf, xw] = s.exit;
         let tab = |st: Stack, used: bool| if used { st.with_brackets() } else { st };
         Stacks {
-            entry: [tab(ea, true), tab(ew, water_used)],
-            exit: [tab(xa, pore.water_filled_probability < 1.0), tab(xw, water_used)],
+            entry: [tab(ed, dry_used), tab(ef, film), tab(ew, water_used)],
+            exit: [tab(xd, air_used && dry_used), tab(xf, air_used && film), tab(xw, water_used)],
         }
     }
 }
@@ -408,7 +452,8 @@ pub fn interact_with_stacks(
     choices: &mut impl PathChoices,
 ) -> Interaction {
     let cos_i = (-d.dot(hit.normal)).clamp(0.0, 1.0);
-    match choices.stack_fate(stacks, StackKind { exit: false, water }, cos_i, rng.uniform()) {
+    let film = !water && pore.draw_film(rng);
+    match choices.stack_fate(stacks, StackKind { exit: false, water, film }, cos_i, rng.uniform()) {
         StackFate::Reflect => return Interaction::Reflected { dir: d.reflect(hit.normal) },
         StackFate::Absorb => return Interaction::Absorbed,
         StackFate::Transmit => {}
@@ -429,7 +474,8 @@ pub fn interact_with_stacks(
         let cos_in = dir.dot(n1).clamp(0.0, 1.0);
         // The pore beyond this point of the surface.
         let water_beyond = pore.draw_water(rng);
-        match choices.stack_fate(stacks, StackKind { exit: true, water: water_beyond }, cos_in, rng.uniform()) {
+        let film = !water_beyond && pore.draw_film(rng);
+        match choices.stack_fate(stacks, StackKind { exit: true, water: water_beyond, film }, cos_in, rng.uniform()) {
             StackFate::Reflect => {
                 dir = dir.reflect(n1);
                 x = x1;
@@ -511,6 +557,7 @@ mod tests {
                 water_n: 1.333,
                 water_alpha_per_mm,
                 film_thickness_mm: 1e-3,
+                film_coverage: 0.5,
                 water_filled_probability: 0.4,
             };
             let p = ParticleOptics { core_n, core_k, core_alpha_per_mm: 1.0, coating, wets: true };
@@ -542,8 +589,14 @@ mod tests {
             };
             let film_thickness_mm = if rng.uniform() < 0.3 { 0.0 } else { log_uniform(&mut rng, 1e-5, 2e-3) };
             let water_alpha_per_mm = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-3, 100.0) };
-            let pore =
-                PoreOptics { water_n: 1.333, water_alpha_per_mm, film_thickness_mm, water_filled_probability: 0.4 };
+            let film_coverage = [0.0, 0.5, 1.0][(3.0 * rng.uniform()) as usize % 3];
+            let pore = PoreOptics {
+                water_n: 1.333,
+                water_alpha_per_mm,
+                film_thickness_mm,
+                film_coverage,
+                water_filled_probability: 0.4,
+            };
             assert_bracketed_decisions_exact(&Stacks::tabulated(&p, &pore), 2_000, &mut rng);
         }
     }
@@ -551,6 +604,47 @@ mod tests {
     /// Random media in `bracketed_decisions_equal_exact_ones_for_random_stacks` (a debug-build
     /// test run; 2000 media were checked once in release).
     const RANDOM_STACK_MEDIA: usize = 40;
+
+    #[test]
+    fn partial_film_coverage_mixes_the_dry_and_the_wetted_surface() {
+        // A ray straight onto the centre of a sphere from an air pore is reflected at the first
+        // surface with R_dry on a dry point and R_film on a wetted one, so with coverage c the
+        // share reflected is c R_film + (1 − c) R_dry (binomial, within 4 standard errors). With
+        // coverage 0 the film is never met: the same outcomes, draw for draw, as no film.
+        let p = ParticleOptics {
+            core_n: 2.0,
+            core_k: 0.0,
+            core_alpha_per_mm: 0.0,
+            coating: Some(Coating { n: 1.8, alpha_per_mm: 50.0, thickness_mm: 1e-3 }),
+            wets: true,
+        };
+        let wet = PoreOptics { film_thickness_mm: 2e-3, film_coverage: 0.3, ..PoreOptics::DRY };
+        let s = Spheroid::new(0.25, 1.0, Vec3::new(0.0, 0.0, 1.0));
+        let d = Vec3::new(0.0, 0.0, -1.0);
+        let hit = Hit { point: Vec3::new(0.0, 0.0, 0.125), normal: Vec3::new(0.0, 0.0, 1.0) };
+        let stacks = Stacks::new(&p, &wet);
+        let r = |film| stacks.rt(StackKind { exit: false, water: false, film }, 1.0).0;
+        let expected = 0.3 * r(true) + 0.7 * r(false);
+        assert!((r(true) - r(false)).abs() > 0.02, "the film must change the reflectance: {} {}", r(true), r(false));
+        let n = 100_000;
+        let mut rng = Rng::for_ray(12, 0, 0);
+        let reflected = (0..n)
+            .filter(|_| {
+                matches!(interact(&p, &wet, &s, hit, d, false, &mut rng, 10_000), Interaction::Reflected { .. })
+            })
+            .count() as f64
+            / n as f64;
+        let se = (expected * (1.0 - expected) / n as f64).sqrt();
+        assert!((reflected - expected).abs() < 4.0 * se, "{reflected} vs {expected} ± {se}");
+
+        let uncovered = PoreOptics { film_coverage: 0.0, ..wet };
+        let (mut a, mut b) = (Rng::for_ray(13, 0, 0), Rng::for_ray(13, 0, 0));
+        for _ in 0..1000 {
+            let x = interact(&p, &uncovered, &s, hit, d, false, &mut a, 10_000);
+            let y = interact(&p, &PoreOptics::DRY, &s, hit, d, false, &mut b, 10_000);
+            assert_eq!(x, y);
+        }
+    }
 
     #[test]
     fn transparent_sphere_never_absorbs_and_directions_are_unit() {

@@ -85,7 +85,8 @@ impl PyMedium {
     #[staticmethod]
     #[pyo3(signature = (probabilities, size_quantiles_mm, aspect_ratios, core_n, core_k, core_alpha_per_mm,
                         coating_n, coating_alpha_per_mm, coating_thickness_mm, mean_free_path_mm,
-                        water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability, depth_mm, memory = "none"))]
+                        water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability, depth_mm, memory = "none",
+                        film_coverage = 1.0))]
     #[allow(clippy::too_many_arguments)] // one argument per Python parameter
     fn particulate(
         py: Python<'_>,
@@ -105,6 +106,7 @@ impl PyMedium {
         water_filled_probability: f64,
         depth_mm: f64,
         memory: &str,
+        film_coverage: f64,
     ) -> PyResult<Self> {
         let build = || -> Result<WithMemory, SandlightError> {
             let n = probabilities.len();
@@ -136,7 +138,8 @@ impl PyMedium {
                     },
                 });
             }
-            let pore = PoreOptics { water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability };
+            let pore =
+                PoreOptics { water_n, water_alpha_per_mm, film_thickness_mm, film_coverage, water_filled_probability };
             let memory = match memory {
                 "none" => Memory::None,
                 "channel" => Memory::Channel,

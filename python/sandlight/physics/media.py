@@ -57,12 +57,13 @@ MEMORIES = ("none", "channel", "cut", "packed")
 #: Path memory of the on-the-fly engine when none is asked for (docs/geometry.md).
 DEFAULT_MEMORY = "none"
 
-#: Why the surface-layer models are not for wet sand yet (docs/geometry.md, "Wet sand").
+#: Why the surface-layer models are not validated for wet sand (docs/geometry.md, "Wet sand").
 WET_TOP_LAYER = (
     "memory='cut' or 'packed' and geometry='explicit' put the flat water surface of a water-filled "
     "surface pore at the top of the surface layer, above the highest grain, so with water-filled pores "
     "(saturation above film_saturation) they lose more light in the water bands than the classic model; "
-    "use memory='none' for wet sand (docs/geometry.md, 'Wet sand')"
+    "on the one measured wet/dry pair this agrees with the measurement where the classic model does not, "
+    "but it is not validated across saturations (docs/wet-sand.md, docs/geometry.md 'Wet sand')"
 )
 
 

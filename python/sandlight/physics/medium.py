@@ -127,4 +127,5 @@ def native_medium(
         comp.water_filled_probability,
         comp.depth_mm,
         memory=memory,
+        film_coverage=comp.film_coverage,
     )
