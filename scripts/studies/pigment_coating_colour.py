@@ -18,12 +18,12 @@ from __future__ import annotations
 
 import argparse
 
-import colour
 import numpy as np
 
 import sandlight
+from sandlight.colour.lch import lch_with_chroma_error
 from sandlight.colour.spectrum import spectrum_to_xyz
-from sandlight.colour.srgb import srgb_to_uint8, xyz_to_lab, xyz_to_srgb
+from sandlight.colour.srgb import srgb_to_uint8, xyz_to_srgb
 from sandlight.physics.media import SandMedium
 from sandlight.physics.medium import COATING_OPTICS
 from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
@@ -38,15 +38,8 @@ DIAMETERS_UM = (0.05, 0.1, 0.2, 0.3)
 
 
 def lch_with_error(result) -> tuple[float, float, float, float]:
-    """L*, C*ab, h° of a reflectance result and the standard error of C*ab, linearised over the
-    result's covariance."""
-
-    def lch(values: np.ndarray) -> np.ndarray:
-        return colour.Lab_to_LCHab(xyz_to_lab(spectrum_to_xyz(result.wavelengths, values)))
-
-    base = lch(result.values)
-    jac = np.array([(lch(result.values + 1e-6 * e)[1] - base[1]) / 1e-6 for e in np.eye(result.values.size)])
-    return float(base[0]), float(base[1]), float(base[2]), float(np.sqrt(jac @ result.covariance @ jac))
+    """L*, C*ab, h° and σ(C*ab) of a reflectance result."""
+    return lch_with_chroma_error(result.wavelengths, result.values, result.covariance)
 
 
 def trace(sample: sandlight.SandSample, optics: str, rays: int, seed: int, diameter_um: float = PIGMENT_DIAMETER_UM):

@@ -10,11 +10,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import colour
 import sandlight
 from sandlight import _native
-from sandlight.colour.spectrum import spectrum_to_xyz
-from sandlight.colour.srgb import xyz_to_lab
+from sandlight.colour.lch import lch_with_chroma_error
 from sandlight.errors import ParameterError
 from sandlight.optics import complex_index
 from sandlight.physics.composition import compose
@@ -59,21 +57,9 @@ def test_bad_coatings_and_sizes_are_refused():
         SandMedium(compose(SandSample()), coating_optics="paint")
 
 
-def _lch(result):
-    lab = xyz_to_lab(spectrum_to_xyz(result.wavelengths, result.values))
-    return colour.Lab_to_LCHab(lab)
-
-
 def _chroma_and_stderr(result):
-    """C*ab and its standard error, linearised over the reflectance covariance."""
-    c = _lch(result)[1]
-    jac = np.empty(result.values.size)
-    for i in range(result.values.size):
-        bumped = result.values.copy()
-        bumped[i] += 1e-6
-        lab = xyz_to_lab(spectrum_to_xyz(result.wavelengths, bumped))
-        jac[i] = (colour.Lab_to_LCHab(lab)[1] - c) / 1e-6
-    return c, float(np.sqrt(jac @ result.covariance @ jac))
+    _, c, _, se = lch_with_chroma_error(result.wavelengths, result.values, result.covariance)
+    return c, se
 
 
 def test_zero_scattering_through_the_binding_reproduces_the_uniform_coating(monkeypatch):
