@@ -1,13 +1,14 @@
 """Colour of coated sands with the uniform and the Mie (pigmented) coating (docs/model.md §2.4,
-"Pigmented coating (Mie)").
+item 6, "Pigmented coating (Mie)").
 
 Prints CIELAB L*, C*ab (± its Monte Carlo standard error) and h° (D50, 10° observer,
 400–700 nm) of the presets red-dune, yellow-dune and wet-beach, of a grid iron_oxide ×
 hematite_ratio (iron oxide as a coating, other parameters the defaults), and of red-dune and
 yellow-dune over the pigment crystal diameter, for ``coating_optics`` 'uniform' and 'mie'; then
-the 400–700 nm RMS of the gds76-hematite-quartz preset (iron oxide as separate particles, so
-both optics must agree) against its measured spectrum. ``--swatches PATH`` writes the presets'
-and the grid's sRGB swatches (uniform left, Mie right) to a PNG.
+red-dune's coating optical depths at 450, 550 and 650 nm, and the 400–700 nm RMS of the
+gds76-hematite-quartz preset (iron oxide as separate particles, so both optics must agree)
+against its measured spectrum. ``--swatches PATH`` writes the presets' and the grid's sRGB
+swatches (uniform left, Mie right) to a PNG.
 
 Usage::
 
@@ -24,9 +25,10 @@ import sandlight
 from sandlight.colour.lch import lch_with_chroma_error
 from sandlight.colour.spectrum import spectrum_to_xyz
 from sandlight.colour.srgb import srgb_to_uint8, xyz_to_srgb
+from sandlight.physics.composition import compose
 from sandlight.physics.media import SandMedium
 from sandlight.physics.medium import COATING_OPTICS
-from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
+from sandlight.physics.pigment import PIGMENT_DIAMETER_UM, coating_optics
 from sandlight.validation.samples import sample_by_name
 from sandlight.validation.scoring import measured_on_grid
 
@@ -89,6 +91,15 @@ def main() -> None:
         for d in DIAMETERS_UM:
             L, C, h, se = lch_with_error(trace(sandlight.SandSample.preset(name), "mie", args.rays, args.seed, d))
             print(f"| {name} | {d:g} | {L:5.1f} {C:5.1f}±{se:3.1f} {h:4.0f} |", flush=True)
+    coated = compose(sandlight.SandSample.preset("red-dune")).populations[0]
+    print("\nred-dune coating optical depths (pigment diameter default)\n")
+    for lam in (450.0, 550.0, 650.0):
+        c = coating_optics(coated.coating, lam)
+        t = coated.coating_thickness_mm
+        print(
+            f"{lam:.0f} nm: scattering {c.scattering_per_mm * t:.3f}, absorption {c.absorption_per_mm * t:.3f}, "
+            f"g {c.asymmetry:.2f} (thickness {t * 1e3:.3f} µm)"
+        )
     gds = sample_by_name("gds76-hematite-quartz")
     measured = measured_on_grid(gds.measured_spectrum(), WAVELENGTHS_NM)
     print()
