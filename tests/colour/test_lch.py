@@ -11,9 +11,9 @@ WL = np.arange(400.0, 701.0, 20.0)
 
 
 def test_a_grey_spectrum_has_the_lightness_of_its_reflectance_and_no_chroma():
-    L, C, _ = lch(WL, np.full(WL.size, 0.5))
-    assert L == pytest.approx(116 * 0.5 ** (1 / 3) - 16, abs=1e-6)
-    assert C < 1e-3
+    lightness, chroma, _ = lch(WL, np.full(WL.size, 0.5))
+    assert lightness == pytest.approx(116 * 0.5 ** (1 / 3) - 16, abs=1e-6)
+    assert chroma < 1e-3
 
 
 def test_the_chroma_error_is_the_spread_of_chroma_over_noisy_spectra():
