@@ -601,12 +601,15 @@ mod tests {
     #[test]
     fn bracketed_decisions_equal_exact_ones() {
         // Every stack kind (bare, film, coating, film + coating; from air and water; entry and
-        // exit with critical angles; weak to opaque layers).
+        // exit with critical angles; weak to opaque layers; a scattering coating, whose R and
+        // T are the totals).
         let mut rng = Rng::for_ray(4, 0, 0);
         let (weak, dark) = (Coating::uniform(1.9, 300.0, 5e-4), Coating::uniform(2.4, 2e4, 2e-4));
+        let turbid = Coating { scattering_per_mm: 3e3, asymmetry: 0.5, ..Coating::uniform(1.56, 2e3, 1e-4) };
         let cases = [
             (1.55, 4e-7, None, 0.05),
             (1.55, 4e-7, Some(weak), 0.05),
+            (1.544, 1e-7, Some(turbid), 0.05),
             (1.55, 1e-5, Some(dark), 50.0),
             (2.34, 0.1, None, 50.0),
             (3.0, 0.5, Some(weak), 0.05),
