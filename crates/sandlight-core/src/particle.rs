@@ -5,18 +5,34 @@
 //! through an optional water film and an optional coating (thin incoherent layers, see
 //! `layers`), a straight chord through the absorbing core (Beer–Lambert, exp(−α L)), Fresnel
 //! from inside with total internal reflection, repeated until the ray leaves or is absorbed.
+//! A coating that scatters (a pigmented coating, `scattering_layer`) also reflects and
+//! transmits diffusely: those rays leave with a cosine distribution about the local normal on
+//! their side.
 
 use crate::layers::{stack_rt, Slab, MAX_MEDIA};
 use crate::math::{refract, Vec3};
 use crate::rng::Rng;
+use crate::sampling::cosine_hemisphere;
+use crate::scattering_layer::{Fractions, ScatteringStack, Turbidity};
 use crate::spheroid::{Hit, Spheroid};
 
-/// A thin layer on the particle surface: real index, absorption coefficient (mm⁻¹), thickness (mm).
+/// A thin layer on the particle surface: real index, absorption coefficient (mm⁻¹), thickness
+/// (mm), and the scattering coefficient (mm⁻¹) and asymmetry g of its pigment (zero for a
+/// uniform, non-scattering coating).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Coating {
     pub n: f64,
     pub alpha_per_mm: f64,
     pub thickness_mm: f64,
+    pub scattering_per_mm: f64,
+    pub asymmetry: f64,
+}
+
+impl Coating {
+    /// A uniform coating that absorbs and does not scatter.
+    pub const fn uniform(n: f64, alpha_per_mm: f64, thickness_mm: f64) -> Coating {
+        Coating { n, alpha_per_mm, thickness_mm, scattering_per_mm: 0.0, asymmetry: 0.0 }
+    }
 }
 
 /// Optical description of one particle type at one wavelength.
@@ -100,35 +116,54 @@ pub enum Interaction {
 }
 
 /// Media from the pore (index 0) to the core (last), with the film only on a wetted point
-/// (`film`) facing an air pore.
-fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, film: bool) -> Stack {
-    let mut out = Stack { media: [Slab::semi_infinite(1.0); MAX_MEDIA], len: 0, brackets: None };
-    let mut push = |s: Slab| {
+/// (`film`) facing an air pore. With the scattering of each medium (the coating's; none
+/// elsewhere).
+fn entry_media(p: &ParticleOptics, pore: &PoreOptics, water: bool, film: bool) -> (Stack, [Turbidity; MAX_MEDIA]) {
+    let mut out = Stack { media: [Slab::semi_infinite(1.0); MAX_MEDIA], len: 0, brackets: None, scattering: None };
+    let mut turbidity = [Turbidity::NONE; MAX_MEDIA];
+    let mut push = |s: Slab, tb: Turbidity| {
         out.media[out.len] = s;
+        turbidity[out.len] = tb;
         out.len += 1;
     };
-    push(Slab::semi_infinite(pore.index(water)));
+    push(Slab::semi_infinite(pore.index(water)), Turbidity::NONE);
     if !water && film && p.wets && pore.film_thickness_mm > 0.0 {
-        push(Slab {
+        let film = Slab {
             n: pore.water_n,
             alpha_per_mm: pore.water_alpha_per_mm,
             thickness_mm: pore.film_thickness_mm,
             k_fresnel: 0.0,
-        });
+        };
+        push(film, Turbidity::NONE);
     }
     if let Some(c) = p.coating {
-        push(Slab { n: c.n, alpha_per_mm: c.alpha_per_mm, thickness_mm: c.thickness_mm, k_fresnel: 0.0 });
+        let tb = Turbidity { scattering_per_mm: c.scattering_per_mm, asymmetry: c.asymmetry };
+        push(Slab { n: c.n, alpha_per_mm: c.alpha_per_mm, thickness_mm: c.thickness_mm, k_fresnel: 0.0 }, tb);
     }
-    push(Slab { n: p.core_n, alpha_per_mm: 0.0, thickness_mm: 0.0, k_fresnel: p.core_k });
-    out
+    push(Slab { n: p.core_n, alpha_per_mm: 0.0, thickness_mm: 0.0, k_fresnel: p.core_k }, Turbidity::NONE);
+    (out, turbidity)
+}
+
+/// The stack's scattering model where a layer scatters (None: `stack_rt` is exact).
+fn with_scattering(mut st: Stack, turbidity: &[Turbidity]) -> Stack {
+    if turbidity.iter().any(|t| t.scattering_per_mm > 0.0) {
+        st.scattering = Some(Box::new(ScatteringStack::new(&st.media[..st.len], &turbidity[..st.len])));
+    }
+    st
+}
+
+fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, film: bool) -> Stack {
+    let (st, turbidity) = entry_media(p, pore, water, film);
+    with_scattering(st, &turbidity)
 }
 
 /// The same media in reverse order (core first); Fresnel from inside uses the real core index.
 fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, film: bool) -> Stack {
-    let mut out = entry_stack(p, pore, water, film);
+    let (mut out, mut turbidity) = entry_media(p, pore, water, film);
     out.media[..out.len].reverse();
+    turbidity[..out.len].reverse();
     out.media[0].k_fresnel = 0.0;
-    out
+    with_scattering(out, &turbidity)
 }
 
 /// What a ray does at a stack of media: the three outcomes with probabilities R, T, 1 − R − T.
@@ -157,12 +192,21 @@ struct Stack {
     len: usize,
     /// Per cell [R_lo, R_hi, (R+T)_lo, (R+T)_hi]; None: always evaluate.
     brackets: Option<Box<[[f64; 4]]>>,
+    /// Where the coating scatters: the stack with its diffuse parts (R and T are then the
+    /// totals, specular plus diffuse).
+    scattering: Option<Box<ScatteringStack>>,
 }
 
 impl Stack {
     #[inline]
     fn rt(&self, cos_0: f64) -> (f64, f64) {
-        stack_rt(&self.media[..self.len], cos_0)
+        match &self.scattering {
+            None => stack_rt(&self.media[..self.len], cos_0),
+            Some(s) => {
+                let f = s.fractions(cos_0);
+                (f.reflected(), f.transmitted())
+            }
+        }
     }
 
     /// The exact decision: the stack's R and T for incidence cosine `cos_0`, compared with u.
@@ -313,10 +357,42 @@ impl Stacks {
         }
     }
 
-    /// R and T of stack `kind` at incidence cosine `cos_0` (exact evaluation).
+    /// R and T of stack `kind` at incidence cosine `cos_0` (exact evaluation; with a scattering
+    /// coating the totals, specular plus diffuse).
     #[inline]
     pub fn rt(&self, kind: StackKind, cos_0: f64) -> (f64, f64) {
         self.of(kind).rt(cos_0)
+    }
+
+    /// Whether stack `kind` reflects or transmits diffusely (a scattering coating).
+    #[inline]
+    pub fn scatters(&self, kind: StackKind) -> bool {
+        self.of(kind).scattering.is_some()
+    }
+
+    /// The four fractions of stack `kind` at `cos_0`, diffuse parts zero without scattering.
+    pub fn fractions(&self, kind: StackKind, cos_0: f64) -> Fractions {
+        let st = self.of(kind);
+        match &st.scattering {
+            Some(s) => s.fractions(cos_0),
+            None => {
+                let (r, t) = st.rt(cos_0);
+                Fractions { specular: r, diffuse_reflected: 0.0, direct: t, diffuse_transmitted: 0.0 }
+            }
+        }
+    }
+
+    /// The probability that a ray reflected (`reflected`) or transmitted by stack `kind` at
+    /// `cos_0` left it diffusely: the diffuse part over the total of that outcome.
+    pub fn diffuse_probability(&self, kind: StackKind, cos_0: f64, reflected: bool) -> f64 {
+        let f = self.fractions(kind, cos_0);
+        let (diffuse, total) =
+            if reflected { (f.diffuse_reflected, f.reflected()) } else { (f.diffuse_transmitted, f.transmitted()) };
+        if total > 0.0 {
+            diffuse / total
+        } else {
+            0.0
+        }
     }
 
     /// The decision for a uniform `u` at stack `kind` (reflect if u < R, absorb if u ≥ R + T).
@@ -384,6 +460,9 @@ pub trait PathChoices {
     /// A flat water surface reflected (`reflected`) or transmitted the ray at incidence cosine
     /// `cos`, arriving from the air (`from_air`) or from the water; the hero decided.
     fn water_surface(&mut self, from_air: bool, cos: f64, reflected: bool);
+    /// Whether the reflection (`reflected`) or transmission just decided at stack `kind`
+    /// (scattering, `Stacks::scatters`) was diffuse, for a uniform `u`.
+    fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool;
 }
 
 /// A path at one wavelength: every choice is the hero's, nothing to weigh.
@@ -403,6 +482,18 @@ impl PathChoices for Mono {
     }
     #[inline(always)]
     fn water_surface(&mut self, _from_air: bool, _cos: f64, _reflected: bool) {}
+    #[inline]
+    fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool {
+        u < stacks.diffuse_probability(kind, cos, reflected)
+    }
+}
+
+/// A direction with a cosine distribution about unit `normal`.
+#[inline]
+fn lambertian(normal: Vec3, rng: &mut Rng) -> Vec3 {
+    let l = cosine_hemisphere([rng.uniform(), rng.uniform()]);
+    let (a, b) = normal.orthonormal_basis();
+    (a * l.x + b * l.y + normal * l.z).renormalized()
 }
 
 /// Survival of Beer–Lambert attenuation over optical depth `x` = α L ≥ 0 for a uniform `u` in
@@ -453,15 +544,24 @@ pub fn interact_with_stacks(
 ) -> Interaction {
     let cos_i = (-d.dot(hit.normal)).clamp(0.0, 1.0);
     let film = !water && pore.draw_film(rng);
-    match choices.stack_fate(stacks, StackKind { exit: false, water, film }, cos_i, rng.uniform()) {
-        StackFate::Reflect => return Interaction::Reflected { dir: d.reflect(hit.normal) },
+    let kind = StackKind { exit: false, water, film };
+    let fate = choices.stack_fate(stacks, kind, cos_i, rng.uniform());
+    // Diffuse parts exist only where the coating scatters; elsewhere no uniform is drawn, so a
+    // non-scattering stack makes today's decisions from today's random numbers.
+    let diffuse = fate != StackFate::Absorb
+        && stacks.scatters(kind)
+        && choices.diffuse(stacks, kind, cos_i, fate == StackFate::Reflect, rng.uniform());
+    let mut dir = match fate {
+        StackFate::Reflect => {
+            let dir = if diffuse { lambertian(hit.normal, rng) } else { d.reflect(hit.normal) };
+            return Interaction::Reflected { dir };
+        }
         StackFate::Absorb => return Interaction::Absorbed,
-        StackFate::Transmit => {}
-    }
-    let n_out = pore.index(water);
-    let mut dir = match refract(d, hit.normal, n_out / p.core_n) {
-        Some(t) => t,
-        None => return Interaction::Reflected { dir: d.reflect(hit.normal) },
+        StackFate::Transmit if diffuse => lambertian(-hit.normal, rng),
+        StackFate::Transmit => match refract(d, hit.normal, pore.index(water) / p.core_n) {
+            Some(t) => t,
+            None => return Interaction::Reflected { dir: d.reflect(hit.normal) },
+        },
     };
     let mut x = hit.point;
     for _ in 0..max_internal {
@@ -475,13 +575,21 @@ pub fn interact_with_stacks(
         // The pore beyond this point of the surface.
         let water_beyond = pore.draw_water(rng);
         let film = !water_beyond && pore.draw_film(rng);
-        match choices.stack_fate(stacks, StackKind { exit: true, water: water_beyond, film }, cos_in, rng.uniform()) {
+        let kind = StackKind { exit: true, water: water_beyond, film };
+        let fate = choices.stack_fate(stacks, kind, cos_in, rng.uniform());
+        let diffuse = fate != StackFate::Absorb
+            && stacks.scatters(kind)
+            && choices.diffuse(stacks, kind, cos_in, fate == StackFate::Reflect, rng.uniform());
+        match fate {
             StackFate::Reflect => {
-                dir = dir.reflect(n1);
+                dir = if diffuse { lambertian(-n1, rng) } else { dir.reflect(n1) };
                 x = x1;
                 continue;
             }
             StackFate::Absorb => return Interaction::Absorbed,
+            StackFate::Transmit if diffuse => {
+                return Interaction::Transmitted { dir: lambertian(n1, rng), exit_point: x1, water: water_beyond }
+            }
             StackFate::Transmit => {}
         }
         match refract(dir, -n1, p.core_n / pore.index(water_beyond)) {
@@ -539,15 +647,15 @@ mod tests {
     #[test]
     fn bracketed_decisions_equal_exact_ones() {
         // Every stack kind (bare, film, coating, film + coating; from air and water; entry and
-        // exit with critical angles; weak to opaque layers).
+        // exit with critical angles; weak to opaque layers; a scattering coating, whose R and
+        // T are the totals).
         let mut rng = Rng::for_ray(4, 0, 0);
-        let (weak, dark) = (
-            Coating { n: 1.9, alpha_per_mm: 300.0, thickness_mm: 5e-4 },
-            Coating { n: 2.4, alpha_per_mm: 2e4, thickness_mm: 2e-4 },
-        );
+        let (weak, dark) = (Coating::uniform(1.9, 300.0, 5e-4), Coating::uniform(2.4, 2e4, 2e-4));
+        let turbid = Coating { scattering_per_mm: 3e3, asymmetry: 0.5, ..Coating::uniform(1.56, 2e3, 1e-4) };
         let cases = [
             (1.55, 4e-7, None, 0.05),
             (1.55, 4e-7, Some(weak), 0.05),
+            (1.544, 1e-7, Some(turbid), 0.05),
             (1.55, 1e-5, Some(dark), 50.0),
             (2.34, 0.1, None, 50.0),
             (3.0, 0.5, Some(weak), 0.05),
@@ -574,10 +682,12 @@ mod tests {
         let mut rng = Rng::for_ray(5, 0, 0);
         let log_uniform = |rng: &mut Rng, lo: f64, hi: f64| lo * (hi / lo).powf(rng.uniform());
         for _ in 0..RANDOM_STACK_MEDIA {
-            let coating = (rng.uniform() < 0.6).then(|| Coating {
-                n: 1.3 + 1.5 * rng.uniform(),
-                alpha_per_mm: log_uniform(&mut rng, 1e-2, 3e4),
-                thickness_mm: log_uniform(&mut rng, 1e-5, 2e-3),
+            let coating = (rng.uniform() < 0.6).then(|| {
+                Coating::uniform(
+                    1.3 + 1.5 * rng.uniform(),
+                    log_uniform(&mut rng, 1e-2, 3e4),
+                    log_uniform(&mut rng, 1e-5, 2e-3),
+                )
             });
             let core_k = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-8, 1.0) };
             let p = ParticleOptics {
@@ -615,7 +725,7 @@ mod tests {
             core_n: 2.0,
             core_k: 0.0,
             core_alpha_per_mm: 0.0,
-            coating: Some(Coating { n: 1.8, alpha_per_mm: 50.0, thickness_mm: 1e-3 }),
+            coating: Some(Coating::uniform(1.8, 50.0, 1e-3)),
             wets: true,
         };
         let wet = PoreOptics { film_thickness_mm: 2e-3, film_coverage: 0.3, ..PoreOptics::DRY };
@@ -644,6 +754,56 @@ mod tests {
             let y = interact(&p, &PoreOptics::DRY, &s, hit, d, false, &mut b, 10_000);
             assert_eq!(x, y);
         }
+    }
+
+    #[test]
+    fn a_coating_that_does_not_scatter_traces_as_the_uniform_coating() {
+        // Zero scattering (any asymmetry): the same decisions from the same random numbers.
+        let s = Spheroid::new(0.25, 1.3, Vec3::new(0.0, 0.6, 0.8));
+        let pore = PoreOptics {
+            water_n: 1.333,
+            water_alpha_per_mm: 0.5,
+            film_thickness_mm: 1e-3,
+            water_filled_probability: 0.3,
+            film_coverage: 1.0,
+        };
+        let uniform = ParticleOptics { coating: Some(Coating::uniform(1.9, 300.0, 5e-4)), ..glass(1.55) };
+        let zero = ParticleOptics {
+            coating: Some(Coating { scattering_per_mm: 0.0, asymmetry: 0.6, ..Coating::uniform(1.9, 300.0, 5e-4) }),
+            ..glass(1.55)
+        };
+        let d = Vec3::new(0.0, 0.0, -1.0);
+        let (mut r1, mut r2) = (Rng::for_ray(12, 0, 0), Rng::for_ray(12, 0, 0));
+        for _ in 0..20_000 {
+            let (h1, h2) = (s.sample_hit(d, &mut r1, 100).unwrap(), s.sample_hit(d, &mut r2, 100).unwrap());
+            let a = interact(&uniform, &pore, &s, h1, d, false, &mut r1, 1000);
+            let b = interact(&zero, &pore, &s, h2, d, false, &mut r2, 1000);
+            assert_eq!(a, b);
+        }
+    }
+
+    #[test]
+    fn lossless_scattering_coating_never_absorbs_and_scatters_diffusely() {
+        // A non-absorbing pigmented coating on a clear sphere: every ray leaves, some of them
+        // off the mirror and Snell directions (diffuse), all directions unit.
+        let s = Spheroid::new(0.25, 1.0, Vec3::new(0.0, 0.0, 1.0));
+        let coating = Coating { scattering_per_mm: 2e4, asymmetry: 0.5, ..Coating::uniform(1.56, 0.0, 5e-4) };
+        let p = ParticleOptics { coating: Some(coating), ..glass(1.544) };
+        let mut rng = Rng::for_ray(13, 0, 0);
+        let d = Vec3::new(0.0, 0.0, -1.0);
+        let mut off_mirror = 0;
+        for _ in 0..10_000 {
+            let hit = s.sample_hit(d, &mut rng, 100).unwrap();
+            match interact(&p, &PoreOptics::DRY, &s, hit, d, false, &mut rng, 10_000) {
+                Interaction::Reflected { dir } => {
+                    assert!((dir.norm2() - 1.0).abs() < 1e-9 && dir.dot(hit.normal) >= -1e-12);
+                    off_mirror += ((dir - d.reflect(hit.normal)).norm2() > 1e-12) as usize;
+                }
+                Interaction::Transmitted { dir, .. } => assert!((dir.norm2() - 1.0).abs() < 1e-9),
+                other => panic!("unexpected {other:?}"),
+            }
+        }
+        assert!(off_mirror > 1000, "{off_mirror}");
     }
 
     #[test]

@@ -27,7 +27,7 @@ fn medium(aspect: f64, k: f64, alpha: f64, coating: Option<Coating>, film: f64, 
 
 #[test]
 fn every_escaped_direction_is_a_finite_upward_unit_vector() {
-    let coat = Some(Coating { n: 1.9, alpha_per_mm: 200.0, thickness_mm: 0.0005 });
+    let coat = Some(Coating::uniform(1.9, 200.0, 0.0005));
     let media = [
         medium(1.0, 0.0, 0.01, None, 0.0, 0.0),
         medium(3.0, 1.3, 3e4, coat, 0.0, 0.0),
