@@ -6,14 +6,18 @@ Reads the refractiveindex.info conversions in ``<shared>/data/optical/csv`` (CC0
 kaolinite and water. Running it twice gives byte-identical files; ``tests/test_optics.py`` checks
 that the shipped tables are exactly what this script produces.
 
-The k of the minerals in ``CALIBRATED`` (the quartz host of natural sand grains and goethite)
-is the effective k derived by calibration on their pure end-member powders (issue 17 §1): read
-from ``docs/calibration/<mineral>/<mineral>-k.csv``, the output of
-``scripts/data/calibrate_optical_constants.py``, and interpolated log-linearly onto the 5 nm grid
-(docs/optical-constants.md). Their n is unchanged (measured for quartz; for goethite the
-Handbook dispersion, converted with the literature k of ``sandlight.calibration.priors``, so that
-n — and with it the calibration's cached tables — stay as they were). Kaolinite's k is still
-PROVISIONAL, defined below with its justification.
+The minerals in ``CALIBRATED`` (the quartz host of natural sand grains and goethite) have an
+effective k derived by calibration on their pure end-member powders (issue 17 §1):
+``docs/calibration/<mineral>/<mineral>-k.csv``, the output of
+``scripts/data/calibrate_optical_constants.py``, interpolated log-linearly onto the 5 nm grid
+(docs/optical-constants.md). The shipped tables take it for the minerals in
+``SHIPPED_CALIBRATED``, which is empty until the predictor bank is retrained with it; until then
+they keep the PROVISIONAL literature k below (quartz: Crystran plus a power law; goethite:
+``sandlight.calibration.priors``), and ``build_all(src, calibrated=CALIBRATED)`` builds the
+calibrated set. Either way n is the same (measured for quartz; for goethite the Handbook
+dispersion, converted with the literature k, so that n — and with it the calibration's cached
+tables — stay as they were). Kaolinite's k is PROVISIONAL, defined below with its
+justification.
 
 Usage::
 
@@ -38,13 +42,19 @@ from pathlib import Path
 
 import numpy as np
 
+from sandlight.calibration import priors
 from sandlight.calibration.priors import goethite_literature_k
 from sandlight.calibration.report import read_k_table
 
 REPO = Path(__file__).resolve().parents[2]
 CALIBRATION_DIR = REPO / "docs" / "calibration"
-#: Minerals whose k is read from their calibration output (CalibratedK).
+#: Minerals with a calibrated k: their calibration output (CalibratedK) exists.
 CALIBRATED = ("quartz", "goethite")
+#: The calibrated minerals whose *shipped* table takes that k. Empty for now: the shipped
+#: predictor bank was trained with the literature k and must be retrained together with the
+#: switch (docs/optical-constants.md, "Staged: calibrated k not yet shipped"); the switch is
+#: this tuple. ``build_all(src, calibrated=CALIBRATED)`` builds the calibrated tables.
+SHIPPED_CALIBRATED: tuple[str, ...] = ()
 OUT_DIR = REPO / "python" / "sandlight" / "data" / "optical"
 PLOT_PATH = REPO / "docs" / "img" / "optical-constants.png"
 
@@ -191,8 +201,37 @@ def gaussian(x, centre, sigma):
 # Quartz
 # --------------------------------------------------------------------------------------------
 
+# PROVISIONAL absorption of natural quartz grains in 350-1270 nm, where no measured k exists
+# (Crystran gives k only from 1270 nm; optical-grade quartz has k < ~1e-8 there). Natural sand
+# grains absorb through trace Fe3+, Ti and fluid/mineral inclusions; we take an absorption
+# coefficient alpha = 0.1 /cm at 550 nm, the upper end of the 0.01-0.1 /cm range expected for
+# such grains: a reading of the USGS quartz powder spectra with Hapke's (2012) equivalent-slab
+# model gives apparent values near 1 /cm even for very pure crystal quartz, so the lower end
+# would be implausibly transparent. alpha rises toward the UV as a power law
+# alpha = alpha_550 (550/lambda)^p, with p fixed so that alpha joins Crystran's first tabulated
+# value at 1270 nm continuously. The calibration on the pure quartz powders (CALIBRATED) replaces this once shipped.
+QUARTZ_ALPHA_550_PER_CM = 0.1
+QUARTZ_JOIN_NM = 1270.0
 
-def build_quartz(src: Path) -> Table:
+
+def literature_quartz_k(src: Path, grid: np.ndarray) -> tuple[np.ndarray, float]:
+    """Crystran's k from 1270 nm, the PROVISIONAL power law below (see the block above); and
+    the power law's exponent."""
+    w_c, _, k_c = read_source_csv(src / "csv" / "quartz_SiO2_Crystran_o_nk.csv")
+    has_k = np.isfinite(k_c) & (k_c > 0)
+    w_k, k_k = w_c[has_k], k_c[has_k]
+    in_ir = grid >= QUARTZ_JOIN_NM
+    k = np.empty_like(grid)
+    k[in_ir] = interp_loglinear(grid[in_ir], w_k, k_k)
+    k_join = float(interp_loglinear(QUARTZ_JOIN_NM, w_k, k_k))
+    alpha_join = 4.0 * math.pi * k_join / (QUARTZ_JOIN_NM * 1e-7)  # per cm
+    exponent = math.log(QUARTZ_ALPHA_550_PER_CM / alpha_join) / math.log(QUARTZ_JOIN_NM / 550.0)
+    alpha = QUARTZ_ALPHA_550_PER_CM * (550.0 / grid[~in_ir]) ** exponent  # per cm
+    k[~in_ir] = alpha * grid[~in_ir] * 1e-7 / (4.0 * math.pi)
+    return k, exponent
+
+
+def build_quartz(src: Path, calibrated: bool = "quartz" in SHIPPED_CALIBRATED) -> Table:
     csv = src / "csv"
     w_ro, n_ro, _ = read_source_csv(csv / "quartz_SiO2_Radhakrishnan1951_o.csv")
     w_re, n_re, _ = read_source_csv(csv / "quartz_SiO2_Radhakrishnan1951_e.csv")
@@ -214,13 +253,41 @@ def build_quartz(src: Path) -> Table:
     if max_dn > 2e-4:
         raise ValueError(f"Ghosh and Radhakrishnan quartz disagree by {max_dn:.1e}")
 
-    calibrated = CalibratedK.read("quartz")
-    k = calibrated.on(grid)
+    if calibrated:
+        cal = CalibratedK.read("quartz")
+        k = cal.on(grid)
+        k_status = cal.status
+        k_sources = [cal.source + " [k]"]
+        k_origin, k_licence = cal.origin, cal.licence + " [k]"
+        k_methods = cal.method_lines()
+    else:
+        k, exponent = literature_quartz_k(src, grid)
+        k_status = (
+            "measured (Crystran) in 1270-2500 nm; PROVISIONAL in 350-1270 nm "
+            "(natural-grain impurity absorption, to be replaced by the calibrated k)"
+        )
+        k_sources = [
+            "Crystran Ltd., The Crystran handbook of infra-red and ultra-violet optical "
+            "materials, 5th ed. (2023) [k, ordinary ray, 1270-2500 nm]"
+        ]
+        k_origin, k_licence = "specs/crystran/optical/quartz-o.yml", SANDLIGHT_LICENCE + " of k in 350-1270 nm"
+        k_methods = [
+            (
+                "method",
+                "k >= 1270 nm: Crystran ordinary-ray k, log-linear interpolation onto the grid, used for both rays",
+            ),
+            (
+                "method",
+                f"k < 1270 nm PROVISIONAL: alpha = {QUARTZ_ALPHA_550_PER_CM} /cm * "
+                f"(550 nm/lambda)^{exponent:.3f}, the exponent making alpha continuous with "
+                f"Crystran at 1270 nm; k = alpha lambda/(4 pi)",
+            ),
+        ]
 
     header = [
         ("material", "quartz"),
         ("description", "alpha-quartz SiO2 (uniaxial positive), randomly oriented natural grains"),
-        ("status", "n: measured. k: " + calibrated.status),
+        ("status", "n: measured. k: " + k_status),
         (
             "source",
             "T. Radhakrishnan, Further studies on the temperature variation of the refractive "
@@ -229,7 +296,7 @@ def build_quartz(src: Path) -> Table:
             "of quartz, Proc. Indian Acad. Sci. A 25, 260-265 (1947), doi:10.1007/BF03171408 "
             "[n_o, n_e, 18 C]",
         ),
-        ("source", calibrated.source + " [k]"),
+        *(("source", text) for text in k_sources),
         (
             "source",
             "cross-check: G. Ghosh, Dispersion-equation coefficients for the refractive index "
@@ -239,9 +306,9 @@ def build_quartz(src: Path) -> Table:
         (
             "origin",
             RII_ORIGIN + "main/SiO2/nk/Radhakrishnan-o.yml, Radhakrishnan-e.yml, "
-            "Ghosh-o.yml, Ghosh-e.yml [n]; " + calibrated.origin,
+            "Ghosh-o.yml, Ghosh-e.yml [n]; " + k_origin,
         ),
-        ("licence", RII_LICENCE + " [n]; " + calibrated.licence + " [k]"),
+        ("licence", RII_LICENCE + " [n]; " + k_licence),
         ("units", UNITS),
         ("sampling", "5 nm grid, 350-2500 nm"),
         (
@@ -251,7 +318,7 @@ def build_quartz(src: Path) -> Table:
             f"{np.min(n_e - n_o):.4f}-{np.max(n_e - n_o):.4f} over the range",
         ),
         ("method", f"Ghosh 1999 agrees with Radhakrishnan within {max_dn:.1e} in n over 350-2050 nm"),
-        *calibrated.method_lines(),
+        *k_methods,
         ("built_by", BUILT_BY),
     ]
     return Table("quartz", header, grid, n, k)
@@ -469,20 +536,40 @@ def goethite_n(wavelength_nm):
     return np.sqrt(1.0 + strength * lam**2 / (lam**2 - lambda0**2))
 
 
-def build_goethite(src: Path) -> Table:
+def build_goethite(src: Path, calibrated: bool = "goethite" in SHIPPED_CALIBRATED) -> Table:
     grid = GRID_5NM
     strength, lambda0, resid = goethite_dispersion()
     n = goethite_n(grid)
-    calibrated = CalibratedK.read("goethite")
-    k = calibrated.on(grid)
+    if calibrated:
+        cal = CalibratedK.read("goethite")
+        k = cal.on(grid)
+        k_status, k_sources, k_origin, k_licence = cal.status, [cal.source + " [k]"], cal.origin, cal.licence
+        k_methods = cal.method_lines()
+    else:
+        k = goethite_literature_k(grid)
+        k_status = "PROVISIONAL, the literature parameterisation (to be replaced by the calibrated k)"
+        k_sources = []
+        k_origin = "parameterisation sandlight.calibration.priors.goethite_literature_k"
+        k_licence = SANDLIGHT_LICENCE
+        bands = " + ".join(f"{p:g} exp(-(E-{c:g} eV)^2/(2 ({s:g} eV)^2))" for p, c, s in priors.GOETHITE_BANDS)
+        k_methods = [
+            (
+                "method",
+                f"k(E) = {priors.GOETHITE_EDGE_K:g}/(1 + exp(-(E - {priors.GOETHITE_EDGE_EV:g} eV)/"
+                f"{priors.GOETHITE_EDGE_WIDTH_EV:g} eV)) + {bands} + {priors.GOETHITE_OH_K_2500:g} "
+                f"exp((lambda - 2500 nm)/{priors.GOETHITE_OH_EFOLD_NM:g} nm) + {priors.GOETHITE_K_FLOOR:g}, "
+                "E = 1239.84 eV nm/lambda: charge-transfer edge, 4T2 (650 nm) and 4T1 "
+                "(925 nm) crystal-field bands, O-H wing, floor",
+            )
+        ]
     header = [
         ("material", "goethite"),
         ("description", "alpha-FeOOH (orthorhombic, biaxial negative), randomly oriented grains"),
         (
             "status",
-            "n: PROVISIONAL (no measured n table exists; the Handbook dispersion below). k: " + calibrated.status,
+            "n: PROVISIONAL (no measured n table exists; the Handbook dispersion below). k: " + k_status,
         ),
-        ("source", calibrated.source + " [k]"),
+        *(("source", text) for text in k_sources),
         (
             "source",
             "J. W. Anthony, R. A. Bideaux, K. W. Bladh, M. C. Nichols (eds.), Handbook of "
@@ -507,10 +594,10 @@ def build_goethite(src: Path) -> Table:
             "A. C. Scheinost, A. Chavernas, V. Barron, J. Torrent, Clays Clay Miner. 46, "
             "528-536 (1998) [band assignments and positions of the literature k]",
         ),
-        ("origin", "n: parameterisation in scripts/data/build_optical_tables.py; k: " + calibrated.origin),
+        ("origin", "n: parameterisation in scripts/data/build_optical_tables.py; k: " + k_origin),
         (
             "licence",
-            SANDLIGHT_LICENCE + " of n; quoted single values are facts from the cited works; k: " + calibrated.licence,
+            SANDLIGHT_LICENCE + " of n; quoted single values are facts from the cited works; k: " + k_licence,
         ),
         ("units", UNITS),
         ("sampling", "5 nm grid, 350-2500 nm"),
@@ -527,7 +614,7 @@ def build_goethite(src: Path) -> Table:
             "n(589.3 nm); lambda0 lies in the charge-transfer UV; held at its 540 nm value "
             "below 540 nm (inside the absorption edge)",
         ),
-        *calibrated.method_lines(),
+        *k_methods,
         ("built_by", BUILT_BY),
     ]
     return Table("goethite", header, grid, n, k)
@@ -627,13 +714,17 @@ def build_kaolinite(quartz: Table) -> Table:
 # --------------------------------------------------------------------------------------------
 
 
-def build_all(src: Path) -> dict[str, Table]:
-    """Every table, keyed by material name, in sandlight.optics.MATERIALS order."""
-    quartz = build_quartz(src)
+def build_all(src: Path, calibrated: tuple[str, ...] = SHIPPED_CALIBRATED) -> dict[str, Table]:
+    """Every table, keyed by material name, in sandlight.optics.MATERIALS order; the minerals in
+    ``calibrated`` with their calibrated k."""
+    unknown = set(calibrated) - set(CALIBRATED)
+    if unknown:
+        raise ValueError(f"no calibrated k for {sorted(unknown)}; calibrated minerals: {CALIBRATED}")
+    quartz = build_quartz(src, "quartz" in calibrated)
     tables = [
         quartz,
         build_hematite(src),
-        build_goethite(src),
+        build_goethite(src, "goethite" in calibrated),
         build_magnetite(src),
         build_kaolinite(quartz),
         build_water(src),
