@@ -37,7 +37,7 @@ def test_fields_follow_the_parameter_table_in_order():
 
 def test_issue_parameters_and_additions():
     added = {p.name for p in PARAMETERS if p.added}
-    assert added == {"film_saturation", "iron_oxide_particle_size_um", "depth_mm"}
+    assert added == {"film_saturation", "iron_oxide_particle_size_um", "depth_mm", "host_absorption"}
     form = SandSample.parameter("iron_oxide_form")
     assert form.kind == "choice" and form.choices == ("coating", "mixed", "particles")
     assert SandSample.parameter("grain_size").unit == "mm"
@@ -63,6 +63,7 @@ def test_defaults():
         porosity=0.40,
         iron_oxide_particle_size_um=1.0,
         depth_mm=math.inf,
+        host_absorption=1.0,
     )
     assert {p.name: getattr(s, p.name) for p in PARAMETERS} == expected
     assert all(getattr(s, p.name) == p.default for p in PARAMETERS)
@@ -86,6 +87,7 @@ def test_domains_as_specified():
         "porosity": (0.25, 0.55),
         "iron_oxide_particle_size_um": (0.1, 50),
         "depth_mm": (0, math.inf),
+        "host_absorption": (0, 10),
     }
     assert [p.name for p in PARAMETERS if p.low_open] == ["depth_mm"]
 

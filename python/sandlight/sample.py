@@ -12,8 +12,8 @@ SandSample
     file, or a named preset shipped in ``sandlight/data/presets/``.
 
 The parameters of issue 2 follow SPLITS (Kimmel & Baranoski 2007) and the paper in
-``shared/paper``; ``film_saturation``, ``iron_oxide_particle_size_um`` and ``depth_mm`` are
-sandlight's additions (``Parameter.added``). See ``docs/sample.md``.
+``shared/paper``; ``film_saturation``, ``iron_oxide_particle_size_um``, ``depth_mm`` and
+``host_absorption`` are sandlight's additions (``Parameter.added``). See ``docs/sample.md``.
 """
 
 from __future__ import annotations
@@ -173,6 +173,16 @@ PARAMETERS: tuple[Parameter, ...] = (
         low_open=True,
         added=True,
     ),
+    Parameter(
+        "host_absorption",
+        "",
+        1.0,
+        0.0,
+        10.0,
+        "factor on the absorption (k) of the quartz host grains: 1 is the natural-grain quartz calibrated "
+        "on the USGS quartz powders and sands (docs/optical-constants.md), 0 a perfectly clear crystal",
+        added=True,
+    ),
 )
 
 _BY_NAME: dict[str, Parameter] = {p.name: p for p in PARAMETERS}
@@ -234,6 +244,11 @@ class SandSample:
         Diameter of separate iron-oxide particles, µm, in [0.1, 50].
     depth_mm : float
         Sample thickness, mm, in (0, inf]; inf (default) is semi-infinite.
+    host_absorption : float
+        Factor (dimensionless) on the imaginary index k of the quartz host grains (sand and silt),
+        in [0, 10]: 1 (default) is natural-grain quartz as calibrated on the USGS quartz powders
+        and Ottawa sand (docs/optical-constants.md); 0 a perfectly clear crystal; > 1 a more
+        stained or included host.
 
     Raises
     ------
@@ -266,6 +281,7 @@ class SandSample:
     porosity: float = _default("porosity")
     iron_oxide_particle_size_um: float = _default("iron_oxide_particle_size_um")
     depth_mm: float = _default("depth_mm")
+    host_absorption: float = _default("host_absorption")
 
     def __post_init__(self) -> None:
         for p in PARAMETERS:

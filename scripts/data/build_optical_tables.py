@@ -6,10 +6,18 @@ Reads the refractiveindex.info conversions in ``<shared>/data/optical/csv`` (CC0
 kaolinite and water. Running it twice gives byte-identical files; ``tests/test_optics.py`` checks
 that the shipped tables are exactly what this script produces.
 
-Goethite and kaolinite (and the visible absorption of the quartz grain host) have no usable
-measured table. Their PROVISIONAL parameterisations are defined below, each with its
-justification; issue 3 replaces them by constants derived by inversion with the engine
-(``scripts/studies/derive_constants.py``), after which this script must no longer write them.
+The minerals in ``CALIBRATED`` (the quartz host of natural sand grains and goethite) have an
+effective k derived by calibration on their pure end-member powders (issue 17 §1):
+``docs/calibration/<mineral>/<mineral>-k.csv``, the output of
+``scripts/data/calibrate_optical_constants.py``, interpolated log-linearly onto the 5 nm grid
+(docs/optical-constants.md). The shipped tables take it for the minerals in
+``SHIPPED_CALIBRATED``, which is empty until the predictor bank is retrained with it; until then
+they keep the PROVISIONAL literature k below (quartz: Crystran plus a power law; goethite:
+``sandlight.calibration.priors``), and ``build_all(src, calibrated=CALIBRATED)`` builds the
+calibrated set. Either way n is the same (measured for quartz; for goethite the Handbook
+dispersion, converted with the literature k, so that n — and with it the calibration's cached
+tables — stay as they were). Kaolinite's k is PROVISIONAL, defined below with its
+justification.
 
 Usage::
 
@@ -34,7 +42,19 @@ from pathlib import Path
 
 import numpy as np
 
+from sandlight.calibration import priors
+from sandlight.calibration.priors import goethite_literature_k
+from sandlight.calibration.report import read_k_table
+
 REPO = Path(__file__).resolve().parents[2]
+CALIBRATION_DIR = REPO / "docs" / "calibration"
+#: Minerals with a calibrated k: their calibration output (CalibratedK) exists.
+CALIBRATED = ("quartz", "goethite")
+#: The calibrated minerals whose *shipped* table takes that k. Empty for now: the shipped
+#: predictor bank was trained with the literature k and must be retrained together with the
+#: switch (docs/optical-constants.md, "Staged: calibrated k not yet shipped"); the switch is
+#: this tuple. ``build_all(src, calibrated=CALIBRATED)`` builds the calibrated tables.
+SHIPPED_CALIBRATED: tuple[str, ...] = ()
 OUT_DIR = REPO / "python" / "sandlight" / "data" / "optical"
 PLOT_PATH = REPO / "docs" / "img" / "optical-constants.png"
 
@@ -110,6 +130,56 @@ def interp_loglinear(x_new, x, y):
     return np.exp(np.interp(x_new, x, np.log(y), left=np.nan, right=np.nan))
 
 
+@dataclass(frozen=True)
+class CalibratedK:
+    """A mineral's k derived by calibration: ``docs/calibration/<m>/<m>-k.csv``, the output of
+    scripts/data/calibrate_optical_constants.py (``# key: value`` header, ``wavelength_nm,n,k``)."""
+
+    mineral: str
+    path: Path
+    header: dict[str, str]
+    wavelength_nm: np.ndarray
+    k: np.ndarray
+
+    @classmethod
+    def read(cls, mineral: str, directory: Path = CALIBRATION_DIR) -> CalibratedK:
+        path = directory / mineral / f"{mineral}-k.csv"
+        header, wavelength_nm, _, k = read_k_table(path)
+        if header.get("material") != mineral or wavelength_nm[0] > LAMBDA_MIN_NM or wavelength_nm[-1] < LAMBDA_MAX_NM:
+            raise ValueError(f"{path}: not a calibrated k table of {mineral} covering 350-2500 nm")
+        return cls(mineral, path, header, wavelength_nm, k)
+
+    def on(self, grid: np.ndarray) -> np.ndarray:
+        """k on ``grid``, interpolated linearly in log k (the rule sandlight.optics uses)."""
+        return interp_loglinear(grid, self.wavelength_nm, self.k)
+
+    @property
+    def status(self) -> str:
+        return self.header["status"]
+
+    @property
+    def source(self) -> str:
+        return self.header["source"]
+
+    @property
+    def licence(self) -> str:
+        return self.header["licence"]
+
+    @property
+    def origin(self) -> str:
+        return f"{self.path.relative_to(REPO)} (inputs: {self.header['origin']})"
+
+    def method_lines(self) -> list[tuple[str, str]]:
+        return [
+            ("method", f"k: calibration, {self.header['method']}"),
+            (
+                "method",
+                f"k: from the calibration grid ({self.header['sampling'].removeprefix('the calibration grid, ')}), "
+                "log-linear interpolation onto the 5 nm grid",
+            ),
+        ]
+
+
 def bracket(wavelength_nm: np.ndarray) -> np.ndarray:
     """Mask of the source points that cover [350, 2500] nm: all points inside plus the nearest
     point outside on each side, so that interpolation reaches both ends without extrapolating."""
@@ -139,18 +209,34 @@ def gaussian(x, centre, sigma):
 # model gives apparent values near 1 /cm even for very pure crystal quartz, so the lower end
 # would be implausibly transparent. alpha rises toward the UV as a power law
 # alpha = alpha_550 (550/lambda)^p, with p fixed so that alpha joins Crystran's first tabulated
-# value at 1270 nm continuously. Issue 3's inversion of the pure-quartz spectra replaces this.
+# value at 1270 nm continuously. The calibration on the pure quartz powders (CALIBRATED) replaces this once shipped.
 QUARTZ_ALPHA_550_PER_CM = 0.1
 QUARTZ_JOIN_NM = 1270.0
 
 
-def build_quartz(src: Path) -> Table:
+def literature_quartz_k(src: Path, grid: np.ndarray) -> tuple[np.ndarray, float]:
+    """Crystran's k from 1270 nm, the PROVISIONAL power law below (see the block above); and
+    the power law's exponent."""
+    w_c, _, k_c = read_source_csv(src / "csv" / "quartz_SiO2_Crystran_o_nk.csv")
+    has_k = np.isfinite(k_c) & (k_c > 0)
+    w_k, k_k = w_c[has_k], k_c[has_k]
+    in_ir = grid >= QUARTZ_JOIN_NM
+    k = np.empty_like(grid)
+    k[in_ir] = interp_loglinear(grid[in_ir], w_k, k_k)
+    k_join = float(interp_loglinear(QUARTZ_JOIN_NM, w_k, k_k))
+    alpha_join = 4.0 * math.pi * k_join / (QUARTZ_JOIN_NM * 1e-7)  # per cm
+    exponent = math.log(QUARTZ_ALPHA_550_PER_CM / alpha_join) / math.log(QUARTZ_JOIN_NM / 550.0)
+    alpha = QUARTZ_ALPHA_550_PER_CM * (550.0 / grid[~in_ir]) ** exponent  # per cm
+    k[~in_ir] = alpha * grid[~in_ir] * 1e-7 / (4.0 * math.pi)
+    return k, exponent
+
+
+def build_quartz(src: Path, calibrated: bool = "quartz" in SHIPPED_CALIBRATED) -> Table:
     csv = src / "csv"
     w_ro, n_ro, _ = read_source_csv(csv / "quartz_SiO2_Radhakrishnan1951_o.csv")
     w_re, n_re, _ = read_source_csv(csv / "quartz_SiO2_Radhakrishnan1951_e.csv")
     w_go, n_go, _ = read_source_csv(csv / "quartz_SiO2_Ghosh1999_o.csv")
     w_ge, n_ge, _ = read_source_csv(csv / "quartz_SiO2_Ghosh1999_e.csv")
-    w_c, _, k_c = read_source_csv(csv / "quartz_SiO2_Crystran_o_nk.csv")
 
     grid = GRID_5NM
     # Orientation average for randomly oriented uniaxial grains (see docs/optical-constants.md):
@@ -167,25 +253,41 @@ def build_quartz(src: Path) -> Table:
     if max_dn > 2e-4:
         raise ValueError(f"Ghosh and Radhakrishnan quartz disagree by {max_dn:.1e}")
 
-    has_k = np.isfinite(k_c) & (k_c > 0)
-    w_k, k_k = w_c[has_k], k_c[has_k]
-    in_ir = grid >= QUARTZ_JOIN_NM
-    k = np.empty_like(grid)
-    k[in_ir] = interp_loglinear(grid[in_ir], w_k, k_k)
-    k_join = float(interp_loglinear(QUARTZ_JOIN_NM, w_k, k_k))
-    alpha_join = 4.0 * math.pi * k_join / (QUARTZ_JOIN_NM * 1e-7)  # per cm
-    exponent = math.log(QUARTZ_ALPHA_550_PER_CM / alpha_join) / math.log(QUARTZ_JOIN_NM / 550.0)
-    alpha = QUARTZ_ALPHA_550_PER_CM * (550.0 / grid[~in_ir]) ** exponent  # per cm
-    k[~in_ir] = alpha * grid[~in_ir] * 1e-7 / (4.0 * math.pi)
+    if calibrated:
+        cal = CalibratedK.read("quartz")
+        k = cal.on(grid)
+        k_status = cal.status
+        k_sources = [cal.source + " [k]"]
+        k_origin, k_licence = cal.origin, cal.licence + " [k]"
+        k_methods = cal.method_lines()
+    else:
+        k, exponent = literature_quartz_k(src, grid)
+        k_status = (
+            "measured (Crystran) in 1270-2500 nm; PROVISIONAL in 350-1270 nm "
+            "(natural-grain impurity absorption, to be replaced by the calibrated k)"
+        )
+        k_sources = [
+            "Crystran Ltd., The Crystran handbook of infra-red and ultra-violet optical "
+            "materials, 5th ed. (2023) [k, ordinary ray, 1270-2500 nm]"
+        ]
+        k_origin, k_licence = "specs/crystran/optical/quartz-o.yml", SANDLIGHT_LICENCE + " of k in 350-1270 nm"
+        k_methods = [
+            (
+                "method",
+                "k >= 1270 nm: Crystran ordinary-ray k, log-linear interpolation onto the grid, used for both rays",
+            ),
+            (
+                "method",
+                f"k < 1270 nm PROVISIONAL: alpha = {QUARTZ_ALPHA_550_PER_CM} /cm * "
+                f"(550 nm/lambda)^{exponent:.3f}, the exponent making alpha continuous with "
+                f"Crystran at 1270 nm; k = alpha lambda/(4 pi)",
+            ),
+        ]
 
     header = [
         ("material", "quartz"),
         ("description", "alpha-quartz SiO2 (uniaxial positive), randomly oriented natural grains"),
-        (
-            "status",
-            "n: measured. k: measured (Crystran) in 1270-2500 nm; PROVISIONAL in 350-1270 nm "
-            "(natural-grain impurity absorption, to be replaced by the issue-3 inversion)",
-        ),
+        ("status", "n: measured. k: " + k_status),
         (
             "source",
             "T. Radhakrishnan, Further studies on the temperature variation of the refractive "
@@ -194,11 +296,7 @@ def build_quartz(src: Path) -> Table:
             "of quartz, Proc. Indian Acad. Sci. A 25, 260-265 (1947), doi:10.1007/BF03171408 "
             "[n_o, n_e, 18 C]",
         ),
-        (
-            "source",
-            "Crystran Ltd., The Crystran handbook of infra-red and ultra-violet optical "
-            "materials, 5th ed. (2023) [k, ordinary ray, 1270-2500 nm]",
-        ),
+        *(("source", text) for text in k_sources),
         (
             "source",
             "cross-check: G. Ghosh, Dispersion-equation coefficients for the refractive index "
@@ -208,9 +306,9 @@ def build_quartz(src: Path) -> Table:
         (
             "origin",
             RII_ORIGIN + "main/SiO2/nk/Radhakrishnan-o.yml, Radhakrishnan-e.yml, "
-            "Ghosh-o.yml, Ghosh-e.yml; specs/crystran/optical/quartz-o.yml",
+            "Ghosh-o.yml, Ghosh-e.yml [n]; " + k_origin,
         ),
-        ("licence", RII_LICENCE + "; " + SANDLIGHT_LICENCE + " of k in 350-1270 nm"),
+        ("licence", RII_LICENCE + " [n]; " + k_licence),
         ("units", UNITS),
         ("sampling", "5 nm grid, 350-2500 nm"),
         (
@@ -220,13 +318,7 @@ def build_quartz(src: Path) -> Table:
             f"{np.min(n_e - n_o):.4f}-{np.max(n_e - n_o):.4f} over the range",
         ),
         ("method", f"Ghosh 1999 agrees with Radhakrishnan within {max_dn:.1e} in n over 350-2050 nm"),
-        ("method", "k >= 1270 nm: Crystran ordinary-ray k, log-linear interpolation onto the grid, used for both rays"),
-        (
-            "method",
-            f"k < 1270 nm PROVISIONAL: alpha = {QUARTZ_ALPHA_550_PER_CM} /cm * "
-            f"(550 nm/lambda)^{exponent:.3f}, the exponent making alpha continuous with "
-            f"Crystran at 1270 nm; k = alpha lambda/(4 pi)",
-        ),
+        *k_methods,
         ("built_by", BUILT_BY),
     ]
     return Table("quartz", header, grid, n, k)
@@ -406,34 +498,6 @@ GOETHITE_R2_PERCENT = np.array(
 # reflectance-to-n conversion hardly depends on it; below this wavelength n is held constant.
 GOETHITE_N_FIT_FROM_NM = 540.0
 
-# Provisional k(E), E = photon energy in eV. Terms, with the band assignments of Sherman &
-# Waite (1985) and band positions of Scheinost et al. (1998):
-#   edge: Fe3+ ligand-to-metal charge transfer plus the 6A1+6A1 -> 4T1+4T1 pair excitation
-#         (~480 nm) make a strong absorption edge; a logistic step in energy of height 0.6,
-#         centre 2.39 eV (519 nm) and width 0.08 eV puts k(550 nm) at ~0.09 (Bedidi & Cervelle
-#         1993, as quoted by Conny et al. 2017), an edge ~80 nm bluer than hematite's (Querry);
-#   4T2:  6A1 -> 4T2 crystal-field band at 1.91 eV (~650 nm), Gaussian, peak 1.5e-3;
-#   4T1:  6A1 -> 4T1 crystal-field band at 1.34 eV (~925 nm), Gaussian, peak 2.5e-3;
-#   OH:   the wing of the strong O-H stretching band near 3 um, 1e-3 at 2500 nm, e-folding 150 nm;
-#   floor 1.5e-4.
-# Magnitudes above 600 nm are of the order that an equivalent-slab (Hapke 2012) reading of the
-# USGS goethite powders (WS222, few-um effective grains) suggests; not a fit.
-GOETHITE_EDGE_K, GOETHITE_EDGE_EV, GOETHITE_EDGE_WIDTH_EV = 0.6, 2.39, 0.08
-GOETHITE_BANDS = ((1.5e-3, 1.91, 0.12), (2.5e-3, 1.34, 0.15))  # (peak k, centre eV, sigma eV)
-GOETHITE_OH_K_2500, GOETHITE_OH_EFOLD_NM = 1.0e-3, 150.0
-GOETHITE_K_FLOOR = 1.5e-4
-
-
-def goethite_k(wavelength_nm):
-    """Provisional imaginary index of goethite (see the parameter block above)."""
-    wavelength_nm = np.asarray(wavelength_nm, dtype=float)
-    energy = HC_EV_NM / wavelength_nm
-    k = GOETHITE_EDGE_K / (1.0 + np.exp(-(energy - GOETHITE_EDGE_EV) / GOETHITE_EDGE_WIDTH_EV))
-    for peak, centre, sigma in GOETHITE_BANDS:
-        k = k + peak * gaussian(energy, centre, sigma)
-    k = k + GOETHITE_OH_K_2500 * np.exp((wavelength_nm - LAMBDA_MAX_NM) / GOETHITE_OH_EFOLD_NM)
-    return k + GOETHITE_K_FLOOR
-
 
 def index_from_normal_reflectance(reflectance, k):
     """Real index n from normal-incidence reflectance R in air and k.
@@ -455,7 +519,7 @@ def goethite_dispersion():
     """
     lam = GOETHITE_R_WAVELENGTH_NM
     r = (GOETHITE_R1_PERCENT + GOETHITE_R2_PERCENT) / 200.0
-    n_r = index_from_normal_reflectance(r, goethite_k(lam))
+    n_r = index_from_normal_reflectance(r, goethite_literature_k(lam))
     n_scaled = n_r * GOETHITE_N_589 / np.interp(SODIUM_D_NM, lam, n_r)
     sel = lam >= GOETHITE_N_FIT_FROM_NM
     design = np.column_stack([np.ones(sel.sum()), 1.0 / lam[sel] ** 2])
@@ -472,20 +536,40 @@ def goethite_n(wavelength_nm):
     return np.sqrt(1.0 + strength * lam**2 / (lam**2 - lambda0**2))
 
 
-def build_goethite(src: Path) -> Table:
+def build_goethite(src: Path, calibrated: bool = "goethite" in SHIPPED_CALIBRATED) -> Table:
     grid = GRID_5NM
     strength, lambda0, resid = goethite_dispersion()
     n = goethite_n(grid)
-    k = goethite_k(grid)
-    bands = " + ".join(f"{p:g} exp(-(E-{c:g} eV)^2/(2 ({s:g} eV)^2))" for p, c, s in GOETHITE_BANDS)
+    if calibrated:
+        cal = CalibratedK.read("goethite")
+        k = cal.on(grid)
+        k_status, k_sources, k_origin, k_licence = cal.status, [cal.source + " [k]"], cal.origin, cal.licence
+        k_methods = cal.method_lines()
+    else:
+        k = goethite_literature_k(grid)
+        k_status = "PROVISIONAL, the literature parameterisation (to be replaced by the calibrated k)"
+        k_sources = []
+        k_origin = "parameterisation sandlight.calibration.priors.goethite_literature_k"
+        k_licence = SANDLIGHT_LICENCE
+        bands = " + ".join(f"{p:g} exp(-(E-{c:g} eV)^2/(2 ({s:g} eV)^2))" for p, c, s in priors.GOETHITE_BANDS)
+        k_methods = [
+            (
+                "method",
+                f"k(E) = {priors.GOETHITE_EDGE_K:g}/(1 + exp(-(E - {priors.GOETHITE_EDGE_EV:g} eV)/"
+                f"{priors.GOETHITE_EDGE_WIDTH_EV:g} eV)) + {bands} + {priors.GOETHITE_OH_K_2500:g} "
+                f"exp((lambda - 2500 nm)/{priors.GOETHITE_OH_EFOLD_NM:g} nm) + {priors.GOETHITE_K_FLOOR:g}, "
+                "E = 1239.84 eV nm/lambda: charge-transfer edge, 4T2 (650 nm) and 4T1 "
+                "(925 nm) crystal-field bands, O-H wing, floor",
+            )
+        ]
     header = [
         ("material", "goethite"),
         ("description", "alpha-FeOOH (orthorhombic, biaxial negative), randomly oriented grains"),
         (
             "status",
-            "PROVISIONAL (no measured n,k table exists); to be replaced by the issue-3 "
-            "inversion of USGS goethite spectra (scripts/studies/derive_constants.py)",
+            "n: PROVISIONAL (no measured n table exists; the Handbook dispersion below). k: " + k_status,
         ),
+        *(("source", text) for text in k_sources),
         (
             "source",
             "J. W. Anthony, R. A. Bideaux, K. W. Bladh, M. C. Nichols (eds.), Handbook of "
@@ -500,17 +584,21 @@ def build_goethite(src: Path) -> Table:
             "hematite and goethitelike optical properties: effect of water impregnation, "
             "J. Geophys. Res. 98(B7), 11941-11952 (1993), as quoted "
             "by R. A. Conny et al., J. Geophys. Res. Atmos. 122 (2017), "
-            "doi:10.1002/2017JD026488, table 4 [k ~ 0.09 mid-visible]",
+            "doi:10.1002/2017JD026488, table 4 [k ~ 0.09 mid-visible; in the literature k that "
+            "converts the Handbook reflectance to n, sandlight.calibration.priors]",
         ),
         (
             "source",
             "D. M. Sherman and T. D. Waite, Electronic spectra of Fe3+ oxides and oxide "
             "hydroxides in the near IR to near UV, Am. Mineral. 70, 1262-1269 (1985); "
             "A. C. Scheinost, A. Chavernas, V. Barron, J. Torrent, Clays Clay Miner. 46, "
-            "528-536 (1998) [band assignments and positions]",
+            "528-536 (1998) [band assignments and positions of the literature k]",
         ),
-        ("origin", "parameterisation in scripts/data/build_optical_tables.py (no external data file)"),
-        ("licence", SANDLIGHT_LICENCE + "; quoted single values are facts from the cited works"),
+        ("origin", "n: parameterisation in scripts/data/build_optical_tables.py; k: " + k_origin),
+        (
+            "licence",
+            SANDLIGHT_LICENCE + " of n; quoted single values are facts from the cited works; k: " + k_licence,
+        ),
         ("units", UNITS),
         ("sampling", "5 nm grid, 350-2500 nm"),
         (
@@ -522,18 +610,11 @@ def build_goethite(src: Path) -> Table:
             "method",
             f"n dispersion: Sellmeier n^2 = 1 + {strength:.4f} lambda^2/(lambda^2 - "
             f"({lambda0:.1f} nm)^2) fitted (max residual {resid:.4f}) to the Handbook "
-            "reflectance spectrum converted to n with the provisional k and scaled to "
+            "reflectance spectrum converted to n with the literature k (sandlight.calibration.priors) and scaled to "
             "n(589.3 nm); lambda0 lies in the charge-transfer UV; held at its 540 nm value "
             "below 540 nm (inside the absorption edge)",
         ),
-        (
-            "method",
-            f"k(E) = {GOETHITE_EDGE_K:g}/(1 + exp(-(E - {GOETHITE_EDGE_EV:g} eV)/"
-            f"{GOETHITE_EDGE_WIDTH_EV:g} eV)) + {bands} + {GOETHITE_OH_K_2500:g} "
-            f"exp((lambda - 2500 nm)/{GOETHITE_OH_EFOLD_NM:g} nm) + {GOETHITE_K_FLOOR:g}, "
-            "E = 1239.84 eV nm/lambda: charge-transfer edge, 4T2 (650 nm) and 4T1 "
-            "(925 nm) crystal-field bands, O-H wing, floor",
-        ),
+        *k_methods,
         ("built_by", BUILT_BY),
     ]
     return Table("goethite", header, grid, n, k)
@@ -633,13 +714,17 @@ def build_kaolinite(quartz: Table) -> Table:
 # --------------------------------------------------------------------------------------------
 
 
-def build_all(src: Path) -> dict[str, Table]:
-    """Every table, keyed by material name, in sandlight.optics.MATERIALS order."""
-    quartz = build_quartz(src)
+def build_all(src: Path, calibrated: tuple[str, ...] = SHIPPED_CALIBRATED) -> dict[str, Table]:
+    """Every table, keyed by material name, in sandlight.optics.MATERIALS order; the minerals in
+    ``calibrated`` with their calibrated k."""
+    unknown = set(calibrated) - set(CALIBRATED)
+    if unknown:
+        raise ValueError(f"no calibrated k for {sorted(unknown)}; calibrated minerals: {CALIBRATED}")
+    quartz = build_quartz(src, "quartz" in calibrated)
     tables = [
         quartz,
         build_hematite(src),
-        build_goethite(src),
+        build_goethite(src, "goethite" in calibrated),
         build_magnetite(src),
         build_kaolinite(quartz),
         build_water(src),
@@ -754,14 +839,11 @@ def plot(tables: dict[str, Table], path: Path) -> None:
 
     fig, (ax_n, ax_k) = plt.subplots(1, 2, figsize=(11, 4.5), constrained_layout=True)
     for name, t in tables.items():
-        provisional = name in ("goethite", "kaolinite")
+        provisional = name == "kaolinite"
         style = dict(ls="--" if provisional else "-", lw=1.4)
-        label = name + (" (provisional)" if provisional else "")
+        label = name + (" (provisional)" if provisional else " (k calibrated)" if name in CALIBRATED else "")
         (line,) = ax_n.plot(t.wavelength_nm, t.n, label=label, **style)
         ax_k.semilogy(t.wavelength_nm, t.k, color=line.get_color(), label=label, **style)
-    q = tables["quartz"]
-    prov = q.wavelength_nm < QUARTZ_JOIN_NM
-    ax_k.semilogy(q.wavelength_nm[prov], q.k[prov], color="k", ls=":", lw=2.5, label="quartz, provisional part")
     for ax in (ax_n, ax_k):
         ax.set_xlabel("vacuum wavelength λ (nm)")
         ax.set_xlim(LAMBDA_MIN_NM, LAMBDA_MAX_NM)

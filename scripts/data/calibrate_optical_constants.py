@@ -14,8 +14,18 @@ spectra by penalised least squares (sandlight.calibration.KFit). The script repo
 * for hematite, the cross-validation on the GDS69 grain-size series: fit on a, c, e, g, predict
   b, d, f (target RMS ≤ 0.02).
 
+For goethite the fit has a weak literature prior on log10 k (sandlight.calibration.priors, σ
+--prior-sigma decades): it decides k only where no powder constrains it (the opaque blue). The
+quartz powders see k at every wavelength, so quartz has none (with the model error as large as it
+is, a prior would pull an identified k); its reports, like goethite's, compare the fit with the
+literature k. Hematite has neither (its shipped k stays Querry/Longtin: docs/optical-constants.md
+says why).
+
 Nothing shipped is changed: the derived table (<mineral>-k.csv, in the format of
-sandlight/data/optical/), the figures and report.md go to --out.
+sandlight/data/optical/), the figures and report.md go to --out. The csv records the canonical
+command (canonical_command: the options that decide its values, no paths), so a rerun from the
+same cached tables writes the same bytes; scripts/data/build_optical_tables.py reads the csv of
+every mineral it lists as calibrated.
 
 Size (--scale s; 1 is the full calibration):
 
@@ -25,8 +35,8 @@ Size (--scale s; 1 is the full calibration):
 
 Usage::
 
-    python scripts/data/calibrate_optical_constants.py --mineral hematite --scale 0.25 --round-trip \\
-        --cache calibration-cache --out calibration-output/hematite
+    python scripts/data/calibrate_optical_constants.py --mineral goethite --scale 0.25 --round-trip \\
+        --cache docs/calibration/goethite/tables --out docs/calibration/goethite
 
 Needs the native engine and the shared USGS library (shared/data/measured/usgs_splib07a).
 """
@@ -48,6 +58,7 @@ FULL_STEPS_NM = (10.0, 25.0)  # below / above 1000 nm
 FULL_K_STEP = 0.125
 REPORT_NM = (350, 400, 450, 500, 550, 600, 650, 700, 750, 800, 860, 900, 1000, 1300, 1500, 1900, 2200, 2500)
 SYNTHETIC_SIGMA = 0.005
+SCRIPT = "python scripts/data/calibrate_optical_constants.py"
 
 
 @dataclass(frozen=True)
@@ -58,6 +69,7 @@ class Setup:
     truth: dict = field(default_factory=dict)  # sandlight.calibration.edge_and_band_log10_k parameters
     train: tuple[str, ...] = ()  # cross-validation: fit on these ...
     test: tuple[str, ...] = ()  # ... predict these
+    prior: bool = False  # fit with the literature prior (sandlight.calibration.priors)
 
 
 SETUPS = {
@@ -68,7 +80,8 @@ SETUPS = {
         ("GDS69.a", "GDS69.c", "GDS69.e", "GDS69.g"),
         ("GDS69.b", "GDS69.d", "GDS69.f"),
     ),
-    "goethite": Setup((-6.0, 0.25), {"opaque": -0.5, "floor": -3.3, "edge_nm": 540.0, "band_nm": 920.0}),
+    # The prior decides k in the blue, where every goethite powder is opaque.
+    "goethite": Setup((-6.0, 0.25), {"opaque": -0.5, "floor": -3.3, "edge_nm": 540.0, "band_nm": 920.0}, prior=True),
     "quartz": Setup(
         (-8.0, -3.0),
         {"opaque": -5.5, "floor": -7.0, "edge_nm": 450.0, "edge_width_nm": 60.0, "band_nm": 2200.0, "band_depth": 0.5},
@@ -113,6 +126,12 @@ def parse_args(argv):
         default="auto",
         help='model error of the fit (KFit.model_sigma): a reflectance >= 0, or "auto" (default) to estimate it',
     )
+    parser.add_argument(
+        "--prior-sigma",
+        type=float,
+        default=1.0,
+        help="σ of the literature prior on log10 k, decades (KFit.prior_sigma_log10_k, default 1; goethite only)",
+    )
     parser.add_argument("--seed", type=int, default=0, help="master seed of the engine (default 0)")
     parser.add_argument("--threads", type=int, default=1, help="engine threads (RAYON_NUM_THREADS, default 1)")
     parser.add_argument(
@@ -127,6 +146,8 @@ def parse_args(argv):
         parser.error(f"--scale = {args.scale!r} is not allowed: a number in (0, 1]")
     if args.threads < 1:
         parser.error(f"--threads = {args.threads!r} is not allowed: an integer >= 1")
+    if not (args.prior_sigma > 0.0 and math.isfinite(args.prior_sigma)):
+        parser.error(f"--prior-sigma = {args.prior_sigma!r} is not allowed: a finite number > 0")
     if not (args.smoothing >= 0.0 and math.isfinite(args.smoothing)):
         parser.error(f"--smoothing = {args.smoothing!r} is not allowed: a finite number >= 0")
     if args.model_sigma != "auto":
@@ -137,6 +158,27 @@ def parse_args(argv):
         if not (args.model_sigma >= 0.0 and math.isfinite(args.model_sigma)):
             parser.error(f"--model-sigma = {args.model_sigma!r} is not allowed: a finite number >= 0 or 'auto'")
     return args
+
+
+def canonical_command(args) -> str:
+    """The command with every option that decides the fitted k, in a fixed order and without
+    paths or thread counts (which do not change the values): what the k csv records."""
+    prior = f" --prior-sigma {args.prior_sigma:g}" if SETUPS[args.mineral].prior else ""
+    return (
+        f"{SCRIPT} --mineral {args.mineral} --scale {args.scale:g} --smoothing {args.smoothing:g} "
+        f"--model-sigma {args.model_sigma if args.model_sigma == 'auto' else format(args.model_sigma, 'g')}"
+        f"{prior} --seed {args.seed}"
+    )
+
+
+def kfit(cal, args, prior_log10_k) -> object:
+    """The estimator of this run (KFit with the options and the prior, if any)."""
+    return cal.KFit(
+        smoothing=args.smoothing,
+        model_sigma=args.model_sigma,
+        prior_log10_k=prior_log10_k,
+        prior_sigma_log10_k=args.prior_sigma,
+    )
 
 
 def main(argv=None) -> int:
@@ -152,9 +194,14 @@ def main(argv=None) -> int:
     members = cal.end_members(args.mineral, fit_only=True)
     excluded = [m for m in cal.end_members(args.mineral) if not m.use_in_fit]
     forward = cal.EnginePowder(rays=rays, seed=args.seed)
-    command = "python scripts/data/calibrate_optical_constants.py " + " ".join(
-        argv if argv is not None else sys.argv[1:]
-    )
+    command = canonical_command(args)
+    prior_log10_k = np.log10(cal.literature_k(args.mineral, wl)) if setup.prior else None
+    if args.mineral in cal.LITERATURE_MINERALS:
+        reference = (wl, cal.literature_k(args.mineral, wl))
+        reference_label = "literature prior" if setup.prior else "literature k"
+    else:
+        shipped = table(args.mineral)
+        reference, reference_label = (shipped["wavelength"].values, shipped["k"].values), "shipped table"
     args.out.mkdir(parents=True, exist_ok=True)
 
     cpu, wall = time.process_time(), time.perf_counter()
@@ -171,18 +218,22 @@ def main(argv=None) -> int:
     sigma = np.empty_like(measured)
     for s, m in enumerate(members):
         measured[s], sigma[s] = cal.measured_reflectance(m, wl)
-    fit = cal.KFit(smoothing=args.smoothing, model_sigma=args.model_sigma).fit(tables, measured, sigma)
+    fit = kfit(cal, args, prior_log10_k).fit(tables, measured, sigma)
     ident = cal.identifiability(tables, fit.log10_k_, sigma)
     ident_model = cal.identifiability(tables, fit.log10_k_, np.sqrt(sigma**2 + fit.model_sigma_**2))
-    shipped = table(args.mineral)
-    reference = (shipped["wavelength"].values, shipped["k"].values)
 
     out = [f"# Calibration of {args.mineral} k(λ) on pure end-members\n"]
     out.append(f"Command: `{command}`\n")
     out.append(
         f"Engine powder (sandlight.validation.powder_reflectance, classic model), {rays:,} rays per run, master "
         f"seed {args.seed}; {wl.size} wavelengths {wl[0]:g}–{wl[-1]:g} nm; log10 k grid {log10_k[0]:g} to "
-        f"{log10_k[-1]:g} in {log10_k.size} steps; smoothing {args.smoothing:g}; measurement σ "
+        f"{log10_k[-1]:g} in {log10_k.size} steps; smoothing {args.smoothing:g}; "
+        + (
+            f"literature prior (sandlight.calibration.priors) σ {args.prior_sigma:g} decades; "
+            if prior_log10_k is not None
+            else "no prior; "
+        )
+        + f"measurement σ "
         f"{cal.MEASUREMENT_SIGMA:g}. Tabulation in this run {tabulation_cpu:.0f} s CPU ({len(tables) - len(computed)} "
         f"of {len(tables)} tables complete in the cache), {args.threads} thread(s), {describe()}.\n"
     )
@@ -199,7 +250,7 @@ def main(argv=None) -> int:
         ids = [t.member_id for t in tables]
         chosen = [ids.index(i) for i in setup.train + setup.test]
         holdout_fit, _ = cal.holdout(
-            cal.KFit(smoothing=args.smoothing, model_sigma=args.model_sigma),
+            kfit(cal, args, prior_log10_k),
             [tables[j] for j in chosen],
             measured[chosen],
             test_ids=setup.test,
@@ -230,13 +281,14 @@ def main(argv=None) -> int:
         f"σ_model = {fit.model_sigma_:.4f} added to every point's error.\n"
     )
     out.append(cal.markdown_identifiability(ident, fit, REPORT_NM, with_model=ident_model))
-    shipped_k = np.interp(wl, reference[0], reference[1])
+    reference_k = np.interp(wl, reference[0], reference[1])
     for label, where in (("the measurement and Monte Carlo errors", ident), ("the model error too", ident_model)):
         ok = where.identifiable
-        ratio = f"{math.sqrt(np.mean((fit.log10_k_ - np.log10(shipped_k))[ok] ** 2)):.2f} decades" if ok.any() else "–"
+        off = fit.log10_k_ - np.log10(reference_k)
+        ratio = f"{math.sqrt(np.mean(off[ok] ** 2)):.2f} decades" if ok.any() else "–"
         out.append(
-            f"\nWith {label}: identifiable at {ok.sum()} of {wl.size} wavelengths; there, fitted against shipped k, "
-            f"RMS of log10 ratio {ratio}."
+            f"\nWith {label}: identifiable at {ok.sum()} of {wl.size} wavelengths; there, fitted against the "
+            f"{reference_label}, RMS of log10 ratio {ratio}."
         )
 
     cal.plot_calibration(
@@ -247,6 +299,7 @@ def main(argv=None) -> int:
         mineral=args.mineral,
         errors="measurement, MC and model errors",
         reference=reference,
+        reference_label=reference_label,
     )
     cal.write_k_table(
         args.out / f"{args.mineral}-k.csv",
@@ -265,7 +318,7 @@ def main(argv=None) -> int:
             out.append(f"- RMS {band[0]:g}–{band[1]:g} nm of the predicted fractions: {cells} (target ≤ 0.02).")
 
     if args.round_trip:
-        out += round_trip(cal, setup, members, tables, wl, args)
+        out += round_trip(cal, setup, members, tables, wl, args, prior_log10_k)
     out.append(f"\nTotal {time.process_time() - cpu:.0f} s CPU, {time.perf_counter() - wall:.0f} s wall.")
     text = "\n".join(out) + "\n"
     (args.out / "report.md").write_text(text, encoding="utf-8")
@@ -308,16 +361,17 @@ def per_member_k(cal, tables, measured, sigma, args) -> list[str]:
     return lines
 
 
-def round_trip(cal, setup, members, tables, wl, args) -> list[str]:
+def round_trip(cal, setup, members, tables, wl, args, prior_log10_k) -> list[str]:
     """Synthetic spectra from the engine at a known k(λ), with its own seed, fitted with the
-    tables; the truth is compared with the fit where the identifiability says k is identified."""
+    tables (and the same prior as the real fit, which is not the truth); the truth is compared
+    with the fit where the identifiability says k is identified."""
     truth = cal.edge_and_band_log10_k(wl, **setup.truth)
     truth = np.clip(truth, *setup.log10_k_range)
     synthetic_forward = cal.EnginePowder(rays=tables[0].settings["forward"]["rays"], seed=args.seed + 1)
     values, sigma = cal.synthetic_spectra(
         synthetic_forward, members, wl, truth, sigma=SYNTHETIC_SIGMA, seed=args.seed + 2
     )
-    fit = cal.KFit(smoothing=args.smoothing, model_sigma=args.model_sigma).fit(tables, values, sigma)
+    fit = kfit(cal, args, prior_log10_k).fit(tables, values, sigma)
     ident = cal.identifiability(tables, fit.log10_k_, sigma)
     cal.plot_calibration(
         args.out / f"{args.mineral}-round-trip.png",

@@ -79,6 +79,33 @@ def test_smoothing_straightens_log_k_where_no_data_constrain_it(tables, syntheti
     assert np.sum(np.diff(smooth.log10_k_[blue], 2) ** 2) < np.sum(np.diff(rough.log10_k_[blue], 2) ** 2)
 
 
+def test_a_weak_prior_decides_k_only_where_no_data_constrain_it(tables, truth, synthetic):
+    values, sigma = synthetic
+    plain = cal.KFit().fit(tables, values, sigma)
+    ident = cal.identifiability(tables, plain.log10_k_, sigma)
+    prior = np.full(WL.size, -0.3)  # k = 0.5 everywhere: right in the opaque blue, far off beyond
+    weak = cal.KFit(prior_log10_k=prior).fit(tables, values, sigma)
+    ok = ident.identifiable
+    # Where the powders see k the 1-decade prior hardly moves the fit (< its own error) ...
+    assert np.max(np.abs(weak.log10_k_ - plain.log10_k_)[ok]) < 0.05
+    # ... where they are all opaque it draws k to the prior, which the penalty alone does not.
+    blue = WL <= 450
+    assert np.all(np.abs(weak.log10_k_ - prior)[blue] < np.abs(plain.log10_k_ - prior)[blue])
+    assert np.median(np.abs(weak.log10_k_ - prior)[blue]) < 0.1
+    # A strong prior wins everywhere.
+    strong = cal.KFit(prior_log10_k=prior, prior_sigma_log10_k=1e-4).fit(tables, values, sigma)
+    np.testing.assert_allclose(strong.log10_k_, prior, atol=1e-2)
+
+
+@pytest.mark.parametrize(
+    "parameters",
+    [{"prior_log10_k": np.zeros(3)}, {"prior_log10_k": np.full(WL.size, np.nan)}, {"prior_sigma_log10_k": 0.0}],
+)
+def test_bad_priors_are_refused(tables, synthetic, parameters):
+    with pytest.raises(ParameterError, match="prior"):
+        cal.KFit(**parameters).fit(tables, synthetic[0])
+
+
 def test_predict_gives_the_fitted_reflectance_and_holdout_predicts_others(tables, synthetic):
     values, sigma = synthetic
     fit = cal.KFit().fit(tables, values, sigma)

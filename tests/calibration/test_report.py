@@ -5,6 +5,7 @@ import pytest
 from calibration_fakes import FakePowder
 
 from sandlight import calibration as cal
+from sandlight.errors import ModelFileError
 
 WL = np.array([400.0, 500.0, 700.0, 1000.0, 1500.0, 2000.0, 2500.0])
 GRID = np.arange(-7.0, 0.51, 0.25)
@@ -69,3 +70,12 @@ def test_figure_and_k_table(setup, tmp_path):
     np.testing.assert_allclose(data[:, 0], WL)
     np.testing.assert_allclose(data[:, 2], fit.k_, rtol=1e-5)
     assert np.all(data[:, 1] > 2.0)  # hematite's n from the shipped table
+    # Read back: the header by key, the columns as written.
+    read_header, wl, n, k = cal.read_k_table(tmp_path / "hematite-k.csv")
+    assert read_header["material"] == "hematite" and read_header["method"].startswith("a command")
+    np.testing.assert_array_equal(wl, data[:, 0])
+    np.testing.assert_array_equal(k, data[:, 2])
+    # A foreign file is refused with its name.
+    (tmp_path / "other.csv").write_text("# material: hematite\nwavelength_nm,n,k\n500,2,0.1\n600,2,0.01\n")
+    with pytest.raises(ModelFileError, match="other.csv"):
+        cal.read_k_table(tmp_path / "other.csv")

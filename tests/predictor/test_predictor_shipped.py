@@ -86,3 +86,12 @@ def test_prediction_agrees_with_fresh_monte_carlo(bank, params, expected):
     # One sample's error may exceed the RMS over many: allow 3× the documented RMS, plus the
     # fresh run's own noise (2σ).
     assert rms <= 3 * documented + 2 * noise, (rms, documented, noise)
+
+
+def test_shipped_models_refuse_a_host_absorption_they_were_not_trained_at(bank):
+    # Trained before SandSample.host_absorption existed, i.e. at its default 1 (Domain.from_dict).
+    sample_module = pytest.importorskip("sandlight.sample")
+    errors = pytest.importorskip("sandlight.errors")
+    with pytest.raises(errors.ParameterError, match="host_absorption"):
+        bank.predict([sample_module.SandSample(host_absorption=2.0)])
+    assert bank.predict([sample_module.SandSample(host_absorption=1.0)]).shape[0] == 1

@@ -12,6 +12,8 @@ ReflectanceTable, tabulate
     ρ(λᵢ, kⱼ) per end-member on a log-spaced k grid, restartable (:mod:`.tables`).
 KFit, holdout
     The penalised least-squares fit of log10 k(λ) and the hold-out check (:mod:`.fit`).
+literature_k, goethite_literature_k, quartz_literature_k, LITERATURE_MINERALS
+    Weak literature priors on log10 k (:mod:`.priors`).
 synthetic_spectra, edge_and_band_log10_k
     Synthetic spectra at a known k(λ), for the round trip (:mod:`.synthetic`).
 identifiability, markdown_residuals, markdown_identifiability, plot_calibration, write_k_table
@@ -25,6 +27,7 @@ from sandlight.calibration import report
 from sandlight.calibration.end_members import MEASUREMENT_SIGMA, EndMember, end_members, measured_reflectance
 from sandlight.calibration.fit import KFit, holdout
 from sandlight.calibration.forward import EnginePowder
+from sandlight.calibration.priors import LITERATURE_MINERALS, goethite_literature_k, literature_k, quartz_literature_k
 from sandlight.calibration.report import *  # noqa: F403 - the names of report.__all__, listed there once
 from sandlight.calibration.synthetic import edge_and_band_log10_k, synthetic_spectra
 from sandlight.calibration.tables import ReflectanceTable, tabulate
@@ -39,6 +42,10 @@ __all__ = [
     "tabulate",
     "KFit",
     "holdout",
+    "literature_k",
+    "goethite_literature_k",
+    "quartz_literature_k",
+    "LITERATURE_MINERALS",
     "synthetic_spectra",
     "edge_and_band_log10_k",
     *report.__all__,

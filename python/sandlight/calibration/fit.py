@@ -11,17 +11,20 @@ holdout
 The problem (docs/optical-constants.md, "Calibration on pure end-members"). With x_i = log10 k
 at wavelength λ_i, minimise
 
-    Σ_s Σ_i [(ρ_s(λ_i, x_i) − m_si) / σ_si]²  +  Σ_i r_i²,
+    Σ_s Σ_i [(ρ_s(λ_i, x_i) − m_si) / σ_si]²  +  Σ_i r_i²  +  Σ_i [(x_i − p_i) / σ_p]²,
     r_i = √(smoothing · w_i / h) · h² · x''(λ_i),
 
 where m_si is the measurement of end-member s, σ_si² = σ_meas² + σ_MC,si² + σ_model²
 (measurement and Monte Carlo standard errors, the latter at the current k, and an optional
 model error), x''(λ_i) the three-point second
 derivative on the (possibly non-uniform) grid, w_i = (λ_{i+1} − λ_{i−1})/2 the grid weight and
-h = ``reference_step_nm``. On a uniform grid of step h, r_i = √smoothing · (x_{i−1} − 2x_i +
+h = ``reference_step_nm``; the last sum is an optional weak prior, p_i = log10 of a literature k
+(``prior_log10_k``, :mod:`sandlight.calibration.priors`) with σ_p = ``prior_sigma_log10_k``
+decades. On a uniform grid of step h, r_i = √smoothing · (x_{i−1} − 2x_i +
 x_{i+1}): the penalty is the discrete ∫ x''² dλ, the same for any grid density. The fit is
 :func:`scipy.optimize.least_squares` (trust region reflective, bounds = the tables' k range)
-with the exact, sparse Jacobian, started from the per-wavelength best value on a fine grid; σ_MC
+with the exact, sparse Jacobian, started from the per-wavelength best value on a fine grid (with
+the prior's term, if any); σ_MC
 (and σ_model) are then updated at the solution and the fit repeated, three passes in all.
 
 The model error. When the model cannot reproduce the spectra (χ²/dof ≫ 1 with the measurement
@@ -31,7 +34,8 @@ outweigh the penalty far more than intended, and every σ derived from them is t
 its degrees of freedom (Σ r²/(σ² + σ_model²) = dof; 0 when χ²/dof ≤ 1 already). Where no
 end-member constrains k
 (opaque or transparent everywhere), the penalty alone sets it: x is interpolated smoothly
-across, and the identifiability report (:mod:`sandlight.calibration.report`) says so.
+across — or, with a prior, drawn to the literature value — and the identifiability report
+(:mod:`sandlight.calibration.report`) says so.
 """
 
 from __future__ import annotations
@@ -105,6 +109,12 @@ class KFit:
         to estimate it from the residuals (module docstring).
     max_nfev : int
         Maximum function evaluations of each least-squares pass (≥ 1).
+    prior_log10_k : array_like or None
+        log10 of a prior k at every wavelength of the tables (finite; see the module docstring),
+        or None (default) for no prior.
+    prior_sigma_log10_k : float
+        Standard deviation σ_p of the prior in decades (> 0; default 1: a weak prior that
+        decides k only where no end-member constrains it).
 
     Attributes (after ``fit``)
     --------------------------
@@ -146,12 +156,16 @@ class KFit:
         measurement_sigma: float = 0.005,
         model_sigma: float | str = 0.0,
         max_nfev: int = 1000,
+        prior_log10_k: ArrayLike | None = None,
+        prior_sigma_log10_k: float = 1.0,
     ):
         self.smoothing = smoothing
         self.reference_step_nm = reference_step_nm
         self.measurement_sigma = measurement_sigma
         self.model_sigma = model_sigma
         self.max_nfev = max_nfev
+        self.prior_log10_k = prior_log10_k
+        self.prior_sigma_log10_k = prior_sigma_log10_k
 
     # --- validation -----------------------------------------------------------------------
 
@@ -170,6 +184,21 @@ class KFit:
             positive("model_sigma", self.model_sigma, zero_ok=True)
         if isinstance(self.max_nfev, bool) or not isinstance(self.max_nfev, (int, np.integer)) or self.max_nfev < 1:
             raise ParameterError("max_nfev", self.max_nfev, "an integer >= 1")
+        positive("prior_sigma_log10_k", self.prior_sigma_log10_k)
+
+    def _prior(self, n: int) -> tuple[np.ndarray, sparse.csr_matrix]:
+        """(p/σ_p, I/σ_p): the prior's residuals are I/σ_p · x − p/σ_p (empty without a prior)."""
+        if self.prior_log10_k is None:
+            return np.zeros(0), sparse.csr_matrix((0, n))
+        allowed = f"None or {n} finite values of log10 k, one per wavelength of the tables"
+        try:
+            p = np.asarray(self.prior_log10_k, dtype=float)
+        except (TypeError, ValueError):
+            raise ParameterError("prior_log10_k", self.prior_log10_k, allowed) from None
+        if p.shape != (n,) or not np.all(np.isfinite(p)):
+            raise ParameterError("prior_log10_k", f"array of shape {p.shape}", allowed)
+        s = float(self.prior_sigma_log10_k)
+        return p / s, sparse.identity(n, format="csr") / s
 
     @staticmethod
     def _check_tables(
@@ -246,6 +275,7 @@ class KFit:
             raise ParameterError("tables", [t.member_id for t in tables], "log10 k grids that overlap")
         mask = np.isfinite(m)
         penalty = _second_derivative_operator(wl, float(self.smoothing), float(self.reference_step_nm))
+        prior_offset, prior = self._prior(wl.size)
 
         def sigma_at(x: np.ndarray) -> np.ndarray:
             mc = np.array([t.stderr_at(x) for t in tables])
@@ -255,7 +285,7 @@ class KFit:
             both = [t(x) for t in tables]
             return np.array([b[0] for b in both]), np.array([b[1] for b in both])
 
-        x = self._start(tables, m, s_meas, mask, low, high)
+        x = self._start(tables, m, s_meas, mask, low, high, prior_offset, prior)
         rows = np.nonzero(mask)  # (end-member, wavelength) of each data residual
         dof = int(mask.sum() - wl.size)
         model_sigma = 0.0 if self.model_sigma == "auto" else float(self.model_sigma)
@@ -264,13 +294,13 @@ class KFit:
 
             def residuals(x: np.ndarray, s: np.ndarray = s) -> np.ndarray:
                 rho, _ = model(x)
-                return np.concatenate([((rho - m) / s)[mask], penalty @ x])
+                return np.concatenate([((rho - m) / s)[mask], penalty @ x, prior @ x - prior_offset])
 
             def jacobian(x: np.ndarray, s: np.ndarray = s) -> sparse.csr_matrix:
                 _, drho = model(x)
                 data = (drho / s)[mask]
                 data = sparse.csr_matrix((data, (np.arange(rows[0].size), rows[1])), shape=(rows[0].size, wl.size))
-                return sparse.vstack([data, penalty]).tocsr()
+                return sparse.vstack([data, penalty, prior]).tocsr()
 
             result = least_squares(
                 residuals,
@@ -312,10 +342,15 @@ class KFit:
         mask: np.ndarray,
         low: float,
         high: float,
+        prior_offset: np.ndarray,
+        prior: sparse.csr_matrix,
     ) -> np.ndarray:
-        """Per wavelength, the log10 k of a fine grid that minimises the weighted misfit."""
+        """Per wavelength, the log10 k of a fine grid that minimises the weighted misfit (plus
+        the prior's term, if there is one)."""
         grid = np.linspace(low, high, _START_POINTS)
         cost = np.zeros((grid.size, m.shape[1]))
+        if prior_offset.size:
+            cost += (grid[:, None] * prior.diagonal()[None, :] - prior_offset[None, :]) ** 2
         for i, t in enumerate(tables):
             d = (t.on_grid(grid) - m[i]) / s[i]
             cost += np.where(mask[i], d, 0.0) ** 2

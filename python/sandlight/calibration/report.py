@@ -11,9 +11,9 @@ markdown_residuals, markdown_identifiability
     Markdown tables of a fit's residuals and of the identifiability.
 plot_calibration
     Figure: fitted k with its identifiability, σ(log10 k) per end-member, measured vs model.
-write_k_table
+write_k_table, read_k_table
     The fitted k with the shipped n, in the format of ``sandlight/data/optical/*.csv``, with a
-    header that says it is derived by calibration and how.
+    header that says it is derived by calibration and how; and reading such a file back.
 
 Identifiability. At wavelength λ, end-member s is consistent within two standard errors with
 every x = log10 k for which |ρ_s(λ, x) − ρ_s(λ, x̂)| ≤ 2σ_si (x̂ the fitted value, σ_si the
@@ -37,11 +37,13 @@ import math
 from collections import Counter
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike
 
+from sandlight.errors import ModelFileError
 from sandlight.io import atomic_path
 
 if TYPE_CHECKING:
@@ -58,6 +60,7 @@ __all__ = [
     "markdown_identifiability",
     "plot_calibration",
     "write_k_table",
+    "read_k_table",
 ]
 
 #: A factor of 2 in k (0.3 decades).
@@ -308,12 +311,14 @@ def plot_calibration(
     mineral: str,
     errors: str,
     reference: tuple[ArrayLike, ArrayLike] | None = None,
+    reference_label: str = "shipped table",
     truth: tuple[ArrayLike, ArrayLike] | None = None,
 ) -> None:
-    """Three panels: k(λ) fitted (band: ±σ of the fit; grey: not identifiable) against the
-    shipped table (``reference``: (wavelengths, k)) and a known ``truth`` (same form, synthetic
-    runs); σ(log10 k) per end-member with the threshold; measured (lines) vs model (dots).
-    ``errors`` names the errors ``ident`` was computed with (the σ panel's label)."""
+    """Three panels: k(λ) fitted (band: ±σ of the fit; grey: not identifiable) against a
+    reference k (``reference``: (wavelengths, k), named ``reference_label``, e.g. the
+    literature prior) and a known ``truth`` (same form, synthetic runs); σ(log10 k) per
+    end-member with the threshold; measured (lines) vs model (dots). ``errors`` names the
+    errors ``ident`` was computed with (the σ panel's label)."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -330,7 +335,7 @@ def plot_calibration(
     band = [10 ** np.clip(fit.log10_k_ + sign * fit.sigma_log10_k_, low, high) for sign in (-1, 1)]
     a.fill_between(wl, band[0], band[1], color="C3", alpha=0.25, lw=0)
     if reference is not None:
-        a.semilogy(reference[0], reference[1], "k--", lw=1, label="shipped table")
+        a.semilogy(reference[0], reference[1], "k--", lw=1, label=reference_label)
     if truth is not None:
         a.semilogy(truth[0], truth[1], "C0:", lw=2, label="true k (synthetic)")
     a.set_ylabel("k")
@@ -393,7 +398,7 @@ def write_k_table(
     rms = ", ".join(f"{m} {r:.4f}" for m, r in fit.rms_.items())
     header = [
         f"material: {mineral}",
-        "status: derived by calibration (reduced-size run; not a shipped table)",
+        "status: derived by calibration (the effective k of the engine's powders; docs/optical-constants.md)",
         "source: USGS Spectral Library Version 7 (Kokaly et al. 2017, doi:10.3133/ds1035), end-member spectra",
         f"origin: {inputs}",
         "licence: MIT (values computed by sandlight); input spectra public domain",
@@ -405,3 +410,34 @@ def write_k_table(
     lines += [f"{lam:g},{nn:.6g},{kk:.6g}" for lam, nn, kk in zip(wl, n, fit.k_)]
     with atomic_path(path) as tmp:
         tmp.write_text("\n".join(lines) + "\n", encoding="utf-8")
+
+
+def read_k_table(path: str | os.PathLike[str]) -> tuple[dict[str, str], np.ndarray, np.ndarray, np.ndarray]:
+    """Reads a table of :func:`write_k_table`: ``(header, wavelength_nm, n, k)``.
+
+    ``header`` maps each ``# key: value`` line's key to its value. A file that is not such a
+    table (no ``derived by calibration`` status, wavelengths not increasing, k not finite and
+    > 0) raises :class:`sandlight.errors.ModelFileError` naming it.
+    """
+    header, rows = {}, []
+    try:
+        for line in Path(path).read_text(encoding="utf-8").splitlines():
+            if line.startswith("# "):
+                key, _, value = line[2:].partition(": ")
+                header[key] = value
+            elif line and line != "wavelength_nm,n,k":
+                rows.append([float(x) for x in line.split(",")])
+        data = np.array(rows, dtype=float)
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise ModelFileError(f"{path}: not a calibrated k table ({exc})") from None
+    ok = (
+        header.get("status", "").startswith("derived by calibration")
+        and data.ndim == 2
+        and data.shape[0] >= 2
+        and data.shape[1] == 3
+        and bool(np.all(np.diff(data[:, 0]) > 0))
+        and bool(np.all(np.isfinite(data[:, 2]) & (data[:, 2] > 0)))
+    )
+    if not ok:
+        raise ModelFileError(f"{path}: not a calibrated k table (status, 'wavelength_nm,n,k' rows, k > 0)")
+    return header, data[:, 0], data[:, 1], data[:, 2]

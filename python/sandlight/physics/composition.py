@@ -83,7 +83,11 @@ class Population:
 
 @dataclass(frozen=True)
 class Composition:
-    """The particle populations and pore space of a sample (wavelength independent)."""
+    """The particle populations and pore space of a sample (wavelength independent).
+
+    ``host_absorption`` is the factor on the k of the quartz host (``SandSample.host_absorption``;
+    applied where the native medium is built, :func:`sandlight.physics.medium.native_medium`).
+    """
 
     populations: tuple
     porosity: float
@@ -93,6 +97,7 @@ class Composition:
     depth_mm: float
     #: Fraction of the particle surface facing an air-filled pore that the film wets.
     film_coverage: float = 1.0
+    host_absorption: float = 1.0
 
     def encounter_probabilities(self) -> list[float]:
         """P(type i) ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩ (docs/model.md §2.2)."""
@@ -235,4 +240,5 @@ def compose(sample: SandSample) -> Composition:
         water_filled_probability=min(max(filled, 0.0), 1.0),
         depth_mm=sample.depth_mm,
         film_coverage=coverage if coverage > 0.0 else 1.0,
+        host_absorption=sample.host_absorption,
     )

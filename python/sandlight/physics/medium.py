@@ -10,8 +10,9 @@ pure-material powder in :mod:`sandlight.physics.powder`.
 wavelength. Mixing rules (docs/transport.md): a core or coating made of several materials gets
 the volume-weighted mean of their complex indices, n̄ = Σ vⱼ nⱼ and k̄ = Σ vⱼ kⱼ, hence the
 volume-weighted absorption coefficient ᾱ = Σ vⱼ αⱼ — the dilute-inclusion limit of
-docs/model.md §2.4 (Maxwell Garnett is the refinement for dense inclusions). With
-``coating_optics='mie'`` a coating's iron oxide is instead a Mie-scattering pigment in its
+docs/model.md §2.4 (Maxwell Garnett is the refinement for dense inclusions). The quartz host's
+k is multiplied by the composition's ``host_absorption`` first (:func:`with_host_absorption`).
+With ``coating_optics='mie'`` a coating's iron oxide is instead a Mie-scattering pigment in its
 kaolinite matrix (:mod:`sandlight.physics.pigment`, docs/model.md §2.4).
 """
 
@@ -29,7 +30,17 @@ from sandlight.physics.composition import Composition
 from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
 from sandlight.physics.pigment import coating_optics as pigmented_coating
 
-__all__ = ["Traceable", "OpticalConstants", "COATING_OPTICS", "native_medium", "absorption_per_mm"]
+__all__ = [
+    "Traceable",
+    "OpticalConstants",
+    "COATING_OPTICS",
+    "native_medium",
+    "absorption_per_mm",
+    "with_host_absorption",
+]
+
+#: The material of the host grains (sand and silt cores) that ``host_absorption`` scales.
+HOST_MATERIAL = "quartz"
 
 #: How a coating's iron oxide acts: 'uniform' (absorbing, non-scattering slab with the volume
 #: mean of the bulk constants; the default until the predictor bank is retrained) or 'mie'
@@ -71,6 +82,19 @@ def _mix(materials: dict, wavelength_nm: float, index: OpticalConstants) -> comp
     return sum(v * complex(index(m, wavelength_nm)) for m, v in materials.items())
 
 
+def with_host_absorption(index: OpticalConstants, factor: float) -> OpticalConstants:
+    """``index`` with the quartz host's k multiplied by ``factor`` (n unchanged); ``index``
+    itself when ``factor`` is 1."""
+    if factor == 1.0:
+        return index
+
+    def scaled(material: str, wavelength_nm: float) -> complex:
+        m = complex(index(material, wavelength_nm))
+        return complex(m.real, m.imag * factor) if material == HOST_MATERIAL else m
+
+    return scaled
+
+
 def native_medium(
     comp: Composition,
     wavelength_nm: float,
@@ -84,12 +108,14 @@ def native_medium(
 
     ``memory`` is the on-the-fly engine's near-surface path memory, 'none' (the classic model),
     'channel', 'cut' or 'packed' (docs/geometry.md). ``optical_constants`` replaces the shipped
-    tables (:func:`sandlight.optics.complex_index`), e.g. for a what-if run. ``coating_optics``
-    is one of :data:`COATING_OPTICS`; ``pigment_diameter_um`` the pigment crystals' diameter
-    (µm) for 'mie'.
+    tables (:func:`sandlight.optics.complex_index`), e.g. for a what-if run; the composition's
+    ``host_absorption`` applies to either. ``coating_optics`` is one of :data:`COATING_OPTICS`;
+    ``pigment_diameter_um`` the pigment crystals' diameter (µm) for 'mie'.
     """
     check_choice("coating_optics", coating_optics, COATING_OPTICS)
-    index = complex_index if optical_constants is None else optical_constants
+    index = with_host_absorption(
+        complex_index if optical_constants is None else optical_constants, comp.host_absorption
+    )
     probs = comp.encounter_probabilities()
     quantiles, aspect, core_n, core_k, core_a, coat_n, coat_a, coat_t = ([] for _ in range(8))
     coat_s, coat_g = [], []

@@ -43,7 +43,8 @@ a coating of 1 % iron-oxide share would be ten times the mass of the solids, whi
 balance refuses (sandlight.physics.composition); from 0.1 up every point of the box is a
 physical sample.
 
-Fixed: ``depth_mm = inf`` (semi-infinite samples, as in the paper). Derived: ``sand = 1 − silt −
+Fixed: ``depth_mm = inf`` (semi-infinite samples, as in the paper) and ``host_absorption = 1``
+(the calibrated natural-grain quartz host, docs/optical-constants.md). Derived: ``sand = 1 − silt −
 clay``. Forms: ``coating``, ``mixed`` and ``particles`` (the categorical ``iron_oxide_form`` is
 never a dimension; draws give each form an equal share of the samples).
 
@@ -205,14 +206,14 @@ class Domain:
     forms : tuple of str
         Iron-oxide forms covered (subset of ``FORMS``).
     fixed : mapping
-        Parameters held at one value (default ``{"depth_mm": inf}``).
+        Parameters held at one value (default ``{"depth_mm": inf, "host_absorption": 1.0}``).
     texture_limit : float
         Upper bound of silt + 1.5·clay, in (0, 0.15] (0.15: the whole sand class).
     """
 
     dimensions: tuple = field(default_factory=_default_dimensions)
     forms: tuple = FORMS
-    fixed: Mapping = field(default_factory=lambda: {"depth_mm": math.inf})
+    fixed: Mapping = field(default_factory=lambda: {"depth_mm": math.inf, "host_absorption": 1.0})
     texture_limit: float = SAND_CLASS_LIMIT
 
     def __post_init__(self):
@@ -377,12 +378,15 @@ class Domain:
 
     @classmethod
     def from_dict(cls, d: Mapping) -> Domain:
-        return cls(
-            tuple(Dimension(**x) for x in d["dimensions"]),
-            tuple(d["forms"]),
-            {k: float(v) for k, v in d["fixed"].items()},
-            float(d["texture_limit"]),
-        )
+        """The domain of :meth:`to_dict`. A float SandSample parameter that a stored domain
+        neither varies nor fixes did not exist when it was trained, so the engine ran at what its
+        default means (e.g. ``host_absorption`` 1: the shipped quartz k): it is fixed there, and a
+        sample with another value is outside the domain."""
+        dimensions = tuple(Dimension(**x) for x in d["dimensions"])
+        fixed = {k: float(v) for k, v in d["fixed"].items()}
+        known = {x.name for x in dimensions} | set(fixed) | set(DERIVED)
+        fixed.update({p.name: float(p.default) for p in PARAMETERS if p.kind == "float" and p.name not in known})
+        return cls(dimensions, tuple(d["forms"]), fixed, float(d["texture_limit"]))
 
     def check_covers(self, parameters: Iterable[Parameter]) -> None:
         """Check this domain against SandSample's parameter table.
