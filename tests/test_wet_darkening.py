@@ -37,7 +37,9 @@ def _ratio(memory, saturation, wl, rays, sample=None, seed=5):
         warnings.simplefilter("ignore", UserWarning)  # the surface-layer models warn on filled pores
         runs = [
             sandlight.reflectance(
-                SandMedium.from_sample(sample.replace(saturation=s), memory, optical_constants=grey_host),
+                SandMedium.from_sample(
+                    sample.replace(saturation=s), memory, optical_constants=grey_host, films="pendular"
+                ),
                 wl,
                 rays=rays,
                 seed=seed,
@@ -82,7 +84,7 @@ def test_pendular_rings_darken_a_coated_sand_less_in_the_blue_than_a_uniform_fil
     # rings must darken the blue less.
     wl = [450.0]
     dry = compose(SandSample())
-    rings = compose(SandSample(saturation=0.1))
+    rings = compose(SandSample(saturation=0.1), "pendular")
     uniform = dataclasses.replace(
         rings, film_coverage=1.0, film_thickness_mm=rings.film_thickness_mm * rings.film_coverage
     )

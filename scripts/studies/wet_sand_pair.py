@@ -41,7 +41,6 @@ Usage::
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import time
 from pathlib import Path
 
@@ -51,7 +50,6 @@ from scipy.optimize import least_squares
 import sandlight
 from sandlight.measured import read_usgs, usgs_library
 from sandlight.optics import complex_index
-from sandlight.physics.composition import compose
 from sandlight.physics.media import SandMedium
 
 DRY = "Sand_DWO-3-DEL2c"
@@ -94,12 +92,10 @@ def host_constants(k1: float, p: float):
 
 
 def sand_medium(sample, memory: str, uniform_films: bool, optical_constants=None) -> SandMedium:
-    """``sample``'s medium; with ``uniform_films`` its pendular water spread over every surface."""
-    comp = compose(sample)
-    if uniform_films:
-        water = comp.film_thickness_mm * comp.film_coverage
-        comp = dataclasses.replace(comp, film_coverage=1.0, film_thickness_mm=water)
-    return SandMedium(comp, memory, sample.to_dict(), optical_constants)
+    """``sample``'s medium, its film water as pendular rings or (``uniform_films``) spread over
+    every surface."""
+    films = "uniform" if uniform_films else "pendular"
+    return SandMedium.from_sample(sample, memory, optical_constants=optical_constants, films=films)
 
 
 def medium(x: np.ndarray, saturation: float, memory: str) -> SandMedium:

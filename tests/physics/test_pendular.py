@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
+from sandlight.errors import ParameterError
 from sandlight.physics.composition import compose
 from sandlight.physics.pendular import CONTACTS, film_coverage, ring_saturation, ring_volume, wetted_fraction
 from sandlight.sample import SandSample
@@ -53,7 +54,22 @@ def test_films_hold_the_pendular_water(saturation):
     # Water volume of the films per pore chord: coverage × thickness = min(S, S_f) ℓ/4
     # (docs/model.md §2.5), whatever the coverage.
     sample = SandSample(saturation=saturation)
-    comp = compose(sample)
+    comp = compose(sample, "pendular")
     s_film = min(saturation, sample.film_saturation)
     assert comp.film_coverage * comp.film_thickness_mm == pytest.approx(s_film * comp.mean_free_path_mm / 4)
     assert comp.film_coverage == (1.0 if saturation == 0 else pytest.approx(film_coverage(s_film, 0.4)))
+
+
+@pytest.mark.parametrize("saturation", [0.05, 0.3])
+def test_uniform_films_hold_the_same_water_on_every_particle(saturation):
+    # The default until the bank is retrained: the film covers every particle (coverage 1).
+    sample = SandSample(saturation=saturation, porosity=0.4)
+    uniform, rings = compose(sample), compose(sample, "pendular")
+    assert uniform.film_coverage == 1.0 and rings.film_coverage < 1.0
+    assert uniform.film_thickness_mm == pytest.approx(rings.film_coverage * rings.film_thickness_mm, rel=1e-12)
+    assert uniform.water_filled_probability == rings.water_filled_probability
+
+
+def test_an_unknown_film_model_is_refused_with_its_name():
+    with pytest.raises(ParameterError, match="films"):
+        compose(SandSample(saturation=0.1), "rings")

@@ -22,11 +22,13 @@ Per unit mass of solids:
 
 Pore space (docs/model.md §2.1): mean free path ℓ = 4φ / [(1 − φ) Σᵢ vᵢ ⟨Sᵢ⟩/⟨Vᵢ⟩], with
 vᵢ the volume fractions of the solids; a ray meets type i with probability ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩.
-Water (§2.5): up to ``film_saturation`` S_f the water is pendular: rings at the grain contacts
-that wet a fraction f of the particle surface (:func:`sandlight.physics.pendular.film_coverage`
-of min(S, S_f)), where it lies as a film of thickness t_w = φ min(S, S_f) / [f (1 − φ) Σᵢ
-vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩] = min(S, S_f) ℓ/(4f) (the same water volume); beyond S_f, a pore is water-filled
-with probability (S − S_f)/(1 − S_f).
+Water (§2.5): up to ``film_saturation`` S_f the water forms films; with ``films='pendular'`` it
+is pendular: rings at the grain contacts that wet a fraction f of the particle surface
+(:func:`sandlight.physics.pendular.film_coverage` of min(S, S_f)), where it lies as a film of
+thickness t_w = φ min(S, S_f) / [f (1 − φ) Σᵢ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩] = min(S, S_f) ℓ/(4f) (the same water
+volume); with ``films='uniform'`` (the default until the predictor bank is retrained with the
+pendular rings) f = 1, a film on every particle. Beyond S_f, a pore is water-filled with
+probability (S − S_f)/(1 − S_f).
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ import dataclasses
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
+from sandlight.checks import check_choice
 from sandlight.errors import ParameterError
 from sandlight.optics import DENSITY_G_CM3
 from sandlight.physics.pendular import film_coverage
@@ -144,8 +147,15 @@ def mean_free_path_mm(populations: tuple | list, porosity: float) -> float:
     return 4.0 * porosity / ((1.0 - porosity) * surface)
 
 
-def compose(sample: SandSample) -> Composition:
-    """Particle populations of ``sample`` (a :class:`sandlight.SandSample`) by mass balance."""
+#: Where the film water sits: 'uniform' (a film on every particle, the model the shipped
+#: predictor bank was trained with: the default until it is retrained) or 'pendular' (rings at
+#: the grain contacts, docs/model.md §2.5, docs/wet-sand.md).
+FILM_MODELS = ("uniform", "pendular")
+
+
+def compose(sample: SandSample, films: str = "uniform") -> Composition:
+    """Particle populations of ``sample`` (a :class:`sandlight.SandSample`) by mass balance;
+    ``films`` (one of :data:`FILM_MODELS`) says where its film water sits."""
     rho = DENSITY_G_CM3
     m_fe = sample.iron_oxide
     m_hem, m_goe = m_fe * sample.hematite_ratio, m_fe * (1.0 - sample.hematite_ratio)
@@ -229,7 +239,7 @@ def compose(sample: SandSample) -> Composition:
 
     s = sample.saturation
     s_film = min(s, sample.film_saturation)
-    coverage = film_coverage(s_film, phi)
+    coverage = film_coverage(s_film, phi) if check_choice("films", films, FILM_MODELS) == "pendular" else 1.0
     film = s_film * ell / (4.0 * coverage) if coverage > 0.0 else 0.0
     filled = (s - s_film) / (1.0 - s_film) if s_film < 1.0 else 0.0
     return Composition(

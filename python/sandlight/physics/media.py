@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any
 from sandlight import _native
 from sandlight.checks import check_choice
 from sandlight.errors import ParameterError
-from sandlight.physics.composition import Composition, compose
+from sandlight.physics.composition import FILM_MODELS, Composition, compose
 from sandlight.physics.medium import COATING_OPTICS, OpticalConstants, Traceable, native_medium
 from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
 
@@ -103,6 +103,11 @@ class SandMedium:
         'mie' (scattering pigment crystals, docs/model.md §2.4).
     pigment_diameter_um : float
         Diameter (µm) of the pigment crystals for 'mie'.
+    films : {'uniform', 'pendular'}
+        Where the composition's film water sits (:data:`~sandlight.physics.composition.FILM_MODELS`;
+        recorded here, applied by :func:`~sandlight.physics.composition.compose`): 'uniform' (a
+        film on every particle, the default until the predictor bank is retrained) or 'pendular'
+        (rings at the grain contacts, docs/model.md §2.5).
     """
 
     composition: Composition
@@ -111,10 +116,12 @@ class SandMedium:
     optical_constants: OpticalConstants | None = None
     coating_optics: str = "uniform"
     pigment_diameter_um: float = PIGMENT_DIAMETER_UM
+    films: str = "uniform"
 
     def __post_init__(self) -> None:
         check_choice("memory", self.memory, MEMORIES)
         check_choice("coating_optics", self.coating_optics, COATING_OPTICS)
+        check_choice("films", self.films, FILM_MODELS)
 
     @classmethod
     def from_sample(
@@ -125,10 +132,19 @@ class SandMedium:
         optical_constants: OpticalConstants | None = None,
         coating_optics: str = "uniform",
         pigment_diameter_um: float = PIGMENT_DIAMETER_UM,
+        films: str = "uniform",
     ) -> SandMedium:
         """The medium of a :class:`~sandlight.SandSample` (``memory`` None: :data:`DEFAULT_MEMORY`)."""
         memory = DEFAULT_MEMORY if memory is None else memory
-        return cls(compose(sample), memory, sample.to_dict(), optical_constants, coating_optics, pigment_diameter_um)
+        return cls(
+            compose(sample, films),
+            memory,
+            sample.to_dict(),
+            optical_constants,
+            coating_optics,
+            pigment_diameter_um,
+            films,
+        )
 
     def medium(self, wavelength_nm: float) -> _native.Medium:
         """The native medium at ``wavelength_nm`` (nm)."""
@@ -143,10 +159,12 @@ class SandMedium:
 
     def describe(self) -> dict:
         """The description, with geometry and memory when the memory is not 'none', and the
-        coating optics when they are not 'uniform'."""
+        coating optics and films when they are not 'uniform'."""
         out = _with_engine(self.description, "on-the-fly", self.memory)
         if self.coating_optics != "uniform":
             out |= {"coating_optics": self.coating_optics, "pigment_diameter_um": self.pigment_diameter_um}
+        if self.films != "uniform":
+            out |= {"films": self.films}
         return out
 
 
