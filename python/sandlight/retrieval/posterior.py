@@ -18,6 +18,7 @@ SampledPosterior, sample_posterior
 
 from __future__ import annotations
 
+import logging
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,7 +28,11 @@ from sandlight.retrieval.forward import ForwardModel
 from sandlight.retrieval.likelihood import SIGMA_RANGE, GaussianLikelihood
 from sandlight.retrieval.space import ParameterSpace
 
-__all__ = ["LaplacePosterior", "SampledPosterior", "sample_posterior"]
+__all__ = ["LaplacePosterior", "SampledPosterior", "sample_posterior", "CONVERGED_AUTOCORRELATIONS"]
+
+#: A chain is taken as converged when it is this many integrated autocorrelation times long
+#: (the rule of thumb of emcee's documentation).
+CONVERGED_AUTOCORRELATIONS = 50
 
 
 def _correlation(cov: np.ndarray) -> np.ndarray:
@@ -76,7 +81,13 @@ class SampledPosterior:
     samples: np.ndarray  # (n_samples, p) physical units
     acceptance: float
     autocorrelation_steps: float
+    steps: int  # steps per walker after burn-in
     kind: str = "emcee"
+
+    @property
+    def converged(self) -> bool:
+        """emcee's rule of thumb: the kept chain is longer than 50 autocorrelation times."""
+        return bool(self.steps > CONVERGED_AUTOCORRELATIONS * self.autocorrelation_steps)
 
     @property
     def x(self) -> np.ndarray:
@@ -107,8 +118,8 @@ def sample_posterior(
     sigma: float | None,
     *,
     walkers: int | None = None,
-    steps: int = 1500,
-    burn: int = 500,
+    steps: int = 3000,
+    burn: int = 1000,
     seed: int = 0,
 ) -> SampledPosterior:
     """emcee samples of the posterior, started in a small ball around the optimum."""
@@ -133,11 +144,8 @@ def sample_posterior(
             return out
         model = forward.predict(space.from_unit(u[ok])) @ a.T
         r = y - model
-        if estimate_sigma:
-            # Jeffreys prior 1/σ is uniform in ln σ: no extra term.
-            out[ok] = [-likelihood.nll(ri, float(np.exp(t))) for ri, t in zip(r, theta[ok, p], strict=True)]
-        else:
-            out[ok] = -likelihood.nll(r)
+        # Jeffreys prior 1/σ is uniform in ln σ: no extra term.
+        out[ok] = -likelihood.nll(r, np.exp(theta[ok, p]) if estimate_sigma else None)
         return out
 
     rng = np.random.default_rng(seed)
@@ -150,8 +158,15 @@ def sample_posterior(
     sampler.random_state = np.random.RandomState(seed).get_state()  # emcee's own generator, seeded
     sampler.run_mcmc(init, steps, progress=False)
     chain = sampler.get_chain(discard=burn, flat=True)
+    # emcee logs a warning when the chain is short for its autocorrelation time; the time is
+    # kept instead (SampledPosterior.converged) and reported by FitResult.summary.
+    emcee_log = logging.getLogger("emcee")
+    level = emcee_log.level
+    emcee_log.setLevel(logging.ERROR)
     try:
         tau = float(np.max(sampler.get_autocorr_time(discard=burn, quiet=True)))
-    except emcee.autocorr.AutocorrError:
-        tau = float("nan")
-    return SampledPosterior(space.from_unit(chain[:, :p]), float(np.mean(sampler.acceptance_fraction)), tau)
+    finally:
+        emcee_log.setLevel(level)
+    return SampledPosterior(
+        space.from_unit(chain[:, :p]), float(np.mean(sampler.acceptance_fraction)), tau, steps - burn
+    )

@@ -234,6 +234,13 @@ class FitResult:
         lines = [f"fit by {self.model}; {self.observation.size} channels ({self.observation.space} space)"]
         what = "estimated from the residuals" if self.sigma_estimated else "as given"
         lines.append(f"measurement noise σ = {self.sigma:.4g} ({what}); posterior: {self.posterior.kind}")
+        if isinstance(self.posterior, SampledPosterior):
+            p = self.posterior
+            state = "converged" if p.converged else "NOT converged (run longer)"
+            lines.append(
+                f"emcee: {p.steps} steps per walker kept, autocorrelation {p.autocorrelation_steps:.0f} steps, "
+                f"acceptance {p.acceptance:.2f}: {state}"
+            )
         for r in self._rows():
             if r["identifiable"]:
                 lines.append(f"  {r['name']} = {r['estimate']:.4g}  (95 %: {r['low_95']:.4g} – {r['high_95']:.4g})")
@@ -258,7 +265,13 @@ class FitResult:
         x = obs.centres_nm
         fig, (top, bottom) = plt.subplots(2, 1, figsize=(7, 5), dpi=120, sharex=True, height_ratios=(3, 1))
         top.plot(x, obs.values, "o", ms=4, color="k", label="measured")
-        top.plot(x, self.optimum.model, "-", color="C3", label=f"fitted ({self.model})"[:70])
+        top.plot(
+            x,
+            self.optimum.model,
+            "-",
+            color="C3",
+            label=f"fitted ({'predictor' if self.method == 'bank' else 'engine'})",
+        )
         if self.engine_check is not None:
             top.plot(x, self.engine_check.engine, "--", color="C0", label="engine at the optimum")
         top.set_ylabel("reflectance")
