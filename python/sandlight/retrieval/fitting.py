@@ -10,11 +10,12 @@ maximise_likelihood
     reflective, in coordinates scaled to [0, 1] over the bounds), from several starting points.
     With an unknown measurement σ, the parameters and σ are found by alternating the least
     squares at fixed σ with the maximum-likelihood σ at fixed residuals (each step lowers −log L;
-    stopped when σ changes by less than 1 %): the joint maximum-likelihood estimate.
+    stopped when σ changes by less than 1 %, or the given tolerance): the joint maximum-likelihood estimate.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,19 +61,27 @@ def maximise_likelihood(
     starts: int = 4,
     x0: np.ndarray | None = None,
     diff_step: float | None = None,
+    tolerance: float = 1e-8,
+    sigma0: float | None = None,
+    jacobian_step: np.ndarray | None = None,
     seed: int = 0,
 ) -> Optimum:
     """The maximum-likelihood parameters of ``forward`` over ``space`` (see the module).
 
     ``diff_step`` is the relative finite-difference step of the Jacobian (scipy's default for a
     smooth predictor; larger for the engine, whose common-random-number objective is smooth only
-    above the scale of single rays changing their paths).
+    above the scale of single rays changing their paths). ``tolerance`` is scipy's ftol, xtol and
+    gtol, and the relative change of σ that ends the alternation; ``sigma0`` the first σ tried
+    when it is estimated (default `SIGMA_START`). With ``jacobian_step`` the Jacobian returned
+    (for the posterior) is not the optimiser's but central differences of these steps in the
+    scaled coordinates (one-sided at a bound): the slope over a stretch of the range instead of
+    the local one, for an objective that is rough on small scales.
     """
     obs = likelihood.obs
     y, a = obs.values, obs.operator
     width = space.high - space.low
     evaluations = 0
-    sigma = None if likelihood.known else SIGMA_START
+    sigma = None if likelihood.known else (sigma0 or SIGMA_START)
 
     def model_values(u: np.ndarray) -> np.ndarray:
         nonlocal evaluations
@@ -87,6 +96,9 @@ def maximise_likelihood(
             method="trf",
             diff_step=diff_step,
             x_scale=1.0,
+            ftol=tolerance,
+            xtol=tolerance,
+            gtol=tolerance,
         )
 
     if x0 is not None:
@@ -97,11 +109,16 @@ def maximise_likelihood(
     if sigma is not None:
         for _ in range(_MAX_ALTERNATIONS):
             new = likelihood.best_sigma(y - model_values(best.x))
-            done = abs(np.log(new / sigma)) < 0.01
+            done = abs(np.log(new / sigma)) < max(0.01, tolerance)
             sigma = new
             best = solve(best.x, sigma)
             if done:
                 break
+    jac = (
+        best.jac
+        if jacobian_step is None
+        else _secant_jacobian(lambda u: likelihood.whiten(model_values(u) - y, sigma), best.x, jacobian_step)
+    )
     x = space.from_unit(best.x)
     spectrum = forward.predict(x[None, :])[0]
     model = spectrum @ a.T
@@ -111,8 +128,20 @@ def maximise_likelihood(
         residual=residual,
         model=model,
         spectrum=spectrum,
-        jacobian=best.jac / width,
+        jacobian=jac / width,
         sigma=sigma,
         nll=float(likelihood.nll(residual, sigma)),
         evaluations=evaluations,
     )
+
+
+def _secant_jacobian(fun: Callable[[np.ndarray], np.ndarray], u: np.ndarray, step: np.ndarray) -> np.ndarray:
+    """Central differences of ``fun`` at ``u`` with steps ``step`` (one per coordinate) inside
+    [0, 1] (one-sided where a step would leave it)."""
+    columns = []
+    step = np.broadcast_to(step, u.shape)
+    for i in range(u.size):
+        lo, hi = u.copy(), u.copy()
+        lo[i], hi[i] = max(0.0, u[i] - step[i]), min(1.0, u[i] + step[i])
+        columns.append((fun(hi) - fun(lo)) / (hi[i] - lo[i]))
+    return np.column_stack(columns)

@@ -44,6 +44,27 @@ POSTERIORS = ("laplace", "emcee")
 SCAN_POINTS = {"bank": 21, "engine": 7}
 #: Relative finite-difference step of the Jacobian with the engine (see fitting.maximise_likelihood).
 ENGINE_DIFF_STEP = 0.02
+#: Convergence tolerance of the engine fit (scipy's ftol/xtol/gtol, in coordinates scaled to the
+#: bounds; the relative change of an estimated σ): 10⁻³ of a parameter's range is far below any
+#: interval the engine's noise allows, and each evaluation is a Monte Carlo run.
+ENGINE_TOLERANCE = 1e-3
+#: Steps (shares of each parameter's range) of the engine's Jacobian for the posterior: one
+#: posterior standard deviation of the bank's fit, within these limits. With one seed the
+#: engine's spectrum is not smooth in every parameter: water changes the paths, so a change of
+#: saturation by 0.02 moves the spectrum by Monte Carlo noise (about 0.01 at 5000 rays,
+#: measured), and local slopes overstate the information. The slope over ±1 standard deviation
+#: is the one the Laplace approximation needs, and averages the roughness out.
+ENGINE_JACOBIAN_STEP = (0.01, 0.1)
+
+
+def _engine_jacobian_step(bank_fit: tuple | None, space: ParameterSpace) -> np.ndarray:
+    """`ENGINE_JACOBIAN_STEP`: the bank fit's posterior standard deviations over the ranges."""
+    lo, hi = ENGINE_JACOBIAN_STEP
+    if bank_fit is None:
+        return np.full(space.size, hi)
+    forward, _, optimum = bank_fit
+    sd = LaplacePosterior.at(optimum.x, optimum.jacobian, forward.space, None).sd
+    return np.clip(sd / (space.high - space.low), lo, hi)
 
 
 def fit(
@@ -165,7 +186,16 @@ def fit(
         forward = EngineForward(engine_space, grid, rays=rays, seed=seed, threads=threads)
         forward.predict(x0[None, :])  # the Monte Carlo standard errors enter the budget
         likelihood = GaussianLikelihood(obs, forward.budget())
-        optimum = maximise_likelihood(forward, engine_space, likelihood, x0=x0, diff_step=ENGINE_DIFF_STEP)
+        optimum = maximise_likelihood(
+            forward,
+            engine_space,
+            likelihood,
+            x0=x0,
+            diff_step=ENGINE_DIFF_STEP,
+            tolerance=ENGINE_TOLERANCE,
+            sigma0=best[2].sigma if best is not None else None,
+            jacobian_step=_engine_jacobian_step(best, engine_space),
+        )
         tried[forward.name] = optimum.nll
         best = (forward, likelihood, optimum)
 
