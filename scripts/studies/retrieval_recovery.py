@@ -11,12 +11,13 @@ residuals) with the bank, the default of ``sandlight.fit``. Optionally the first
 It prints, per parameter, how often the true value lies inside the 95 % interval (a parameter
 flagged not identifiable counts as covered by its whole range, and the count of such flags is
 printed), the mean bias and the median interval width, and writes the per-sample table
-(``retrieval_recovery.csv``) and the figure (``retrieval_recovery.png``) to ``--out``.
+``retrieval_recovery.csv`` to ``--out`` and the figure ``retrieval_recovery.png`` to
+``--figures``.
 
 Usage::
 
     nice -n 10 python3 scripts/studies/retrieval_recovery.py [--samples 50] [--rays 20000]
-        [--sigma 0.005] [--engine-fits 0] [--out docs/data]
+        [--sigma 0.005] [--engine-fits 0] [--out docs/data] [--figures docs/figures]
 """
 
 from __future__ import annotations
@@ -119,6 +120,19 @@ def plot(rows: list[dict], path: Path) -> None:
     plt.close(fig)
 
 
+def write_table(rows: list[dict], path: Path) -> None:
+    """The per-sample rows as CSV, written atomically."""
+    keys = sorted({k for r in rows for k in r}, key=lambda k: (k != "sample", k != "method", k))
+
+    def write(tmp: Path) -> None:
+        with open(tmp, "w", newline="") as f:
+            w = csv.DictWriter(f, keys)
+            w.writeheader()
+            w.writerows(rows)
+
+    write_atomically(path, write)
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--samples", type=int, default=50)
@@ -128,6 +142,7 @@ def main(argv=None) -> None:
     parser.add_argument("--engine-fits", type=int, default=0)
     parser.add_argument("--engine-rays", type=int, default=5000)
     parser.add_argument("--out", type=Path, default=Path("docs/data"))
+    parser.add_argument("--figures", type=Path, default=Path("docs/figures"))
     args = parser.parse_args(argv)
     rng = np.random.default_rng(args.seed)
     rows = []
@@ -140,6 +155,7 @@ def main(argv=None) -> None:
         rows.append({"sample": k, **one_fit(truth, spectrum, "bank", args)})
         if k < args.engine_fits:
             rows.append({"sample": k, **one_fit(truth, spectrum, "engine", args)})
+        write_table(rows, args.out / "retrieval_recovery.csv")  # after every sample: a long run keeps its rows
         print(f"sample {k + 1}/{args.samples} done ({time.perf_counter() - t0:.0f} s)", flush=True)
     print(f"\n{args.samples} samples, {args.rays} rays per wavelength, noise σ = {args.sigma}, seed {args.seed}")
     summary([r for r in rows if r["method"] == "bank"], "predictor bank (default)")
@@ -147,22 +163,7 @@ def main(argv=None) -> None:
         summary([r for r in rows if r["method"] == "engine"], f"engine forward model, {args.engine_rays} rays")
     checks = [r["engine_check_rms"] for r in rows if "engine_check_rms" in r]
     print(f"engine check at the optimum: predictor − engine RMS, median {np.median(checks):.4f}, max {max(checks):.4f}")
-    args.out.mkdir(parents=True, exist_ok=True)
-    keys = sorted({k for r in rows for k in r}, key=lambda k: (k != "sample", k != "method", k))
-
-    def write(tmp: Path) -> None:
-        with open(tmp, "w", newline="") as f:
-            w = csv.DictWriter(f, keys)
-            w.writeheader()
-            w.writerows(rows)
-
-    write_atomically(args.out / "retrieval_recovery.csv", write)
-    plot(
-        rows,
-        args.out.parent / "figures" / "retrieval_recovery.png"
-        if args.out.name == "data"
-        else args.out / "retrieval_recovery.png",
-    )
+    plot(rows, args.figures / "retrieval_recovery.png")
 
 
 if __name__ == "__main__":
