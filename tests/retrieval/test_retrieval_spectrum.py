@@ -79,3 +79,10 @@ def test_envi_library_is_read_with_spectral(tmp_path):
     (tmp_path / "broken.sli").write_bytes(b"\0" * 16)
     with pytest.raises(ModelFileError, match="broken.hdr"):
         as_spectrum(tmp_path / "broken.hdr")
+
+
+def test_malformed_usgs_file_is_refused_with_the_line(tmp_path):
+    bad = tmp_path / "splib07a_Broken_BECKa_AREF.txt"
+    bad.write_text("splib07a Record=1: Broken BECKa AREF\n0.25\nnot a number\n")
+    with pytest.raises(ModelFileError, match="line 3"):
+        as_spectrum(bad)
