@@ -9,6 +9,10 @@
   is hematite as separate particles in quartz sand. The engine fits the iron oxide (≤ 10 %)
   and the particle size (≤ 50 µm); the sizes should come out in the order of the sieves.
 
+- ``--parts powder``: the case for a powder forward model. Each GDS69 spectrum next to the
+  engine's spectrum of pure hematite powder of the sieve's sizes
+  (:class:`sandlight.physics.powder.Powder`, equal mass per log size), no fit.
+
 Wavelengths 400–1000 nm every 25 nm for the engine (the bank covers 400–700 nm); the
 measurement noise is estimated from the residuals. Prints the tables of docs/retrieval.md and
 writes ``retrieval_measured.csv`` to ``--out`` and the figures ``retrieval_gds76.png`` and
@@ -17,7 +21,7 @@ writes ``retrieval_measured.csv`` to ``--out`` and the figures ``retrieval_gds76
 Usage::
 
     nice -n 10 python3 scripts/studies/retrieval_measured.py [--rays 5000] [--out docs/data]
-        [--figures docs/figures]
+        [--figures docs/figures] [--parts sand powder]
 """
 
 from __future__ import annotations
@@ -36,15 +40,18 @@ from sandlight.retrieval.spectrum import as_spectrum
 
 ENGINE_WAVELENGTHS = np.arange(400.0, 1001.0, 25.0)
 PARTICLES = {"saturation": 0.0, "hematite_ratio": 1.0, "iron_oxide_form": "particles", "silt": 0.0, "clay": 0.0}
+#: Sieve label in the file name, nominal size (µm, the sieve's centre) and sieve range (µm; the
+#: < 10 µm fraction taken as 2–10 µm).
 GDS69 = {
-    "a": ("150-250u", 200.0),
-    "b": ("104-150u", 127.0),
-    "c": ("60-104um", 82.0),
-    "d": ("30-45um", 37.5),
-    "e": ("20-30um", 25.0),
-    "f": ("10-20um", 15.0),
-    "g": ("lt10um", 5.0),
+    "a": ("150-250u", 200.0, (150.0, 250.0)),
+    "b": ("104-150u", 127.0, (104.0, 150.0)),
+    "c": ("60-104um", 82.0, (60.0, 104.0)),
+    "d": ("30-45um", 37.5, (30.0, 45.0)),
+    "e": ("20-30um", 25.0, (20.0, 30.0)),
+    "f": ("10-20um", 15.0, (10.0, 20.0)),
+    "g": ("lt10um", 5.0, (2.0, 10.0)),
 }
+POWDER_WAVELENGTHS = np.array([450.0, 550.0, 650.0, 750.0, 900.0, 1000.0])
 
 
 def row(label: str, result, nominal: float | None = None) -> dict:
@@ -100,7 +107,34 @@ def main(argv=None) -> None:
     parser.add_argument("--rays", type=int, default=5000)
     parser.add_argument("--out", type=Path, default=Path("docs/data"))
     parser.add_argument("--figures", type=Path, default=Path("docs/figures"))
+    parser.add_argument("--parts", nargs="+", choices=("sand", "powder"), default=["sand", "powder"])
     args = parser.parse_args(argv)
+    if "sand" in args.parts:
+        sand_fits(args)
+    if "powder" in args.parts:
+        powder_check(args)
+
+
+def powder_check(args) -> None:
+    """GDS69 against the engine's pure hematite powder of the sieve sizes (no fit)."""
+    from sandlight.physics.powder import Powder
+
+    print(f"\nGDS69 against pure hematite powder (engine, {args.rays} rays), reflectance at {POWDER_WAVELENGTHS} nm")
+    print("| spectrum | sieve (µm) | measured | powder model |")
+    print("|---|---|---|---|")
+    for letter, (sieve, _, sizes) in GDS69.items():
+        measured = as_spectrum(usgs_library(f"Hematite_GDS69.{letter}_{sieve}")).interp(wavelength=POWDER_WAVELENGTHS)
+        model = sandlight.reflectance(Powder("hematite", sizes), POWDER_WAVELENGTHS, rays=args.rays, progress=False)
+        fmt = ", ".join
+        print(
+            f"| GDS69.{letter} | {sieve} | {fmt(f'{v:.3f}' for v in measured.values)} | "
+            f"{fmt(f'{v:.3f}' for v in model.values)} |",
+            flush=True,
+        )
+
+
+def sand_fits(args) -> None:
+    """GDS76 and GDS69 fitted with the sand model (bank and engine)."""
     engine = {"method": "engine", "rays": args.rays, "wavelengths": ENGINE_WAVELENGTHS, "threads": 1}
     rows = []
     t0 = time.perf_counter()
@@ -126,7 +160,7 @@ def main(argv=None) -> None:
     print("| spectrum | sieve (µm) | fitted particle size (µm), 95 % | fitted iron oxide | residual RMS |")
     print("|---|---|---|---|---|")
     fixed = {**PARTICLES}
-    for letter, (sieve, nominal) in GDS69.items():
+    for letter, (sieve, nominal, _) in GDS69.items():
         spectrum = as_spectrum(usgs_library(f"Hematite_GDS69.{letter}_{sieve}"))
         result = sandlight.fit(spectrum, ["iron_oxide", "iron_oxide_particle_size_um"], fixed, **engine)
         r = row(f"GDS69.{letter}", result, nominal)

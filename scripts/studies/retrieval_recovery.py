@@ -5,8 +5,9 @@ hematite ratio uniform in [0, 1], saturation uniform in [0.001, 1]; the referenc
 otherwise, iron oxide as a coating), traces each with the Monte Carlo engine (independent
 seeds, ``--rays`` rays per wavelength, 400–700 nm every 20 nm), adds Gaussian noise of standard
 deviation ``--sigma`` and fits the noisy spectrum blind (the noise is estimated from the
-residuals) with the bank, the default of ``sandlight.fit``. Optionally the first
-``--engine-fits`` spectra are fitted again with the engine as forward model.
+residuals) with the bank, the default of ``sandlight.fit`` (Laplace posterior, or emcee with
+``--posterior emcee``: then the files are named ``retrieval_recovery_emcee.*``). Optionally the
+first ``--engine-fits`` spectra are fitted again with the engine as forward model.
 
 It prints, per parameter, how often the true value lies inside the 95 % interval (a parameter
 flagged not identifiable counts as covered by its whole range, and the count of such flags is
@@ -48,11 +49,11 @@ def draw(n: int, seed: int) -> list[sandlight.SandSample]:
 
 def one_fit(truth, spectrum, method: str, args) -> dict:
     t0 = time.perf_counter()
-    kw = {"method": method, "threads": 1, "seed": 1}
+    kw = {"method": method, "threads": 1, "seed": 1, "posterior": args.posterior}
     if method == "engine":
-        kw.update(rays=args.engine_rays)
+        kw.update(rays=args.engine_rays, posterior="laplace")
     else:
-        kw.update(check_rays=args.rays)
+        kw.update(check_rays=args.check_rays)
     result = sandlight.fit(spectrum, list(FREE), **kw)
     row = {"method": method, "model": result.model, "sigma": result.sigma, "seconds": time.perf_counter() - t0}
     if result.engine_check is not None:
@@ -76,14 +77,18 @@ def one_fit(truth, spectrum, method: str, args) -> dict:
 
 def summary(rows: list[dict], label: str) -> None:
     print(f"\n{label}: {len(rows)} fits, median {np.median([r['seconds'] for r in rows]):.2f} s per fit")
-    print("| parameter | coverage of the 95 % interval | not identifiable | mean bias | median width |")
-    print("|---|---|---|---|---|")
+    print(
+        "| parameter | coverage of the 95 % interval | not identifiable | coverage where identifiable "
+        "| mean bias | median width |"
+    )
+    print("|---|---|---|---|---|---|")
     for name in FREE:
         cov = np.mean([r[f"{name}_covered"] for r in rows])
         flat = sum(not r[f"{name}_identifiable"] for r in rows)
+        shown = [r[f"{name}_covered"] for r in rows if r[f"{name}_identifiable"]]
         bias = np.mean([r[f"{name}_estimate"] - r[f"{name}_true"] for r in rows])
         width = np.median([r[f"{name}_high"] - r[f"{name}_low"] for r in rows if r[f"{name}_identifiable"]] or [np.nan])
-        print(f"| {name} | {cov:.0%} | {flat} | {bias:+.4f} | {width:.4f} |")
+        print(f"| {name} | {cov:.0%} | {flat} | {np.mean(shown):.0%} of {len(shown)} | {bias:+.4f} | {width:.4f} |")
     models = {}
     for r in rows:
         models[r["model"]] = models.get(r["model"], 0) + 1
@@ -133,6 +138,26 @@ def write_table(rows: list[dict], path: Path) -> None:
     write_atomically(path, write)
 
 
+def name(args) -> str:
+    """File name of the table and figure: retrieval_recovery, with _emcee for that posterior."""
+    return "retrieval_recovery" + ("_emcee" if args.posterior == "emcee" else "")
+
+
+def read_table(path: Path) -> list[dict]:
+    """Rows of a table written by `write_table`, with numbers and booleans parsed."""
+
+    def value(text: str):
+        if text in ("True", "False"):
+            return text == "True"
+        try:
+            return float(text)
+        except ValueError:
+            return text
+
+    with open(path, newline="") as f:
+        return [{k: value(v) for k, v in r.items() if v != ""} for r in csv.DictReader(f)]
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--samples", type=int, default=50)
@@ -141,9 +166,18 @@ def main(argv=None) -> None:
     parser.add_argument("--seed", type=int, default=2026)
     parser.add_argument("--engine-fits", type=int, default=0)
     parser.add_argument("--engine-rays", type=int, default=5000)
+    parser.add_argument("--posterior", choices=("laplace", "emcee"), default="laplace")
+    parser.add_argument("--check-rays", type=int, default=20_000, help="Rays of the engine check (0: none).")
     parser.add_argument("--out", type=Path, default=Path("docs/data"))
     parser.add_argument("--figures", type=Path, default=Path("docs/figures"))
+    parser.add_argument(
+        "--from-csv", type=Path, help="Print the summary and draw the figure of a table written before (no fits)."
+    )
     args = parser.parse_args(argv)
+    if args.from_csv:
+        rows = read_table(args.from_csv)
+        report(rows, args)
+        return
     rng = np.random.default_rng(args.seed)
     rows = []
     t0 = time.perf_counter()
@@ -155,15 +189,24 @@ def main(argv=None) -> None:
         rows.append({"sample": k, **one_fit(truth, spectrum, "bank", args)})
         if k < args.engine_fits:
             rows.append({"sample": k, **one_fit(truth, spectrum, "engine", args)})
-        write_table(rows, args.out / "retrieval_recovery.csv")  # after every sample: a long run keeps its rows
+        write_table(rows, args.out / f"{name(args)}.csv")  # after every sample: a long run keeps its rows
         print(f"sample {k + 1}/{args.samples} done ({time.perf_counter() - t0:.0f} s)", flush=True)
     print(f"\n{args.samples} samples, {args.rays} rays per wavelength, noise σ = {args.sigma}, seed {args.seed}")
+    report(rows, args)
+
+
+def report(rows: list[dict], args) -> None:
+    """The summary tables and the figure."""
     summary([r for r in rows if r["method"] == "bank"], "predictor bank (default)")
-    if args.engine_fits:
+    if any(r["method"] == "engine" for r in rows):
         summary([r for r in rows if r["method"] == "engine"], f"engine forward model, {args.engine_rays} rays")
     checks = [r["engine_check_rms"] for r in rows if "engine_check_rms" in r]
-    print(f"engine check at the optimum: predictor − engine RMS, median {np.median(checks):.4f}, max {max(checks):.4f}")
-    plot(rows, args.figures / "retrieval_recovery.png")
+    if checks:
+        print(
+            f"engine check at the optimum: predictor − engine RMS, median {np.median(checks):.4f}, "
+            f"max {max(checks):.4f}"
+        )
+    plot(rows, args.figures / f"{name(args)}.png")
 
 
 if __name__ == "__main__":
