@@ -52,8 +52,9 @@ ENGINE_TOLERANCE = 1e-3
 #: posterior standard deviation of the bank's fit, within these limits. With one seed the
 #: engine's spectrum is not smooth in every parameter: water changes the paths, so a change of
 #: saturation by 0.02 moves the spectrum by Monte Carlo noise (about 0.01 at 5000 rays,
-#: measured), and local slopes overstate the information. The slope over ±1 standard deviation
-#: is the one the Laplace approximation needs, and averages the roughness out.
+#: scripts/studies/retrieval_engine_roughness.py), and local slopes overstate the information.
+#: The slope over ±1 standard deviation is the one the Laplace approximation needs, and averages
+#: the roughness out.
 ENGINE_JACOBIAN_STEP = (0.01, 0.1)
 
 
