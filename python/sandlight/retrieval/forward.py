@@ -12,7 +12,8 @@ bank_candidates
 EngineForward
     The Monte Carlo engine (:func:`sandlight.reflectance`) with the same seed at every call
     (common random numbers: the same random streams for every parameter vector, so the
-    objective changes smoothly with the parameters instead of jumping by fresh noise); its
+    objective does not jump by fresh noise at every evaluation; it is still rough where a
+    parameter changes the paths, e.g. saturation: see ``retrieve.ENGINE_JACOBIAN_STEP``); its
     error budget is the Monte Carlo standard error. Wavelengths are traced one by one
     (``share=False``): the same random streams at every wavelength too, and at 2·10⁴ rays a
     standard error several times smaller at the bright red end than with spectral path sharing
