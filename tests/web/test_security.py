@@ -82,10 +82,10 @@ def test_requests_sent_by_a_page_of_another_site_are_refused(client):
 
 
 def test_a_bug_is_a_generic_500_without_a_traceback(monkeypatch, caplog):
-    def broken(sample):
+    def broken(samples):
         raise RuntimeError("secret internal detail")
 
-    monkeypatch.setattr(spectra, "spectrum_answer", broken)
+    monkeypatch.setattr(spectra, "spectrum_answers", broken)
     assert routes.spectra is spectra
     with TestClient(create_app(), base_url="http://127.0.0.1", raise_server_exceptions=False) as c:
         res = c.post("/api/spectrum", json={"sample": "red-dune"})

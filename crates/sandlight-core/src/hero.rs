@@ -45,7 +45,7 @@ pub const FIXED_ONE: f64 = 4_294_967_296.0;
 #[derive(Clone, Debug)]
 pub struct HeroGroup {
     media: Vec<Particulate>,
-    /// Per particle type and `StackKind` (index `4 t + kind.index()`): [R, R + T] at node
+    /// Per particle type and `StackKind` (index `6 t + kind.index()`): [R, R + T] at node
     /// μ = i / STACK_CELLS for every wavelength, at `i * n + j`.
     tables: Vec<Vec<[f64; 2]>>,
     /// Per table, the cells evaluated exactly (interpolation not within `TABLE_TOLERANCE`).
@@ -84,6 +84,7 @@ impl HeroGroup {
                         && a.optics.coating.map(|c| c.thickness_mm) == b.optics.coating.map(|c| c.thickness_mm)
                 });
             let same_pore = m.pore.film_thickness_mm == first.pore.film_thickness_mm
+                && m.pore.film_coverage == first.pore.film_coverage
                 && m.pore.water_filled_probability == first.pore.water_filled_probability;
             if !same_types
                 || !same_pore
@@ -94,14 +95,14 @@ impl HeroGroup {
                     &format!("media[{j}]"),
                     "a medium of other geometry",
                     "the media of a spectral group differ only in their optics (same particle types, sizes, shapes, \
-                     free path, pore filling, film thickness and depth)",
+                     free path, pore filling, film thickness and coverage, and depth)",
                 ));
             }
         }
         let n = media.len();
         let types = first.types.len();
-        let mut tables = Vec::with_capacity(4 * types);
-        let mut exact = Vec::with_capacity(4 * types);
+        let mut tables = Vec::with_capacity(StackKind::ALL.len() * types);
+        let mut exact = Vec::with_capacity(StackKind::ALL.len() * types);
         for t in 0..types {
             let stacks: Vec<&Stacks> = media.iter().map(|m| m.type_tables(t).1).collect();
             for kind in StackKind::ALL {
@@ -176,7 +177,7 @@ impl HeroGroup {
     /// interpolated in `cell` at `frac`, or exact where the cell is marked so.
     #[inline]
     fn rt_at(&self, t: usize, kind: StackKind, cos: f64, cell: usize, frac: f64, j: usize) -> [f64; 2] {
-        let k = 4 * t + kind.index();
+        let k = StackKind::ALL.len() * t + kind.index();
         if self.exact[k][cell] {
             let (r, t) = self.media[j].type_tables(t).1.rt(kind, cos);
             return [r, r + t];
@@ -271,6 +272,29 @@ impl PathChoices for Companions<'_> {
             self.weights.attenuate(|j| a[j] - a_hero, len);
         }
         true
+    }
+
+    #[inline]
+    fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool {
+        // The hero decides with its exact probability; each wavelength's weight takes the ratio
+        // of its own (exact, at its own cosine under dispersion) to the hero's.
+        let p_hero = stacks.diffuse_probability(kind, cos, reflected);
+        let diffuse = u < p_hero;
+        let p = |q: f64| if diffuse { q } else { 1.0 - q };
+        let (g, t, hero) = (self.group, self.particle, self.weights.hero());
+        let p_h = p(p_hero);
+        let s2 = g.incident_indices(t, kind).map(|n| (n, n[hero] * n[hero] * (1.0 - cos * cos)));
+        self.weights.scale(|j| {
+            if j == hero {
+                return 1.0;
+            }
+            let cos_j = match &s2 {
+                None => cos,
+                Some((n, s2)) => (1.0 - s2 / (n[j] * n[j])).max(0.0).sqrt(),
+            };
+            p(g.media[j].type_tables(t).1.diffuse_probability(kind, cos_j, reflected)) / p_h
+        });
+        diffuse
     }
 
     #[inline]
@@ -403,12 +427,16 @@ mod tests {
     /// A quartz-like sand with a weakly absorbing coating and wet pores, whose absorption
     /// (core, coating, water) is scaled by `absorb` and whose indices are shifted by `dn`.
     fn sand(absorb: f64, dn: f64) -> Particulate {
+        sand_with(absorb, dn, Coating::uniform(1.9 + dn, 40.0 * absorb, 5e-4))
+    }
+
+    fn sand_with(absorb: f64, dn: f64, coating: Coating) -> Particulate {
         let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
         let optics = ParticleOptics {
             core_n: 1.55 + dn,
             core_k: 1e-6 * absorb,
             core_alpha_per_mm: 0.2 * absorb,
-            coating: Some(Coating { n: 1.9 + dn, alpha_per_mm: 40.0 * absorb, thickness_mm: 5e-4 }),
+            coating: Some(coating),
             wets: true,
         };
         let t = ParticleType { probability: 1.0, sizes, aspect_ratio: 1.3, optics };
@@ -416,6 +444,7 @@ mod tests {
             water_n: 1.333 + dn,
             water_alpha_per_mm: 0.5 * absorb,
             film_thickness_mm: 2e-3,
+            film_coverage: 0.6,
             water_filled_probability: 0.3,
         };
         Particulate::new(vec![t], 0.12, pore, f64::INFINITY).unwrap()
@@ -491,6 +520,38 @@ mod tests {
             let mono = classic.escaped as f64 / n as f64;
             let se = (var + mono * (1.0 - mono) / n as f64).sqrt();
             assert!((rho - mono).abs() < 4.0 * se, "absorption ×{a}: shared {rho} vs {mono} ± {se}");
+        }
+    }
+
+    #[test]
+    fn shared_estimates_agree_with_independent_runs_through_a_scattering_coating() {
+        // A pigmented coating (optical depth ~1–10, diffuse reflection and transmission) whose
+        // absorption, scattering, asymmetry and indices differ by wavelength: the diffuse
+        // choices' weights are exact, so each shared estimate agrees with its own classic run.
+        let coating = |a: f64, s: f64, g: f64, dn: f64| Coating {
+            n: 1.56 + dn,
+            alpha_per_mm: 2e3 * a,
+            thickness_mm: 5e-4,
+            scattering_per_mm: 1e4 * s,
+            asymmetry: g,
+        };
+        let cases = [(0.2, 2.0, 0.3, 0.0), (1.0, 1.0, 0.5, 0.01), (3.0, 0.3, 0.7, 0.02)];
+        let media: Vec<_> = cases.iter().map(|&(a, s, g, dn)| sand_with(1.0, dn, coating(a, s, g, dn))).collect();
+        let g = HeroGroup::new(media.clone()).unwrap();
+        let dir = incident_direction(0.6);
+        let n = 30_000;
+        let c =
+            spectral_directional_hemispherical(&g, dir, Rays { seed: 6, stream: 1, first: 0, n }, &Limits::default());
+        for (j, m) in media.iter().enumerate() {
+            let s1 = c.escaped[j] as f64 / FIXED_ONE;
+            let k = j * media.len() - j * (j.saturating_sub(1)) / 2;
+            let s2 = c.products[k] as f64 / (FIXED_ONE * FIXED_ONE);
+            let (rho, var) = (s1 / n as f64, (s2 / n as f64 - (s1 / n as f64).powi(2)) / (n - 1) as f64);
+            let classic =
+                directional_hemispherical(m, dir, Rays { seed: 6, stream: 0, first: 0, n }, &Limits::default());
+            let mono = classic.escaped as f64 / n as f64;
+            let se = (var + mono * (1.0 - mono) / n as f64).sqrt();
+            assert!((rho - mono).abs() < 4.0 * se, "case {j}: shared {rho} vs {mono} ± {se}");
         }
     }
 

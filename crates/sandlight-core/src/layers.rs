@@ -96,7 +96,7 @@ pub fn stack_rt(media: &[Slab], cos_0: f64) -> (f64, f64) {
 /// s2 = (n_a sin θ_a)²: 1 beyond the critical angle, complex-index Fresnel into an absorbing
 /// core, real Fresnel otherwise.
 #[inline]
-fn interface(a: Slab, b: Slab, cos_a: f64, s2: f64) -> f64 {
+pub(crate) fn interface(a: Slab, b: Slab, cos_a: f64, s2: f64) -> f64 {
     if s2 >= b.n * b.n {
         1.0
     } else if b.k_fresnel > 0.0 {

@@ -1,7 +1,8 @@
 //! sandlight-core: Monte Carlo light transport in sand.
 //!
 //! Layering: a module uses only modules to its left, so there is no cycle.
-//! `error`, `math`, `rng` → `sampling` (generic samplers) → `fresnel` → `layers` → `spheroid`,
+//! `error`, `math`, `rng` → `sampling` (generic samplers) → `fresnel` → `layers` → `scattering_layer` (a
+//! layer stack whose coating scatters) → `spheroid`,
 //! `sizes`, `pair_correlation`, `spectral` (per-wavelength path weights) → `particle` (one
 //! grain's interaction, and the `PathChoices` through which every wavelength-dependent choice is
 //! made) → `medium` (sand and the reference media) → `populations` (the grains as they fill the
@@ -38,6 +39,7 @@ pub mod populations;
 pub mod render;
 pub mod rng;
 pub mod sampling;
+pub mod scattering_layer;
 pub mod sizes;
 pub mod spectral;
 pub mod spheroid;

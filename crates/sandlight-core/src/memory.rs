@@ -382,6 +382,7 @@ mod tests {
             water_n: 1.333,
             water_alpha_per_mm: 0.0,
             film_thickness_mm: 0.01,
+            film_coverage: 1.0,
             water_filled_probability: 0.5,
         };
         let types = vec![t(0.4, &sizes, 1.0), t(0.4, &sizes, 1.4), t(0.2, &QuantileTable::constant(0.002), 1.0)];

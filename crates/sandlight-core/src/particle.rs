@@ -5,18 +5,34 @@
 //! through an optional water film and an optional coating (thin incoherent layers, see
 //! `layers`), a straight chord through the absorbing core (Beer–Lambert, exp(−α L)), Fresnel
 //! from inside with total internal reflection, repeated until the ray leaves or is absorbed.
+//! A coating that scatters (a pigmented coating, `scattering_layer`) also reflects and
+//! transmits diffusely: those rays leave with a cosine distribution about the local normal on
+//! their side.
 
 use crate::layers::{stack_rt, Slab, MAX_MEDIA};
 use crate::math::{refract, Vec3};
 use crate::rng::Rng;
+use crate::sampling::cosine_hemisphere;
+use crate::scattering_layer::{Fractions, ScatteringStack, Turbidity};
 use crate::spheroid::{Hit, Spheroid};
 
-/// A thin layer on the particle surface: real index, absorption coefficient (mm⁻¹), thickness (mm).
+/// A thin layer on the particle surface: real index, absorption coefficient (mm⁻¹), thickness
+/// (mm), and the scattering coefficient (mm⁻¹) and asymmetry g of its pigment (zero for a
+/// uniform, non-scattering coating).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Coating {
     pub n: f64,
     pub alpha_per_mm: f64,
     pub thickness_mm: f64,
+    pub scattering_per_mm: f64,
+    pub asymmetry: f64,
+}
+
+impl Coating {
+    /// A uniform coating that absorbs and does not scatter.
+    pub const fn uniform(n: f64, alpha_per_mm: f64, thickness_mm: f64) -> Coating {
+        Coating { n, alpha_per_mm, thickness_mm, scattering_per_mm: 0.0, asymmetry: 0.0 }
+    }
 }
 
 /// Optical description of one particle type at one wavelength.
@@ -33,20 +49,29 @@ pub struct ParticleOptics {
     pub wets: bool,
 }
 
-/// The pore space: water optics, film thickness and the chance that a pore is water-filled.
+/// The pore space: water optics, the pendular water on the particles, and the chance that a
+/// pore is water-filled.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PoreOptics {
     pub water_n: f64,
     pub water_alpha_per_mm: f64,
-    /// Thickness (mm) of the water film on every particle facing an air-filled pore.
+    /// Thickness (mm) of the water film where it wets a particle facing an air-filled pore.
     pub film_thickness_mm: f64,
+    /// Fraction of a particle's surface facing an air-filled pore that the film covers (the
+    /// wetted caps of the pendular rings, docs/model.md §2.5); 1 wets every particle everywhere.
+    pub film_coverage: f64,
     /// Probability that a pore the ray enters is filled with water (bulk water).
     pub water_filled_probability: f64,
 }
 
 impl PoreOptics {
-    pub const DRY: PoreOptics =
-        PoreOptics { water_n: 1.333, water_alpha_per_mm: 0.0, film_thickness_mm: 0.0, water_filled_probability: 0.0 };
+    pub const DRY: PoreOptics = PoreOptics {
+        water_n: 1.333,
+        water_alpha_per_mm: 0.0,
+        film_thickness_mm: 0.0,
+        film_coverage: 1.0,
+        water_filled_probability: 0.0,
+    };
 
     #[inline]
     pub fn index(&self, water: bool) -> f64 {
@@ -60,6 +85,14 @@ impl PoreOptics {
     #[inline]
     pub fn draw_water(&self, rng: &mut Rng) -> bool {
         self.water_filled_probability > 0.0 && rng.uniform() < self.water_filled_probability
+    }
+    /// Draws whether the point of a particle surface met from an air-filled pore is wetted by
+    /// the film; draws a uniform only for a partial coverage (0 < coverage < 1).
+    #[inline]
+    pub fn draw_film(&self, rng: &mut Rng) -> bool {
+        self.film_thickness_mm > 0.0
+            && self.film_coverage > 0.0
+            && (self.film_coverage >= 1.0 || rng.uniform() < self.film_coverage)
     }
 }
 
@@ -82,35 +115,55 @@ pub enum Interaction {
     Capped,
 }
 
-/// Media from the pore (index 0) to the core (last), with the film only facing an air pore.
-fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
-    let mut out = Stack { media: [Slab::semi_infinite(1.0); MAX_MEDIA], len: 0, brackets: None };
-    let mut push = |s: Slab| {
+/// Media from the pore (index 0) to the core (last), with the film only on a wetted point
+/// (`film`) facing an air pore. With the scattering of each medium (the coating's; none
+/// elsewhere).
+fn entry_media(p: &ParticleOptics, pore: &PoreOptics, water: bool, film: bool) -> (Stack, [Turbidity; MAX_MEDIA]) {
+    let mut out = Stack { media: [Slab::semi_infinite(1.0); MAX_MEDIA], len: 0, brackets: None, scattering: None };
+    let mut turbidity = [Turbidity::NONE; MAX_MEDIA];
+    let mut push = |s: Slab, tb: Turbidity| {
         out.media[out.len] = s;
+        turbidity[out.len] = tb;
         out.len += 1;
     };
-    push(Slab::semi_infinite(pore.index(water)));
-    if !water && p.wets && pore.film_thickness_mm > 0.0 {
-        push(Slab {
+    push(Slab::semi_infinite(pore.index(water)), Turbidity::NONE);
+    if !water && film && p.wets && pore.film_thickness_mm > 0.0 {
+        let film = Slab {
             n: pore.water_n,
             alpha_per_mm: pore.water_alpha_per_mm,
             thickness_mm: pore.film_thickness_mm,
             k_fresnel: 0.0,
-        });
+        };
+        push(film, Turbidity::NONE);
     }
     if let Some(c) = p.coating {
-        push(Slab { n: c.n, alpha_per_mm: c.alpha_per_mm, thickness_mm: c.thickness_mm, k_fresnel: 0.0 });
+        let tb = Turbidity { scattering_per_mm: c.scattering_per_mm, asymmetry: c.asymmetry };
+        push(Slab { n: c.n, alpha_per_mm: c.alpha_per_mm, thickness_mm: c.thickness_mm, k_fresnel: 0.0 }, tb);
     }
-    push(Slab { n: p.core_n, alpha_per_mm: 0.0, thickness_mm: 0.0, k_fresnel: p.core_k });
-    out
+    push(Slab { n: p.core_n, alpha_per_mm: 0.0, thickness_mm: 0.0, k_fresnel: p.core_k }, Turbidity::NONE);
+    (out, turbidity)
+}
+
+/// The stack's scattering model where a layer scatters (None: `stack_rt` is exact).
+fn with_scattering(mut st: Stack, turbidity: &[Turbidity]) -> Stack {
+    if turbidity.iter().any(|t| t.scattering_per_mm > 0.0) {
+        st.scattering = Some(Box::new(ScatteringStack::new(&st.media[..st.len], &turbidity[..st.len])));
+    }
+    st
+}
+
+fn entry_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, film: bool) -> Stack {
+    let (st, turbidity) = entry_media(p, pore, water, film);
+    with_scattering(st, &turbidity)
 }
 
 /// The same media in reverse order (core first); Fresnel from inside uses the real core index.
-fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool) -> Stack {
-    let mut out = entry_stack(p, pore, water);
+fn exit_stack(p: &ParticleOptics, pore: &PoreOptics, water: bool, film: bool) -> Stack {
+    let (mut out, mut turbidity) = entry_media(p, pore, water, film);
     out.media[..out.len].reverse();
+    turbidity[..out.len].reverse();
     out.media[0].k_fresnel = 0.0;
-    out
+    with_scattering(out, &turbidity)
 }
 
 /// What a ray does at a stack of media: the three outcomes with probabilities R, T, 1 − R − T.
@@ -139,12 +192,21 @@ struct Stack {
     len: usize,
     /// Per cell [R_lo, R_hi, (R+T)_lo, (R+T)_hi]; None: always evaluate.
     brackets: Option<Box<[[f64; 4]]>>,
+    /// Where the coating scatters: the stack with its diffuse parts (R and T are then the
+    /// totals, specular plus diffuse).
+    scattering: Option<Box<ScatteringStack>>,
 }
 
 impl Stack {
     #[inline]
     fn rt(&self, cos_0: f64) -> (f64, f64) {
-        stack_rt(&self.media[..self.len], cos_0)
+        match &self.scattering {
+            None => stack_rt(&self.media[..self.len], cos_0),
+            Some(s) => {
+                let f = s.fractions(cos_0);
+                (f.reflected(), f.transmitted())
+            }
+        }
     }
 
     /// The exact decision: the stack's R and T for incidence cosine `cos_0`, compared with u.
@@ -238,35 +300,50 @@ impl Stack {
 }
 
 /// The layer stacks of one particle type in one pore space: into the particle and out of it,
-/// each for an air- and a water-filled pore. They depend only on the optics, so a medium builds
-/// them once (`Particulate::new`, with bracket tables) rather than at every interaction.
+/// each for a dry point facing an air-filled pore, a wetted one (film) and a water-filled pore.
+/// They depend only on the optics, so a medium builds them once (`Particulate::new`, with
+/// bracket tables) rather than at every interaction.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stacks {
-    /// Indexed by `water as usize`.
-    entry: [Stack; 2],
-    exit: [Stack; 2],
+    /// Indexed by `StackKind::side`.
+    entry: [Stack; 3],
+    exit: [Stack; 3],
 }
 
-/// Which of a particle type's four stacks: into the particle (`exit` false) or out of it, with
-/// an air- or a water-filled pore on the outside.
+/// Which of a particle type's six stacks: into the particle (`exit` false) or out of it, with
+/// an air-filled pore (a dry point, or a wetted one: `film`) or a water-filled pore on the
+/// outside. `film` is false with `water` (a filled pore has no film).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StackKind {
     pub exit: bool,
     pub water: bool,
+    pub film: bool,
 }
 
 impl StackKind {
-    pub const ALL: [StackKind; 4] = [
-        StackKind { exit: false, water: false },
-        StackKind { exit: false, water: true },
-        StackKind { exit: true, water: false },
-        StackKind { exit: true, water: true },
+    pub const ALL: [StackKind; 6] = [
+        StackKind { exit: false, water: false, film: false },
+        StackKind { exit: false, water: false, film: true },
+        StackKind { exit: false, water: true, film: false },
+        StackKind { exit: true, water: false, film: false },
+        StackKind { exit: true, water: false, film: true },
+        StackKind { exit: true, water: true, film: false },
     ];
+
+    /// The outside: 0 a dry point in an air pore, 1 a wetted one, 2 a water-filled pore.
+    #[inline]
+    fn side(self) -> usize {
+        if self.water {
+            2
+        } else {
+            self.film as usize
+        }
+    }
 
     /// Position in `ALL`.
     #[inline]
     pub fn index(self) -> usize {
-        2 * self.exit as usize + self.water as usize
+        3 * self.exit as usize + self.side()
     }
 }
 
@@ -274,16 +351,48 @@ impl Stacks {
     #[inline]
     fn of(&self, kind: StackKind) -> &Stack {
         if kind.exit {
-            &self.exit[kind.water as usize]
+            &self.exit[kind.side()]
         } else {
-            &self.entry[kind.water as usize]
+            &self.entry[kind.side()]
         }
     }
 
-    /// R and T of stack `kind` at incidence cosine `cos_0` (exact evaluation).
+    /// R and T of stack `kind` at incidence cosine `cos_0` (exact evaluation; with a scattering
+    /// coating the totals, specular plus diffuse).
     #[inline]
     pub fn rt(&self, kind: StackKind, cos_0: f64) -> (f64, f64) {
         self.of(kind).rt(cos_0)
+    }
+
+    /// Whether stack `kind` reflects or transmits diffusely (a scattering coating).
+    #[inline]
+    pub fn scatters(&self, kind: StackKind) -> bool {
+        self.of(kind).scattering.is_some()
+    }
+
+    /// The four fractions of stack `kind` at `cos_0`, diffuse parts zero without scattering.
+    pub fn fractions(&self, kind: StackKind, cos_0: f64) -> Fractions {
+        let st = self.of(kind);
+        match &st.scattering {
+            Some(s) => s.fractions(cos_0),
+            None => {
+                let (r, t) = st.rt(cos_0);
+                Fractions { specular: r, diffuse_reflected: 0.0, direct: t, diffuse_transmitted: 0.0 }
+            }
+        }
+    }
+
+    /// The probability that a ray reflected (`reflected`) or transmitted by stack `kind` at
+    /// `cos_0` left it diffusely: the diffuse part over the total of that outcome.
+    pub fn diffuse_probability(&self, kind: StackKind, cos_0: f64, reflected: bool) -> f64 {
+        let f = self.fractions(kind, cos_0);
+        let (diffuse, total) =
+            if reflected { (f.diffuse_reflected, f.reflected()) } else { (f.diffuse_transmitted, f.transmitted()) };
+        if total > 0.0 {
+            diffuse / total
+        } else {
+            0.0
+        }
     }
 
     /// The decision for a uniform `u` at stack `kind` (reflect if u < R, absorb if u ≥ R + T).
@@ -295,8 +404,16 @@ impl Stacks {
     /// The stacks without bracket tables (cheap to build; every decision evaluates the stack).
     pub fn new(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
         Stacks {
-            entry: [entry_stack(p, pore, false), entry_stack(p, pore, true)],
-            exit: [exit_stack(p, pore, false), exit_stack(p, pore, true)],
+            entry: [
+                entry_stack(p, pore, false, false),
+                entry_stack(p, pore, false, true),
+                entry_stack(p, pore, true, false),
+            ],
+            exit: [
+                exit_stack(p, pore, false, false),
+                exit_stack(p, pore, false, true),
+                exit_stack(p, pore, true, false),
+            ],
         }
     }
 
@@ -305,12 +422,15 @@ impl Stacks {
     pub fn tabulated(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
         let s = Stacks::new(p, pore);
         let water_used = pore.water_filled_probability > 0.0;
-        let [ea, ew] = s.entry;
-        let [xa, xw] = s.exit;
+        let air_used = pore.water_filled_probability < 1.0;
+        let film = pore.film_thickness_mm > 0.0 && pore.film_coverage > 0.0;
+        let dry_used = !film || pore.film_coverage < 1.0;
+        let [ed, ef, ew] = s.entry;
+        let [xd, xf, xw] = s.exit;
         let tab = |st: Stack, used: bool| if used { st.with_brackets() } else { st };
         Stacks {
-            entry: [tab(ea, true), tab(ew, water_used)],
-            exit: [tab(xa, pore.water_filled_probability < 1.0), tab(xw, water_used)],
+            entry: [tab(ed, dry_used), tab(ef, film), tab(ew, water_used)],
+            exit: [tab(xd, air_used && dry_used), tab(xf, air_used && film), tab(xw, water_used)],
         }
     }
 }
@@ -340,6 +460,9 @@ pub trait PathChoices {
     /// A flat water surface reflected (`reflected`) or transmitted the ray at incidence cosine
     /// `cos`, arriving from the air (`from_air`) or from the water; the hero decided.
     fn water_surface(&mut self, from_air: bool, cos: f64, reflected: bool);
+    /// Whether the reflection (`reflected`) or transmission just decided at stack `kind`
+    /// (scattering, `Stacks::scatters`) was diffuse, for a uniform `u`.
+    fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool;
 }
 
 /// A path at one wavelength: every choice is the hero's, nothing to weigh.
@@ -359,6 +482,18 @@ impl PathChoices for Mono {
     }
     #[inline(always)]
     fn water_surface(&mut self, _from_air: bool, _cos: f64, _reflected: bool) {}
+    #[inline]
+    fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool {
+        u < stacks.diffuse_probability(kind, cos, reflected)
+    }
+}
+
+/// A direction with a cosine distribution about unit `normal`.
+#[inline]
+fn lambertian(normal: Vec3, rng: &mut Rng) -> Vec3 {
+    let l = cosine_hemisphere([rng.uniform(), rng.uniform()]);
+    let (a, b) = normal.orthonormal_basis();
+    (a * l.x + b * l.y + normal * l.z).renormalized()
 }
 
 /// Survival of Beer–Lambert attenuation over optical depth `x` = α L ≥ 0 for a uniform `u` in
@@ -408,15 +543,25 @@ pub fn interact_with_stacks(
     choices: &mut impl PathChoices,
 ) -> Interaction {
     let cos_i = (-d.dot(hit.normal)).clamp(0.0, 1.0);
-    match choices.stack_fate(stacks, StackKind { exit: false, water }, cos_i, rng.uniform()) {
-        StackFate::Reflect => return Interaction::Reflected { dir: d.reflect(hit.normal) },
+    let film = !water && pore.draw_film(rng);
+    let kind = StackKind { exit: false, water, film };
+    let fate = choices.stack_fate(stacks, kind, cos_i, rng.uniform());
+    // Diffuse parts exist only where the coating scatters; elsewhere no uniform is drawn, so a
+    // non-scattering stack makes today's decisions from today's random numbers.
+    let diffuse = fate != StackFate::Absorb
+        && stacks.scatters(kind)
+        && choices.diffuse(stacks, kind, cos_i, fate == StackFate::Reflect, rng.uniform());
+    let mut dir = match fate {
+        StackFate::Reflect => {
+            let dir = if diffuse { lambertian(hit.normal, rng) } else { d.reflect(hit.normal) };
+            return Interaction::Reflected { dir };
+        }
         StackFate::Absorb => return Interaction::Absorbed,
-        StackFate::Transmit => {}
-    }
-    let n_out = pore.index(water);
-    let mut dir = match refract(d, hit.normal, n_out / p.core_n) {
-        Some(t) => t,
-        None => return Interaction::Reflected { dir: d.reflect(hit.normal) },
+        StackFate::Transmit if diffuse => lambertian(-hit.normal, rng),
+        StackFate::Transmit => match refract(d, hit.normal, pore.index(water) / p.core_n) {
+            Some(t) => t,
+            None => return Interaction::Reflected { dir: d.reflect(hit.normal) },
+        },
     };
     let mut x = hit.point;
     for _ in 0..max_internal {
@@ -429,13 +574,22 @@ pub fn interact_with_stacks(
         let cos_in = dir.dot(n1).clamp(0.0, 1.0);
         // The pore beyond this point of the surface.
         let water_beyond = pore.draw_water(rng);
-        match choices.stack_fate(stacks, StackKind { exit: true, water: water_beyond }, cos_in, rng.uniform()) {
+        let film = !water_beyond && pore.draw_film(rng);
+        let kind = StackKind { exit: true, water: water_beyond, film };
+        let fate = choices.stack_fate(stacks, kind, cos_in, rng.uniform());
+        let diffuse = fate != StackFate::Absorb
+            && stacks.scatters(kind)
+            && choices.diffuse(stacks, kind, cos_in, fate == StackFate::Reflect, rng.uniform());
+        match fate {
             StackFate::Reflect => {
-                dir = dir.reflect(n1);
+                dir = if diffuse { lambertian(-n1, rng) } else { dir.reflect(n1) };
                 x = x1;
                 continue;
             }
             StackFate::Absorb => return Interaction::Absorbed,
+            StackFate::Transmit if diffuse => {
+                return Interaction::Transmitted { dir: lambertian(n1, rng), exit_point: x1, water: water_beyond }
+            }
             StackFate::Transmit => {}
         }
         match refract(dir, -n1, p.core_n / pore.index(water_beyond)) {
@@ -493,15 +647,15 @@ mod tests {
     #[test]
     fn bracketed_decisions_equal_exact_ones() {
         // Every stack kind (bare, film, coating, film + coating; from air and water; entry and
-        // exit with critical angles; weak to opaque layers).
+        // exit with critical angles; weak to opaque layers; a scattering coating, whose R and
+        // T are the totals).
         let mut rng = Rng::for_ray(4, 0, 0);
-        let (weak, dark) = (
-            Coating { n: 1.9, alpha_per_mm: 300.0, thickness_mm: 5e-4 },
-            Coating { n: 2.4, alpha_per_mm: 2e4, thickness_mm: 2e-4 },
-        );
+        let (weak, dark) = (Coating::uniform(1.9, 300.0, 5e-4), Coating::uniform(2.4, 2e4, 2e-4));
+        let turbid = Coating { scattering_per_mm: 3e3, asymmetry: 0.5, ..Coating::uniform(1.56, 2e3, 1e-4) };
         let cases = [
             (1.55, 4e-7, None, 0.05),
             (1.55, 4e-7, Some(weak), 0.05),
+            (1.544, 1e-7, Some(turbid), 0.05),
             (1.55, 1e-5, Some(dark), 50.0),
             (2.34, 0.1, None, 50.0),
             (3.0, 0.5, Some(weak), 0.05),
@@ -511,6 +665,7 @@ mod tests {
                 water_n: 1.333,
                 water_alpha_per_mm,
                 film_thickness_mm: 1e-3,
+                film_coverage: 0.5,
                 water_filled_probability: 0.4,
             };
             let p = ParticleOptics { core_n, core_k, core_alpha_per_mm: 1.0, coating, wets: true };
@@ -527,10 +682,12 @@ mod tests {
         let mut rng = Rng::for_ray(5, 0, 0);
         let log_uniform = |rng: &mut Rng, lo: f64, hi: f64| lo * (hi / lo).powf(rng.uniform());
         for _ in 0..RANDOM_STACK_MEDIA {
-            let coating = (rng.uniform() < 0.6).then(|| Coating {
-                n: 1.3 + 1.5 * rng.uniform(),
-                alpha_per_mm: log_uniform(&mut rng, 1e-2, 3e4),
-                thickness_mm: log_uniform(&mut rng, 1e-5, 2e-3),
+            let coating = (rng.uniform() < 0.6).then(|| {
+                Coating::uniform(
+                    1.3 + 1.5 * rng.uniform(),
+                    log_uniform(&mut rng, 1e-2, 3e4),
+                    log_uniform(&mut rng, 1e-5, 2e-3),
+                )
             });
             let core_k = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-8, 1.0) };
             let p = ParticleOptics {
@@ -542,8 +699,14 @@ mod tests {
             };
             let film_thickness_mm = if rng.uniform() < 0.3 { 0.0 } else { log_uniform(&mut rng, 1e-5, 2e-3) };
             let water_alpha_per_mm = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-3, 100.0) };
-            let pore =
-                PoreOptics { water_n: 1.333, water_alpha_per_mm, film_thickness_mm, water_filled_probability: 0.4 };
+            let film_coverage = [0.0, 0.5, 1.0][(3.0 * rng.uniform()) as usize % 3];
+            let pore = PoreOptics {
+                water_n: 1.333,
+                water_alpha_per_mm,
+                film_thickness_mm,
+                film_coverage,
+                water_filled_probability: 0.4,
+            };
             assert_bracketed_decisions_exact(&Stacks::tabulated(&p, &pore), 2_000, &mut rng);
         }
     }
@@ -551,6 +714,97 @@ mod tests {
     /// Random media in `bracketed_decisions_equal_exact_ones_for_random_stacks` (a debug-build
     /// test run; 2000 media were checked once in release).
     const RANDOM_STACK_MEDIA: usize = 40;
+
+    #[test]
+    fn partial_film_coverage_mixes_the_dry_and_the_wetted_surface() {
+        // A ray straight onto the centre of a sphere from an air pore is reflected at the first
+        // surface with R_dry on a dry point and R_film on a wetted one, so with coverage c the
+        // share reflected is c R_film + (1 − c) R_dry (binomial, within 4 standard errors). With
+        // coverage 0 the film is never met: the same outcomes, draw for draw, as no film.
+        let p = ParticleOptics {
+            core_n: 2.0,
+            core_k: 0.0,
+            core_alpha_per_mm: 0.0,
+            coating: Some(Coating::uniform(1.8, 50.0, 1e-3)),
+            wets: true,
+        };
+        let wet = PoreOptics { film_thickness_mm: 2e-3, film_coverage: 0.3, ..PoreOptics::DRY };
+        let s = Spheroid::new(0.25, 1.0, Vec3::new(0.0, 0.0, 1.0));
+        let d = Vec3::new(0.0, 0.0, -1.0);
+        let hit = Hit { point: Vec3::new(0.0, 0.0, 0.125), normal: Vec3::new(0.0, 0.0, 1.0) };
+        let stacks = Stacks::new(&p, &wet);
+        let r = |film| stacks.rt(StackKind { exit: false, water: false, film }, 1.0).0;
+        let expected = 0.3 * r(true) + 0.7 * r(false);
+        assert!((r(true) - r(false)).abs() > 0.02, "the film must change the reflectance: {} {}", r(true), r(false));
+        let n = 100_000;
+        let mut rng = Rng::for_ray(12, 0, 0);
+        let reflected = (0..n)
+            .filter(|_| {
+                matches!(interact(&p, &wet, &s, hit, d, false, &mut rng, 10_000), Interaction::Reflected { .. })
+            })
+            .count() as f64
+            / n as f64;
+        let se = (expected * (1.0 - expected) / n as f64).sqrt();
+        assert!((reflected - expected).abs() < 4.0 * se, "{reflected} vs {expected} ± {se}");
+
+        let uncovered = PoreOptics { film_coverage: 0.0, ..wet };
+        let (mut a, mut b) = (Rng::for_ray(13, 0, 0), Rng::for_ray(13, 0, 0));
+        for _ in 0..1000 {
+            let x = interact(&p, &uncovered, &s, hit, d, false, &mut a, 10_000);
+            let y = interact(&p, &PoreOptics::DRY, &s, hit, d, false, &mut b, 10_000);
+            assert_eq!(x, y);
+        }
+    }
+
+    #[test]
+    fn a_coating_that_does_not_scatter_traces_as_the_uniform_coating() {
+        // Zero scattering (any asymmetry): the same decisions from the same random numbers.
+        let s = Spheroid::new(0.25, 1.3, Vec3::new(0.0, 0.6, 0.8));
+        let pore = PoreOptics {
+            water_n: 1.333,
+            water_alpha_per_mm: 0.5,
+            film_thickness_mm: 1e-3,
+            water_filled_probability: 0.3,
+            film_coverage: 1.0,
+        };
+        let uniform = ParticleOptics { coating: Some(Coating::uniform(1.9, 300.0, 5e-4)), ..glass(1.55) };
+        let zero = ParticleOptics {
+            coating: Some(Coating { scattering_per_mm: 0.0, asymmetry: 0.6, ..Coating::uniform(1.9, 300.0, 5e-4) }),
+            ..glass(1.55)
+        };
+        let d = Vec3::new(0.0, 0.0, -1.0);
+        let (mut r1, mut r2) = (Rng::for_ray(12, 0, 0), Rng::for_ray(12, 0, 0));
+        for _ in 0..20_000 {
+            let (h1, h2) = (s.sample_hit(d, &mut r1, 100).unwrap(), s.sample_hit(d, &mut r2, 100).unwrap());
+            let a = interact(&uniform, &pore, &s, h1, d, false, &mut r1, 1000);
+            let b = interact(&zero, &pore, &s, h2, d, false, &mut r2, 1000);
+            assert_eq!(a, b);
+        }
+    }
+
+    #[test]
+    fn lossless_scattering_coating_never_absorbs_and_scatters_diffusely() {
+        // A non-absorbing pigmented coating on a clear sphere: every ray leaves, some of them
+        // off the mirror and Snell directions (diffuse), all directions unit.
+        let s = Spheroid::new(0.25, 1.0, Vec3::new(0.0, 0.0, 1.0));
+        let coating = Coating { scattering_per_mm: 2e4, asymmetry: 0.5, ..Coating::uniform(1.56, 0.0, 5e-4) };
+        let p = ParticleOptics { coating: Some(coating), ..glass(1.544) };
+        let mut rng = Rng::for_ray(13, 0, 0);
+        let d = Vec3::new(0.0, 0.0, -1.0);
+        let mut off_mirror = 0;
+        for _ in 0..10_000 {
+            let hit = s.sample_hit(d, &mut rng, 100).unwrap();
+            match interact(&p, &PoreOptics::DRY, &s, hit, d, false, &mut rng, 10_000) {
+                Interaction::Reflected { dir } => {
+                    assert!((dir.norm2() - 1.0).abs() < 1e-9 && dir.dot(hit.normal) >= -1e-12);
+                    off_mirror += ((dir - d.reflect(hit.normal)).norm2() > 1e-12) as usize;
+                }
+                Interaction::Transmitted { dir, .. } => assert!((dir.norm2() - 1.0).abs() < 1e-9),
+                other => panic!("unexpected {other:?}"),
+            }
+        }
+        assert!(off_mirror > 1000, "{off_mirror}");
+    }
 
     #[test]
     fn transparent_sphere_never_absorbs_and_directions_are_unit() {

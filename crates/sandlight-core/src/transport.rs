@@ -247,7 +247,13 @@ mod tests {
     }
 
     fn wet_pores() -> PoreOptics {
-        PoreOptics { water_n: N_WATER, water_alpha_per_mm: 0.0, film_thickness_mm: 0.01, water_filled_probability: 0.5 }
+        PoreOptics {
+            water_n: N_WATER,
+            water_alpha_per_mm: 0.0,
+            film_thickness_mm: 0.01,
+            film_coverage: 1.0,
+            water_filled_probability: 0.5,
+        }
     }
 
     /// Fates of rays 0..n at incidence `dir_in`: [escaped, absorbed, transmitted, capped].

@@ -18,6 +18,7 @@ fn medium(aspect: f64, k: f64, alpha: f64, coating: Option<Coating>, film: f64, 
         water_n: 1.333,
         water_alpha_per_mm: 0.01,
         film_thickness_mm: film,
+        film_coverage: 0.6,
         water_filled_probability: filled,
     };
     Particulate::new(vec![t(0.6, 0.25, 1.544), t(0.3, 0.001, 1.56), t(0.1, 0.01, 2.4)], 0.1, pore, f64::INFINITY)
@@ -26,7 +27,7 @@ fn medium(aspect: f64, k: f64, alpha: f64, coating: Option<Coating>, film: f64, 
 
 #[test]
 fn every_escaped_direction_is_a_finite_upward_unit_vector() {
-    let coat = Some(Coating { n: 1.9, alpha_per_mm: 200.0, thickness_mm: 0.0005 });
+    let coat = Some(Coating::uniform(1.9, 200.0, 0.0005));
     let media = [
         medium(1.0, 0.0, 0.01, None, 0.0, 0.0),
         medium(3.0, 1.3, 3e4, coat, 0.0, 0.0),

@@ -85,7 +85,8 @@ impl PyMedium {
     #[staticmethod]
     #[pyo3(signature = (probabilities, size_quantiles_mm, aspect_ratios, core_n, core_k, core_alpha_per_mm,
                         coating_n, coating_alpha_per_mm, coating_thickness_mm, mean_free_path_mm,
-                        water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability, depth_mm, memory = "none"))]
+                        water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability, depth_mm, memory = "none",
+                        film_coverage = 1.0, coating_scattering_per_mm = None, coating_asymmetry = None))]
     #[allow(clippy::too_many_arguments)] // one argument per Python parameter
     fn particulate(
         py: Python<'_>,
@@ -105,9 +106,17 @@ impl PyMedium {
         water_filled_probability: f64,
         depth_mm: f64,
         memory: &str,
+        film_coverage: f64,
+        coating_scattering_per_mm: Option<Vec<f64>>,
+        coating_asymmetry: Option<Vec<f64>>,
     ) -> PyResult<Self> {
         let build = || -> Result<WithMemory, SandlightError> {
             let n = probabilities.len();
+            // A uniform (non-scattering) coating unless the pigment's scattering is given.
+            let coating_scattering_per_mm = coating_scattering_per_mm.unwrap_or_else(|| vec![0.0; n]);
+            let coating_asymmetry = coating_asymmetry.unwrap_or_else(|| vec![0.0; n]);
+            same_len("coating_scattering_per_mm", coating_scattering_per_mm.len(), n)?;
+            same_len("coating_asymmetry", coating_asymmetry.len(), n)?;
             same_len("size_quantiles_mm", size_quantiles_mm.len(), n)?;
             same_len("aspect_ratios", aspect_ratios.len(), n)?;
             same_len("core_n", core_n.len(), n)?;
@@ -122,6 +131,8 @@ impl PyMedium {
                     n: coating_n[i],
                     alpha_per_mm: coating_alpha_per_mm[i],
                     thickness_mm: coating_thickness_mm[i],
+                    scattering_per_mm: coating_scattering_per_mm[i],
+                    asymmetry: coating_asymmetry[i],
                 });
                 types.push(ParticleType {
                     probability: probabilities[i],
@@ -136,7 +147,8 @@ impl PyMedium {
                     },
                 });
             }
-            let pore = PoreOptics { water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability };
+            let pore =
+                PoreOptics { water_n, water_alpha_per_mm, film_thickness_mm, film_coverage, water_filled_probability };
             let memory = match memory {
                 "none" => Memory::None,
                 "channel" => Memory::Channel,

@@ -22,9 +22,11 @@ Per unit mass of solids:
 
 Pore space (docs/model.md §2.1): mean free path ℓ = 4φ / [(1 − φ) Σᵢ vᵢ ⟨Sᵢ⟩/⟨Vᵢ⟩], with
 vᵢ the volume fractions of the solids; a ray meets type i with probability ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩.
-Water (§2.5): up to ``film_saturation`` the water forms films of thickness
-t_w = φ S_f / [(1 − φ) Σᵢ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩] = S_f ℓ/4 on every particle; beyond it, a pore is
-water-filled with probability (S − S_f)/(1 − S_f).
+Water (§2.5): up to ``film_saturation`` S_f the water is pendular: rings at the grain contacts
+that wet a fraction f of the particle surface (:func:`sandlight.physics.pendular.film_coverage`
+of min(S, S_f)), where it lies as a film of thickness t_w = φ min(S, S_f) / [f (1 − φ) Σᵢ
+vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩] = min(S, S_f) ℓ/(4f) (the same water volume); beyond S_f, a pore is water-filled
+with probability (S − S_f)/(1 − S_f).
 """
 
 from __future__ import annotations
@@ -35,6 +37,7 @@ from typing import TYPE_CHECKING
 
 from sandlight.errors import ParameterError
 from sandlight.optics import DENSITY_G_CM3
+from sandlight.physics.pendular import film_coverage
 from sandlight.physics.sizes import SizeDistribution, spheroid_surface_factor
 
 if TYPE_CHECKING:
@@ -88,6 +91,8 @@ class Composition:
     film_thickness_mm: float
     water_filled_probability: float
     depth_mm: float
+    #: Fraction of the particle surface facing an air-filled pore that the film wets.
+    film_coverage: float = 1.0
 
     def encounter_probabilities(self) -> list[float]:
         """P(type i) ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩ (docs/model.md §2.2)."""
@@ -219,7 +224,8 @@ def compose(sample: SandSample) -> Composition:
 
     s = sample.saturation
     s_film = min(s, sample.film_saturation)
-    film = s_film * ell / 4.0
+    coverage = film_coverage(s_film, phi)
+    film = s_film * ell / (4.0 * coverage) if coverage > 0.0 else 0.0
     filled = (s - s_film) / (1.0 - s_film) if s_film < 1.0 else 0.0
     return Composition(
         populations=tuple(pops),
@@ -228,4 +234,5 @@ def compose(sample: SandSample) -> Composition:
         film_thickness_mm=film,
         water_filled_probability=min(max(filled, 0.0), 1.0),
         depth_mm=sample.depth_mm,
+        film_coverage=coverage if coverage > 0.0 else 1.0,
     )

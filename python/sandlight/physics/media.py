@@ -34,7 +34,8 @@ from sandlight import _native
 from sandlight.checks import check_choice
 from sandlight.errors import ParameterError
 from sandlight.physics.composition import Composition, compose
-from sandlight.physics.medium import OpticalConstants, Traceable, native_medium
+from sandlight.physics.medium import COATING_OPTICS, OpticalConstants, Traceable, native_medium
+from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
 
 if TYPE_CHECKING:
     from sandlight.sample import SandSample
@@ -57,12 +58,13 @@ MEMORIES = ("none", "channel", "cut", "packed")
 #: Path memory of the on-the-fly engine when none is asked for (docs/geometry.md).
 DEFAULT_MEMORY = "none"
 
-#: Why the surface-layer models are not for wet sand yet (docs/geometry.md, "Wet sand").
+#: Why the surface-layer models are not validated for wet sand (docs/geometry.md, "Wet sand").
 WET_TOP_LAYER = (
     "memory='cut' or 'packed' and geometry='explicit' put the flat water surface of a water-filled "
     "surface pore at the top of the surface layer, above the highest grain, so with water-filled pores "
     "(saturation above film_saturation) they lose more light in the water bands than the classic model; "
-    "use memory='none' for wet sand (docs/geometry.md, 'Wet sand')"
+    "on the one measured wet/dry pair this agrees with the measurement where the classic model does not, "
+    "but it is not validated across saturations (docs/wet-sand.md, docs/geometry.md 'Wet sand')"
 )
 
 
@@ -95,33 +97,57 @@ class SandMedium:
         What the composition is, recorded in results (a sample's ``to_dict()``).
     optical_constants : callable, optional
         ``(material, wavelength_nm) -> n + ik`` replacing the shipped tables (what-if runs).
+    coating_optics : {'uniform', 'mie'}
+        How a coating's iron oxide acts (:data:`~sandlight.physics.medium.COATING_OPTICS`):
+        'uniform' (today's absorbing slab, the default until the predictor bank is retrained) or
+        'mie' (scattering pigment crystals, docs/model.md §2.4).
+    pigment_diameter_um : float
+        Diameter (µm) of the pigment crystals for 'mie'.
     """
 
     composition: Composition
     memory: str = DEFAULT_MEMORY
     description: Mapping = field(default_factory=dict)
     optical_constants: OpticalConstants | None = None
+    coating_optics: str = "uniform"
+    pigment_diameter_um: float = PIGMENT_DIAMETER_UM
 
     def __post_init__(self) -> None:
         check_choice("memory", self.memory, MEMORIES)
+        check_choice("coating_optics", self.coating_optics, COATING_OPTICS)
 
     @classmethod
     def from_sample(
-        cls, sample: SandSample, memory: str | None = None, *, optical_constants: OpticalConstants | None = None
+        cls,
+        sample: SandSample,
+        memory: str | None = None,
+        *,
+        optical_constants: OpticalConstants | None = None,
+        coating_optics: str = "uniform",
+        pigment_diameter_um: float = PIGMENT_DIAMETER_UM,
     ) -> SandMedium:
         """The medium of a :class:`~sandlight.SandSample` (``memory`` None: :data:`DEFAULT_MEMORY`)."""
         memory = DEFAULT_MEMORY if memory is None else memory
-        return cls(compose(sample), memory, sample.to_dict(), optical_constants)
+        return cls(compose(sample), memory, sample.to_dict(), optical_constants, coating_optics, pigment_diameter_um)
 
     def medium(self, wavelength_nm: float) -> _native.Medium:
         """The native medium at ``wavelength_nm`` (nm)."""
         return native_medium(
-            self.composition, wavelength_nm, memory=self.memory, optical_constants=self.optical_constants
+            self.composition,
+            wavelength_nm,
+            memory=self.memory,
+            optical_constants=self.optical_constants,
+            coating_optics=self.coating_optics,
+            pigment_diameter_um=self.pigment_diameter_um,
         )
 
     def describe(self) -> dict:
-        """The description, with geometry and memory when the memory is not 'none'."""
-        return _with_engine(self.description, "on-the-fly", self.memory)
+        """The description, with geometry and memory when the memory is not 'none', and the
+        coating optics when they are not 'uniform'."""
+        out = _with_engine(self.description, "on-the-fly", self.memory)
+        if self.coating_optics != "uniform":
+            out |= {"coating_optics": self.coating_optics, "pigment_diameter_um": self.pigment_diameter_um}
+        return out
 
 
 @dataclass(frozen=True)

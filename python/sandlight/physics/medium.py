@@ -10,7 +10,9 @@ pure-material powder in :mod:`sandlight.physics.powder`.
 wavelength. Mixing rules (docs/transport.md): a core or coating made of several materials gets
 the volume-weighted mean of their complex indices, n̄ = Σ vⱼ nⱼ and k̄ = Σ vⱼ kⱼ, hence the
 volume-weighted absorption coefficient ᾱ = Σ vⱼ αⱼ — the dilute-inclusion limit of
-docs/model.md §2.4 (Maxwell Garnett is the refinement for dense inclusions).
+docs/model.md §2.4 (Maxwell Garnett is the refinement for dense inclusions). With
+``coating_optics='mie'`` a coating's iron oxide is instead a Mie-scattering pigment in its
+kaolinite matrix (:mod:`sandlight.physics.pigment`, docs/model.md §2.4).
 """
 
 from __future__ import annotations
@@ -21,10 +23,18 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 
 from sandlight import _native
+from sandlight.checks import check_choice
 from sandlight.optics import complex_index
 from sandlight.physics.composition import Composition
+from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
+from sandlight.physics.pigment import coating_optics as pigmented_coating
 
-__all__ = ["Traceable", "OpticalConstants", "native_medium", "absorption_per_mm"]
+__all__ = ["Traceable", "OpticalConstants", "COATING_OPTICS", "native_medium", "absorption_per_mm"]
+
+#: How a coating's iron oxide acts: 'uniform' (absorbing, non-scattering slab with the volume
+#: mean of the bulk constants; the default until the predictor bank is retrained) or 'mie'
+#: (pigment crystals scattering and absorbing in the matrix, docs/model.md §2.4).
+COATING_OPTICS = ("uniform", "mie")
 
 #: Optical constants as a function ``(material, wavelength_nm) -> n + ik`` (the default is
 #: :func:`sandlight.optics.complex_index`).
@@ -62,17 +72,27 @@ def _mix(materials: dict, wavelength_nm: float, index: OpticalConstants) -> comp
 
 
 def native_medium(
-    comp: Composition, wavelength_nm: float, memory: str = "none", *, optical_constants: OpticalConstants | None = None
+    comp: Composition,
+    wavelength_nm: float,
+    memory: str = "none",
+    *,
+    optical_constants: OpticalConstants | None = None,
+    coating_optics: str = "uniform",
+    pigment_diameter_um: float = PIGMENT_DIAMETER_UM,
 ) -> _native.Medium:
     """The native medium of composition ``comp`` at ``wavelength_nm`` (nm, vacuum).
 
     ``memory`` is the on-the-fly engine's near-surface path memory, 'none' (the classic model),
     'channel', 'cut' or 'packed' (docs/geometry.md). ``optical_constants`` replaces the shipped
-    tables (:func:`sandlight.optics.complex_index`), e.g. for a what-if run.
+    tables (:func:`sandlight.optics.complex_index`), e.g. for a what-if run. ``coating_optics``
+    is one of :data:`COATING_OPTICS`; ``pigment_diameter_um`` the pigment crystals' diameter
+    (µm) for 'mie'.
     """
+    check_choice("coating_optics", coating_optics, COATING_OPTICS)
     index = complex_index if optical_constants is None else optical_constants
     probs = comp.encounter_probabilities()
     quantiles, aspect, core_n, core_k, core_a, coat_n, coat_a, coat_t = ([] for _ in range(8))
+    coat_s, coat_g = [], []
     for p in comp.populations:
         core = _mix(p.core, wavelength_nm, index)
         quantiles.append(p.sizes.encounter_quantiles().tolist())
@@ -80,15 +100,20 @@ def native_medium(
         core_n.append(core.real)
         core_k.append(core.imag)
         core_a.append(absorption_per_mm(core.imag, wavelength_nm))
-        if p.coating and p.coating_thickness_mm > 0:
+        coated = bool(p.coating) and p.coating_thickness_mm > 0
+        if coated and coating_optics == "mie":
+            c = pigmented_coating(p.coating, wavelength_nm, pigment_diameter_um, optical_constants=index)
+            n, a, sca, g = c.n, c.absorption_per_mm, c.scattering_per_mm, c.asymmetry
+        elif coated:
             c = _mix(p.coating, wavelength_nm, index)
-            coat_n.append(c.real)
-            coat_a.append(absorption_per_mm(c.imag, wavelength_nm))
-            coat_t.append(p.coating_thickness_mm)
+            n, a, sca, g = c.real, absorption_per_mm(c.imag, wavelength_nm), 0.0, 0.0
         else:
-            coat_n.append(1.0)
-            coat_a.append(0.0)
-            coat_t.append(0.0)
+            n, a, sca, g = 1.0, 0.0, 0.0, 0.0
+        coat_n.append(n)
+        coat_a.append(a)
+        coat_s.append(sca)
+        coat_g.append(g)
+        coat_t.append(p.coating_thickness_mm if coated else 0.0)
     water = complex(index("water", wavelength_nm))
     return _native.Medium.particulate(
         probs,
@@ -107,4 +132,6 @@ def native_medium(
         comp.water_filled_probability,
         comp.depth_mm,
         memory=memory,
+        film_coverage=comp.film_coverage,
+        **({"coating_scattering_per_mm": coat_s, "coating_asymmetry": coat_g} if coating_optics == "mie" else {}),
     )

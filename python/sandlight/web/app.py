@@ -13,6 +13,7 @@ from starlette.middleware.trustedhost import TrustedHostMiddleware
 from starlette.routing import Route
 
 from sandlight.web import assets, preview, routes, spectra
+from sandlight.web.batching import Batcher
 from sandlight.web.errors import EXCEPTION_HANDLERS
 from sandlight.web.jobs import JobManager
 from sandlight.web.limits import Limits
@@ -57,7 +58,9 @@ def create_app(limits: Limits = Limits(), *, allowed_hosts: Sequence[str] | None
     Returns
     -------
     starlette.applications.Starlette
-        ``app.state.jobs`` is its `JobManager`, ``app.state.limits`` its limits.
+        ``app.state.jobs`` is its `JobManager`, ``app.state.limits`` its limits; the spectrum
+        and colour requests waiting at one moment are answered together
+        (``app.state.spectrum_batcher``, ``app.state.colour_batcher``: `sandlight.web.batching`).
     """
 
     @contextlib.asynccontextmanager
@@ -81,5 +84,7 @@ def create_app(limits: Limits = Limits(), *, allowed_hosts: Sequence[str] | None
     ]
     app = Starlette(routes=ROUTES, middleware=middleware, exception_handlers=EXCEPTION_HANDLERS, lifespan=lifespan)
     app.state.limits = limits
+    app.state.spectrum_batcher = Batcher(spectra.spectrum_answers)
+    app.state.colour_batcher = Batcher(spectra.colour_answers)
     app.state.jobs = JobManager(limits.max_running_jobs, limits.max_jobs_per_client, limits.max_kept_jobs)
     return app

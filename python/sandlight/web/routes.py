@@ -101,7 +101,7 @@ async def spectrum(request: Request) -> JSONResponse:
     """``POST /api/spectrum``: the predicted spectrum, the model and its hold-out error."""
     body = await json_body(request)
     keys_allowed(body, ("sample",))
-    return JSONResponse(spectra.spectrum_answer(sample_in(body)))
+    return JSONResponse(await request.app.state.spectrum_batcher(sample_in(body)))
 
 
 async def colour(request: Request) -> JSONResponse:
@@ -109,7 +109,7 @@ async def colour(request: Request) -> JSONResponse:
     body = await json_body(request)
     keys_allowed(body, ("sample", "compare"))
     compare = sample_in(body, "compare") if body.get("compare") is not None else None
-    return JSONResponse(spectra.colour_answer(sample_in(body), compare))
+    return JSONResponse(await request.app.state.colour_batcher((sample_in(body), compare)))
 
 
 def _grid_size(body: dict, name: str, default: int, low: int, high: int) -> int:

@@ -14,8 +14,10 @@ perfect reflector under each illuminant, and CIEDE2000 between two samples under
 
 from __future__ import annotations
 
-import functools
+import threading
 import warnings
+from collections import OrderedDict
+from collections.abc import Hashable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -29,7 +31,18 @@ from sandlight.errors import ParameterError
 from sandlight.predictor.bank import ModelBank, default_model, holdout_rms
 from sandlight.sample import SandSample
 
-__all__ = ["Prediction", "predict", "colour_of", "delta_e2000", "spectrum_answer", "colour_answer"]
+__all__ = [
+    "Prediction",
+    "predict",
+    "predict_many",
+    "colour_of",
+    "colours_of",
+    "sample_colours",
+    "spectrum_answer",
+    "spectrum_answers",
+    "colour_answer",
+    "colour_answers",
+]
 
 #: The engine's wavelength range, nm (where a Monte Carlo job can answer).
 ENGINE_RANGE_NM = (350.0, 2500.0)
@@ -64,6 +77,32 @@ class Prediction:
         return self.model is not None
 
 
+class _Kept(OrderedDict):
+    """The last ``size`` answers by sample, least recently used dropped first (thread-safe: job
+    threads read it too)."""
+
+    def __init__(self, size: int) -> None:
+        super().__init__()
+        self.size = size
+        self._lock = threading.Lock()
+
+    def __getitem__(self, key: Hashable) -> Any:
+        with self._lock:
+            self.move_to_end(key)
+            return super().__getitem__(key)
+
+    def put(self, key: Hashable, value: Any) -> None:
+        with self._lock:
+            self[key] = value
+            self.move_to_end(key)
+            while len(self) > self.size:
+                self.popitem(last=False)
+
+
+_KEPT_PREDICTIONS = _Kept(1024)
+_KEPT_COLOURS = _Kept(1024)
+
+
 def bank() -> ModelBank:
     """The shipped bank (loaded once; its version warnings said once, in the server's log)."""
     with warnings.catch_warnings():
@@ -71,43 +110,73 @@ def bank() -> ModelBank:
         return default_model()
 
 
-@functools.lru_cache(maxsize=1024)
 def predict(sample: SandSample) -> Prediction:
-    """The spectrum of ``sample`` from the first model of the bank that covers it.
+    """The spectrum of ``sample`` from the first model of the bank that covers it."""
+    return predict_many([sample])[0]
+
+
+def predict_many(samples: Sequence[SandSample]) -> list[Prediction]:
+    """The spectra of ``samples``, the ones not kept evaluated by the bank in one vectorised call.
 
     The last 1024 answers are kept: the page asks for the same sample's spectrum, colour,
     overlay and export (samples are immutable and hashable, the bank never changes)."""
-    models = bank()
-    try:
-        values, used = models.predict([sample], return_models=True)
-    except ParameterError as exc:  # outside every model's domain: the message says which parameter
-        return Prediction(None, None, None, None, str(exc))
-    name = str(used[0])
-    wavelengths, reflectance = models.wavelengths_.copy(), values[0]
+    todo = list(dict.fromkeys(s for s in samples if s not in _KEPT_PREDICTIONS))
+    if todo:
+        models = bank()
+        try:  # usually every sample is covered: one call
+            inside, outside = todo, []
+            values, used = models.predict(inside, return_models=True)
+        except ParameterError:  # some are not: split them off and say why for each
+            covered = models.select(todo) >= 0
+            inside = [s for s, c in zip(todo, covered) if c]
+            outside = [s for s, c in zip(todo, covered) if not c]
+            values, used = models.predict(inside, return_models=True) if inside else ([], [])
+        for sample, reflectance, name in zip(inside, values, used):
+            _KEPT_PREDICTIONS.put(sample, _answered(models, reflectance, str(name)))
+        for sample in outside:
+            _KEPT_PREDICTIONS.put(sample, _not_covered(models, sample))
+    return [_KEPT_PREDICTIONS[s] for s in samples]
+
+
+def _answered(models: ModelBank, reflectance: np.ndarray, name: str) -> Prediction:
+    wavelengths = models.wavelengths_.copy()
+    reflectance = reflectance.copy()
     for shared in (wavelengths, reflectance):  # a kept answer must not change
         shared.setflags(write=False)
     return Prediction(wavelengths, reflectance, name, holdout_rms(models.model(name)), models.describe(name))
 
 
+def _not_covered(models: ModelBank, sample: SandSample) -> Prediction:
+    try:
+        models.predict([sample])
+    except ParameterError as exc:  # outside every model's domain: the message says which parameter
+        return Prediction(None, None, None, None, str(exc))
+    raise AssertionError(f"the bank predicts {sample!r}, which it said no model covers")
+
+
 def colour_of(wavelengths_nm: ArrayLike, reflectance: ArrayLike) -> dict[str, Any]:
     """sRGB (encoded, 0–1, and as #rrggbb), out-of-gamut flag, CIELAB under D50 and D65 of a spectrum
     covering 400–700 nm (`sandlight.colour.spectrum.spectrum_to_xyz`)."""
+    return colours_of(wavelengths_nm, np.asarray(reflectance, dtype=float)[None])[0]
+
+
+def colours_of(wavelengths_nm: ArrayLike, reflectance: ArrayLike) -> list[dict[str, Any]]:
+    """`colour_of` for each row of ``reflectance`` (n, wavelengths), in one vectorised pass."""
     xyz50 = spectrum_to_xyz(wavelengths_nm, reflectance)
     xyz65 = spectrum_to_xyz(wavelengths_nm, reflectance, illuminant="D65")
     rgb, outside = xyz_to_srgb(xyz50, return_out_of_gamut=True)
-    code = srgb_to_uint8(rgb)
-    return {
-        "srgb": [float(c) for c in rgb],
-        "hex": "#" + "".join(f"{int(c):02x}" for c in code),
-        "out_of_gamut": bool(outside),
-        "lab_d50": [float(c) for c in xyz_to_lab(xyz50)],
-        "lab_d65": [float(c) for c in xyz_to_lab(xyz65, illuminant="D65")],
-    }
-
-
-def delta_e2000(lab_a: ArrayLike, lab_b: ArrayLike) -> float:
-    """CIEDE2000 colour difference of two CIELAB colours (same illuminant)."""
-    return float(colour.delta_E(np.asarray(lab_a), np.asarray(lab_b), method="CIE 2000"))
+    codes = srgb_to_uint8(rgb)
+    lab50, lab65 = xyz_to_lab(xyz50), xyz_to_lab(xyz65, illuminant="D65")
+    return [
+        {
+            "srgb": rgb[i].tolist(),
+            "hex": "#" + "".join(f"{int(c):02x}" for c in codes[i]),
+            "out_of_gamut": bool(outside[i]),
+            "lab_d50": lab50[i].tolist(),
+            "lab_d65": lab65[i].tolist(),
+        }
+        for i in range(len(rgb))
+    ]
 
 
 def _uncovered(prediction: Prediction) -> dict[str, Any]:
@@ -132,7 +201,15 @@ def _answered_by(p: Prediction) -> dict[str, Any]:
 
 def spectrum_answer(sample: SandSample) -> dict[str, Any]:
     """The body of ``POST /api/spectrum`` (docs/explorer.md)."""
-    p = predict(sample)
+    return spectrum_answers([sample])[0]
+
+
+def spectrum_answers(samples: Sequence[SandSample]) -> list[dict[str, Any]]:
+    """`spectrum_answer` of each sample, the bank called once for all not kept."""
+    return [_spectrum_body(p) for p in predict_many(samples)]
+
+
+def _spectrum_body(p: Prediction) -> dict[str, Any]:
     if not p.covered:
         return _uncovered(p)
     return {
@@ -147,23 +224,39 @@ def spectrum_answer(sample: SandSample) -> dict[str, Any]:
     }
 
 
-def _sample_colour(sample: SandSample) -> dict[str, Any]:
-    return dict(_kept_sample_colour(sample))
+def sample_colours(samples: Sequence[SandSample]) -> list[dict[str, Any]]:
+    """The colour answer of each sample (`colour_of` of its prediction, or why no model covers it);
+    the ones not kept computed in one vectorised pass."""
+    todo = list(dict.fromkeys(s for s in samples if s not in _KEPT_COLOURS))
+    predictions = dict(zip(todo, predict_many(todo)))
+    covered = [s for s in todo if predictions[s].covered]
+    if covered:
+        wavelengths = predictions[covered[0]].wavelengths_nm
+        rows = np.stack([predictions[s].reflectance for s in covered])
+        for sample, colour_answer_ in zip(covered, colours_of(wavelengths, rows)):
+            _KEPT_COLOURS.put(sample, {**_answered_by(predictions[sample]), **colour_answer_})
+    for sample in (s for s in todo if not predictions[s].covered):
+        _KEPT_COLOURS.put(sample, _answered_by(predictions[sample]))
+    return [dict(_KEPT_COLOURS[s]) for s in samples]
 
 
-@functools.lru_cache(maxsize=1024)
-def _kept_sample_colour(sample: SandSample) -> dict[str, Any]:
-    p = predict(sample)
-    return _answered_by(p) if not p.covered else {**_answered_by(p), **colour_of(p.wavelengths_nm, p.reflectance)}
+def colour_answers(pairs: Sequence[tuple[SandSample, SandSample | None]]) -> list[dict[str, Any]]:
+    """The bodies of ``POST /api/colour`` for (A, B) pairs: the colour of A, of B (None: no
+    comparison) and their CIEDE2000 difference under D50 when both are covered."""
+    distinct = list(dict.fromkeys(x for pair in pairs for x in pair if x is not None))
+    found = dict(zip(distinct, sample_colours(distinct)))
+    answers = [{"a": found[a]} if b is None else {"a": found[a], "b": found[b]} for a, b in pairs]
+    compared = [x for x in answers if "b" in x]
+    for answer in compared:
+        answer["delta_e2000"] = None
+    both = [x for x in compared if x["a"]["covered"] and x["b"]["covered"]]
+    if both:
+        lab_a, lab_b = (np.array([x[k]["lab_d50"] for x in both]) for k in "ab")
+        for answer, de in zip(both, np.atleast_1d(colour.delta_E(lab_a, lab_b, method="CIE 2000"))):
+            answer["delta_e2000"] = float(de)
+    return answers
 
 
 def colour_answer(sample: SandSample, compare: SandSample | None) -> dict[str, Any]:
-    """The body of ``POST /api/colour``: the colour of ``sample`` (A), of ``compare`` (B) and
-    their CIEDE2000 difference under D50 when both are covered."""
-    a = _sample_colour(sample)
-    answer: dict[str, Any] = {"a": a}
-    if compare is not None:
-        b = _sample_colour(compare)
-        answer["b"] = b
-        answer["delta_e2000"] = delta_e2000(a["lab_d50"], b["lab_d50"]) if a["covered"] and b["covered"] else None
-    return answer
+    """The body of ``POST /api/colour`` for one pair (`colour_answers`)."""
+    return colour_answers([(sample, compare)])[0]
