@@ -34,6 +34,8 @@ LAYERS: tuple[tuple[str, frozenset[str]], ...] = (
     ("measurement", frozenset({"engine", "gonio", "validation", "calibration"})),
     ("test support", frozenset({"testing"})),
     ("predictors", frozenset({"predictor", "spatial"})),
+    # Retrieval runs the predictors and the engine backwards: spectrum → sample parameters.
+    ("retrieval", frozenset({"retrieval"})),
     ("appearance", frozenset({"appearance"})),
     ("colour/render", frozenset({"colour", "sky", "render", "mitsuba"})),
     # The command line and the web explorer are the top layer; `sandlight serve` (cli) starts the

@@ -33,6 +33,9 @@ _NATIVE_API = {
     "SpectralModel": "sandlight.predictor",
     "SpatialModel": "sandlight.spatial",
     "SandAppearance": "sandlight.appearance",
+    "fit": "sandlight.retrieval",
+    "bands": "sandlight.retrieval",
+    "FitResult": "sandlight.retrieval",
 }
 
 

@@ -38,7 +38,7 @@ import xarray as xr
 
 from sandlight.errors import ModelFileError, ParameterError
 
-__all__ = ["read_usgs", "read_csv", "usgs_library"]
+__all__ = ["read_usgs", "read_csv", "usgs_library", "measured_spectrum"]
 
 USGS_CITATION = (
     "Kokaly, R.F., et al., 2017, USGS Spectral Library Version 7: U.S. Geological "
@@ -179,7 +179,7 @@ def read_usgs(path: str | os.PathLike, wavelengths: str | os.PathLike | None = N
         line = int(np.flatnonzero(steps <= 0)[0]) + 3
         raise ModelFileError(f"{wavelength_path}, line {line}: wavelengths are not strictly increasing")
     wavelength_nm = wavelength_um * 1000.0  # splib07 wavelength files are in micrometres
-    return _spectrum(
+    return measured_spectrum(
         values,
         wavelength_nm,
         {
@@ -194,7 +194,7 @@ def read_usgs(path: str | os.PathLike, wavelengths: str | os.PathLike | None = N
     )
 
 
-def _spectrum(values: np.ndarray, wavelength_nm: np.ndarray, attrs: dict) -> xr.DataArray:
+def measured_spectrum(values: np.ndarray, wavelength_nm: np.ndarray, attrs: dict) -> xr.DataArray:
     """A measured reflectance spectrum as the readers return it: ``values`` on the vacuum
     wavelengths ``wavelength_nm`` (nm), with the file's ``attrs``."""
     return xr.DataArray(
@@ -315,7 +315,7 @@ def read_csv(path: str | os.PathLike) -> xr.DataArray:
     scale = "percent" if (says_percent or peak > _FRACTION_MAX) else "fraction"
     if scale == "percent":
         reflectance = reflectance / 100.0
-    return _spectrum(
+    return measured_spectrum(
         reflectance,
         wavelength,
         {

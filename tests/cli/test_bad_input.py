@@ -33,6 +33,10 @@ BAD = {
         "--size = 5 is not allowed: a whole number of pixels in [16, 4096]",
     ),
     "validate": (["validate", "--rays", "0", "-o", "v/report.md"], "--rays = '0' is not allowed"),
+    "fit": (
+        ["fit", "missing.csv", "--free", "iron_oxide", "--check-rays", "0", "-o", "f.toml"],
+        "no such spectrum file: missing.csv",
+    ),
     "serve": (
         ["serve", "--host", "0.0.0.0", "--no-open"],
         "--host = '0.0.0.0' is not allowed: a loopback address (127.0.0.1, ::1, localhost) unless --allow-remote",

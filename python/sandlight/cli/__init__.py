@@ -6,6 +6,7 @@ from sandlight.cli import colour as _colour  # noqa: F401,E402
 
 # Command modules (one per area); imported for their @app.command() side effect.
 from sandlight.cli import engine as _engine  # noqa: F401,E402
+from sandlight.cli import fit as _fit  # noqa: F401,E402
 from sandlight.cli import gonio as _gonio  # noqa: F401,E402
 from sandlight.cli import predict as _predict  # noqa: F401,E402
 from sandlight.cli import render as _render  # noqa: F401,E402
