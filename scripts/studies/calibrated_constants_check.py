@@ -52,16 +52,9 @@ def chroma_hue(lab) -> tuple[float, float]:
 
 def with_k(material: str, path: Path):
     """The shipped optical constants with ``material``'s k from a calibration csv (log-linear)."""
-    from sandlight.calibration import read_k_table
-    from sandlight.optics import complex_index, interpolate_k
+    from sandlight.calibration import with_calibrated_k
 
-    _, wl, _, k = read_k_table(path)
-
-    def index(name: str, wavelength_nm: float) -> complex:
-        m = complex(complex_index(name, wavelength_nm))
-        return complex(m.real, float(interpolate_k(wavelength_nm, wl, k))) if name == material else m
-
-    return index
+    return with_calibrated_k({material: path})
 
 
 def as_medium(preset: str, index):

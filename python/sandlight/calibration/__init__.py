@@ -18,12 +18,16 @@ synthetic_spectra, edge_and_band_log10_k
     Synthetic spectra at a known k(λ), for the round trip (:mod:`.synthetic`).
 identifiability, markdown_residuals, markdown_identifiability, plot_calibration, write_k_table
     Reports (:mod:`.report`).
+with_calibrated_k
+    Optical constants with the calibrated k of some minerals, for runs before it is shipped
+    (:mod:`.constants`).
 
 The method, its assumptions and the first results are in docs/optical-constants.md
 ("Calibration on pure end-members"); the command is ``scripts/data/calibrate_optical_constants.py``.
 """
 
 from sandlight.calibration import report
+from sandlight.calibration.constants import with_calibrated_k
 from sandlight.calibration.end_members import MEASUREMENT_SIGMA, EndMember, end_members, measured_reflectance
 from sandlight.calibration.fit import KFit, holdout
 from sandlight.calibration.forward import EnginePowder
@@ -48,5 +52,6 @@ __all__ = [
     "LITERATURE_MINERALS",
     "synthetic_spectra",
     "edge_and_band_log10_k",
+    "with_calibrated_k",
     *report.__all__,
 ]
