@@ -1,6 +1,6 @@
 """Latency of the sand explorer's API on a loopback server (prints figures; asserts nothing).
 
-    python3 benchmarks/explorer.py [--requests 400] [--max-seconds 60] [--previews 5]
+    python3 benchmarks/explorer.py [--requests 2000] [--max-seconds 60] [--previews 5]
 
 Starts ``sandlight.web.create_app`` under uvicorn in a separate process on 127.0.0.1 (a free
 port), then, from this process with httpx:
@@ -151,7 +151,7 @@ def first_image_s(url: str, sample: dict) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--requests", type=int, default=400, help="requests per endpoint and concurrency")
+    parser.add_argument("--requests", type=int, default=2000, help="requests per endpoint and concurrency")
     parser.add_argument("--max-seconds", type=float, default=60.0, help="time bound per endpoint and concurrency")
     parser.add_argument("--previews", type=int, default=5, help="previews of new samples timed")
     args = parser.parse_args()
