@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from sandlight import SandSample, reflectance
+from sandlight import SandSample, _native, reflectance
 from sandlight.colour.lch import lch_with_chroma_error
 from sandlight.errors import ParameterError
 from sandlight.physics.composition import compose
@@ -59,3 +59,23 @@ def test_coverage_of_a_sand_without_coating_changes_nothing():
 def test_out_of_domain_coverage_is_refused_with_its_name(value):
     with pytest.raises(ParameterError, match="coating_coverage"):
         SandSample(coating_coverage=value)
+
+
+# One coated particle type for the binding: probabilities, size quantiles, aspect ratios, core
+# n, k, α, coating n, α, thickness, free path, water n, α, film thickness, filled-pore
+# probability, depth.
+ONE_COATED_TYPE = ([1.0], [[0.2, 0.25, 0.3]], [1.3], [1.54], [0.0], [0.0], [1.9], [10.0], [1e-3])
+PORE = (0.1, 1.333, 0.0, 0.0, 0.0, math.inf)
+
+
+@pytest.mark.parametrize(
+    "coverage, message",
+    [
+        ([1.5], r"particle_types\[0\]\.coating_coverage"),
+        ([math.nan], "coating_coverage"),
+        ([0.5, 0.5], "coating_coverage"),
+    ],
+)
+def test_the_binding_refuses_a_bad_coverage_with_its_name(coverage, message):
+    with pytest.raises(ParameterError, match=message):
+        _native.Medium.particulate(*ONE_COATED_TYPE, *PORE, coating_coverage=coverage)
