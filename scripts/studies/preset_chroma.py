@@ -3,9 +3,9 @@
 Traces every shipped preset (400–700 nm, CIELAB D50/10°) with the chosen coating optics, film
 model, coating coverage (``--coating-coverage F``: ``SandSample.coating_coverage`` set to F in
 every preset, docs/model.md §2.4) and optical constants (``--calibrated``: the calibrated k of the
-quartz host and goethite from docs/calibration, staged until the bank is retrained) and prints L*, C*ab ± its Monte Carlo
-standard error and h°; a preset with iron_oxide ≤ 0.05 whose
-C*ab exceeds 50 by more than 4 standard errors fails the check, and the script then exits with
+quartz host and goethite from docs/calibration, staged until the bank is retrained) and prints
+L*, C*ab ± its Monte Carlo standard error and h°; a preset with iron_oxide ≤ 0.05 whose C*ab
+exceeds 50 by more than 4 standard errors fails the check, and the script then exits with
 status 1.
 
 Usage::
