@@ -466,6 +466,8 @@ impl Stacks {
         let film = pore.film_thickness_mm > 0.0 && pore.film_coverage > 0.0;
         let dry_used = !film || pore.film_coverage < 1.0;
         let bare_occurs = s.bare_occurs;
+        // Coverage 0 (bare everywhere) never meets the coated stacks.
+        let coated_occurs = p.coating.is_none_or(|c| c.coverage > 0.0);
         let tab = |st: Stack, used: bool| if used { st.with_brackets() } else { st };
         let sides = |[d, f, w]: [Stack; 3], exit: bool, surface_used: bool| {
             let air = !exit || air_used;
@@ -478,8 +480,8 @@ impl Stacks {
         let [ec, eb] = s.entry;
         let [xc, xb] = s.exit;
         Stacks {
-            entry: [sides(ec, false, true), sides(eb, false, bare_occurs)],
-            exit: [sides(xc, true, true), sides(xb, true, bare_occurs)],
+            entry: [sides(ec, false, coated_occurs), sides(eb, false, bare_occurs)],
+            exit: [sides(xc, true, coated_occurs), sides(xb, true, bare_occurs)],
             bare_occurs,
         }
     }
