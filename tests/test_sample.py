@@ -37,7 +37,13 @@ def test_fields_follow_the_parameter_table_in_order():
 
 def test_issue_parameters_and_additions():
     added = {p.name for p in PARAMETERS if p.added}
-    assert added == {"film_saturation", "iron_oxide_particle_size_um", "depth_mm", "host_absorption"}
+    assert added == {
+        "film_saturation",
+        "iron_oxide_particle_size_um",
+        "depth_mm",
+        "host_absorption",
+        "coating_coverage",
+    }
     form = SandSample.parameter("iron_oxide_form")
     assert form.kind == "choice" and form.choices == ("coating", "mixed", "particles")
     assert SandSample.parameter("grain_size").unit == "mm"
@@ -64,6 +70,7 @@ def test_defaults():
         iron_oxide_particle_size_um=1.0,
         depth_mm=math.inf,
         host_absorption=1.0,
+        coating_coverage=1.0,
     )
     assert {p.name: getattr(s, p.name) for p in PARAMETERS} == expected
     assert all(getattr(s, p.name) == p.default for p in PARAMETERS)
@@ -88,8 +95,9 @@ def test_domains_as_specified():
         "iron_oxide_particle_size_um": (0.1, 50),
         "depth_mm": (0, math.inf),
         "host_absorption": (0, 10),
+        "coating_coverage": (0, 1),
     }
-    assert [p.name for p in PARAMETERS if p.low_open] == ["depth_mm"]
+    assert [p.name for p in PARAMETERS if p.low_open] == ["depth_mm", "coating_coverage"]
 
 
 # The separates are checked jointly: their domain ends come with partners summing to 1.

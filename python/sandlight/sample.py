@@ -12,8 +12,8 @@ SandSample
     file, or a named preset shipped in ``sandlight/data/presets/``.
 
 The parameters of issue 2 follow SPLITS (Kimmel & Baranoski 2007) and the paper in
-``shared/paper``; ``film_saturation``, ``iron_oxide_particle_size_um``, ``depth_mm`` and
-``host_absorption`` are sandlight's additions (``Parameter.added``). See ``docs/sample.md``.
+``shared/paper``; ``film_saturation``, ``iron_oxide_particle_size_um``, ``depth_mm``, ``host_absorption`` and
+``coating_coverage`` are sandlight's additions (``Parameter.added``). See ``docs/sample.md``.
 """
 
 from __future__ import annotations
@@ -183,6 +183,17 @@ PARAMETERS: tuple[Parameter, ...] = (
         "on the USGS quartz powders and sands (docs/optical-constants.md), 0 a perfectly clear crystal",
         added=True,
     ),
+    Parameter(
+        "coating_coverage",
+        "",
+        1.0,
+        0.0,
+        1.0,
+        "fraction of a coated particle's surface that carries the coating (patches, t/f thick on them; "
+        "the same iron mass): 1 is a uniform coating over the whole surface",
+        low_open=True,
+        added=True,
+    ),
 )
 
 _BY_NAME: dict[str, Parameter] = {p.name: p for p in PARAMETERS}
@@ -249,6 +260,22 @@ class SandSample:
         in [0, 10]: 1 (default) is natural-grain quartz as calibrated on the USGS quartz powders
         and Ottawa sand (docs/optical-constants.md); 0 a perfectly clear crystal; > 1 a more
         stained or included host.
+    coating_coverage : float
+        Fraction (dimensionless) of a coated particle's surface that carries the coating, in
+        (0, 1] ('coating' form only). At coverage f the coating on the covered patches is t_c/f
+        thick, t_c the uniform thickness of the mass balance, so the iron mass is unchanged; the
+        rest of the surface is bare quartz (or kaolinite). The engine draws at every surface
+        point a ray meets whether it lies on a patch, with probability f, independently of the
+        other points (docs/model.md §2.4). Physics: the iron-oxide–clay coatings of red and
+        yellow dune sands are not uniform skins; they are concentrated in the hollows and
+        embayments of the grains and abraded from the exposed highs, so grains show stained
+        hollows beside clean quartz (Walker 1979, "Red color in dune sand", USGS Professional
+        Paper 1052; Folk 1976, J. Sediment. Petrol. 46, 604–615, Simpson Desert). Less of the
+        grain surface filters the light, and the light that misses the patches leaves
+        unfiltered, so the sand is paler and less chromatic at the same iron content. The
+        default stays 1 (the uniform coating of the paper, and what the shipped predictor bank
+        was trained with) until a measured coated sand can check a value: it is not to be tuned
+        to a spectrum.
 
     Raises
     ------
@@ -282,6 +309,7 @@ class SandSample:
     iron_oxide_particle_size_um: float = _default("iron_oxide_particle_size_um")
     depth_mm: float = _default("depth_mm")
     host_absorption: float = _default("host_absorption")
+    coating_coverage: float = _default("coating_coverage")
 
     def __post_init__(self) -> None:
         for p in PARAMETERS:

@@ -1,16 +1,17 @@
 """Preset chroma check (issue 17): no preset with iron oxide ≤ 5 % more chromatic than C*ab 50.
 
 Traces every shipped preset (400–700 nm, CIELAB D50/10°) with the chosen coating optics, film
-model and optical constants (``--calibrated``: the calibrated k of the quartz host and goethite
-from docs/calibration, staged until the bank is retrained) and prints L*, C*ab ± its Monte Carlo
-standard error and h°; a preset with iron_oxide ≤ 0.05 whose
-C*ab exceeds 50 by more than 4 standard errors fails the check, and the script then exits with
+model, coating coverage (``--coating-coverage F``: ``SandSample.coating_coverage`` set to F in
+every preset, docs/model.md §2.4) and optical constants (``--calibrated``: the calibrated k of the
+quartz host and goethite from docs/calibration, staged until the bank is retrained) and prints
+L*, C*ab ± its Monte Carlo standard error and h°; a preset with iron_oxide ≤ 0.05 whose C*ab
+exceeds 50 by more than 4 standard errors fails the check, and the script then exits with
 status 1.
 
 Usage::
 
     python scripts/studies/preset_chroma.py [--coating-optics uniform|mie] [--films uniform|pendular]
-        [--calibrated] [--rays 4000] [--seed 1]
+        [--coating-coverage 1] [--calibrated] [--rays 4000] [--seed 1]
 """
 
 from __future__ import annotations
@@ -40,6 +41,9 @@ def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--coating-optics", choices=COATING_OPTICS, default="uniform")
     ap.add_argument("--films", choices=FILM_MODELS, default="uniform")
+    ap.add_argument(
+        "--coating-coverage", type=float, default=1.0, help="SandSample.coating_coverage of every preset (0, 1]"
+    )
     ap.add_argument("--calibrated", action="store_true", help="the calibrated k of " + " and ".join(CALIBRATED))
     ap.add_argument("--rays", type=int, default=4000)
     ap.add_argument("--seed", type=int, default=1)
@@ -47,12 +51,13 @@ def main() -> int:
     constants = with_calibrated_k({m: CALIBRATION / m / f"{m}-k.csv" for m in CALIBRATED}) if args.calibrated else None
     print(
         f"coating_optics {args.coating_optics!r} (pigment {PIGMENT_DIAMETER_UM} µm), films {args.films!r}, "
+        f"coating_coverage {args.coating_coverage:g}, "
         f"{'calibrated' if args.calibrated else 'shipped'} optical constants, {args.rays} rays\n"
     )
     print("| preset | iron oxide | L* | C*ab | h° | check |\n|---|---|---|---|---|---|")
     failed = []
     for name in sandlight.SandSample.presets():
-        sample = sandlight.SandSample.preset(name)
+        sample = sandlight.SandSample.preset(name).replace(coating_coverage=args.coating_coverage)
         medium = SandMedium.from_sample(
             sample, coating_optics=args.coating_optics, films=args.films, optical_constants=constants
         )

@@ -48,10 +48,18 @@ class TestDraw:
         assert abs(fill.mean() - 0.5) < 0.02 and abs(share.mean() - 0.5) < 0.02
 
     def test_fixed_and_forms(self, draws):
-        assert all(s["depth_mm"] == math.inf and s["host_absorption"] == 1.0 for s in draws)
+        assert all(
+            s["depth_mm"] == math.inf and s["host_absorption"] == 1.0 and s["coating_coverage"] == 1.0 for s in draws
+        )
         forms = column(draws, "iron_oxide_form")
         assert {f: int((forms == f).sum()) for f in FORMS} == {f: 1000 for f in FORMS}
-        assert set(draws[0]) == set(DEFAULT.names) | {"sand", "depth_mm", "host_absorption", "iron_oxide_form"}
+        assert set(draws[0]) == set(DEFAULT.names) | {
+            "sand",
+            "depth_mm",
+            "host_absorption",
+            "coating_coverage",
+            "iron_oxide_form",
+        }
 
     def test_latin_hypercube_strata_per_form(self, draws):
         # Within each form, every dimension's draw coordinate hits each of the n strata once.
@@ -135,14 +143,19 @@ class TestRestrictAndSerialise:
         assert Domain.from_dict(d.to_dict()) == d
 
     def test_a_stored_domain_fixes_a_parameter_added_after_it_at_its_default(self):
-        # Models trained before host_absorption existed store fixed = {depth_mm: inf} only.
+        # Models trained before host_absorption and coating_coverage existed store
+        # fixed = {depth_mm: inf} only.
         stored = DEFAULT.to_dict()
-        del stored["fixed"]["host_absorption"]
+        del stored["fixed"]["host_absorption"], stored["fixed"]["coating_coverage"]
         loaded = Domain.from_dict(stored)
-        assert loaded.fixed == {"depth_mm": math.inf, "host_absorption": 1.0}
-        columns = {n: np.full(2, 0.5 * (d.low + d.high)) for n, d in zip(DEFAULT.names, DEFAULT.dimensions)}
-        columns.update(depth_mm=np.full(2, math.inf), host_absorption=np.array([1.0, 2.0]))
-        assert loaded.contains(columns).tolist() == [True, False]
+        assert loaded.fixed == {"depth_mm": math.inf, "host_absorption": 1.0, "coating_coverage": 1.0}
+        columns = {n: np.full(3, 0.5 * (d.low + d.high)) for n, d in zip(DEFAULT.names, DEFAULT.dimensions)}
+        columns.update(
+            depth_mm=np.full(3, math.inf),
+            host_absorption=np.array([1.0, 2.0, 1.0]),
+            coating_coverage=np.array([1.0, 1.0, 0.5]),
+        )
+        assert loaded.contains(columns).tolist() == [True, False, False]
 
     def test_bad_dimensions(self):
         with pytest.raises(ParameterError, match="low > 0"):

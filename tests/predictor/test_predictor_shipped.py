@@ -95,3 +95,11 @@ def test_shipped_models_refuse_a_host_absorption_they_were_not_trained_at(bank):
     with pytest.raises(errors.ParameterError, match="host_absorption"):
         bank.predict([sample_module.SandSample(host_absorption=2.0)])
     assert bank.predict([sample_module.SandSample(host_absorption=1.0)]).shape[0] == 1
+
+
+def test_shipped_models_refuse_a_coating_coverage_they_were_not_trained_at(bank):
+    # Trained before SandSample.coating_coverage existed, i.e. with uniform coatings (coverage 1).
+    sample_module = pytest.importorskip("sandlight.sample")
+    errors = pytest.importorskip("sandlight.errors")
+    with pytest.raises(errors.ParameterError, match="coating_coverage"):
+        bank.predict([sample_module.SandSample(coating_coverage=0.5)])

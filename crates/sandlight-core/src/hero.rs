@@ -45,8 +45,9 @@ pub const FIXED_ONE: f64 = 4_294_967_296.0;
 #[derive(Clone, Debug)]
 pub struct HeroGroup {
     media: Vec<Particulate>,
-    /// Per particle type and `StackKind` (index `6 t + kind.index()`): [R, R + T] at node
-    /// μ = i / STACK_CELLS for every wavelength, at `i * n + j`.
+    /// Per particle type and `StackKind` (index `12 t + kind.index()`): [R, R + T] at node
+    /// μ = i / STACK_CELLS for every wavelength, at `i * n + j`; empty for stacks that never
+    /// occur (`Stacks::occurs`: bare surface without a partial coating).
     tables: Vec<Vec<[f64; 2]>>,
     /// Per table, the cells evaluated exactly (interpolation not within `TABLE_TOLERANCE`).
     exact: Vec<Vec<bool>>,
@@ -81,7 +82,8 @@ impl HeroGroup {
                         && a.sizes == b.sizes
                         && a.aspect_ratio == b.aspect_ratio
                         && a.optics.wets == b.optics.wets
-                        && a.optics.coating.map(|c| c.thickness_mm) == b.optics.coating.map(|c| c.thickness_mm)
+                        && a.optics.coating.map(|c| (c.thickness_mm, c.coverage))
+                            == b.optics.coating.map(|c| (c.thickness_mm, c.coverage))
                 });
             let same_pore = m.pore.film_thickness_mm == first.pore.film_thickness_mm
                 && m.pore.film_coverage == first.pore.film_coverage
@@ -95,7 +97,7 @@ impl HeroGroup {
                     &format!("media[{j}]"),
                     "a medium of other geometry",
                     "the media of a spectral group differ only in their optics (same particle types, sizes, shapes, \
-                     free path, pore filling, film thickness and coverage, and depth)",
+                     free path, pore filling, film thickness and coverage, coating thickness and coverage, and depth)",
                 ));
             }
         }
@@ -106,6 +108,11 @@ impl HeroGroup {
         for t in 0..types {
             let stacks: Vec<&Stacks> = media.iter().map(|m| m.type_tables(t).1).collect();
             for kind in StackKind::ALL {
+                if !stacks[0].occurs(kind) {
+                    tables.push(Vec::new());
+                    exact.push(Vec::new());
+                    continue;
+                }
                 let f = |s: &Stacks, mu: f64| {
                     let (r, t) = s.rt(kind, mu);
                     [r, r + t]
@@ -191,7 +198,8 @@ impl HeroGroup {
     /// Fraction of table cells evaluated exactly (over all types and stacks).
     pub fn exact_fraction(&self) -> f64 {
         let cells: usize = self.exact.iter().map(|e| e.iter().filter(|&&x| x).count()).sum();
-        cells as f64 / (self.exact.len() * STACK_CELLS) as f64
+        let tables = self.exact.iter().filter(|e| !e.is_empty()).count();
+        cells as f64 / (tables * STACK_CELLS) as f64
     }
 
     /// Traces one ray: the hero drawn from the ray's generator, then the path with the
@@ -424,10 +432,11 @@ mod tests {
     use crate::particle::{Coating, ParticleOptics, PoreOptics};
     use crate::sizes::QuantileTable;
 
-    /// A quartz-like sand with a weakly absorbing coating and wet pores, whose absorption
+    /// A quartz-like sand with a weakly absorbing coating over 70 % of the surface and wet
+    /// pores, whose absorption
     /// (core, coating, water) is scaled by `absorb` and whose indices are shifted by `dn`.
     fn sand(absorb: f64, dn: f64) -> Particulate {
-        sand_with(absorb, dn, Coating::uniform(1.9 + dn, 40.0 * absorb, 5e-4))
+        sand_with(absorb, dn, Coating { coverage: 0.7, ..Coating::uniform(1.9 + dn, 40.0 * absorb, 5e-4) })
     }
 
     fn sand_with(absorb: f64, dn: f64, coating: Coating) -> Particulate {
@@ -463,7 +472,7 @@ mod tests {
         let mut worst = 0.0f64;
         for j in 0..2 {
             let (_, stacks) = g.medium(j).type_tables(0);
-            for kind in StackKind::ALL {
+            for kind in StackKind::ALL.into_iter().filter(|&k| stacks.occurs(k)) {
                 for i in 0..=40_000 {
                     let mu = i as f64 / 40_000.0;
                     let x = mu * STACK_CELLS as f64;
@@ -534,6 +543,7 @@ mod tests {
             thickness_mm: 5e-4,
             scattering_per_mm: 1e4 * s,
             asymmetry: g,
+            coverage: 0.5,
         };
         let cases = [(0.2, 2.0, 0.3, 0.0), (1.0, 1.0, 0.5, 0.01), (3.0, 0.3, 0.7, 0.02)];
         let media: Vec<_> = cases.iter().map(|&(a, s, g, dn)| sand_with(1.0, dn, coating(a, s, g, dn))).collect();

@@ -76,12 +76,15 @@ impl Particulate {
             check_range(&name("core_n"), t.optics.core_n, 1.0, 10.0)?;
             check_range(&name("core_k"), t.optics.core_k, 0.0, 100.0)?;
             check_range(&name("core_alpha_per_mm"), t.optics.core_alpha_per_mm, 0.0, 1e12)?;
-            if let Some(Coating { n, alpha_per_mm, thickness_mm, scattering_per_mm, asymmetry }) = t.optics.coating {
+            if let Some(Coating { n, alpha_per_mm, thickness_mm, scattering_per_mm, asymmetry, coverage }) =
+                t.optics.coating
+            {
                 check_range(&name("coating_n"), n, 1.0, 10.0)?;
                 check_range(&name("coating_alpha_per_mm"), alpha_per_mm, 0.0, 1e12)?;
                 check_range(&name("coating_thickness_mm"), thickness_mm, 0.0, 10.0)?;
                 check_range(&name("coating_scattering_per_mm"), scattering_per_mm, 0.0, 1e12)?;
                 check_range(&name("coating_asymmetry"), asymmetry, -0.99, 0.99)?;
+                check_range(&name("coating_coverage"), coverage, 0.0, 1.0)?;
             }
             total += t.probability;
         }

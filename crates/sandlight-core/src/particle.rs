@@ -7,7 +7,8 @@
 //! from inside with total internal reflection, repeated until the ray leaves or is absorbed.
 //! A coating that scatters (a pigmented coating, `scattering_layer`) also reflects and
 //! transmits diffusely: those rays leave with a cosine distribution about the local normal on
-//! their side.
+//! their side. A coating may cover only part of the surface (`Coating::coverage`): each surface
+//! point a ray meets carries it with that probability, independently of the other points.
 
 use crate::layers::{stack_rt, Slab, MAX_MEDIA};
 use crate::math::{refract, Vec3};
@@ -17,8 +18,8 @@ use crate::scattering_layer::{Fractions, ScatteringStack, Turbidity};
 use crate::spheroid::{Hit, Spheroid};
 
 /// A thin layer on the particle surface: real index, absorption coefficient (mm⁻¹), thickness
-/// (mm), and the scattering coefficient (mm⁻¹) and asymmetry g of its pigment (zero for a
-/// uniform, non-scattering coating).
+/// (mm) where present, the scattering coefficient (mm⁻¹) and asymmetry g of its pigment (zero
+/// for a uniform, non-scattering coating), and the fraction of the surface it covers.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Coating {
     pub n: f64,
@@ -26,12 +27,16 @@ pub struct Coating {
     pub thickness_mm: f64,
     pub scattering_per_mm: f64,
     pub asymmetry: f64,
+    /// Probability that a surface point carries the coating (patches in grain hollows,
+    /// docs/model.md §2.4), drawn independently at every point a ray meets; 1 coats the whole
+    /// surface. The rest of the surface is bare (no coating layer in its stack).
+    pub coverage: f64,
 }
 
 impl Coating {
-    /// A uniform coating that absorbs and does not scatter.
+    /// A uniform coating over the whole surface that absorbs and does not scatter.
     pub const fn uniform(n: f64, alpha_per_mm: f64, thickness_mm: f64) -> Coating {
-        Coating { n, alpha_per_mm, thickness_mm, scattering_per_mm: 0.0, asymmetry: 0.0 }
+        Coating { n, alpha_per_mm, thickness_mm, scattering_per_mm: 0.0, asymmetry: 0.0, coverage: 1.0 }
     }
 }
 
@@ -93,6 +98,30 @@ impl PoreOptics {
         self.film_thickness_mm > 0.0
             && self.film_coverage > 0.0
             && (self.film_coverage >= 1.0 || rng.uniform() < self.film_coverage)
+    }
+}
+
+impl ParticleOptics {
+    /// Whether the surface point a ray meets is bare, outside the coating's patches: never
+    /// without a coating or with full coverage, and a uniform is drawn only for a partial
+    /// coverage (0 < coverage < 1), so full coverage makes the draws of a uniform coating.
+    #[inline]
+    pub fn draw_bare(&self, rng: &mut Rng) -> bool {
+        match self.coating {
+            Some(c) if c.coverage < 1.0 => c.coverage <= 0.0 || rng.uniform() >= c.coverage,
+            _ => false,
+        }
+    }
+
+    /// Whether bare surface occurs (a coating of partial coverage).
+    #[inline]
+    fn bare_occurs(&self) -> bool {
+        self.coating.is_some_and(|c| c.coverage < 1.0)
+    }
+
+    /// The same particle with the coating left off (its bare surface).
+    fn bare(&self) -> ParticleOptics {
+        ParticleOptics { coating: None, ..*self }
     }
 }
 
@@ -300,35 +329,42 @@ impl Stack {
 }
 
 /// The layer stacks of one particle type in one pore space: into the particle and out of it,
-/// each for a dry point facing an air-filled pore, a wetted one (film) and a water-filled pore.
+/// each for a dry point facing an air-filled pore, a wetted one (film) and a water-filled pore,
+/// and each on the coated surface and on the bare one (outside a partial coating's patches).
 /// They depend only on the optics, so a medium builds them once (`Particulate::new`, with
 /// bracket tables) rather than at every interaction.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stacks {
-    /// Indexed by `StackKind::side`.
-    entry: [Stack; 3],
-    exit: [Stack; 3],
+    /// Indexed by `bare as usize` and `StackKind::side`.
+    entry: [[Stack; 3]; 2],
+    exit: [[Stack; 3]; 2],
+    /// Whether the bare stacks are ever met (a coating of partial coverage).
+    bare_occurs: bool,
 }
 
-/// Which of a particle type's six stacks: into the particle (`exit` false) or out of it, with
+/// Which of a particle type's twelve stacks: into the particle (`exit` false) or out of it, with
 /// an air-filled pore (a dry point, or a wetted one: `film`) or a water-filled pore on the
-/// outside. `film` is false with `water` (a filled pore has no film).
+/// outside, on the coated surface or a bare point (`bare`: outside a partial coating's patches;
+/// false without a coating). `film` is false with `water` (a filled pore has no film).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StackKind {
     pub exit: bool,
     pub water: bool,
     pub film: bool,
+    pub bare: bool,
 }
 
 impl StackKind {
-    pub const ALL: [StackKind; 6] = [
-        StackKind { exit: false, water: false, film: false },
-        StackKind { exit: false, water: false, film: true },
-        StackKind { exit: false, water: true, film: false },
-        StackKind { exit: true, water: false, film: false },
-        StackKind { exit: true, water: false, film: true },
-        StackKind { exit: true, water: true, film: false },
-    ];
+    /// The six stacks of the (coated) surface first, then the six of bare points.
+    pub const ALL: [StackKind; 12] = {
+        let mut all = [StackKind { exit: false, water: false, film: false, bare: false }; 12];
+        let mut i = 0;
+        while i < 12 {
+            all[i] = StackKind { exit: (i % 6) >= 3, water: i % 3 == 2, film: i % 3 == 1, bare: i >= 6 };
+            i += 1;
+        }
+        all
+    };
 
     /// The outside: 0 a dry point in an air pore, 1 a wetted one, 2 a water-filled pore.
     #[inline]
@@ -343,7 +379,7 @@ impl StackKind {
     /// Position in `ALL`.
     #[inline]
     pub fn index(self) -> usize {
-        3 * self.exit as usize + self.side()
+        6 * self.bare as usize + 3 * self.exit as usize + self.side()
     }
 }
 
@@ -351,10 +387,17 @@ impl Stacks {
     #[inline]
     fn of(&self, kind: StackKind) -> &Stack {
         if kind.exit {
-            &self.exit[kind.side()]
+            &self.exit[kind.bare as usize][kind.side()]
         } else {
-            &self.entry[kind.side()]
+            &self.entry[kind.bare as usize][kind.side()]
         }
+    }
+
+    /// Whether stacks of `kind` can be met at all in this pore space (bare ones only with a
+    /// partial coating); the others need no tables.
+    #[inline]
+    pub fn occurs(&self, kind: StackKind) -> bool {
+        !kind.bare || self.bare_occurs
     }
 
     /// R and T of stack `kind` at incidence cosine `cos_0` (exact evaluation; with a scattering
@@ -403,17 +446,14 @@ impl Stacks {
 
     /// The stacks without bracket tables (cheap to build; every decision evaluates the stack).
     pub fn new(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
+        let sides = |p: &ParticleOptics, build: fn(&ParticleOptics, &PoreOptics, bool, bool) -> Stack| {
+            [build(p, pore, false, false), build(p, pore, false, true), build(p, pore, true, false)]
+        };
+        let bare = p.bare();
         Stacks {
-            entry: [
-                entry_stack(p, pore, false, false),
-                entry_stack(p, pore, false, true),
-                entry_stack(p, pore, true, false),
-            ],
-            exit: [
-                exit_stack(p, pore, false, false),
-                exit_stack(p, pore, false, true),
-                exit_stack(p, pore, true, false),
-            ],
+            entry: [sides(p, entry_stack), sides(&bare, entry_stack)],
+            exit: [sides(p, exit_stack), sides(&bare, exit_stack)],
+            bare_occurs: p.bare_occurs(),
         }
     }
 
@@ -425,12 +465,24 @@ impl Stacks {
         let air_used = pore.water_filled_probability < 1.0;
         let film = pore.film_thickness_mm > 0.0 && pore.film_coverage > 0.0;
         let dry_used = !film || pore.film_coverage < 1.0;
-        let [ed, ef, ew] = s.entry;
-        let [xd, xf, xw] = s.exit;
+        let bare_occurs = s.bare_occurs;
+        // Coverage 0 (bare everywhere) never meets the coated stacks.
+        let coated_occurs = p.coating.is_none_or(|c| c.coverage > 0.0);
         let tab = |st: Stack, used: bool| if used { st.with_brackets() } else { st };
+        let sides = |[d, f, w]: [Stack; 3], exit: bool, surface_used: bool| {
+            let air = !exit || air_used;
+            [
+                tab(d, surface_used && air && dry_used),
+                tab(f, surface_used && air && film),
+                tab(w, surface_used && water_used),
+            ]
+        };
+        let [ec, eb] = s.entry;
+        let [xc, xb] = s.exit;
         Stacks {
-            entry: [tab(ed, dry_used), tab(ef, film), tab(ew, water_used)],
-            exit: [tab(xd, air_used && dry_used), tab(xf, air_used && film), tab(xw, water_used)],
+            entry: [sides(ec, false, coated_occurs), sides(eb, false, bare_occurs)],
+            exit: [sides(xc, true, coated_occurs), sides(xb, true, bare_occurs)],
+            bare_occurs,
         }
     }
 }
@@ -544,7 +596,8 @@ pub fn interact_with_stacks(
 ) -> Interaction {
     let cos_i = (-d.dot(hit.normal)).clamp(0.0, 1.0);
     let film = !water && pore.draw_film(rng);
-    let kind = StackKind { exit: false, water, film };
+    let bare = p.draw_bare(rng);
+    let kind = StackKind { exit: false, water, film, bare };
     let fate = choices.stack_fate(stacks, kind, cos_i, rng.uniform());
     // Diffuse parts exist only where the coating scatters; elsewhere no uniform is drawn, so a
     // non-scattering stack makes today's decisions from today's random numbers.
@@ -575,7 +628,8 @@ pub fn interact_with_stacks(
         // The pore beyond this point of the surface.
         let water_beyond = pore.draw_water(rng);
         let film = !water_beyond && pore.draw_film(rng);
-        let kind = StackKind { exit: true, water: water_beyond, film };
+        let bare = p.draw_bare(rng);
+        let kind = StackKind { exit: true, water: water_beyond, film, bare };
         let fate = choices.stack_fate(stacks, kind, cos_in, rng.uniform());
         let diffuse = fate != StackFate::Absorb
             && stacks.scatters(kind)
@@ -627,7 +681,7 @@ mod tests {
     /// plus geometric steps towards each critical cosine, with u uniform and within 5e-10 of
     /// R and R + T.
     fn assert_bracketed_decisions_exact(tab: &Stacks, n_mu: usize, rng: &mut Rng) {
-        for st in tab.entry.iter().chain(tab.exit.iter()).filter(|st| st.brackets.is_some()) {
+        for st in tab.entry.iter().chain(tab.exit.iter()).flatten().filter(|st| st.brackets.is_some()) {
             let n0 = st.media[0].n;
             let mut mus: Vec<f64> = (0..=n_mu).map(|i| i as f64 / n_mu as f64).collect();
             for m in st.media[1..st.len].iter().filter(|m| m.n < n0) {
@@ -650,8 +704,10 @@ mod tests {
         // exit with critical angles; weak to opaque layers; a scattering coating, whose R and
         // T are the totals).
         let mut rng = Rng::for_ray(4, 0, 0);
-        let (weak, dark) = (Coating::uniform(1.9, 300.0, 5e-4), Coating::uniform(2.4, 2e4, 2e-4));
-        let turbid = Coating { scattering_per_mm: 3e3, asymmetry: 0.5, ..Coating::uniform(1.56, 2e3, 1e-4) };
+        let (weak, dark) =
+            (Coating::uniform(1.9, 300.0, 5e-4), Coating { coverage: 0.4, ..Coating::uniform(2.4, 2e4, 2e-4) });
+        let turbid =
+            Coating { scattering_per_mm: 3e3, asymmetry: 0.5, coverage: 0.7, ..Coating::uniform(1.56, 2e3, 1e-4) };
         let cases = [
             (1.55, 4e-7, None, 0.05),
             (1.55, 4e-7, Some(weak), 0.05),
@@ -670,7 +726,7 @@ mod tests {
             };
             let p = ParticleOptics { core_n, core_k, core_alpha_per_mm: 1.0, coating, wets: true };
             let tab = Stacks::tabulated(&p, &pore);
-            assert!(tab.entry.iter().chain(tab.exit.iter()).all(|st| st.brackets.is_some()));
+            assert!(StackKind::ALL.iter().all(|&k| tab.of(k).brackets.is_some() == tab.occurs(k)));
             assert_bracketed_decisions_exact(&tab, 20_000, &mut rng);
         }
     }
@@ -683,11 +739,12 @@ mod tests {
         let log_uniform = |rng: &mut Rng, lo: f64, hi: f64| lo * (hi / lo).powf(rng.uniform());
         for _ in 0..RANDOM_STACK_MEDIA {
             let coating = (rng.uniform() < 0.6).then(|| {
-                Coating::uniform(
+                let c = Coating::uniform(
                     1.3 + 1.5 * rng.uniform(),
                     log_uniform(&mut rng, 1e-2, 3e4),
                     log_uniform(&mut rng, 1e-5, 2e-3),
-                )
+                );
+                Coating { coverage: [0.5, 1.0][(2.0 * rng.uniform()) as usize % 2], ..c }
             });
             let core_k = if rng.uniform() < 0.2 { 0.0 } else { log_uniform(&mut rng, 1e-8, 1.0) };
             let p = ParticleOptics {
@@ -733,7 +790,7 @@ mod tests {
         let d = Vec3::new(0.0, 0.0, -1.0);
         let hit = Hit { point: Vec3::new(0.0, 0.0, 0.125), normal: Vec3::new(0.0, 0.0, 1.0) };
         let stacks = Stacks::new(&p, &wet);
-        let r = |film| stacks.rt(StackKind { exit: false, water: false, film }, 1.0).0;
+        let r = |film| stacks.rt(StackKind { exit: false, water: false, film, bare: false }, 1.0).0;
         let expected = 0.3 * r(true) + 0.7 * r(false);
         assert!((r(true) - r(false)).abs() > 0.02, "the film must change the reflectance: {} {}", r(true), r(false));
         let n = 100_000;
@@ -753,6 +810,74 @@ mod tests {
             let x = interact(&p, &uncovered, &s, hit, d, false, &mut a, 10_000);
             let y = interact(&p, &PoreOptics::DRY, &s, hit, d, false, &mut b, 10_000);
             assert_eq!(x, y);
+        }
+    }
+
+    #[test]
+    fn partial_coating_coverage_mixes_the_coated_and_the_bare_surface() {
+        // A ray straight onto the centre of a sphere is reflected at the first surface with
+        // R_coated on a coated point and R_bare on a bare one, so with coverage f the share
+        // reflected is f R_coated + (1 − f) R_bare (binomial, within 4 standard errors); the
+        // same through a scattering coating (R the total, specular plus diffuse).
+        let s = Spheroid::new(0.25, 1.0, Vec3::new(0.0, 0.0, 1.0));
+        let d = Vec3::new(0.0, 0.0, -1.0);
+        let hit = Hit { point: Vec3::new(0.0, 0.0, 0.125), normal: Vec3::new(0.0, 0.0, 1.0) };
+        let pore = PoreOptics { film_thickness_mm: 2e-3, film_coverage: 0.5, ..PoreOptics::DRY };
+        let plain = Coating { coverage: 0.35, ..Coating::uniform(2.4, 50.0, 1e-3) };
+        let pigmented = Coating { scattering_per_mm: 2e4, asymmetry: 0.5, ..plain };
+        for (seed, coating) in [(14, plain), (15, pigmented)] {
+            let p = ParticleOptics { coating: Some(coating), ..glass(1.55) };
+            let stacks = Stacks::new(&p, &pore);
+            let r = |film, bare| stacks.rt(StackKind { exit: false, water: false, film, bare }, 1.0).0;
+            let expected =
+                (0.5 * (r(false, false) + r(true, false))) * 0.35 + (0.5 * (r(false, true) + r(true, true))) * 0.65;
+            assert!(
+                (r(false, false) - r(false, true)).abs() > 0.05,
+                "the coating must change R: {} {}",
+                r(false, false),
+                r(false, true)
+            );
+            let n = 100_000;
+            let mut rng = Rng::for_ray(seed, 0, 0);
+            let reflected = (0..n)
+                .filter(|_| {
+                    let out = interact_with_stacks(&p, &stacks, &pore, &s, hit, d, false, &mut rng, 10_000, &mut Mono);
+                    matches!(out, Interaction::Reflected { .. })
+                })
+                .count() as f64
+                / n as f64;
+            let se = (expected * (1.0 - expected) / n as f64).sqrt();
+            assert!((reflected - expected).abs() < 4.0 * se, "{reflected} vs {expected} ± {se}");
+        }
+    }
+
+    #[test]
+    fn full_and_zero_coating_coverage_draw_no_random_number() {
+        // Coverage 1 (and a type without coating) never meets bare surface and draws nothing,
+        // so the coated stacks (those of before) are met from the same random numbers as
+        // before; coverage 0 is bare everywhere: the same outcomes, draw for draw, as no coating.
+        let full = ParticleOptics { coating: Some(Coating::uniform(1.9, 300.0, 5e-4)), ..glass(1.55) };
+        for p in [full, glass(1.55)] {
+            let (mut a, mut b) = (Rng::for_ray(16, 0, 0), Rng::for_ray(16, 0, 0));
+            assert!((0..1000).all(|_| !p.draw_bare(&mut a)));
+            assert_eq!(a.uniform(), b.uniform());
+        }
+        let s = Spheroid::new(0.25, 1.3, Vec3::new(0.0, 0.6, 0.8));
+        let pore = PoreOptics {
+            water_n: 1.333,
+            water_alpha_per_mm: 0.5,
+            film_thickness_mm: 1e-3,
+            water_filled_probability: 0.3,
+            film_coverage: 0.6,
+        };
+        let none = ParticleOptics { coating: Some(Coating { coverage: 0.0, ..full.coating.unwrap() }), ..full };
+        let d = Vec3::new(0.0, 0.0, -1.0);
+        let (mut r1, mut r2) = (Rng::for_ray(17, 0, 0), Rng::for_ray(17, 0, 0));
+        for _ in 0..20_000 {
+            let (h1, h2) = (s.sample_hit(d, &mut r1, 100).unwrap(), s.sample_hit(d, &mut r2, 100).unwrap());
+            let a = interact(&none, &pore, &s, h1, d, false, &mut r1, 1000);
+            let b = interact(&glass(1.55), &pore, &s, h2, d, false, &mut r2, 1000);
+            assert_eq!(a, b);
         }
     }
 

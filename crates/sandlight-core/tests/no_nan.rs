@@ -28,12 +28,18 @@ fn medium(aspect: f64, k: f64, alpha: f64, coating: Option<Coating>, film: f64, 
 #[test]
 fn every_escaped_direction_is_a_finite_upward_unit_vector() {
     let coat = Some(Coating::uniform(1.9, 200.0, 0.0005));
+    // Partial coatings (bare surface between patches), absorbing and pigmented.
+    let patchy = Some(Coating { coverage: 0.3, ..Coating::uniform(2.4, 3e4, 0.002) });
+    let pigment_patches =
+        Some(Coating { scattering_per_mm: 2e4, asymmetry: 0.6, coverage: 0.5, ..Coating::uniform(1.9, 200.0, 0.0005) });
     let media = [
         medium(1.0, 0.0, 0.01, None, 0.0, 0.0),
         medium(3.0, 1.3, 3e4, coat, 0.0, 0.0),
         medium(2.2, 1e-4, 1.0, coat, 0.002, 0.0),
         medium(1.4, 0.0, 0.05, None, 0.001, 0.9),
         medium(3.0, 0.0, 0.0, coat, 0.0, 1.0),
+        medium(1.7, 1e-4, 1.0, patchy, 0.002, 0.3),
+        medium(2.5, 0.0, 0.05, pigment_patches, 0.001, 0.0),
     ];
     let limits = Limits { max_events: 100_000, max_internal: 10_000 };
     for (mi, m) in media.iter().enumerate() {

@@ -86,7 +86,8 @@ impl PyMedium {
     #[pyo3(signature = (probabilities, size_quantiles_mm, aspect_ratios, core_n, core_k, core_alpha_per_mm,
                         coating_n, coating_alpha_per_mm, coating_thickness_mm, mean_free_path_mm,
                         water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability, depth_mm, memory = "none",
-                        film_coverage = 1.0, coating_scattering_per_mm = None, coating_asymmetry = None))]
+                        film_coverage = 1.0, coating_scattering_per_mm = None, coating_asymmetry = None,
+                        coating_coverage = None))]
     #[allow(clippy::too_many_arguments)] // one argument per Python parameter
     fn particulate(
         py: Python<'_>,
@@ -109,12 +110,16 @@ impl PyMedium {
         film_coverage: f64,
         coating_scattering_per_mm: Option<Vec<f64>>,
         coating_asymmetry: Option<Vec<f64>>,
+        coating_coverage: Option<Vec<f64>>,
     ) -> PyResult<Self> {
         let build = || -> Result<WithMemory, SandlightError> {
             let n = probabilities.len();
             // A uniform (non-scattering) coating unless the pigment's scattering is given.
             let coating_scattering_per_mm = coating_scattering_per_mm.unwrap_or_else(|| vec![0.0; n]);
             let coating_asymmetry = coating_asymmetry.unwrap_or_else(|| vec![0.0; n]);
+            // The whole surface coated unless the coverage is given.
+            let coating_coverage = coating_coverage.unwrap_or_else(|| vec![1.0; n]);
+            same_len("coating_coverage", coating_coverage.len(), n)?;
             same_len("coating_scattering_per_mm", coating_scattering_per_mm.len(), n)?;
             same_len("coating_asymmetry", coating_asymmetry.len(), n)?;
             same_len("size_quantiles_mm", size_quantiles_mm.len(), n)?;
@@ -133,6 +138,7 @@ impl PyMedium {
                     thickness_mm: coating_thickness_mm[i],
                     scattering_per_mm: coating_scattering_per_mm[i],
                     asymmetry: coating_asymmetry[i],
+                    coverage: coating_coverage[i],
                 });
                 types.push(ParticleType {
                     probability: probabilities[i],

@@ -90,6 +90,9 @@ class Composition:
 
     ``host_absorption`` is the factor on the k of the quartz host (``SandSample.host_absorption``;
     applied where the native medium is built, :func:`sandlight.physics.medium.native_medium`).
+    ``coating_coverage`` is the fraction of a coated particle's surface that carries the coating
+    (``SandSample.coating_coverage``); the populations' ``coating_thickness_mm`` is the thickness
+    on those patches.
     """
 
     populations: tuple
@@ -101,6 +104,8 @@ class Composition:
     #: Fraction of the particle surface facing an air-filled pore that the film wets.
     film_coverage: float = 1.0
     host_absorption: float = 1.0
+    #: Fraction of a coated particle's surface that carries the coating (drawn per surface point).
+    coating_coverage: float = 1.0
 
     def encounter_probabilities(self) -> list[float]:
         """P(type i) ∝ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩ (docs/model.md §2.2)."""
@@ -203,9 +208,11 @@ def compose(sample: SandSample, films: str = "uniform") -> Composition:
         # The coating covers every host particle, clay included: the iron oxide of red and yellow
         # sands sits in clay-sized coatings and aggregates, so clean white clay beside stained
         # grains is not what such sands are (docs/transport.md). Volumes are per gram of solids
-        # (cm³) and S/V in mm⁻¹, so the volume unit cancels: t in mm.
+        # (cm³) and S/V in mm⁻¹, so the volume unit cancels: t in mm. On a fraction f of the
+        # surface (coating_coverage) the same volume is t/f thick: t = V_c / (f S_host).
         host_surface = v_sand * sv_sand + v_silt * sv_silt + v_clay * surface_per_volume_per_mm(clay_sizes, eps)
-        t_coat = v_coat / host_surface if host_surface > 0 else 0.0
+        covered = sample.coating_coverage * host_surface
+        t_coat = v_coat / covered if covered > 0 else 0.0
         coating = {"hematite": v_hem / v_coat, "goethite": v_goe / v_coat, "kaolinite": (v_coat - v_fe) / v_coat}
 
     pops = []
@@ -251,4 +258,5 @@ def compose(sample: SandSample, films: str = "uniform") -> Composition:
         depth_mm=sample.depth_mm,
         film_coverage=coverage if coverage > 0.0 else 1.0,
         host_absorption=sample.host_absorption,
+        coating_coverage=sample.coating_coverage,
     )

@@ -13,7 +13,9 @@ volume-weighted absorption coefficient ᾱ = Σ vⱼ αⱼ — the dilute-inclus
 docs/model.md §2.4 (Maxwell Garnett is the refinement for dense inclusions). The quartz host's
 k is multiplied by the composition's ``host_absorption`` first (:func:`with_host_absorption`).
 With ``coating_optics='mie'`` a coating's iron oxide is instead a Mie-scattering pigment in its
-kaolinite matrix (:mod:`sandlight.physics.pigment`, docs/model.md §2.4).
+kaolinite matrix (:mod:`sandlight.physics.pigment`, docs/model.md §2.4). Either coating covers the
+composition's ``coating_coverage`` of its particles' surface (patches drawn per surface point by
+the engine; bare surface elsewhere).
 """
 
 from __future__ import annotations
@@ -118,7 +120,7 @@ def native_medium(
     )
     probs = comp.encounter_probabilities()
     quantiles, aspect, core_n, core_k, core_a, coat_n, coat_a, coat_t = ([] for _ in range(8))
-    coat_s, coat_g = [], []
+    coat_s, coat_g, coat_f = [], [], []
     for p in comp.populations:
         core = _mix(p.core, wavelength_nm, index)
         quantiles.append(p.sizes.encounter_quantiles().tolist())
@@ -140,6 +142,7 @@ def native_medium(
         coat_s.append(sca)
         coat_g.append(g)
         coat_t.append(p.coating_thickness_mm if coated else 0.0)
+        coat_f.append(comp.coating_coverage if coated else 1.0)
     water = complex(index("water", wavelength_nm))
     return _native.Medium.particulate(
         probs,
@@ -159,5 +162,6 @@ def native_medium(
         comp.depth_mm,
         memory=memory,
         film_coverage=comp.film_coverage,
+        coating_coverage=coat_f,
         **({"coating_scattering_per_mm": coat_s, "coating_asymmetry": coat_g} if coating_optics == "mie" else {}),
     )

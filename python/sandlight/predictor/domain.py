@@ -43,8 +43,9 @@ a coating of 1 % iron-oxide share would be ten times the mass of the solids, whi
 balance refuses (sandlight.physics.composition); from 0.1 up every point of the box is a
 physical sample.
 
-Fixed: ``depth_mm = inf`` (semi-infinite samples, as in the paper) and ``host_absorption = 1``
-(the calibrated natural-grain quartz host, docs/optical-constants.md). Derived: ``sand = 1 − silt −
+Fixed: ``depth_mm = inf`` (semi-infinite samples, as in the paper), ``host_absorption = 1``
+(the calibrated natural-grain quartz host, docs/optical-constants.md) and ``coating_coverage = 1``
+(the uniform coating the shipped bank was trained with, docs/model.md §2.4). Derived: ``sand = 1 − silt −
 clay``. Forms: ``coating``, ``mixed`` and ``particles`` (the categorical ``iron_oxide_form`` is
 never a dimension; draws give each form an equal share of the samples).
 
@@ -206,14 +207,17 @@ class Domain:
     forms : tuple of str
         Iron-oxide forms covered (subset of ``FORMS``).
     fixed : mapping
-        Parameters held at one value (default ``{"depth_mm": inf, "host_absorption": 1.0}``).
+        Parameters held at one value (default ``{"depth_mm": inf, "host_absorption": 1.0,
+        "coating_coverage": 1.0}``).
     texture_limit : float
         Upper bound of silt + 1.5·clay, in (0, 0.15] (0.15: the whole sand class).
     """
 
     dimensions: tuple = field(default_factory=_default_dimensions)
     forms: tuple = FORMS
-    fixed: Mapping = field(default_factory=lambda: {"depth_mm": math.inf, "host_absorption": 1.0})
+    fixed: Mapping = field(
+        default_factory=lambda: {"depth_mm": math.inf, "host_absorption": 1.0, "coating_coverage": 1.0}
+    )
     texture_limit: float = SAND_CLASS_LIMIT
 
     def __post_init__(self):
@@ -380,7 +384,8 @@ class Domain:
     def from_dict(cls, d: Mapping) -> Domain:
         """The domain of :meth:`to_dict`. A float SandSample parameter that a stored domain
         neither varies nor fixes did not exist when it was trained, so the engine ran at what its
-        default means (e.g. ``host_absorption`` 1: the shipped quartz k): it is fixed there, and a
+        default means (e.g. ``host_absorption`` 1: the shipped quartz k; ``coating_coverage`` 1:
+        the uniform coating): it is fixed there, and a
         sample with another value is outside the domain."""
         dimensions = tuple(Dimension(**x) for x in d["dimensions"])
         fixed = {k: float(v) for k, v in d["fixed"].items()}
