@@ -63,12 +63,14 @@ def swapped_pairs(letters: list[str], fitted: list[float]) -> list[str]:
     return [f"{a}–{b}" for (i, a), (j, b) in combinations(enumerate(letters), 2) if fitted[i] <= fitted[j]]
 
 
-def fit_series(variant: str, rays: int) -> list[dict]:
+def fit_series(variant: str, rays: int, fractions: str) -> list[dict]:
     rows = []
     print(f"\nvariant {variant!r}: free {VARIANTS[variant]}, {rays} rays, {WINDOW_NM[0]:g}–{WINDOW_NM[-1]:g} nm")
     print("| spectrum | sieve (µm) | fitted diameter (µm), 95 % | scale | residual RMS |")
     print("|---|---|---|---|---|")
     for letter, (sieve, midpoint, (lo, hi)) in GDS69.items():
+        if letter not in fractions:
+            continue
         spectrum = as_spectrum(usgs_library(f"Hematite_GDS69.{letter}_{sieve}"))
         result = sandlight.fit(
             spectrum,
@@ -106,7 +108,7 @@ def fit_series(variant: str, rays: int) -> list[dict]:
         print(f"| GDS69.{letter} | {sieve} | {interval} | {scale:.2f} | {rms:.4f} |", flush=True)
     fitted = [r["diameter_um"] for r in rows]
     rho = spearmanr([r["sieve_midpoint_um"] for r in rows], fitted).statistic
-    swaps = swapped_pairs(list(GDS69), fitted)
+    swaps = swapped_pairs([r["spectrum"][-1] for r in rows], fitted)
     print(f"Spearman ρ (fitted vs sieve midpoint) = {rho:.3f}; pairs out of order: {', '.join(swaps) or 'none'}")
     for r in rows:
         r["spearman"] = rho
@@ -209,6 +211,7 @@ def main(argv=None) -> None:
     parser.add_argument("--rays", type=int, default=8000)
     parser.add_argument("--out", type=Path, default=Path("docs/data"))
     parser.add_argument("--figures", type=Path, default=Path("docs/figures"))
+    parser.add_argument("--fractions", default="abcdefg", help="GDS69 fractions to fit (letters a-g)")
     parser.add_argument(
         "--parts", nargs="+", choices=("gds69", "recovery", "correlation"), default=["gds69", "recovery", "correlation"]
     )
@@ -220,7 +223,7 @@ def main(argv=None) -> None:
         recovery()
     if "gds69" not in args.parts:
         return
-    rows = [r for variant in VARIANTS for r in fit_series(variant, args.rays)]
+    rows = [r for variant in VARIANTS for r in fit_series(variant, args.rays, args.fractions)]
     print(f"({time.perf_counter() - t0:.0f} s)")
     plot(rows, args.figures / "retrieval_powder.png")
     keys = [k for k in rows[0] if k not in ("fitted", "measured")]
