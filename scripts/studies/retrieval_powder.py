@@ -80,7 +80,6 @@ def fit_series(variant: str, rays: int, fractions: str) -> list[dict]:
             rays=rays,
             wavelengths=WINDOW_NM,
             threads=1,
-            starts=2,
         )
         d = result.estimate["diameter_um"]
         ok = result.identifiable("diameter_um")
@@ -187,7 +186,8 @@ def plot(rows: list[dict], path: Path) -> None:
             label=f"{variant} (Spearman ρ {sel[0]['spearman']:.2f})",
         )  # fmt: skip
     left.plot([1, 1000], [1, 1000], "--", color="0.5", lw=0.8, label="fitted = sieve")
-    left.set(xscale="log", yscale="log", xlim=(1, 1000), ylim=(1, 1000))
+    left.axhline(1000.0, color="0.3", lw=0.8, ls=":", label="upper bound of d (1000 µm)")
+    left.set(xscale="log", yscale="log", xlim=(1, 1000), ylim=(1, 2000))
     left.set_xlabel("sieve range (µm; < 10 µm drawn as 2–10)")
     left.set_ylabel("fitted diameter (µm), 95 % interval")
     left.legend(fontsize=7)

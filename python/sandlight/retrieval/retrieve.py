@@ -2,7 +2,8 @@
 
 The steps (docs/retrieval.md): read and check the spectrum (:mod:`.spectrum`), build the
 observation on the forward model's wavelengths or a sensor's bands (:mod:`.observation`), the
-free parameters and their bounds (:mod:`.space`), maximise the likelihood whose covariance holds
+free parameters and their bounds (:mod:`.space`; a pure-mineral powder's in
+:mod:`.powder_forward`), maximise the likelihood whose covariance holds
 the measurement noise, the forward model's error and the Monte Carlo noise (:mod:`.likelihood`,
 :mod:`.fitting`), approximate the posterior (:mod:`.posterior`), scan each parameter for a flat
 likelihood (:mod:`.identifiability`) and, for a predictor fit, run the engine at the optimum
@@ -153,7 +154,8 @@ def fit(
         Wavelengths (nm) of the engine forward model (default: the bank's; for a powder
         400–1000 nm every 25 nm).
     starts : int
-        Starting points of the least squares (bank; the engine starts once).
+        Starting points of the least squares (bank; the engine starts once; a powder fit starts
+        from the best of `POWDER_DESIGN_POINTS` per free parameter).
     spectrum_name : str, optional
         The spectrum to read from an ENVI library holding several.
 
@@ -193,7 +195,6 @@ def fit(
             wavelengths=wavelengths,
             seed=seed,
             threads=threads,
-            starts=starts,
         )
     if material is not None:
         raise ParameterError("material", material, "None unless forward='powder' (a sand's minerals are parameters)")
@@ -274,9 +275,9 @@ def _fit_powder(
     wavelengths: ArrayLike | None,
     seed: int,
     threads: int | None,
-    starts: int,
 ) -> FitResult:
-    """`fit` with ``forward='powder'``: the engine over a PowderSpace, from ``starts`` points."""
+    """`fit` with ``forward='powder'``: the engine over a PowderSpace, started from the best
+    point of a design (`POWDER_DESIGN_POINTS`), refitted with the replicate covariance."""
     grid = np.asarray(POWDER_WAVELENGTHS_NM if wavelengths is None else wavelengths, dtype=float)
     obs = observe(
         spectrum,
