@@ -146,6 +146,7 @@ class EngineForward:
         self.memory = memory
         self.name = f"engine ({self.rays} rays, seed {seed})"
         self.stderr = np.zeros_like(self.grid)
+        self.mc_covariance: np.ndarray | None = None
         self.calls = 0
 
     def run(self, x: np.ndarray, *, rays: int | None = None, seed: int | None = None) -> ReflectanceResult:
@@ -173,8 +174,22 @@ class EngineForward:
             self.stderr = result.stderr
         return out
 
+    def replicate_covariance(self, x: np.ndarray, replicates: int) -> np.ndarray:
+        """The Monte Carlo covariance of the spectrum at ``x`` from ``replicates`` runs with
+        other seeds (seed + 1 …), kept for `budget`. With common random numbers the errors of
+        all wavelengths come from the same paths: they are correlated by the reflectance's
+        level and path lengths rather than by the distance in wavelength, which the Gaussian
+        kernel of the budget assumes. The sample covariance has rank ≤ replicates − 1; the
+        measurement noise keeps the total covariance positive definite."""
+        x = np.asarray(x, dtype=float)
+        spectra = [self.run(x, seed=self.seed + 1 + r).values for r in range(replicates)]
+        self.mc_covariance = np.atleast_2d(np.cov(np.array(spectra), rowvar=False))
+        return self.mc_covariance
+
     def budget(self) -> ErrorBudget:
-        return ErrorBudget(np.zeros_like(self.grid), np.asarray(self.stderr, dtype=float))
+        return ErrorBudget(
+            np.zeros_like(self.grid), np.asarray(self.stderr, dtype=float), mc_covariance=self.mc_covariance
+        )
 
     def describe(self) -> str:
         return f"Monte Carlo engine, {self.rays} rays per wavelength, seed {self.seed} (common random numbers)"

@@ -41,17 +41,24 @@ SIGMA_RANGE = (1e-5, 0.5)
 
 @dataclass(frozen=True)
 class ErrorBudget:
-    """Model error s (n_grid,) and Monte Carlo standard errors (n_grid,) of a forward model."""
+    """Model error s (n_grid,) and Monte Carlo standard errors (n_grid,) of a forward model.
+
+    ``mc_covariance`` (n_grid, n_grid), when given, is the Monte Carlo covariance estimated
+    from replicate runs (:meth:`sandlight.retrieval.forward.EngineForward.replicate_covariance`)
+    and replaces σ_MC σ_MCᵀ ∘ K.
+    """
 
     model_rms: np.ndarray
     mc_stderr: np.ndarray
     correlation_nm: float = MODEL_ERROR_CORRELATION_NM
+    mc_covariance: np.ndarray | None = None
 
     def covariance(self, obs: Observation) -> np.ndarray:
         """A ((s sᵀ + σ_MC σ_MCᵀ) ∘ K) Aᵀ: the covariance the forward model adds, channel space."""
         g = obs.grid
         k = np.exp(-((g[:, None] - g[None, :]) ** 2) / (2 * self.correlation_nm**2))
-        inner = (np.outer(self.model_rms, self.model_rms) + np.outer(self.mc_stderr, self.mc_stderr)) * k
+        mc = np.outer(self.mc_stderr, self.mc_stderr) * k if self.mc_covariance is None else self.mc_covariance
+        inner = np.outer(self.model_rms, self.model_rms) * k + mc
         return obs.operator @ inner @ obs.operator.T
 
 

@@ -21,11 +21,13 @@ import numpy as np
 import xarray as xr
 
 from sandlight.errors import ParameterError
+from sandlight.physics.powder import Powder
 from sandlight.retrieval.engine_check import EngineCheck
 from sandlight.retrieval.fitting import Optimum
 from sandlight.retrieval.identifiability import NotIdentifiableError, is_flat
 from sandlight.retrieval.observation import Observation
 from sandlight.retrieval.posterior import LaplacePosterior, SampledPosterior
+from sandlight.retrieval.powder_forward import PowderSpace
 from sandlight.retrieval.space import ParameterSpace
 from sandlight.sample import SandSample
 
@@ -41,8 +43,9 @@ class FitResult:
 
     Attributes
     ----------
-    sample : SandSample
-        The maximum-likelihood sample (free parameters at the optimum, the rest as given).
+    sample : SandSample or Powder
+        The maximum-likelihood sample (free parameters at the optimum, the rest as given); a
+        :class:`~sandlight.physics.powder.Powder` for a powder fit (``forward='powder'``).
     free : tuple of str
     estimate : dict of str to float
         The free parameters at the optimum.
@@ -58,8 +61,9 @@ class FitResult:
     sigma : float
         Measurement noise used: as given (its RMS) or estimated from the residuals.
     sigma_estimated : bool
-    space : ParameterSpace
-        Free parameters and their bounds (the sample domain ∩ the model's training domain).
+    space : ParameterSpace or PowderSpace
+        Free parameters and their bounds (the sample domain ∩ the model's training domain), in
+        the fit's coordinates (a powder's diameter in log10 µm; ``space.physical`` maps back).
     chi2 : float
         rᵀ C⁻¹ r at the optimum (about n − p for a fit whose error budget is right).
     candidates : dict of str to float
@@ -68,7 +72,7 @@ class FitResult:
         The Monte Carlo check at the optimum of a predictor fit.
     """
 
-    sample: SandSample
+    sample: SandSample | Powder
     free: tuple[str, ...]
     estimate: dict
     posterior: LaplacePosterior | SampledPosterior
@@ -79,7 +83,7 @@ class FitResult:
     method: str
     sigma: float
     sigma_estimated: bool
-    space: ParameterSpace
+    space: ParameterSpace | PowderSpace
     chi2: float
     candidates: dict = field(default_factory=dict)
     engine_check: EngineCheck | None = None
@@ -104,13 +108,24 @@ class FitResult:
         i = self._index(name)
         level = _check_level(level)
         if not self.identifiable(name, level):
-            lo, hi = self.space.low[i], self.space.high[i]
+            lo, hi = self._bounds(i)
             raise NotIdentifiableError(
                 f"{name} is not identifiable from this spectrum: the likelihood is flat over its whole "
                 f"range [{lo:g}, {hi:g}] (largest −2 Δlog L {self.max_delta_chi2[i]:.2f} < the "
                 f"{level:g} threshold); fix it (fixed={{'{name}': ...}}) or add data that constrain it"
             )
-        return self.posterior.interval(i, level)
+        return self._physical(i, self.posterior.interval(i, level))
+
+    def _physical(self, i: int, pair: tuple[float, float]) -> tuple[float, float]:
+        return (self.space.physical(i, pair[0]), self.space.physical(i, pair[1]))
+
+    def _bounds(self, i: int) -> tuple[float, float]:
+        """Bounds of free parameter ``i`` in physical units."""
+        return self._physical(i, (self.space.low[i], self.space.high[i]))
+
+    def _sample_table(self) -> dict:
+        """The fitted sample's parameters: ``SandSample.to_dict`` or ``Powder.describe``."""
+        return self.sample.describe() if isinstance(self.sample, Powder) else self.sample.to_dict()
 
     @property
     def correlation(self) -> xr.DataArray:
@@ -142,7 +157,8 @@ class FitResult:
         rows = []
         for i, name in enumerate(self.free):
             ok = self.identifiable(name)
-            lo, hi = self.posterior.interval(i, _LEVEL) if ok else (math.nan, math.nan)
+            lo, hi = self._physical(i, self.posterior.interval(i, _LEVEL)) if ok else (math.nan, math.nan)
+            bound_low, bound_high = self._bounds(i)
             rows.append(
                 {
                     "name": name,
@@ -151,8 +167,8 @@ class FitResult:
                     "high_95": hi,
                     "sd": float(self.posterior.sd[i]),
                     "identifiable": ok,
-                    "bound_low": float(self.space.low[i]),
-                    "bound_high": float(self.space.high[i]),
+                    "bound_low": bound_low,
+                    "bound_high": bound_high,
                 }
             )
         return rows
@@ -184,14 +200,15 @@ class FitResult:
                 "sigma": self.sigma,
                 "sigma_estimated": int(self.sigma_estimated),
                 "space": obs.space,
-                "sample": json.dumps(self.sample.to_dict()),
+                "sample": json.dumps(self._sample_table()),
                 "engine_check": self.engine_check.summary() if self.engine_check else "",
             }
         )
         return ds
 
     def to_toml(self) -> str:
-        """The fit as TOML: ``[sample]`` (every parameter; ``SandSample.from_dict`` reads it),
+        """The fit as TOML: ``[sample]`` (every parameter; ``SandSample.from_dict`` reads it; a
+        powder fit writes ``[powder]``, ``Powder.describe``), ``sd`` in the fit's coordinates,
         ``[fit]`` and one ``[parameters.NAME]`` table per free parameter."""
         lines = [f'format = "{FIT_FORMAT}"', "", "[fit]"]
         fit = {
@@ -219,8 +236,8 @@ class FitResult:
         lines += ["", "[correlation]"]
         corr = self.posterior.correlation
         lines += [f"{n} = [{', '.join(_toml(float(c)) for c in corr[i])}]" for i, n in enumerate(self.free)]
-        lines += ["", "[sample]"]
-        lines += [f"{k} = {_toml(v)}" for k, v in self.sample.to_dict().items()]
+        lines += ["", "[powder]" if isinstance(self.sample, Powder) else "[sample]"]
+        lines += [f"{k} = {_toml(v)}" for k, v in self._sample_table().items()]
         return "\n".join(lines) + "\n"
 
     def save(self, path: str | os.PathLike) -> None:

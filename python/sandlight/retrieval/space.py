@@ -113,6 +113,11 @@ class ParameterSpace:
     def from_unit(self, u: np.ndarray) -> np.ndarray:
         return self.low + np.asarray(u, dtype=float) * (self.high - self.low)
 
+    def physical(self, i: int, value: float) -> float:
+        """The value of free parameter ``i`` at fit coordinate ``value``: the fit's coordinates
+        are the sample parameters themselves (a powder fit's diameter is in log10 µm)."""
+        return float(value)
+
     def values(self, x: np.ndarray) -> dict[str, float]:
         return {n: float(v) for n, v in zip(self.free, np.asarray(x, dtype=float), strict=True)}
 
