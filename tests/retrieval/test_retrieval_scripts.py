@@ -4,6 +4,10 @@ import csv
 import importlib.util
 from pathlib import Path
 
+import pytest
+
+from sandlight.measured import _shared_usgs_folder
+
 SCRIPT = Path(__file__).resolve().parents[2] / "scripts" / "studies" / "retrieval_recovery.py"
 
 
@@ -18,6 +22,7 @@ def test_recovery_study_writes_its_table_and_figure(tmp_path, capsys):
     assert "| iron_oxide |" in capsys.readouterr().out
 
 
+@pytest.mark.skipif(_shared_usgs_folder() is None, reason="shared USGS splib07a folder not available")
 def test_powder_study_fits_the_gds69_series_and_writes_its_table(tmp_path, capsys):
     spec = importlib.util.spec_from_file_location("retrieval_powder", SCRIPT.with_name("retrieval_powder.py"))
     module = importlib.util.module_from_spec(spec)
