@@ -7,7 +7,13 @@ import pytest
 from colour_fakes import logistic_spectrum, read_usgs
 
 import colour
-from sandlight.colour import PREDICTOR_WAVELENGTHS_NM, spectrum_to_xyz, white_point_xyz, xyz_to_lab
+from sandlight.colour import (
+    PREDICTOR_WAVELENGTHS_NM,
+    spectrum_to_xyz,
+    spectrum_to_xyz_under,
+    white_point_xyz,
+    xyz_to_lab,
+)
 from sandlight.errors import ParameterError
 
 OBSERVER_10 = "CIE 1964 10 Degree Standard Observer"
@@ -166,3 +172,20 @@ class TestErrors:
             spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, r, observer="CIE 1931 2 Degree")
         with pytest.raises(ParameterError, match="illuminant"):  # names only, not SPD objects
             spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, r, illuminant=colour.SDS_ILLUMINANTS["D50"])
+
+
+def test_xyz_under_several_illuminants_equals_each_one_alone():
+    wl = PREDICTOR_WAVELENGTHS_NM
+    r = np.stack([logistic_spectrum(wl, 550.0), logistic_spectrum(wl, 620.0)])
+    both = spectrum_to_xyz_under(wl, r, illuminants=("D50", "D65", "A"))
+    assert both.shape == (2, 3, 3)
+    for i, name in enumerate(("D50", "D65", "A")):
+        np.testing.assert_allclose(both[:, i, :], spectrum_to_xyz(wl, r, illuminant=name), rtol=0, atol=1e-14)
+
+
+def test_xyz_under_refuses_no_illuminant_or_an_unknown_one():
+    wl = PREDICTOR_WAVELENGTHS_NM
+    with pytest.raises(ParameterError, match="illuminants"):
+        spectrum_to_xyz_under(wl, np.full(16, 0.5), illuminants=())
+    with pytest.raises(ParameterError, match="illuminant"):
+        spectrum_to_xyz_under(wl, np.full(16, 0.5), illuminants=("D50", "D99"))

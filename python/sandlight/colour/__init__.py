@@ -34,6 +34,7 @@ from sandlight.colour.spectrum import (
     DEFAULT_OBSERVER,
     PREDICTOR_WAVELENGTHS_NM,
     spectrum_to_xyz,
+    spectrum_to_xyz_under,
     white_point_xyz,
 )
 from sandlight.colour.srgb import (
@@ -73,6 +74,7 @@ __all__ = [
     "DEFAULT_OBSERVER",
     "PREDICTOR_WAVELENGTHS_NM",
     "spectrum_to_xyz",
+    "spectrum_to_xyz_under",
     "white_point_xyz",
     "MODES",
     "PAPER_XYZ_TO_LINEAR_RGB",

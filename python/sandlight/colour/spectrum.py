@@ -68,6 +68,7 @@ References
 from __future__ import annotations
 
 import functools
+from collections.abc import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -81,6 +82,7 @@ __all__ = [
     "DEFAULT_ILLUMINANT",
     "DEFAULT_OBSERVER",
     "spectrum_to_xyz",
+    "spectrum_to_xyz_under",
     "white_point_xyz",
 ]
 
@@ -264,6 +266,35 @@ def spectrum_to_xyz(
     >>> spectrum_to_xyz(PREDICTOR_WAVELENGTHS_NM, np.full(16, 0.5)).round(4)
     array([ 0.4836,  0.5   ,  0.4071])
     """
+    grid, weights = _integration_weights(illuminant, observer)
+    return _resampled(*_spectrum(wavelengths_nm, reflectance), grid) @ weights
+
+
+def spectrum_to_xyz_under(
+    wavelengths_nm: ArrayLike | colour.SpectralDistribution,
+    reflectance: ArrayLike | None = None,
+    *,
+    illuminants: Sequence[str] = (DEFAULT_ILLUMINANT,),
+    observer: str = DEFAULT_OBSERVER,
+) -> NDArray[np.float64]:
+    """`spectrum_to_xyz` under several illuminants, the reflectance resampled once.
+
+    Returns
+    -------
+    numpy.ndarray, shape (..., len(illuminants), 3)
+        XYZ under each illuminant, in order; equal to `spectrum_to_xyz` with that illuminant.
+    """
+    weights = [_integration_weights(name, observer) for name in illuminants]
+    if not weights:
+        raise ParameterError("illuminants", illuminants, "at least one CIE illuminant name")
+    resampled = _resampled(*_spectrum(wavelengths_nm, reflectance), weights[0][0])
+    return np.stack([resampled @ w for _, w in weights], axis=-2)
+
+
+def _spectrum(
+    wavelengths_nm: ArrayLike | colour.SpectralDistribution, reflectance: ArrayLike | None
+) -> tuple[NDArray, NDArray]:
+    """The validated (wavelengths, reflectance) of the two ways of passing a spectrum."""
     if isinstance(wavelengths_nm, colour.SpectralDistribution):
         if reflectance is not None:
             raise ParameterError("reflectance", "an array", "None with a colour.SpectralDistribution (it holds both)")
@@ -272,14 +303,16 @@ def spectrum_to_xyz(
         wavelengths_nm, reflectance = from_spectral_distribution(wavelengths_nm)
     elif reflectance is None:
         raise ParameterError("reflectance", None, "the reflectance at each of wavelengths_nm")
-    grid, weights = _integration_weights(illuminant, observer)
     wl = _validated_wavelengths(wavelengths_nm)
-    r = _validated_reflectance(reflectance, wl.size)
+    return wl, _validated_reflectance(reflectance, wl.size)
 
+
+def _resampled(wl: NDArray, r: NDArray, grid: NDArray) -> NDArray:
+    """R on the 1 nm ``grid``: PCHIP inside the sampled range, constant beyond it."""
     inside = (grid >= wl[0]) & (grid <= wl[-1])
     resampled = np.empty(r.shape[:-1] + grid.shape)
     resampled[..., inside] = PchipInterpolator(wl, r, axis=-1, extrapolate=False)(grid[inside])
     # Constant extension outside the sampled range (ASTM E308 convention for missing end data).
     resampled[..., grid < wl[0]] = r[..., :1]
     resampled[..., grid > wl[-1]] = r[..., -1:]
-    return resampled @ weights
+    return resampled

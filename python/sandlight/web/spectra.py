@@ -25,7 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 import colour
-from sandlight.colour.spectrum import spectrum_to_xyz
+from sandlight.colour.spectrum import spectrum_to_xyz_under
 from sandlight.colour.srgb import srgb_to_uint8, xyz_to_lab, xyz_to_srgb
 from sandlight.errors import ParameterError
 from sandlight.predictor.bank import ModelBank, default_model, holdout_rms
@@ -162,8 +162,8 @@ def colour_of(wavelengths_nm: ArrayLike, reflectance: ArrayLike) -> dict[str, An
 
 def colours_of(wavelengths_nm: ArrayLike, reflectance: ArrayLike) -> list[dict[str, Any]]:
     """`colour_of` for each row of ``reflectance`` (n, wavelengths), in one vectorised pass."""
-    xyz50 = spectrum_to_xyz(wavelengths_nm, reflectance)
-    xyz65 = spectrum_to_xyz(wavelengths_nm, reflectance, illuminant="D65")
+    xyz = spectrum_to_xyz_under(wavelengths_nm, reflectance, illuminants=("D50", "D65"))
+    xyz50, xyz65 = xyz[..., 0, :], xyz[..., 1, :]
     rgb, outside = xyz_to_srgb(xyz50, return_out_of_gamut=True)
     codes = srgb_to_uint8(rgb)
     lab50, lab65 = xyz_to_lab(xyz50), xyz_to_lab(xyz65, illuminant="D65")
