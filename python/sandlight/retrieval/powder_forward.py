@@ -28,7 +28,7 @@ POWDER_WAVELENGTHS_NM
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -39,6 +39,7 @@ from sandlight.errors import ParameterError
 from sandlight.optics import MATERIALS
 from sandlight.physics.powder import Powder
 from sandlight.retrieval.forward import EngineForward
+from sandlight.retrieval.space import free_and_fixed
 
 __all__ = ["PowderSpace", "PowderForward", "POWDER_FREEABLE", "POWDER_BOUNDS", "POWDER_WAVELENGTHS_NM"]
 
@@ -87,19 +88,9 @@ class PowderSpace:
             unknown parameter or one also free, or a value outside `POWDER_BOUNDS`.
         """
         check_choice("material", material, MATERIALS)
-        if isinstance(free, str):
-            free = [f.strip() for f in free.split(",") if f.strip()]
-        if not isinstance(free, Sequence) or not free or not all(isinstance(f, str) for f in free):
-            raise ParameterError("free", free, "a non-empty list of powder parameter names, e.g. ['diameter_um']")
-        for name in free:
-            if name not in POWDER_FREEABLE:
-                raise ParameterError("free", name, f"a powder parameter: one of {', '.join(POWDER_FREEABLE)}")
-        if len(set(free)) != len(free):
-            raise ParameterError("free", list(free), "each parameter once")
-        fixed = dict(fixed or {})
-        both = sorted(set(free) & set(fixed))
-        if both:
-            raise ParameterError("fixed", both, "parameters that are not also free (a parameter is fitted or fixed)")
+        free, fixed = free_and_fixed(
+            free, fixed, POWDER_FREEABLE, "powder parameter names, e.g. ['diameter_um']", lambda _: "a powder parameter"
+        )
         base = dict(POWDER_DEFAULTS)
         for name, value in fixed.items():
             if name not in POWDER_BOUNDS:

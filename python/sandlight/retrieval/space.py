@@ -11,7 +11,7 @@ ParameterSpace
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -20,7 +20,7 @@ import numpy as np
 from sandlight.errors import ParameterError
 from sandlight.sample import PARAMETERS, SandSample
 
-__all__ = ["ParameterSpace", "FREEABLE"]
+__all__ = ["ParameterSpace", "FREEABLE", "free_and_fixed"]
 
 #: Parameters a fit can vary: the real-valued ones with a finite domain. ``sand`` follows from
 #: silt and clay (sand = 1 − silt − clay), ``depth_mm`` has no finite upper bound, and the
@@ -73,21 +73,14 @@ class ParameterSpace:
             repeating one, or naming one that ``fixed`` also sets; ``fixed`` with an unknown
             name or a value outside the domain.
         """
-        if isinstance(free, str):
-            free = [f.strip() for f in free.split(",") if f.strip()]
-        if not isinstance(free, Sequence) or not free or not all(isinstance(f, str) for f in free):
-            raise ParameterError("free", free, "a non-empty list of sample parameter names, e.g. ['iron_oxide']")
-        for name in free:
-            if name not in FREEABLE:
-                known = name in {p.name for p in PARAMETERS}
-                why = "set it in fixed (it cannot be fitted)" if known else "not a sample parameter"
-                raise ParameterError("free", name, f"{why}; one of {', '.join(FREEABLE)}")
-        if len(set(free)) != len(free):
-            raise ParameterError("free", list(free), "each parameter once")
-        fixed = dict(fixed or {})
-        both = sorted(set(free) & set(fixed))
-        if both:
-            raise ParameterError("fixed", both, "parameters that are not also free (a parameter is fitted or fixed)")
+        known = {p.name for p in PARAMETERS}
+        free, fixed = free_and_fixed(
+            free,
+            fixed,
+            FREEABLE,
+            "sample parameter names, e.g. ['iron_oxide']",
+            lambda name: "set it in fixed (it cannot be fitted)" if name in known else "not a sample parameter",
+        )
         if sample is None:
             sample = SandSample()
         if not isinstance(sample, SandSample):
@@ -136,3 +129,28 @@ def _with_sand(sample: SandSample, silt: float, clay: float) -> SandSample:
     if (silt, clay) == (sample.silt, sample.clay):
         return sample
     return sample.replace(silt=silt, clay=clay, sand=1.0 - silt - clay)
+
+
+def free_and_fixed(
+    free: Any, fixed: Mapping[str, Any] | None, freeable: Sequence[str], names: str, why_not: Callable[[str], str]
+) -> tuple[list[str], dict[str, Any]]:
+    """``free`` as a list of names (a comma-separated string is split) and ``fixed`` as a dict,
+    checked: ``free`` non-empty, each name in ``freeable`` and given once, none also in ``fixed``.
+
+    ``names`` describes the allowed names in the message (e.g. "sample parameter names, e.g.
+    ['iron_oxide']"); ``why_not(name)`` says why a name outside ``freeable`` is refused.
+    """
+    if isinstance(free, str):
+        free = [f.strip() for f in free.split(",") if f.strip()]
+    if not isinstance(free, Sequence) or not free or not all(isinstance(f, str) for f in free):
+        raise ParameterError("free", free, f"a non-empty list of {names}")
+    for name in free:
+        if name not in freeable:
+            raise ParameterError("free", name, f"{why_not(name)}; one of {', '.join(freeable)}")
+    if len(set(free)) != len(free):
+        raise ParameterError("free", list(free), "each parameter once")
+    fixed = dict(fixed or {})
+    both = sorted(set(free) & set(fixed))
+    if both:
+        raise ParameterError("fixed", both, "parameters that are not also free (a parameter is fitted or fixed)")
+    return list(free), fixed
