@@ -23,20 +23,10 @@ import platform
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import numpy as np
-
-
-def best_of(fn, repeat=3):
-    best_wall, best_cpu = float("inf"), float("inf")
-    for _ in range(repeat):
-        w, c = time.perf_counter(), time.process_time()
-        fn()
-        best_wall = min(best_wall, time.perf_counter() - w)
-        best_cpu = min(best_cpu, time.process_time() - c)
-    return best_wall, best_cpu
+from _timing import best_of
 
 
 def synthetic_spatial_model(path: Path) -> Path:

@@ -16,24 +16,14 @@ from __future__ import annotations
 import argparse
 import os
 import platform
-import time
 
 import numpy as np
+from _timing import best_of
 
 import sandlight
 from sandlight.predictor import default_model
 
 FREE = ["iron_oxide", "hematite_ratio", "saturation"]
-
-
-def best_of(fn, repeat: int) -> tuple[float, float]:
-    best_wall, best_cpu = float("inf"), float("inf")
-    for _ in range(repeat):
-        w, c = time.perf_counter(), time.process_time()
-        fn()
-        best_wall = min(best_wall, time.perf_counter() - w)
-        best_cpu = min(best_cpu, time.process_time() - c)
-    return best_wall, best_cpu
 
 
 def main(argv=None) -> None:
