@@ -323,7 +323,7 @@ def reflectance(
     share : bool
         Spectral path sharing (docs/transport.md): the wavelengths of each group of nearly
         equal refractive indices are traced together, one path at a hero wavelength with a
-        weight per wavelength. Applies to an on-the-fly sand medium without path memory
+        weight per wavelength. Applies to an on-the-fly sand medium, with any path memory
         (:func:`shareable`); other media are traced wavelength by wavelength. ``False`` traces
         every wavelength on its own (the reference of the sharing's tests).
     dispersion_tolerance : float
@@ -398,10 +398,10 @@ def reflectance(
 
 
 def shareable(traced: Traceable) -> bool:
-    """Whether spectral path sharing applies to ``traced``: a sand medium on the fly without
-    path memory (the path memories and the explicit reference trace wavelength by wavelength,
-    docs/transport.md)."""
-    return isinstance(traced, SandMedium) and traced.memory == "none"
+    """Whether spectral path sharing applies to ``traced``: a sand medium on the fly, with or
+    without path memory (the explicit reference, powders and reference media trace wavelength
+    by wavelength, docs/transport.md)."""
+    return isinstance(traced, SandMedium)
 
 
 def _shared_spectrum(
