@@ -41,6 +41,11 @@ def z_scores(traced, wl, rays: int, seeds: range) -> np.ndarray:
     return np.array(out)
 
 
+def report(z: np.ndarray) -> None:
+    """The statistics docs/transport.md quotes (``pytest -rP`` shows them)."""
+    print(f"{z.size} z: mean {z.mean():+.3f}, spread {z.std(ddof=1):.3f}, max |z| {np.abs(z).max():.2f}")
+
+
 def test_absorption_only_media_agree_with_independent_runs():
     # Red dune sand with its indices frozen: iron-oxide absorption makes ρ go from 0.03 to 0.6
     # over 450–650 nm, all six wavelengths in one group.
@@ -74,6 +79,7 @@ def test_packed_memory_dry_agrees_with_independent_runs():
     # The path memory 'packed' (cut surface, pore walls, pair correlation) shared: iron oxide
     # makes ρ go from about 0.1 to 0.6 over 400–700 nm.
     z = z_scores(packed(), np.linspace(400.0, 700.0, 6), rays=1500, seeds=range(1, 21))
+    report(z)
     assert abs(z.mean()) < 0.2, z.mean()
     assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
 
@@ -84,6 +90,18 @@ def test_packed_memory_wet_agrees_with_independent_runs():
     cases = [packed(films, saturation=saturation) for films in ("uniform", "pendular") for saturation in (0.1, 0.6)]
     assert [m.composition.water_filled_probability > 0 for m in cases] == [False, True] * 2
     z = np.concatenate([z_scores(m, WATER_BANDS, rays=600, seeds=range(1, 6)) for m in cases])
+    report(z)
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
+def test_powders_agree_with_independent_runs():
+    # A quartz sieve fraction over 400–700 nm (one group) and hematite over 1000–2500 nm, whose
+    # dispersion cuts its six wavelengths into groups [1, 1, 4].
+    cases = [(Powder("quartz", (10.0, 100.0)), np.linspace(400.0, 700.0, 6))]
+    cases.append((Powder("hematite", 20.0), np.linspace(1000.0, 2500.0, 6)))
+    z = np.concatenate([z_scores(p, wl, rays=1500, seeds=range(1, 11)) for p, wl in cases])
+    report(z)
     assert abs(z.mean()) < 0.2, z.mean()
     assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
 
@@ -125,8 +143,8 @@ def test_share_false_is_the_per_wavelength_engine():
 
 
 def test_media_that_cannot_share_fall_back_to_independent_runs():
-    for medium in (IsotropicScatterers(0.9), Powder("hematite", 20.0)):
-        assert not sandlight.reflectance(medium, [500.0, 600.0], rays=500, progress=False).shared
+    r = sandlight.reflectance(IsotropicScatterers(0.9), [500.0, 600.0], rays=500, progress=False)
+    assert not r.shared
 
 
 @pytest.mark.parametrize("memory", ["none", "channel", "cut", "packed"])
