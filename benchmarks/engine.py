@@ -31,10 +31,14 @@ process CPU time (other load does not inflate it):
   samples): ``--training-samples`` samples drawn from the domain, traced shared and independent,
   the time per sample extrapolated to 3000, with the same standard-error scaling.
 
+``--memory`` sets the path memory of every run (default: the engine's, ``DEFAULT_MEMORY``);
+``--training-samples 0`` leaves the training job out.
+
 Usage::
 
     python benchmarks/engine.py [--seconds 2] [--repeats 3] [--samples default red-dune ...]
         [--part all|single|spectral] [--spectral-rays 20000] [--training-samples 12]
+        [--memory none|channel|cut|packed]
 """
 
 from __future__ import annotations
@@ -48,10 +52,15 @@ import numpy as np
 
 import sandlight
 from sandlight.machine import cpu_model
+from sandlight.physics.media import DEFAULT_MEMORY, MEMORIES
 
 WAVELENGTH_NM = 550.0
 PROJECTED_RAYS = 1e8
 SAMPLES = ("default", "red-dune", "ottawa-quartz", "wet-beach")
+
+
+def memory_name(memory: str | None) -> str:
+    return f"'{DEFAULT_MEMORY if memory is None else memory}'"
 
 
 def load_average() -> str:
@@ -65,36 +74,38 @@ def sample_for(name: str) -> sandlight.SandSample:
     return sandlight.SandSample() if name == "default" else sandlight.SandSample.preset(name)
 
 
-def timed_run(sample, rays: int, threads: int) -> tuple[float, float, int]:
+def timed_run(sample, rays: int, threads: int, memory: str | None) -> tuple[float, float, int]:
     """(wall time in s, process CPU time in s, particle events) of one run at 550 nm."""
     w0, c0 = time.perf_counter(), time.process_time()
-    result = sandlight.reflectance(sample, [WAVELENGTH_NM], rays=rays, seed=1, threads=threads, progress=False)
+    result = sandlight.reflectance(
+        sample, [WAVELENGTH_NM], rays=rays, seed=1, threads=threads, progress=False, memory=memory
+    )
     return time.perf_counter() - w0, time.process_time() - c0, int(result.counts["events"][0])
 
 
-def best_of(sample, rays: int, threads: int, repeats: int) -> tuple[float, float, int]:
+def best_of(sample, rays: int, threads: int, repeats: int, memory: str | None) -> tuple[float, float, int]:
     """The shortest wall and CPU times of ``repeats`` identical runs, with the event count."""
-    runs = [timed_run(sample, rays, threads) for _ in range(repeats)]
+    runs = [timed_run(sample, rays, threads, memory) for _ in range(repeats)]
     return min(r[0] for r in runs), min(r[1] for r in runs), runs[0][2]
 
 
-def rays_for(sample, seconds: float) -> int:
+def rays_for(sample, seconds: float, memory: str | None) -> int:
     """A ray count that takes about ``seconds`` on one thread, from pilot runs of growing size
     (the first call also loads optical tables, so it is not timed)."""
-    timed_run(sample, 1000, 1)
+    timed_run(sample, 1000, 1, memory)
     pilot = 4000
     while True:
-        t, _, _ = timed_run(sample, pilot, 1)
+        t, _, _ = timed_run(sample, pilot, 1, memory)
         if t >= 0.25:
             return max(pilot, int(pilot * seconds / t))
         pilot *= 4
 
 
-def benchmark(name: str, seconds: float, repeats: int) -> dict:
+def benchmark(name: str, seconds: float, repeats: int, memory: str | None) -> dict:
     sample = sample_for(name)
-    rays = rays_for(sample, seconds)
-    t1, cpu1, events = best_of(sample, rays, 1, repeats)
-    t2, cpu2, _ = best_of(sample, rays, 2, repeats)
+    rays = rays_for(sample, seconds, memory)
+    t1, cpu1, events = best_of(sample, rays, 1, repeats, memory)
+    t2, cpu2, _ = best_of(sample, rays, 2, repeats, memory)
     return {
         "name": name,
         "rays": rays,
@@ -109,10 +120,10 @@ def benchmark(name: str, seconds: float, repeats: int) -> dict:
     }
 
 
-def spectral_job(sample, wl: np.ndarray, rays: int) -> dict:
+def spectral_job(sample, wl: np.ndarray, rays: int, memory: str | None) -> dict:
     """Shared and independent runs of ``wl`` at ``rays``, and one wavelength (550 nm): CPU
     times, standard-error ratios, and shared times at equal standard error."""
-    run = {"rays": rays, "seed": 1, "threads": 1, "progress": False}
+    run = {"rays": rays, "seed": 1, "threads": 1, "progress": False, "memory": memory}
     sandlight.reflectance(sample, wl, **{**run, "rays": 100})  # loads the optical tables, untimed
     c0 = time.process_time()
     one = sandlight.reflectance(sample, [WAVELENGTH_NM], share=False, **run)
@@ -137,7 +148,7 @@ def spectral_job(sample, wl: np.ndarray, rays: int) -> dict:
     }
 
 
-def training_job(n_samples: int, rays: int = 10_000) -> dict:
+def training_job(n_samples: int, memory: str | None, rays: int = 10_000) -> dict:
     """Time per sample of the narrow model's training runs, shared and independent."""
     from sandlight.predictor import Dimension, Domain
     from sandlight.predictor.training import wavelength_grid
@@ -149,7 +160,7 @@ def training_job(n_samples: int, rays: int = 10_000) -> dict:
     for share in (True, False):
         c0 = time.process_time()
         results = [
-            sandlight.reflectance(s, wl, rays=rays, seed=k, threads=1, progress=False, share=share)
+            sandlight.reflectance(s, wl, rays=rays, seed=k, threads=1, progress=False, share=share, memory=memory)
             for k, s in enumerate(samples)
         ]
         times[share] = (time.process_time() - c0) / n_samples
@@ -164,12 +175,12 @@ def training_job(n_samples: int, rays: int = 10_000) -> dict:
     }
 
 
-def print_spectral(names: list[str], rays: int, training_samples: int) -> None:
+def print_spectral(names: list[str], rays: int, training_samples: int, memory: str | None) -> None:
     grids = {
         "16 λ 400–700": np.linspace(400.0, 700.0, 16),
         "67 λ 400–2500": np.concatenate([np.arange(400.0, 701.0, 10.0), np.arange(750.0, 2501.0, 50.0)]),
     }
-    print(f"\nspectral path sharing, 1 thread, CPU seconds, {rays} rays per wavelength")
+    print(f"\nspectral path sharing, 1 thread, CPU seconds, {rays} rays per wavelength, memory {memory_name(memory)}")
     header = (
         f"{'sample':<14} {'grid':<14} {'groups':>6} {'550 nm':>7} {'shared':>8} {'indep.':>8} {'indep/shared':>12} "
         f"{'se ratio med/max':>16} {'equal se (max) / 550 nm':>23} {'(median)':>9} {'/ mean λ':>9}"
@@ -178,7 +189,7 @@ def print_spectral(names: list[str], rays: int, training_samples: int) -> None:
     print("-" * len(header))
     for name in names:
         for label, wl in grids.items():
-            r = spectral_job(sample_for(name), wl, rays)
+            r = spectral_job(sample_for(name), wl, rays, memory)
             print(
                 f"{name:<14} {label:<14} {r['groups']:>6d} {r['t_one']:>7.2f} "
                 f"{r['t_shared']:>8.2f} {r['t_indep']:>8.2f} "
@@ -187,7 +198,20 @@ def print_spectral(names: list[str], rays: int, training_samples: int) -> None:
                 f"{r['equal_se_max'] / r['per_wavelength']:>8.1f}×",
                 flush=True,
             )
-    t = training_job(training_samples)
+    targets = "targets: 16 λ ≤ 2× one wavelength, 67 λ ≤ 5× one wavelength (same standard error)"
+    if training_samples:
+        print_training(training_job(training_samples, memory), training_samples)
+        targets += "; training ≥ 5× faster"
+    print(targets)
+    print(
+        "'550 nm': one independent wavelength at 550 nm; 'equal se (max)': the shared time scaled by the largest\n"
+        "squared standard-error ratio (every wavelength at least as precise as independent runs), '(median)' by\n"
+        "the median;"
+        "'/ mean λ': the equal-se (max) time over the mean time of one wavelength of the independent spectrum."
+    )
+
+
+def print_training(t: dict, training_samples: int) -> None:
     full = 3000
     print(
         f"\ntraining a narrow model (iron_oxide × hematite_ratio, {t['wavelengths']} λ, 10 000 rays, measured on "
@@ -205,13 +229,6 @@ def print_spectral(names: list[str], rays: int, training_samples: int) -> None:
         f"standard error (rays × ratio²): {speedup / t['ratio_median'] ** 2:.1f}× (median), "
         f"{speedup / t['ratio_max'] ** 2:.1f}× (max) faster"
     )
-    print("targets: 16 λ ≤ 2× one wavelength, 67 λ ≤ 5× one wavelength (same standard error); training ≥ 5× faster")
-    print(
-        "'550 nm': one independent wavelength at 550 nm; 'equal se (max)': the shared time scaled by the largest\n"
-        "squared standard-error ratio (every wavelength at least as precise as independent runs), '(median)' by\n"
-        "the median;"
-        "'/ mean λ': the equal-se (max) time over the mean time of one wavelength of the independent spectrum."
-    )
 
 
 def main(argv=None) -> None:
@@ -222,7 +239,8 @@ def main(argv=None) -> None:
     parser.add_argument("--part", choices=("all", "single", "spectral"), default="all")
     parser.add_argument("--spectral-samples", nargs="+", default=["default", "ottawa-quartz"])
     parser.add_argument("--spectral-rays", type=int, default=20_000, help="rays per wavelength (spectral part)")
-    parser.add_argument("--training-samples", type=int, default=12, help="samples measured (spectral part)")
+    parser.add_argument("--training-samples", type=int, default=12, help="samples measured (spectral part; 0: none)")
+    parser.add_argument("--memory", choices=MEMORIES, default=None, help="path memory (default: the engine's)")
     args = parser.parse_args(argv)
 
     print(
@@ -234,13 +252,14 @@ def main(argv=None) -> None:
     if args.part in ("all", "single"):
         single_wavelength(args)
     if args.part in ("all", "spectral"):
-        print_spectral(args.spectral_samples, args.spectral_rays, args.training_samples)
+        print_spectral(args.spectral_samples, args.spectral_rays, args.training_samples, args.memory)
     print(f"\nload average after: {load_average()}")
 
 
 def single_wavelength(args) -> None:
     print(
-        f"λ = {WAVELENGTH_NM:g} nm, normal incidence; best of {args.repeats} runs of ≈ {args.seconds:g} s (1 thread)\n"
+        f"λ = {WAVELENGTH_NM:g} nm, normal incidence, memory {memory_name(args.memory)}; best of {args.repeats} runs "
+        f"of ≈ {args.seconds:g} s (1 thread)\n"
     )
     header = (
         f"{'sample':<14} {'rays':>8} {'events/ray':>10} {'Mevents/s/core':>14} {'(per CPU-s)':>11} "
@@ -249,7 +268,7 @@ def single_wavelength(args) -> None:
     print(header)
     print("-" * len(header))
     for name in args.samples:
-        r = benchmark(name, args.seconds, args.repeats)
+        r = benchmark(name, args.seconds, args.repeats, args.memory)
         print(
             f"{r['name']:<14} {r['rays']:>8d} {r['events_per_ray']:>10.1f} {r['events_per_s_core'] / 1e6:>14.2f} "
             f"{r['events_per_cpu_s'] / 1e6:>11.2f} {r['rays_per_s_1']:>10.0f} {r['rays_per_s_2']:>10.0f} "

@@ -11,7 +11,8 @@ import pytest
 import sandlight
 from sandlight.errors import ParameterError
 from sandlight.optics import complex_index
-from sandlight.physics.media import IsotropicScatterers, as_traceable
+from sandlight.physics.media import IsotropicScatterers, SandMedium, as_traceable
+from sandlight.physics.powder import Powder
 from sandlight.physics.spectral_groups import direction_indices, spectral_groups
 
 
@@ -40,6 +41,11 @@ def z_scores(traced, wl, rays: int, seeds: range) -> np.ndarray:
     return np.array(out)
 
 
+def report(z: np.ndarray) -> None:
+    """The statistics docs/transport.md quotes (``pytest -rP`` shows them)."""
+    print(f"{z.size} z: mean {z.mean():+.3f}, spread {z.std(ddof=1):.3f}, max |z| {np.abs(z).max():.2f}")
+
+
 def test_absorption_only_media_agree_with_independent_runs():
     # Red dune sand with its indices frozen: iron-oxide absorption makes ρ go from 0.03 to 0.6
     # over 450–650 nm, all six wavelengths in one group.
@@ -60,9 +66,50 @@ def test_real_presets_350_to_2500_nm_agree_with_independent_runs():
     assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
 
 
-def test_shared_results_do_not_depend_on_the_thread_count():
+def packed(films: str = "uniform", **sample) -> SandMedium:
+    """A sample (``SandSample`` parameters, iron_oxide 0.02 unless given) with memory 'packed'."""
+    return SandMedium.from_sample(sandlight.SandSample(**{"iron_oxide": 0.02, **sample}), "packed", films=films)
+
+
+#: Visible and water bands: with pores filled the water's absorption varies by 10⁴ over them.
+WATER_BANDS = np.array([450.0, 550.0, 650.0, 970.0, 1200.0, 1450.0])
+
+
+def test_packed_memory_dry_agrees_with_independent_runs():
+    # The path memory 'packed' (cut surface, pore walls, pair correlation) shared: iron oxide
+    # makes ρ go from about 0.1 to 0.6 over 400–700 nm.
+    z = z_scores(packed(), np.linspace(400.0, 700.0, 6), rays=1500, seeds=range(1, 21))
+    report(z)
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
+def test_packed_memory_wet_agrees_with_independent_runs():
+    # Films only (saturation below film_saturation 0.15) and water-filled pores (through the
+    # flat water surface of the cut layer), uniform and pendular films.
+    cases = [packed(films, saturation=saturation) for films in ("uniform", "pendular") for saturation in (0.1, 0.6)]
+    assert [m.composition.water_filled_probability > 0 for m in cases] == [False, True] * 2
+    z = np.concatenate([z_scores(m, WATER_BANDS, rays=600, seeds=range(1, 6)) for m in cases])
+    report(z)
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
+def test_powders_agree_with_independent_runs():
+    # A quartz sieve fraction over 400–700 nm (one group) and hematite over 1000–2500 nm, whose
+    # dispersion cuts its six wavelengths into groups [1, 1, 4].
+    cases = [(Powder("quartz", (10.0, 100.0)), np.linspace(400.0, 700.0, 6))]
+    cases.append((Powder("hematite", 20.0), np.linspace(1000.0, 2500.0, 6)))
+    z = np.concatenate([z_scores(p, wl, rays=1500, seeds=range(1, 11)) for p, wl in cases])
+    report(z)
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
+@pytest.mark.parametrize("medium", ["red-dune", packed(saturation=0.6)], ids=["classic", "packed-wet"])
+def test_shared_results_do_not_depend_on_the_thread_count(medium):
     wl = np.linspace(400.0, 700.0, 8)
-    runs = [sandlight.reflectance("red-dune", wl, rays=3000, seed=5, threads=t, progress=False) for t in (1, 2, 3)]
+    runs = [sandlight.reflectance(medium, wl, rays=3000, seed=5, threads=t, progress=False) for t in (1, 2, 3)]
     for r in runs[1:]:
         np.testing.assert_array_equal(r.values, runs[0].values)
         np.testing.assert_array_equal(r.covariance, runs[0].covariance)
@@ -96,10 +143,14 @@ def test_share_false_is_the_per_wavelength_engine():
 
 
 def test_media_that_cannot_share_fall_back_to_independent_runs():
-    r = sandlight.reflectance(IsotropicScatterers(0.9), [500.0, 600.0], rays=2000, progress=False)
+    r = sandlight.reflectance(IsotropicScatterers(0.9), [500.0, 600.0], rays=500, progress=False)
     assert not r.shared
-    r = sandlight.reflectance("red-dune", [500.0, 600.0], rays=500, memory="channel", progress=False)
-    assert not r.shared
+
+
+@pytest.mark.parametrize("memory", ["none", "channel", "cut", "packed"])
+def test_every_path_memory_shares(memory):
+    r = sandlight.reflectance("red-dune", [500.0, 600.0], rays=500, memory=memory, progress=False)
+    assert r.shared and r.memory == memory and r.groups == ((0, 1),)
 
 
 def test_groups_follow_the_indices_that_set_directions():

@@ -36,6 +36,7 @@ from sandlight.checks import (
 from sandlight.errors import ParameterError
 from sandlight.physics.media import IsotropicScatterers, SandMedium, as_traceable, engine_settings
 from sandlight.physics.medium import Traceable
+from sandlight.physics.powder import Powder
 from sandlight.physics.spectral_groups import DISPERSION_TOLERANCE, spectral_groups
 from sandlight.progress import progress_bar
 
@@ -323,8 +324,8 @@ def reflectance(
     share : bool
         Spectral path sharing (docs/transport.md): the wavelengths of each group of nearly
         equal refractive indices are traced together, one path at a hero wavelength with a
-        weight per wavelength. Applies to an on-the-fly sand medium without path memory
-        (:func:`shareable`); other media are traced wavelength by wavelength. ``False`` traces
+        weight per wavelength. Applies to an on-the-fly sand medium, with any path memory, and
+        to a ``Powder`` (:func:`shareable`); other media are traced wavelength by wavelength. ``False`` traces
         every wavelength on its own (the reference of the sharing's tests).
     dispersion_tolerance : float
         Largest spread of any material's real index within a group (``share`` only), in
@@ -398,14 +399,14 @@ def reflectance(
 
 
 def shareable(traced: Traceable) -> bool:
-    """Whether spectral path sharing applies to ``traced``: a sand medium on the fly without
-    path memory (the path memories and the explicit reference trace wavelength by wavelength,
-    docs/transport.md)."""
-    return isinstance(traced, SandMedium) and traced.memory == "none"
+    """Whether spectral path sharing applies to ``traced``: a sand medium on the fly, with or
+    without path memory, or a powder (both traced on the fly; the explicit reference and the
+    reference media trace wavelength by wavelength, docs/transport.md)."""
+    return isinstance(traced, (SandMedium, Powder))
 
 
 def _shared_spectrum(
-    traced: SandMedium, wl: np.ndarray, rays: int, tolerance: float, run: dict
+    traced: SandMedium | Powder, wl: np.ndarray, rays: int, tolerance: float, run: dict
 ) -> tuple[np.ndarray, np.ndarray, dict, np.ndarray, tuple]:
     """Values, standard errors, counts, covariance and groups of a shared run over ``wl``."""
     groups = spectral_groups(traced.composition, wl, tolerance, optical_constants=traced.optical_constants)

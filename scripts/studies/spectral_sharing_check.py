@@ -7,12 +7,14 @@ seed so that the independent errors are independent). It prints per wavelength b
 both standard errors and their ratio, and z = (shared − independent)/√(se_s² + se_i²), then the
 mean and spread of z over all wavelengths and seeds and the largest |z|: with no bias, mean ≈ 0
 and spread ≈ 1 (z of one shared run are correlated across its group, so the mean scatters by up
-to 1/√seeds).
+to 1/√seeds). Times are wall clock and process CPU (all threads), shared spectrum against the
+independent runs. ``--memory`` sets the path memory (default: the engine's, ``DEFAULT_MEMORY``).
 
 Usage::
 
     python scripts/studies/spectral_sharing_check.py [--samples red-dune ottawa-quartz]
         [--grid validation|visible] [--rays 20000] [--seeds 2] [--tolerance 0.02]
+        [--memory none|channel|cut|packed]
 """
 
 from __future__ import annotations
@@ -23,6 +25,7 @@ import time
 import numpy as np
 
 import sandlight
+from sandlight.physics.media import DEFAULT_MEMORY, MEMORIES
 from sandlight.physics.spectral_groups import DISPERSION_TOLERANCE
 from sandlight.validation.scoring import default_wavelengths_nm
 
@@ -33,21 +36,22 @@ def sample_for(name: str) -> sandlight.SandSample:
     return sandlight.SandSample() if name == "default" else sandlight.SandSample.preset(name)
 
 
-def compare(sample, wl: np.ndarray, rays: int, seed: int, tolerance: float) -> dict:
-    """Shared and independent spectra of ``sample`` with their timings."""
-    t0 = time.perf_counter()
-    shared = sandlight.reflectance(sample, wl, rays=rays, seed=seed, progress=False, dispersion_tolerance=tolerance)
-    t1 = time.perf_counter()
+def compare(sample, wl: np.ndarray, rays: int, seed: int, tolerance: float, memory: str | None) -> dict:
+    """Shared and independent spectra of ``sample`` with their wall and CPU times."""
+    run = {"rays": rays, "progress": False, "memory": memory}
+    t0, c0 = time.perf_counter(), time.process_time()
+    shared = sandlight.reflectance(sample, wl, seed=seed, dispersion_tolerance=tolerance, **run)
+    t1, c1 = time.perf_counter(), time.process_time()
     # One seed per wavelength: independent errors across wavelengths.
     indep = [
-        sandlight.reflectance(sample, [lam], rays=rays, seed=1000 * seed + k + 1, progress=False, share=False)
-        for k, lam in enumerate(wl)
+        sandlight.reflectance(sample, [lam], seed=1000 * seed + k + 1, share=False, **run) for k, lam in enumerate(wl)
     ]
-    t2 = time.perf_counter()
+    t2, c2 = time.perf_counter(), time.process_time()
     values = np.array([r.values[0] for r in indep])
     stderr = np.array([r.stderr[0] for r in indep])
     z = (shared.values - values) / np.hypot(shared.stderr, stderr)
-    return {"shared": shared, "values": values, "stderr": stderr, "z": z, "t_shared": t1 - t0, "t_indep": t2 - t1}
+    times = {"t_shared": t1 - t0, "t_indep": t2 - t1, "cpu_shared": c1 - c0, "cpu_indep": c2 - c1}
+    return {"shared": shared, "values": values, "stderr": stderr, "z": z, **times}
 
 
 def main(argv=None) -> None:
@@ -57,23 +61,26 @@ def main(argv=None) -> None:
     parser.add_argument("--rays", type=int, default=20_000)
     parser.add_argument("--seeds", type=int, default=2)
     parser.add_argument("--tolerance", type=float, default=DISPERSION_TOLERANCE)
+    parser.add_argument("--memory", choices=MEMORIES, default=None, help="path memory (default: the engine's)")
     args = parser.parse_args(argv)
     wl = GRIDS[args.grid]
     print(
         f"sandlight {sandlight.__version__}; {wl.size} wavelengths {wl.min():g}–{wl.max():g} nm; "
-        f"{args.rays} rays per wavelength; seeds 1..{args.seeds}; dispersion tolerance {args.tolerance:g}"
+        f"{args.rays} rays per wavelength; seeds 1..{args.seeds}; dispersion tolerance {args.tolerance:g}; "
+        f"memory '{DEFAULT_MEMORY if args.memory is None else args.memory}'"
     )
     for name in args.samples:
         sample = sample_for(name)
         zs, ratios = [], []
         for seed in range(1, args.seeds + 1):
-            c = compare(sample, wl, args.rays, seed, args.tolerance)
+            c = compare(sample, wl, args.rays, seed, args.tolerance, args.memory)
             zs.append(c["z"])
             ratios.append(c["shared"].stderr / c["stderr"])
             sizes = [len(g) for g in c["shared"].groups]
             print(
                 f"\n{name}, seed {seed}: {len(sizes)} groups {sizes}; time shared {c['t_shared']:.1f} s, "
-                f"independent {c['t_indep']:.1f} s ({c['t_indep'] / c['t_shared']:.1f}×)"
+                f"independent {c['t_indep']:.1f} s ({c['t_indep'] / c['t_shared']:.1f}×); CPU shared "
+                f"{c['cpu_shared']:.1f} s, independent {c['cpu_indep']:.1f} s ({c['cpu_indep'] / c['cpu_shared']:.1f}×)"
             )
             if seed == 1:
                 print(f"{'λ nm':>7} {'shared':>8} {'se':>8} {'indep':>8} {'se':>8} {'se ratio':>8} {'z':>6}")

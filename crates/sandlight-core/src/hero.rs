@@ -7,7 +7,8 @@
 //! filling, film thickness, depth); their optics differ. The wavelength-dependent choices are
 //! the layer stacks at every particle (reflect / transmit / absorb), absorption along chords
 //! through cores and paths through pore water, and the flat water surface of a filled surface
-//! pore. Directions come from the hero's refractive indices (dispersion: docs/transport.md says
+//! pore. The paths are those of the classic tracer or of a path memory (`memory`), whose
+//! geometry the group shares. Directions come from the hero's refractive indices (dispersion: docs/transport.md says
 //! how groups are formed and what this costs).
 //!
 //! The stacks' probabilities are read from tables of R and R + T over the incidence cosine,
@@ -22,6 +23,7 @@ use crate::error::SandlightError;
 use crate::fresnel;
 use crate::math::Vec3;
 use crate::medium::Particulate;
+use crate::memory::{trace_with_memory, Memory, PathMemory};
 use crate::particle::{survives, Absorber, PathChoices, StackFate, StackKind, Stacks};
 use crate::rng::Rng;
 use crate::spectral::SpectralWeights;
@@ -57,6 +59,8 @@ pub struct HeroGroup {
     water_n: Option<Vec<f64>>,
     /// Core real indices per type, per wavelength; None where all are equal.
     core_n: Vec<Option<Vec<f64>>>,
+    /// The group's path memory; None for the classic tracer.
+    paths: Option<PathMemory>,
 }
 
 fn varies(v: Vec<f64>) -> Option<Vec<f64>> {
@@ -65,8 +69,8 @@ fn varies(v: Vec<f64>) -> Option<Vec<f64>> {
 
 impl HeroGroup {
     /// The group of `media` (one per wavelength, at most `MAX_GROUP`), which must share their
-    /// geometry.
-    pub fn new(media: Vec<Particulate>) -> Result<HeroGroup, SandlightError> {
+    /// geometry, traced with path memory `memory`.
+    pub fn new(media: Vec<Particulate>, memory: Memory) -> Result<HeroGroup, SandlightError> {
         if media.is_empty() || media.len() > MAX_GROUP {
             return Err(SandlightError::parameter(
                 "media",
@@ -144,7 +148,9 @@ impl HeroGroup {
         let water_alpha = varies(media.iter().map(|m| m.pore.water_alpha_per_mm).collect());
         let water_n = varies(media.iter().map(|m| m.pore.water_n).collect());
         let core_n = (0..types).map(|t| varies(media.iter().map(|m| m.types[t].optics.core_n).collect())).collect();
-        Ok(HeroGroup { media, tables, exact, core_alpha, water_alpha, water_n, core_n })
+        // The memory's geometry is that of every medium of the group (checked equal above).
+        let paths = PathMemory::new(first, memory);
+        Ok(HeroGroup { media, tables, exact, core_alpha, water_alpha, water_n, core_n, paths })
     }
 
     /// Wavelengths in the group.
@@ -209,7 +215,11 @@ impl HeroGroup {
         let hero = ((rng.uniform() * n as f64) as usize).min(n - 1);
         weights.reset(hero);
         let mut companions = Companions { group: self, weights, particle: 0 };
-        let out = trace_classic(&self.media[hero], dir_in, rng, limits, &mut companions);
+        let medium = &self.media[hero];
+        let out = match &self.paths {
+            None => trace_classic(medium, dir_in, rng, limits, &mut companions),
+            Some(paths) => trace_with_memory(paths, medium, dir_in, rng, limits, &mut companions),
+        };
         (out.fate, out.events)
     }
 }
@@ -429,8 +439,10 @@ mod tests {
     use super::*;
     use crate::driver::{directional_hemispherical, incident_direction};
     use crate::medium::ParticleType;
+    use crate::memory::WithMemory;
     use crate::particle::{Coating, ParticleOptics, PoreOptics};
     use crate::sizes::QuantileTable;
+    use crate::transport::Medium;
 
     /// A quartz-like sand with a weakly absorbing coating over 70 % of the surface and wet
     /// pores, whose absorption
@@ -459,6 +471,26 @@ mod tests {
         Particulate::new(vec![t], 0.12, pore, f64::INFINITY).unwrap()
     }
 
+    /// For the path memories: packed spheres (the pair correlation of `Memory::Packed`) and
+    /// clay fines, the coating, films and wet pores of `sand`, absorption scaled by `absorb`,
+    /// indices shifted by `dn`.
+    fn packed_sand(absorb: f64, dn: f64) -> Particulate {
+        let m = sand(absorb, dn);
+        let grain = ParticleType { probability: 0.8, aspect_ratio: 1.0, ..m.types[0].clone() };
+        let fine = ParticleType { probability: 0.2, sizes: QuantileTable::constant(0.002), ..grain.clone() };
+        Particulate::new(vec![grain, fine], m.mean_free_path_mm, m.pore, m.depth_mm).unwrap()
+    }
+
+    /// ρ and its standard error of wavelength `j` of a shared run's tallies over `n` rays.
+    fn shared_estimate(c: &SpectralCounts, j: usize, n: u64) -> (f64, f64) {
+        let w = c.escaped.len();
+        let s1 = c.escaped[j] as f64 / FIXED_ONE;
+        let k = j * w - j * (j.saturating_sub(1)) / 2;
+        let s2 = c.products[k] as f64 / (FIXED_ONE * FIXED_ONE);
+        let rho = s1 / n as f64;
+        (rho, ((s2 / n as f64 - rho * rho) / (n - 1) as f64).sqrt())
+    }
+
     fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
         rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap().install(f)
     }
@@ -468,7 +500,7 @@ mod tests {
         // Interpolated or exact by cell: within 1e-6 of the exact R and R + T at 40 001
         // cosines, every stack, including the square-root edges at critical cosines; most cells
         // are interpolated.
-        let g = HeroGroup::new(vec![sand(1.0, 0.0), sand(3.0, 0.02)]).unwrap();
+        let g = HeroGroup::new(vec![sand(1.0, 0.0), sand(3.0, 0.02)], Memory::None).unwrap();
         let mut worst = 0.0f64;
         for j in 0..2 {
             let (_, stacks) = g.medium(j).type_tables(0);
@@ -492,7 +524,7 @@ mod tests {
         // One wavelength: every weight is 1, the estimate the indicator of escape; the tallies
         // count escapes exactly as the classic tracer does (different random streams).
         let m = sand(1.0, 0.0);
-        let g = HeroGroup::new(vec![m.clone()]).unwrap();
+        let g = HeroGroup::new(vec![m.clone()], Memory::None).unwrap();
         let dir = incident_direction(0.5);
         let n = 40_000;
         let c =
@@ -510,7 +542,7 @@ mod tests {
         // Five wavelengths whose absorption differs (core, coating, film and bulk water by a
         // factor 12): each shared estimate within 4 standard errors of its own classic run.
         let absorb = [0.25, 0.5, 1.0, 2.0, 3.0];
-        let g = HeroGroup::new(absorb.iter().map(|&a| sand(a, 0.0)).collect()).unwrap();
+        let g = HeroGroup::new(absorb.iter().map(|&a| sand(a, 0.0)).collect(), Memory::None).unwrap();
         let dir = incident_direction(0.3);
         let n = 60_000;
         let c =
@@ -547,7 +579,7 @@ mod tests {
         };
         let cases = [(0.2, 2.0, 0.3, 0.0), (1.0, 1.0, 0.5, 0.01), (3.0, 0.3, 0.7, 0.02)];
         let media: Vec<_> = cases.iter().map(|&(a, s, g, dn)| sand_with(1.0, dn, coating(a, s, g, dn))).collect();
-        let g = HeroGroup::new(media.clone()).unwrap();
+        let g = HeroGroup::new(media.clone(), Memory::None).unwrap();
         let dir = incident_direction(0.6);
         let n = 30_000;
         let c =
@@ -566,26 +598,77 @@ mod tests {
     }
 
     #[test]
-    fn shared_tallies_do_not_depend_on_threads_or_batches() {
-        let g = HeroGroup::new(vec![sand(0.5, 0.0), sand(2.0, 0.01), sand(4.0, 0.02)]).unwrap();
-        let dir = incident_direction(0.7);
-        let run = |first, n| {
-            spectral_directional_hemispherical(&g, dir, Rays { seed: 9, stream: 2, first, n }, &Limits::default())
-        };
-        let one = on_threads(1, || run(0, 3000));
-        for threads in [2, 3] {
-            assert_eq!(on_threads(threads, || run(0, 3000)), one, "{threads} threads");
+    fn shared_estimates_agree_with_independent_runs_through_every_path_memory() {
+        // The memory tracers make the same kinds of choice through `Companions` (water surfaces,
+        // survivals in water and cores, stacks): each shared estimate within 4 standard errors
+        // of its own run of the memory tracer, with absorption differing by a factor 12 and
+        // indices by 0.02.
+        let cases = [(0.25, 0.0), (1.0, 0.01), (3.0, 0.02)];
+        let dir = incident_direction(0.4);
+        let n = 20_000;
+        for memory in [Memory::Channel, Memory::Cut, Memory::Packed] {
+            let media: Vec<_> = cases.iter().map(|&(a, dn)| packed_sand(a, dn)).collect();
+            let g = HeroGroup::new(media.clone(), memory).unwrap();
+            let rays = Rays { seed: 8, stream: 1, first: 0, n };
+            let c = spectral_directional_hemispherical(&g, dir, rays, &Limits::default());
+            for (j, m) in media.into_iter().enumerate() {
+                let (rho, se_shared) = shared_estimate(&c, j, n);
+                let own = WithMemory::new(m, memory);
+                let classic = directional_hemispherical(&own, dir, Rays { stream: 0, ..rays }, &Limits::default());
+                let mono = classic.escaped as f64 / n as f64;
+                let se = (se_shared.powi(2) + mono * (1.0 - mono) / n as f64).sqrt();
+                assert!((rho - mono).abs() < 4.0 * se, "{memory:?}, case {j}: shared {rho} vs {mono} ± {se}");
+            }
         }
-        let batches = on_threads(2, || run(0, 1000).merge(run(1000, 1)).merge(run(1001, 1999)));
-        assert_eq!(batches, one);
-        assert!(one.escaped.iter().all(|&e| e > 0));
+    }
+
+    #[test]
+    fn a_group_of_one_wavelength_traces_the_paths_of_its_memory() {
+        // One wavelength: the hero draw takes one number, then the path is the memory tracer's
+        // own, choice for choice (every weight 1; the stacks decide from their tables, within
+        // 5e-7 of the exact probabilities, which no decision of these rays falls between).
+        let m = packed_sand(1.0, 0.0);
+        let dir = incident_direction(0.5);
+        for memory in [Memory::Channel, Memory::Cut, Memory::Packed] {
+            let g = HeroGroup::new(vec![m.clone()], memory).unwrap();
+            let own = WithMemory::new(m.clone(), memory);
+            let mut weights = SpectralWeights::new(1, 0);
+            for i in 0..300 {
+                let mut a = Rng::for_ray(3, 1, i);
+                let (fate, events) = g.trace(dir, &mut a, &Limits::default(), &mut weights);
+                let mut b = Rng::for_ray(3, 1, i);
+                b.uniform();
+                let out = own.trace(dir, &mut b, &Limits::default());
+                assert_eq!((fate, events), (out.fate, out.events), "{memory:?}, ray {i}");
+                assert_eq!(a.next_u64(), b.next_u64());
+            }
+        }
+    }
+
+    #[test]
+    fn shared_tallies_do_not_depend_on_threads_or_batches() {
+        for memory in [Memory::None, Memory::Packed] {
+            let media = vec![packed_sand(0.5, 0.0), packed_sand(2.0, 0.01), packed_sand(4.0, 0.02)];
+            let g = HeroGroup::new(media, memory).unwrap();
+            let dir = incident_direction(0.7);
+            let run = |first, n| {
+                spectral_directional_hemispherical(&g, dir, Rays { seed: 9, stream: 2, first, n }, &Limits::default())
+            };
+            let one = on_threads(1, || run(0, 3000));
+            for threads in [2, 3] {
+                assert_eq!(on_threads(threads, || run(0, 3000)), one, "{memory:?}, {threads} threads");
+            }
+            let batches = on_threads(2, || run(0, 1000).merge(run(1000, 1)).merge(run(1001, 1999)));
+            assert_eq!(batches, one, "{memory:?}");
+            assert!(one.escaped.iter().all(|&e| e > 0));
+        }
     }
 
     #[test]
     fn media_of_other_geometry_are_refused() {
         let mut other = sand(1.0, 0.0);
         other.depth_mm = 3.0;
-        assert!(HeroGroup::new(vec![sand(1.0, 0.0), other]).is_err());
-        assert!(HeroGroup::new(vec![]).is_err());
+        assert!(HeroGroup::new(vec![sand(1.0, 0.0), other], Memory::None).is_err());
+        assert!(HeroGroup::new(vec![], Memory::None).is_err());
     }
 }

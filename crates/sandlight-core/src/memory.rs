@@ -1,12 +1,14 @@
 //! Near-surface path memory of the on-the-fly engine (docs/geometry.md, "Near-surface path
 //! memory"): a sand medium (`Particulate`) wrapped with the memory its rays keep of the pore
 //! they are in, the cut-plane surface layer (`surface_layer`) and the pair correlation of the
-//! packed grains (`pair_correlation`), and the tracer that uses them.
+//! packed grains (`pair_correlation`), and the tracer that uses them, its wavelength-dependent
+//! choices made through `PathChoices` (one wavelength, or a spectral group's hero with its
+//! companions, `hero`).
 
 use crate::math::Vec3;
 use crate::medium::Particulate;
 use crate::pair_correlation::PairCorrelation;
-use crate::particle::{interact_with_stacks, survives, Interaction, Mono};
+use crate::particle::{interact_with_stacks, Absorber, Interaction, Mono, PathChoices};
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
 use crate::surface_layer::SurfaceLayer;
@@ -41,40 +43,61 @@ pub enum Memory {
 pub struct WithMemory {
     pub medium: Particulate,
     pub memory: Memory,
+    /// What the memory tracer keeps beside the medium; None for `Memory::None`.
+    paths: Option<PathMemory>,
+}
+
+impl WithMemory {
+    pub fn new(medium: Particulate, memory: Memory) -> WithMemory {
+        let paths = PathMemory::new(&medium, memory);
+        WithMemory { medium, memory, paths }
+    }
+}
+
+impl Medium for WithMemory {
+    fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
+        match &self.paths {
+            None => self.medium.trace(dir_in, rng, limits),
+            Some(paths) => trace_with_memory(paths, &self.medium, dir_in, rng, limits, &mut Mono),
+        }
+    }
+}
+
+/// The path memory `Channel`, `Cut` or `Packed` of a sand medium: the cut-plane top layer and
+/// the pair correlation of its packed grains. Both depend on the medium's geometry alone
+/// (particle types, sizes, shapes, free path), so the media of a spectral group, which share
+/// it, share one (`hero::HeroGroup`).
+#[derive(Clone, Debug)]
+pub struct PathMemory {
     /// The cut-plane top layer, for `Memory::Cut` and `Memory::Packed`.
     surface: Option<SurfaceLayer>,
     /// The pair correlation of the packed grains, for `Memory::Packed`.
     neighbours: Option<PairCorrelation>,
 }
 
-impl WithMemory {
-    pub fn new(medium: Particulate, memory: Memory) -> WithMemory {
-        let surface = matches!(memory, Memory::Cut | Memory::Packed).then(|| SurfaceLayer::of(&medium));
-        let mut m = WithMemory { medium, memory, surface, neighbours: None };
+impl PathMemory {
+    /// The memory `memory` of `medium`; None for `Memory::None` (the classic tracer).
+    pub fn new(medium: &Particulate, memory: Memory) -> Option<PathMemory> {
+        if memory == Memory::None {
+            return None;
+        }
+        let surface = matches!(memory, Memory::Cut | Memory::Packed).then(|| SurfaceLayer::of(medium));
+        let mut p = PathMemory { surface, neighbours: None };
         // Only spheres have a pair correlation here (docs/geometry.md): none packed, none needed.
-        let packed_spheres = (0..m.medium.types.len()).any(|i| m.is_packed_sphere(i));
-        m.neighbours = m
+        let packed_spheres = (0..medium.types.len()).any(|i| p.is_packed_sphere(medium, i));
+        p.neighbours = p
             .surface
             .as_ref()
             .filter(|_| memory == Memory::Packed && packed_spheres)
             .map(|s| PairCorrelation::at_packing_fraction(s.packed_fraction));
-        m
+        Some(p)
     }
 
-    /// Whether type `i` is a packed grain of the cut-plane model (not a fine particle) and a
-    /// sphere: the grains the pair correlation of `Memory::Packed` describes.
+    /// Whether type `i` of `m` is a packed grain of the cut-plane model (not a fine particle)
+    /// and a sphere: the grains the pair correlation of `Memory::Packed` describes.
     #[inline]
-    fn is_packed_sphere(&self, i: usize) -> bool {
-        self.surface.as_ref().is_some_and(|s| s.packed[i]) && self.medium.types[i].aspect_ratio == 1.0
-    }
-}
-
-impl Medium for WithMemory {
-    fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
-        match self.memory {
-            Memory::None => self.medium.trace(dir_in, rng, limits),
-            Memory::Channel | Memory::Cut | Memory::Packed => trace_with_memory(self, dir_in, rng, limits),
-        }
+    fn is_packed_sphere(&self, m: &Particulate, i: usize) -> bool {
+        self.surface.as_ref().is_some_and(|s| s.packed[i]) && m.types[i].aspect_ratio == 1.0
     }
 }
 
@@ -115,8 +138,9 @@ impl PoreWalls {
     }
 }
 
-/// The on-the-fly transport with path memory. The ray also keeps its position in x and y and
-/// remembers the pore it is in (docs/geometry.md, "Near-surface path memory"): while it is still in the pore it reached its last grain
+/// The on-the-fly transport through `m` with path memory `paths`, its wavelength-dependent
+/// choices made through `choices` (`Mono`: `m`'s wavelength alone; the memory adds no kind of
+/// choice to the classic tracer's). The ray also keeps its position in x and y and remembers the pore it is in (docs/geometry.md, "Near-surface path memory"): while it is still in the pore it reached its last grain
 /// through (after a reflection, or leaving that grain on its lit side), it knows
 /// - the segment it travelled through that pore (`channel`): a grain drawn on the fly whose
 ///   body would lie across it is discarded, since the ray passed there. Discarding candidates
@@ -136,11 +160,17 @@ impl PoreWalls {
 /// whose chunks are optically thick; docs/geometry.md). With `Memory::Packed` a packed sphere met
 /// after leaving a packed sphere is hit where the packing's pair correlation puts it relative to
 /// the one left (`PairCorrelation`).
-fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
-    let m = &wm.medium;
+pub(crate) fn trace_with_memory(
+    paths: &PathMemory,
+    m: &Particulate,
+    dir_in: Vec3,
+    rng: &mut Rng,
+    limits: &Limits,
+    choices: &mut impl PathChoices,
+) -> RayOutcome {
     let pore = &m.pore;
     let ell = m.mean_free_path_mm;
-    let surface = wm.surface.as_ref();
+    let surface = paths.surface.as_ref();
     // Height of the boundary plane: 0, or the top of the cut-plane layer.
     let top = surface.map_or(0.0, |s| s.top_mm);
     let mut z = top;
@@ -162,7 +192,7 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
     let mut d = dir_in;
     let mut water = pore.draw_water(rng);
     if water {
-        match enter_water_surface(pore.water_n, d, rng, &mut Mono) {
+        match enter_water_surface(pore.water_n, d, rng, choices) {
             Some(dir) => d = dir,
             None => return done(Fate::Escaped(d.reflect(UP)), 0),
         }
@@ -187,7 +217,12 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             }
             // Through water to the water surface, then water → air.
             let to_surface = (top - z) / d.z;
-            if !survives(rng.uniform(), pore.water_alpha_per_mm * to_surface) {
+            // This tracer draws the survival number here also for clear water (as it did before
+            // its choices went through `PathChoices`, whose `survives` draws only for α > 0).
+            if pore.water_alpha_per_mm <= 0.0 {
+                rng.uniform();
+            }
+            if !choices.survives(Absorber::Water, pore.water_alpha_per_mm, to_surface, rng) {
                 return done(Fate::Absorbed, events);
             }
             // Reflected at the water surface: a new flight from there, no memory.
@@ -196,7 +231,7 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             flight_start = Vec3::new(x, y, top);
             (channel, prev, ahead, flown, to_ahead) = (None, None, None, 0.0, f64::INFINITY);
             walls = PoreWalls::default();
-            match leave_water_surface(pore.water_n, d, rng, &mut Mono) {
+            match leave_water_surface(pore.water_n, d, rng, choices) {
                 Some(out) => return done(Fate::Escaped(out), events),
                 None => {
                     d.z = -d.z;
@@ -208,7 +243,7 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
         if d.z < 0.0 && z + s * d.z <= -m.depth_mm {
             return done(Fate::Transmitted, events);
         }
-        if water && pore.water_alpha_per_mm > 0.0 && !survives(rng.uniform(), pore.water_alpha_per_mm * s) {
+        if water && !choices.survives(Absorber::Water, pore.water_alpha_per_mm, s, rng) {
             return done(Fate::Absorbed, events);
         }
         z += s * d.z;
@@ -258,11 +293,11 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             }
             // `Packed`: a packed sphere met after leaving one lies where the packing's pair
             // correlation puts it (the flight length keeps its law).
-            let neighbour = wm
+            let neighbour = paths
                 .neighbours
                 .as_ref()
                 .zip(prev)
-                .filter(|(_, a)| wm.is_packed_sphere(i) && wm.is_packed_sphere(a.type_index));
+                .filter(|(_, a)| paths.is_packed_sphere(m, i) && paths.is_packed_sphere(m, a.type_index));
             let hit = match neighbour {
                 Some((g, a)) => {
                     let n = g.sample_normal(here - a.centre, d, shape.a, shape.a + a.shape.a, rng);
@@ -292,6 +327,7 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
         // A packed grain of the cut-plane model (not a fine particle): it bounds the pore.
         let packed = surface.is_some_and(|sf| sf.packed[i]);
         let (_, stacks) = m.type_tables(i);
+        choices.particle(i);
         match interact_with_stacks(
             &m.types[i].optics,
             stacks,
@@ -302,7 +338,7 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
             water,
             rng,
             limits.max_internal,
-            &mut Mono,
+            choices,
         ) {
             Interaction::Reflected { dir } => {
                 // Back into the pore it came from: remember the segment just travelled and the
@@ -364,7 +400,7 @@ fn trace_with_memory(wm: &WithMemory, dir_in: Vec3, rng: &mut Rng, limits: &Limi
 mod tests {
     use super::*;
     use crate::medium::ParticleType;
-    use crate::particle::{ParticleOptics, PoreOptics};
+    use crate::particle::{Coating, ParticleOptics, PoreOptics};
     use crate::sizes::QuantileTable;
 
     /// Clear grains (no absorption anywhere): packed spheres and spheroids and clay fines, in
@@ -389,6 +425,71 @@ mod tests {
         Particulate::new(types, 0.08, pore, depth_mm).unwrap()
     }
 
+    /// An absorbing sand for every choice of the memory tracer: packed spheres and spheroids with
+    /// a partial coating and clay fines, films, water-filled pores of absorbing water.
+    fn absorbing_sand() -> Particulate {
+        let coating = Coating { coverage: 0.7, ..Coating::uniform(1.9, 60.0, 5e-4) };
+        let optics =
+            ParticleOptics { core_n: 1.55, core_k: 1e-6, core_alpha_per_mm: 0.3, coating: Some(coating), wets: true };
+        let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
+        let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
+            probability,
+            sizes: sizes.clone(),
+            aspect_ratio,
+            optics,
+        };
+        let pore = PoreOptics {
+            water_n: 1.333,
+            water_alpha_per_mm: 0.4,
+            film_thickness_mm: 2e-3,
+            film_coverage: 0.6,
+            water_filled_probability: 0.4,
+        };
+        let types = vec![t(0.45, &sizes, 1.0), t(0.35, &sizes, 1.3), t(0.2, &QuantileTable::constant(0.002), 1.0)];
+        Particulate::new(types, 0.1, pore, f64::INFINITY).unwrap()
+    }
+
+    /// [escaped, absorbed, transmitted, capped, events, XOR of each ray's next random number after
+    /// it ended] of rays 0..n: equal only if every ray made the same draws and decisions.
+    fn signature(m: &impl Medium, n: u64) -> [u64; 6] {
+        let d = Vec3::new(0.3, 0.4, -(0.75f64).sqrt());
+        let mut s = [0u64; 6];
+        for i in 0..n {
+            let mut rng = Rng::for_ray(7, 0, i);
+            let out = m.trace(d, &mut rng, &Limits::default());
+            let k = match out.fate {
+                Fate::Escaped(_) => 0,
+                Fate::Absorbed => 1,
+                Fate::Transmitted => 2,
+                Fate::Capped => 3,
+            };
+            s[k] += 1;
+            s[4] += out.events;
+            s[5] ^= rng.next_u64();
+        }
+        s
+    }
+
+    #[test]
+    fn the_memory_tracers_make_the_decisions_they_made_before_spectral_sharing() {
+        // Recorded from the memory tracer before it made its choices through `PathChoices`
+        // (commit dcf805a): one wavelength (`Mono`) traces the same paths from the same random
+        // numbers, through absorbing and through clear water.
+        let recorded = [
+            (
+                Memory::Channel,
+                [600, 2400, 0, 0, 18290, 2002021303810730696],
+                [587, 0, 413, 0, 22343, 13067235179718805289],
+            ),
+            (Memory::Cut, [546, 2454, 0, 0, 17241, 7575568002502509659], [547, 0, 453, 0, 23688, 14143824943896848622]),
+            (Memory::Packed, [551, 2449, 0, 0, 17114, 70481133893985764], [548, 0, 452, 0, 25018, 3451610481167410303]),
+        ];
+        for (memory, absorbing, clear) in recorded {
+            assert_eq!(signature(&WithMemory::new(absorbing_sand(), memory), 3000), absorbing, "{memory:?}");
+            assert_eq!(signature(&WithMemory::new(clear_sand(2.0), memory), 1000), clear, "{memory:?}");
+        }
+    }
+
     #[test]
     fn no_memory_traces_as_the_particulate_does() {
         let m = clear_sand(f64::INFINITY);
@@ -408,8 +509,9 @@ mod tests {
         // leaves by the top or the bottom, also through the water surface and the cut layer.
         for memory in [Memory::Channel, Memory::Cut, Memory::Packed] {
             let wm = WithMemory::new(clear_sand(1.0), memory);
-            assert_eq!(wm.surface.is_some(), memory != Memory::Channel);
-            assert_eq!(wm.neighbours.is_some(), memory == Memory::Packed);
+            let paths = wm.paths.as_ref().unwrap();
+            assert_eq!(paths.surface.is_some(), memory != Memory::Channel);
+            assert_eq!(paths.neighbours.is_some(), memory == Memory::Packed);
             let d = Vec3::new(0.3, 0.4, -(0.75f64).sqrt());
             let (mut up, mut down) = (0, 0);
             for i in 0..1500 {

@@ -22,27 +22,30 @@ type SharedCounts = (u64, u64, u64, Vec<u128>, Vec<u128>, Vec<u128>);
 
 #[pymethods]
 impl PySpectralGroup {
-    /// The group of `media` (one on-the-fly sand medium without path memory per wavelength,
-    /// same geometry).
+    /// The group of `media` (one on-the-fly sand medium per wavelength, same geometry and path
+    /// memory).
     #[new]
     fn new(py: Python<'_>, media: Vec<PyRef<'_, PyMedium>>) -> PyResult<Self> {
         let mut list = Vec::with_capacity(media.len());
+        let mut memory = None;
         for (j, m) in media.iter().enumerate() {
             match &m.kind {
-                Kind::Particulate(w) if w.memory == Memory::None => list.push(w.medium.clone()),
+                Kind::Particulate(w) if *memory.get_or_insert(w.memory) == w.memory => list.push(w.medium.clone()),
                 _ => {
                     return Err(to_py(
                         py,
                         SandlightError::parameter(
                             &format!("media[{j}]"),
                             "another kind of medium",
-                            "an on-the-fly sand medium with memory 'none' (spectral sharing traces the classic model)",
+                            "an on-the-fly sand medium with the path memory of media[0]",
                         ),
                     ))
                 }
             }
         }
-        HeroGroup::new(list).map(|group| PySpectralGroup { group }).map_err(|e| to_py(py, e))
+        HeroGroup::new(list, memory.unwrap_or(Memory::None))
+            .map(|group| PySpectralGroup { group })
+            .map_err(|e| to_py(py, e))
     }
 
     /// Wavelengths in the group.

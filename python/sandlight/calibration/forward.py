@@ -132,5 +132,9 @@ class EnginePowder:
         powder = Powder(
             member.mineral, member.size_um, self.porosity, self.aspect_ratio, _trial_k(member.mineral, float(k))
         )
-        result = reflectance(powder, wavelengths_nm, rays=self.rays, seed=self.member_seed(member), progress=False)
+        # share=False: every wavelength keeps its own random numbers, so the committed tables are
+        # reproduced byte for byte by the calibration (spectral sharing would draw other paths).
+        result = reflectance(
+            powder, wavelengths_nm, rays=self.rays, seed=self.member_seed(member), progress=False, share=False
+        )
         return np.asarray(result.values, dtype=float), np.asarray(result.stderr, dtype=float)
