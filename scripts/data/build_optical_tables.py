@@ -208,7 +208,8 @@ def gaussian(x, centre, sigma):
 # model gives apparent values near 1 /cm even for very pure crystal quartz, so the lower end
 # would be implausibly transparent. alpha rises toward the UV as a power law
 # alpha = alpha_550 (550/lambda)^p, with p fixed so that alpha joins Crystran's first tabulated
-# value at 1270 nm continuously. The calibration on the pure quartz powders (CALIBRATED) replaces this in the shipped table.
+# value at 1270 nm continuously. The calibration on the pure quartz powders (CALIBRATED) replaces
+# this in the shipped table.
 QUARTZ_ALPHA_550_PER_CM = 0.1
 QUARTZ_JOIN_NM = 1270.0
 
