@@ -18,8 +18,9 @@ is printed before and after. Beside the wall-clock figures it prints events per 
 the process (1 thread) and the ratio of CPU times with 2 and 1 threads, which show the engine's
 own speed and parallel overhead when other load hides them. Nothing is asserted.
 
-Spectral path sharing (issue 22, docs/transport.md), side by side in the same run, 1 thread,
-process CPU time (other load does not inflate it):
+The single-wavelength figures use the engine's default path memory (``packed``). Spectral path
+sharing (issue 22, docs/transport.md), which applies to the classic model (``memory="none"``)
+only, side by side in the same run, 1 thread, process CPU time (other load does not inflate it):
 
 * 16 wavelengths 400–700 nm and the 67 wavelengths of the validation grid (400–700 every 10 nm,
   750–2500 every 50 nm) for each ``--spectral-samples``: shared and independent runs at equal
@@ -112,7 +113,8 @@ def benchmark(name: str, seconds: float, repeats: int) -> dict:
 def spectral_job(sample, wl: np.ndarray, rays: int) -> dict:
     """Shared and independent runs of ``wl`` at ``rays``, and one wavelength (550 nm): CPU
     times, standard-error ratios, and shared times at equal standard error."""
-    run = {"rays": rays, "seed": 1, "threads": 1, "progress": False}
+    # Sharing applies to the classic model only (docs/transport.md), not to the default memory.
+    run = {"rays": rays, "seed": 1, "threads": 1, "progress": False, "memory": "none"}
     sandlight.reflectance(sample, wl, **{**run, "rays": 100})  # loads the optical tables, untimed
     c0 = time.process_time()
     one = sandlight.reflectance(sample, [WAVELENGTH_NM], share=False, **run)
@@ -138,7 +140,8 @@ def spectral_job(sample, wl: np.ndarray, rays: int) -> dict:
 
 
 def training_job(n_samples: int, rays: int = 10_000) -> dict:
-    """Time per sample of the narrow model's training runs, shared and independent."""
+    """Time per sample of the narrow model's training runs with the classic model, shared and
+    independent (the shipped bank is trained with the default memory, traced independently)."""
     from sandlight.predictor import Dimension, Domain
     from sandlight.predictor.training import wavelength_grid
 
@@ -149,7 +152,7 @@ def training_job(n_samples: int, rays: int = 10_000) -> dict:
     for share in (True, False):
         c0 = time.process_time()
         results = [
-            sandlight.reflectance(s, wl, rays=rays, seed=k, threads=1, progress=False, share=share)
+            sandlight.reflectance(s, wl, rays=rays, seed=k, threads=1, progress=False, share=share, memory="none")
             for k, s in enumerate(samples)
         ]
         times[share] = (time.process_time() - c0) / n_samples
