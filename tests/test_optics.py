@@ -77,8 +77,10 @@ def test_provenance_of_all_materials_and_provisional_status():
         assert f"material: {material}" in text
     for material in MATERIALS:
         status = next(line for line in provenance(material).splitlines() if line.startswith("status: "))
-        # Goethite and kaolinite entirely, quartz below 1270 nm: clearly marked.
-        assert ("PROVISIONAL" in status) == (material in PROVISIONAL + ("quartz",))
+        # Goethite's n and kaolinite's k are provisional, clearly marked; the calibrated k of the
+        # quartz host and goethite says so (tests/calibration/test_shipped_calibration.py).
+        assert ("PROVISIONAL" in status) == (material in PROVISIONAL)
+        assert ("k: derived by calibration" in status) == (material in ("quartz", "goethite"))
 
 
 def test_hematite_k_is_querry_below_the_edge_and_longtin_beyond():
@@ -118,11 +120,14 @@ def test_absorption_shapes_that_make_iron_oxides_red_or_yellow():
     def k(material, wavelength):
         return complex_index(material, wavelength).imag
 
-    # Goethite: strong charge-transfer edge, 0.09 mid-visible, far weaker in the red.
-    assert k("goethite", 450) > k("goethite", 550) > 10 * k("goethite", 650)
-    assert k("goethite", 550) == pytest.approx(0.09, rel=0.2)
-    # Its 4T1 crystal-field band: a local maximum near 920 nm above the 750 nm window.
-    assert k("goethite", 920) > 2 * k("goethite", 760)
+    # Goethite (k calibrated on its powders, docs/optical-constants.md): a strong charge-transfer
+    # edge near 540 nm, far weaker in the red.
+    assert k("goethite", 450) > 10 * k("goethite", 550) and k("goethite", 500) > 10 * k("goethite", 600)
+    # Its 4T1 crystal-field band: the maximum of 800-1100 nm lies at 900-930 nm (issue 17 §1),
+    # above the 750 nm window and the transparent near infrared.
+    band = np.arange(800.0, 1101.0, 5.0)
+    assert 900.0 <= band[np.argmax(complex_index("goethite", band).imag)] <= 930.0
+    assert k("goethite", 920) > 1.5 * k("goethite", 760) and k("goethite", 920) > 3 * k("goethite", 1300)
     # Goethite's edge lies bluer than hematite's: less absorbing in green and red (yellow vs red).
     assert k("goethite", 550) < k("hematite", 550) / 3
     assert k("goethite", 600) < k("hematite", 600) / 3
@@ -142,10 +147,13 @@ def test_water_absorption_bands():
     assert absorption_coefficient_per_mm("water", 550.0) < 1e-3
 
 
-def test_quartz_provisional_absorption_is_in_documented_range():
-    # 0.01-0.1 /cm = 0.001-0.01 /mm at 550 nm, rising toward the UV.
+def test_quartz_host_absorbs_like_natural_grains():
+    # The calibrated host (docs/optical-constants.md): natural grains absorb through trace Fe3+,
+    # Ti and inclusions far more than optical quartz (< 1e-3 /cm); the quartz powders read with an
+    # equivalent-slab model give about 1 /cm. So 0.1-2 /cm = 0.01-0.2 /mm at 550 nm, rising
+    # toward the UV.
     alpha = absorption_coefficient_per_mm("quartz", [400.0, 550.0, 1000.0])
-    assert 0.001 <= alpha[1] <= 0.01 * (1 + 1e-6)  # tables store k to 7 digits
+    assert 0.01 <= alpha[1] <= 0.2
     assert alpha[0] > alpha[1] > alpha[2]
 
 

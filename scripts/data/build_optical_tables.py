@@ -11,10 +11,10 @@ effective k derived by calibration on their pure end-member powders (issue 17 §
 ``docs/calibration/<mineral>/<mineral>-k.csv``, the output of
 ``scripts/data/calibrate_optical_constants.py``, interpolated log-linearly onto the 5 nm grid
 (docs/optical-constants.md). The shipped tables take it for the minerals in
-``SHIPPED_CALIBRATED``, which is empty until the predictor bank is retrained with it; until then
-they keep the PROVISIONAL literature k below (quartz: Crystran plus a power law; goethite:
-``sandlight.calibration.priors``), and ``build_all(src, calibrated=CALIBRATED)`` builds the
-calibrated set. Either way n is the same (measured for quartz; for goethite the Handbook
+``SHIPPED_CALIBRATED`` (all of ``CALIBRATED``; the predictor bank is trained with it);
+``build_all(src, calibrated=())`` builds the PROVISIONAL literature k below instead (quartz:
+Crystran plus a power law; goethite: ``sandlight.calibration.priors``), kept for comparison
+(``scripts/studies/preset_chroma.py``). Either way n is the same (measured for quartz; for goethite the Handbook
 dispersion, converted with the literature k, so that n — and with it the calibration's cached
 tables — stay as they were). Kaolinite's k is PROVISIONAL, defined below with its
 justification.
@@ -50,11 +50,10 @@ REPO = Path(__file__).resolve().parents[2]
 CALIBRATION_DIR = REPO / "docs" / "calibration"
 #: Minerals with a calibrated k: their calibration output (CalibratedK) exists.
 CALIBRATED = ("quartz", "goethite")
-#: The calibrated minerals whose *shipped* table takes that k. Empty for now: the shipped
-#: predictor bank was trained with the literature k and must be retrained together with the
-#: switch (docs/optical-constants.md, "Staged: calibrated k not yet shipped"); the switch is
-#: this tuple. ``build_all(src, calibrated=CALIBRATED)`` builds the calibrated tables.
-SHIPPED_CALIBRATED: tuple[str, ...] = ()
+#: The calibrated minerals whose *shipped* table takes that k: all of them. The shipped predictor
+#: bank is trained with these tables (scripts/data/train_default_spectral.py); changing this
+#: tuple means retraining it (docs/optical-constants.md).
+SHIPPED_CALIBRATED: tuple[str, ...] = CALIBRATED
 OUT_DIR = REPO / "python" / "sandlight" / "data" / "optical"
 PLOT_PATH = REPO / "docs" / "img" / "optical-constants.png"
 
@@ -209,7 +208,8 @@ def gaussian(x, centre, sigma):
 # model gives apparent values near 1 /cm even for very pure crystal quartz, so the lower end
 # would be implausibly transparent. alpha rises toward the UV as a power law
 # alpha = alpha_550 (550/lambda)^p, with p fixed so that alpha joins Crystran's first tabulated
-# value at 1270 nm continuously. The calibration on the pure quartz powders (CALIBRATED) replaces this once shipped.
+# value at 1270 nm continuously. The calibration on the pure quartz powders (CALIBRATED) replaces
+# this in the shipped table.
 QUARTZ_ALPHA_550_PER_CM = 0.1
 QUARTZ_JOIN_NM = 1270.0
 

@@ -62,9 +62,10 @@ def test_films_hold_the_pendular_water(saturation):
 
 @pytest.mark.parametrize("saturation", [0.05, 0.3])
 def test_uniform_films_hold_the_same_water_on_every_particle(saturation):
-    # The default until the bank is retrained: the film covers every particle (coverage 1).
+    # The model before issue 17: the film covers every particle (coverage 1); the default is the
+    # pendular rings, with the same water.
     sample = SandSample(saturation=saturation, porosity=0.4)
-    uniform, rings = compose(sample), compose(sample, "pendular")
+    uniform, rings = compose(sample, "uniform"), compose(sample)
     assert uniform.film_coverage == 1.0 and rings.film_coverage < 1.0
     assert uniform.film_thickness_mm == pytest.approx(rings.film_coverage * rings.film_thickness_mm, rel=1e-12)
     assert uniform.water_filled_probability == rings.water_filled_probability

@@ -13,13 +13,18 @@ from sandlight.sample import SandSample
 
 def test_a_sample_resolves_to_its_composition_with_the_engine_settings():
     sample = SandSample.preset("red-dune")
-    classic = media.as_traceable("red-dune")
-    assert isinstance(classic, media.SandMedium) and classic.composition == compose(sample)
-    assert classic.describe() == sample.to_dict()
+    default = media.as_traceable("red-dune")
+    assert isinstance(default, media.SandMedium) and default.composition == compose(sample)
+    assert default.memory == media.DEFAULT_MEMORY == "packed" and default.films == "pendular"
+    with_films = {**sample.to_dict(), "films": "pendular"}
+    assert default.describe() == {**with_films, "geometry": "on-the-fly", "memory": "packed"}
+    classic = media.as_traceable(sample, memory="none")
+    assert classic.describe() == with_films  # memory 'none' recorded by omission
+    assert media.engine_settings(classic.describe()) == (with_films, "on-the-fly", "none")
     cut = media.as_traceable(sample, memory="cut")
     assert cut.memory == "cut"
-    assert cut.describe() == {**sample.to_dict(), "geometry": "on-the-fly", "memory": "cut"}
-    assert media.engine_settings(cut.describe()) == (sample.to_dict(), "on-the-fly", "cut")
+    assert cut.describe() == {**with_films, "geometry": "on-the-fly", "memory": "cut"}
+    assert media.engine_settings(cut.describe()) == (with_films, "on-the-fly", "cut")
     assert media.engine_settings({"albedo": 0.5}) == ({"albedo": 0.5}, "on-the-fly", "none")
 
 

@@ -324,8 +324,8 @@ class TestPathMemory:
         )
         train_spectral(tmp_path, max_tasks=5, memory="packed", **kw)
         with pytest.raises(JobSettingsError, match="engine"):
-            train_spectral(tmp_path, **kw)
-        run = train_spectral(tmp_path, memory="packed", **kw)
+            train_spectral(tmp_path, memory="none", **kw)
+        run = train_spectral(tmp_path, **kw)  # the default memory is 'packed': it resumes
         assert run.model.memory_ == "packed"
         loaded = SpectralModel.load(run.model_path)
         assert loaded.memory_ == "packed" and loaded.training_set_["engine"]["rays"] == RAYS
@@ -337,18 +337,36 @@ class TestPathMemory:
 
         assert "engine memory 'packed'" in ModelBank([loaded]).describe(0)
 
-    def test_classic_by_default_and_in_older_files(self, tmp_path, fake_engine):
+    def test_the_default_engine_by_default_and_classic_in_older_files(self, tmp_path, fake_engine):
+        from sandlight.physics.media import DEFAULT_MEMORY
+        from sandlight.predictor import default_model
+
         status = generate_training_set(
             tmp_path / "t", 3, "450", 100, 1, InProcessExecutor(), domain=SMALL, progress=False
         )
         with xr.open_dataset(status.dataset_path) as ds:
-            assert "memory" not in json.loads(ds.attrs["engine"])
-        # the shipped models were trained before path memory existed: the classic model
-        from sandlight.predictor import default_model
-
+            engine = json.loads(ds.attrs["engine"])
+        assert engine["memory"] == DEFAULT_MEMORY == "packed" and engine["films"] == "pendular"
+        # files written before path memory and the pendular rings record neither: the classic
+        # model with uniform films, as a training set with memory 'none' and a custom simulate
+        status = generate_training_set(
+            tmp_path / "c",
+            3,
+            "450",
+            100,
+            1,
+            InProcessExecutor(),
+            domain=SMALL,
+            progress=False,
+            simulate=predictor_fakes.fake_reflectance,
+        )
+        with xr.open_dataset(status.dataset_path) as ds:
+            assert "memory" not in json.loads(ds.attrs["engine"]) and "films" not in json.loads(ds.attrs["engine"])
+        # the shipped bank is trained with the default engine
         bank = default_model()
-        assert {m.memory_ for m in bank.models} == {"none"}
-        assert "engine memory" not in bank.describe(0)
+        assert {m.memory_ for m in bank.models} == {DEFAULT_MEMORY}
+        assert {m.training_set_["engine"].get("films") for m in bank.models} == {"pendular"}
+        assert f"engine memory {DEFAULT_MEMORY!r}" in bank.describe(0)
 
     def test_bad_memory(self, tmp_path):
         with pytest.raises(ParameterError, match="memory.*'none', 'channel', 'cut', 'packed'"):
@@ -404,12 +422,13 @@ class TestCommandLine:
         assert again.exit_code == 0
         changed = self.invoke(*[a if a != 1000 else 2000 for a in args])
         assert changed.exit_code == 2 and "rays" in changed.output
-        other = self.invoke(*args, "--memory", "packed")
+        assert "engine memory 'packed'" in result.output and model.memory_ == "packed"  # the default
+        other = self.invoke(*args, "--memory", "none")
         assert other.exit_code == 2 and "engine" in other.output
-        result = self.invoke(*[tmp_path / "packed" if a == tmp_path else a for a in args], "--memory", "packed")
+        result = self.invoke(*[tmp_path / "classic" if a == tmp_path else a for a in args], "--memory", "none")
         assert result.exit_code == 0, result.output
-        assert "engine memory 'packed'" in result.output
-        assert SpectralModel.load(tmp_path / "packed" / "spectral-model.npz").memory_ == "packed"
+        assert "engine memory 'none'" in result.output
+        assert SpectralModel.load(tmp_path / "classic" / "spectral-model.npz").memory_ == "none"
         bad = self.invoke(*[tmp_path / "bad" if a == tmp_path else a for a in args], "--memory", "full")
         assert bad.exit_code == 2 and "memory" in bad.output
 

@@ -1,8 +1,10 @@
 """Optical constants with calibrated k: the shipped tables, with the k of some minerals replaced by
 their calibration output (a ``<mineral>-k.csv`` of :func:`sandlight.calibration.write_k_table`).
 
-This is how the calibrated k is used before it is shipped (docs/optical-constants.md, "Staged"):
-pass the result as ``optical_constants`` to :class:`sandlight.physics.media.SandMedium`.
+The shipped tables already hold the calibrated k of the quartz host and goethite
+(docs/optical-constants.md); this is for what-if runs with another calibration output (another
+mineral, another calibration setting): pass the result as ``optical_constants`` to
+:class:`sandlight.physics.media.SandMedium`.
 """
 
 from __future__ import annotations

@@ -50,8 +50,8 @@ ENGINE_OPTIONS = {
 }
 #: Help of the --memory and --geometry options of the commands that trace rays.
 MEMORY_HELP = (
-    "Path memory of the fast engine: none (the classic model, default), channel, cut, or packed "
-    "(closest to the explicit reference; docs/geometry.md)."
+    "Path memory of the fast engine: packed (closest to the explicit reference, default), none (the "
+    "classic model), channel or cut (docs/geometry.md)."
 )
 GEOMETRY_HELP = "on-the-fly (fast, default) or explicit (the slow reference: a stored packing; docs/geometry.md)."
 

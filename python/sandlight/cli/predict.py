@@ -11,11 +11,11 @@ from sandlight.checks import check_count
 from sandlight.cli._app import app
 from sandlight.cli._common import (
     COUNT_FORM,
-    MEMORY_HELP,
     PRESET_HELP,
     SAMPLE_HELP,
     SEED_HELP,
     WAVELENGTHS_HELP,
+    MemoryOption,
     load_sample,
     option_names,
 )
@@ -78,7 +78,7 @@ def train_spectral_command(
         help="The iron-oxide form: 'separate' (one regression per form) or 'onehot' (indicator inputs).",
     ),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar with an ETA."),
-    memory: str = typer.Option("none", "--memory", help=MEMORY_HELP),
+    memory: MemoryOption = None,
 ) -> None:
     """Generate a training set with the engine and fit the spectral predictor (resumable:
     run the same command again to continue after an interruption)."""

@@ -12,10 +12,10 @@ from sandlight.cli._app import app
 from sandlight.cli._common import (
     COUNT_FORM,
     ENGINE_OPTIONS,
-    MEMORY_HELP,
     PRESET_HELP,
     SEED_HELP,
     WAVELENGTH_HELP,
+    MemoryOption,
     PresetOption,
     SampleFileArgument,
     SlicesOption,
@@ -129,7 +129,7 @@ def train_spatial_command(
     ),
     fit_only: bool = typer.Option(False, "--fit-only", help="Only refit from the complete datasets in --out."),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar with an ETA."),
-    memory: str = typer.Option("none", "--memory", help=MEMORY_HELP),
+    memory: MemoryOption = None,
 ) -> None:
     """Measure the BRDF at every mesh node and fit the spatial predictor (paper §3.2).
 

@@ -26,8 +26,8 @@ Water (§2.5): up to ``film_saturation`` S_f the water forms films; with ``films
 is pendular: rings at the grain contacts that wet a fraction f of the particle surface
 (:func:`sandlight.physics.pendular.film_coverage` of min(S, S_f)), where it lies as a film of
 thickness t_w = φ min(S, S_f) / [f (1 − φ) Σᵢ vᵢ⟨Sᵢ⟩/⟨Vᵢ⟩] = min(S, S_f) ℓ/(4f) (the same water
-volume); with ``films='uniform'`` (the default until the predictor bank is retrained with the
-pendular rings) f = 1, a film on every particle. Beyond S_f, a pore is water-filled with
+volume), the default (:data:`DEFAULT_FILMS`); with ``films='uniform'`` (the model before
+issue 17) f = 1, a film on every particle. Beyond S_f, a pore is water-filled with
 probability (S − S_f)/(1 − S_f).
 """
 
@@ -152,13 +152,14 @@ def mean_free_path_mm(populations: tuple | list, porosity: float) -> float:
     return 4.0 * porosity / ((1.0 - porosity) * surface)
 
 
-#: Where the film water sits: 'uniform' (a film on every particle, the model the shipped
-#: predictor bank was trained with: the default until it is retrained) or 'pendular' (rings at
-#: the grain contacts, docs/model.md §2.5, docs/wet-sand.md).
+#: Where the film water sits: 'uniform' (a film on every particle, the model before issue 17)
+#: or 'pendular' (rings at the grain contacts, docs/model.md §2.5, docs/wet-sand.md).
 FILM_MODELS = ("uniform", "pendular")
+#: The film model when none is asked for: the one the shipped predictor bank is trained with.
+DEFAULT_FILMS = "pendular"
 
 
-def compose(sample: SandSample, films: str = "uniform") -> Composition:
+def compose(sample: SandSample, films: str = DEFAULT_FILMS) -> Composition:
     """Particle populations of ``sample`` (a :class:`sandlight.SandSample`) by mass balance;
     ``films`` (one of :data:`FILM_MODELS`) says where its film water sits."""
     rho = DENSITY_G_CM3

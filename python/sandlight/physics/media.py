@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any
 from sandlight import _native
 from sandlight.checks import check_choice
 from sandlight.errors import ParameterError
-from sandlight.physics.composition import FILM_MODELS, Composition, compose
+from sandlight.physics.composition import DEFAULT_FILMS, FILM_MODELS, Composition, compose
 from sandlight.physics.medium import COATING_OPTICS, OpticalConstants, Traceable, native_medium
 from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
 
@@ -55,16 +55,19 @@ __all__ = [
 
 GEOMETRIES = ("on-the-fly", "explicit")
 MEMORIES = ("none", "channel", "cut", "packed")
-#: Path memory of the on-the-fly engine when none is asked for (docs/geometry.md).
-DEFAULT_MEMORY = "none"
+#: Path memory of the on-the-fly engine when none is asked for (docs/geometry.md): 'packed', the
+#: closest to the explicit reference, dry and wet (issue 17 §4, docs/wet-sand.md).
+DEFAULT_MEMORY = "packed"
 
-#: Why the surface-layer models are not validated for wet sand (docs/geometry.md, "Wet sand").
+#: Why the surface-layer models other than the default are not validated for wet sand
+#: (docs/geometry.md, "Wet sand"). 'packed', the default, is compared with the measured wet/dry
+#: pair (docs/wet-sand.md), where it agrees far better than the classic model; no warning for it.
 WET_TOP_LAYER = (
-    "memory='cut' or 'packed' and geometry='explicit' put the flat water surface of a water-filled "
-    "surface pore at the top of the surface layer, above the highest grain, so with water-filled pores "
-    "(saturation above film_saturation) they lose more light in the water bands than the classic model; "
-    "on the one measured wet/dry pair this agrees with the measurement where the classic model does not, "
-    "but it is not validated across saturations (docs/wet-sand.md, docs/geometry.md 'Wet sand')"
+    "memory='cut' and geometry='explicit' put the flat water surface of a water-filled surface pore at "
+    "the top of the surface layer, above the highest grain, so with water-filled pores (saturation above "
+    "film_saturation) they lose more light in the water bands than the classic model; unlike the default "
+    "memory='packed' they were not compared with the measured wet/dry pair (docs/wet-sand.md, "
+    "docs/geometry.md 'Wet sand')"
 )
 
 
@@ -78,9 +81,10 @@ def _with_engine(description: Mapping, geometry: str, memory: str) -> dict:
 
 def engine_settings(description: Mapping) -> tuple[dict, str, str]:
     """``(rest, geometry, memory)`` of a :meth:`Traceable.describe` dict: the engine's geometry
-    and path memory (the defaults 'on-the-fly' and 'none' when absent) and everything else."""
+    and path memory ('on-the-fly' and 'none' when absent, as :func:`_with_engine` writes them) and
+    everything else."""
     rest = {k: v for k, v in description.items() if k not in ("geometry", "memory")}
-    return rest, description.get("geometry", "on-the-fly"), description.get("memory", DEFAULT_MEMORY)
+    return rest, description.get("geometry", "on-the-fly"), description.get("memory", "none")
 
 
 @dataclass(frozen=True)
@@ -99,15 +103,16 @@ class SandMedium:
         ``(material, wavelength_nm) -> n + ik`` replacing the shipped tables (what-if runs).
     coating_optics : {'uniform', 'mie'}
         How a coating's iron oxide acts (:data:`~sandlight.physics.medium.COATING_OPTICS`):
-        'uniform' (today's absorbing slab, the default until the predictor bank is retrained) or
-        'mie' (scattering pigment crystals, docs/model.md §2.4).
+        'uniform' (an absorbing slab, the default: 'mie' costs about 3x the time and changed the
+        presets' chroma little, docs/optical-constants.md) or 'mie' (scattering pigment
+        crystals, docs/model.md §2.4).
     pigment_diameter_um : float
         Diameter (µm) of the pigment crystals for 'mie'.
     films : {'uniform', 'pendular'}
         Where the composition's film water sits (:data:`~sandlight.physics.composition.FILM_MODELS`;
-        recorded here, applied by :func:`~sandlight.physics.composition.compose`): 'uniform' (a
-        film on every particle, the default until the predictor bank is retrained) or 'pendular'
-        (rings at the grain contacts, docs/model.md §2.5).
+        recorded here, applied by :func:`~sandlight.physics.composition.compose`): 'pendular'
+        (rings at the grain contacts, docs/model.md §2.5; the default,
+        :data:`~sandlight.physics.composition.DEFAULT_FILMS`) or 'uniform' (a film on every particle).
     """
 
     composition: Composition
@@ -116,7 +121,7 @@ class SandMedium:
     optical_constants: OpticalConstants | None = None
     coating_optics: str = "uniform"
     pigment_diameter_um: float = PIGMENT_DIAMETER_UM
-    films: str = "uniform"
+    films: str = DEFAULT_FILMS
 
     def __post_init__(self) -> None:
         check_choice("memory", self.memory, MEMORIES)
@@ -132,7 +137,7 @@ class SandMedium:
         optical_constants: OpticalConstants | None = None,
         coating_optics: str = "uniform",
         pigment_diameter_um: float = PIGMENT_DIAMETER_UM,
-        films: str = "uniform",
+        films: str = DEFAULT_FILMS,
     ) -> SandMedium:
         """The medium of a :class:`~sandlight.SandSample` (``memory`` None: :data:`DEFAULT_MEMORY`)."""
         memory = DEFAULT_MEMORY if memory is None else memory
@@ -158,8 +163,8 @@ class SandMedium:
         )
 
     def describe(self) -> dict:
-        """The description, with geometry and memory when the memory is not 'none', and the
-        coating optics and films when they are not 'uniform'."""
+        """The description, with geometry and memory when the memory is not 'none', the coating
+        optics when not 'uniform' and the films when not 'uniform' (the film model before issue 17)."""
         out = _with_engine(self.description, "on-the-fly", self.memory)
         if self.coating_optics != "uniform":
             out |= {"coating_optics": self.coating_optics, "pigment_diameter_um": self.pigment_diameter_um}
@@ -261,13 +266,13 @@ def as_traceable(
         'on-the-fly' gives a :class:`SandMedium`; 'explicit' a :class:`PackedSand` through
         ``packing``, or through a packing generated from ``seed`` when None.
     memory : {'none', 'channel', 'cut', 'packed'}, optional
-        Path memory of the on-the-fly engine (default :data:`DEFAULT_MEMORY`); 'none' with
-        explicit geometry.
+        Path memory of the on-the-fly engine (default :data:`DEFAULT_MEMORY`); 'none' (or None)
+        with explicit geometry.
 
     Warns
     -----
     UserWarning
-        :data:`WET_TOP_LAYER`, for the surface-layer models on a sample with water-filled pores.
+        :data:`WET_TOP_LAYER`, for memory 'cut' or explicit geometry on a sample with water-filled pores.
     """
     from sandlight.sample import SandSample
 
@@ -288,8 +293,10 @@ def as_traceable(
         )
     comp = compose(sample)
     geometry = check_choice("geometry", geometry, GEOMETRIES)
-    memory = check_choice("memory", DEFAULT_MEMORY if memory is None else memory, MEMORIES)
-    if comp.water_filled_probability > 0 and (memory in ("cut", "packed") or geometry == "explicit"):
+    if memory is None:  # the explicit packing is its own path memory
+        memory = DEFAULT_MEMORY if geometry == "on-the-fly" else "none"
+    memory = check_choice("memory", memory, MEMORIES)
+    if comp.water_filled_probability > 0 and (memory == "cut" or geometry == "explicit"):
         warnings.warn(WET_TOP_LAYER, UserWarning, stacklevel=3)
     if geometry == "on-the-fly":
         return SandMedium(comp, memory, sample.to_dict())

@@ -45,8 +45,9 @@ __all__ = [
 HOST_MATERIAL = "quartz"
 
 #: How a coating's iron oxide acts: 'uniform' (absorbing, non-scattering slab with the volume
-#: mean of the bulk constants; the default until the predictor bank is retrained) or 'mie'
-#: (pigment crystals scattering and absorbing in the matrix, docs/model.md §2.4).
+#: mean of the bulk constants; the default: 'mie' costs about 3x the time and changed the
+#: presets' chroma little, docs/model.md §2.4) or 'mie' (pigment crystals scattering and
+#: absorbing in the matrix, docs/model.md §2.4).
 COATING_OPTICS = ("uniform", "mie")
 
 #: Optical constants as a function ``(material, wavelength_nm) -> n + ik`` (the default is

@@ -88,7 +88,7 @@ def engine_measure(
     slices: int,
     threads: int,
     checkpoint: str | os.PathLike[str] | None = None,
-    memory: str = "none",
+    memory: str | None = None,
 ) -> dict:
     """Goniophotometer counts of one sample with sandlight's engine (the default ``measure``).
 
@@ -131,7 +131,7 @@ def node_task(
     threads: int,
     checkpoint_dir: str | None = None,
     measure: Measure | None = None,
-    memory: str = "none",
+    memory: str | None = None,
 ) -> dict:
     """Job task: goniophotometer counts of one node (runs on a worker)."""
     measure = functools.partial(engine_measure, memory=memory) if measure is None else measure
@@ -179,7 +179,7 @@ def node_job(
     checkpoint: bool = True,
     measure: Measure | None = None,
     kind: str = "nodes",
-    memory: str = "none",
+    memory: str | None = None,
 ) -> Job:
     """The job measuring the BRDF of every node of a mesh (or of a list of samples), not yet run.
 
@@ -207,10 +207,10 @@ def node_job(
         returning counts (default: the engine). Must be importable by workers.
     kind : str
         Label recorded in the settings ('nodes' or 'holdout').
-    memory : {'none', 'channel', 'cut', 'packed'}
-        Path memory of sandlight's engine (docs/geometry.md; 'none', the classic model, by
-        default). Recorded in the settings and attributes; resuming with another value is
-        refused. Only with the default ``measure``.
+    memory : {'none', 'channel', 'cut', 'packed'}, optional
+        Path memory of sandlight's engine (docs/geometry.md; None: the engine's default,
+        ``sandlight.physics.media.DEFAULT_MEMORY``). Recorded in the settings and attributes;
+        resuming with another value is refused. Only with the default ``measure``.
     """
     from sandlight import __version__
     from sandlight.predictor.training import check_engine_memory, engine_memory_record
@@ -219,7 +219,7 @@ def node_job(
     rays = check_whole_number("rays", rays, 1)
     threads = check_whole_number("threads", threads, 1)
     memory = check_engine_memory(memory, measure, "measure")
-    with_memory = engine_memory_record(memory)
+    with_memory = engine_memory_record(memory, measure)
     try:
         wl = float(wavelength_nm)
     except (TypeError, ValueError):
@@ -569,7 +569,7 @@ def train_spatial(
     progress: bool = True,
     max_tasks: int | None = None,
     model_params: Mapping | None = None,
-    memory: str = "none",
+    memory: str | None = None,
 ) -> TrainingRun:
     """Measure the nodes and held-out points, fit, score and save a spatial model (resumable).
 
@@ -599,7 +599,10 @@ def train_spatial(
 
     if method not in REDUCTION_METHODS:
         raise ParameterError("method", method, f"one of {REDUCTION_METHODS}")
+    from sandlight.predictor.training import check_engine_memory, engine_memory_record, file_sha256
+
     SpatialModel(**dict(model_params or {})).validate_params()  # before the measurements, not after
+    memory = check_engine_memory(memory, measure, "measure")
     out = Path(out_dir)
     options = {
         "stacks": stacks,
@@ -646,8 +649,6 @@ def train_spatial(
         return TrainingRun(None, [], None, statuses[0], holdout_status, measurement_s, 0.0)
 
     start = time.perf_counter()
-    from sandlight.predictor.training import engine_memory_record, file_sha256
-
     nodes_path = statuses[0].dataset_path
     info = {
         "path": str(nodes_path),
@@ -659,7 +660,7 @@ def train_spatial(
         "slices": int(slices),
         "reduction_method": method,
         "measure": _measure_name(measure),
-        **engine_memory_record(memory),
+        **engine_memory_record(memory, measure),
     }
     model = SpatialModel(**dict(model_params or {})).fit(node_brdfs(nodes_path, method), mesh, training_set=info)
     reports = []
