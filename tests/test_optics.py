@@ -123,10 +123,12 @@ def test_absorption_shapes_that_make_iron_oxides_red_or_yellow():
     # Goethite (k calibrated on its powders, docs/optical-constants.md): a strong charge-transfer
     # edge near 540 nm, far weaker in the red.
     assert k("goethite", 450) > 10 * k("goethite", 550) and k("goethite", 500) > 10 * k("goethite", 600)
-    # Its 4T1 crystal-field band: the maximum of 800-1100 nm lies at 900-930 nm (issue 17 §1),
-    # above the 750 nm window and the transparent near infrared.
+    # Its 4T1 crystal-field band: the literature's 900-930 nm is the reflectance minimum; the
+    # seven goethite powders in ../shared put it at 883-949 nm (904-976 nm continuum-removed), and
+    # the calibrated k peaks at 930-950 nm (docs/optical-constants.md), above the 750 nm window
+    # and the transparent near infrared.
     band = np.arange(800.0, 1101.0, 5.0)
-    assert 900.0 <= band[np.argmax(complex_index("goethite", band).imag)] <= 930.0
+    assert 900.0 <= band[np.argmax(complex_index("goethite", band).imag)] <= 960.0
     assert k("goethite", 920) > 1.5 * k("goethite", 760) and k("goethite", 920) > 3 * k("goethite", 1300)
     # Goethite's edge lies bluer than hematite's: less absorbing in green and red (yellow vs red).
     assert k("goethite", 550) < k("hematite", 550) / 3

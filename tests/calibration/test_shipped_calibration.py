@@ -3,10 +3,11 @@ the build script puts in the optical tables of the calibrated minerals.
 
 For each mineral of scripts/data/build_optical_tables.py's CALIBRATED, the calibration output
 docs/calibration/<m>/<m>-k.csv records its canonical command; rerun from the committed ρ tables
-(docs/calibration/<m>/tables, no engine run), it writes the same bytes. The calibrated build of
-the optical tables (``build_all(src, calibrated=CALIBRATED)``) holds that k, and the shipped n, at
+(docs/calibration/<m>/tables, no engine run), it writes the same bytes (but for the last digit
+of k where the data do not identify it, which follows the CPU). The calibrated build of the
+optical tables (``build_all(src, calibrated=CALIBRATED)``) holds that k, and the shipped n, at
 every calibration wavelength; the shipped tables take it for the minerals in SHIPPED_CALIBRATED
-(none until the predictor bank is retrained: docs/optical-constants.md).
+(docs/optical-constants.md).
 """
 
 import subprocess
@@ -87,4 +88,29 @@ def test_refit_from_the_committed_tables_reproduces_the_k_csv(mineral, tmp_path)
     )
     assert result.returncode == 0, result.stderr
     assert "k column" not in result.stderr, "a table was not complete in the committed cache"
-    assert (tmp_path / f"{mineral}-k.csv").read_bytes() == k_csv(mineral).read_bytes()
+    _assert_same_k_csv((tmp_path / f"{mineral}-k.csv").read_text(), k_csv(mineral).read_text())
+
+
+def _not_identifiable_nm(text: str) -> list[tuple[float, float]]:
+    # "...; not identifiable (nm): 350-580, 2400-2500" or "...: none" on the method line.
+    method = next(line for line in text.splitlines() if line.startswith("# method: "))
+    spans = method.split("not identifiable (nm): ")[1].strip()
+    return [] if spans == "none" else [tuple(map(float, span.split("-"))) for span in spans.split(", ")]
+
+
+def _assert_same_k_csv(refit: str, committed: str) -> None:
+    # Byte for byte, except k where the data do not identify it: there the weak prior alone
+    # decides k on a flat objective, and the last of its 6 digits follows the CPU's floating
+    # point (numpy's SIMD kernels): the same machine refits the same bytes, but the committed
+    # goethite csv and a refit on another CPU were measured to differ by up to 6e-6 relative at
+    # 370-470 nm (2026-12-06), 10^5 times below that k's own uncertainty (σ log10 k ≈ 1).
+    spans = _not_identifiable_nm(committed)
+    new_lines, old_lines = refit.splitlines(), committed.splitlines()
+    assert len(new_lines) == len(old_lines)
+    for new, old in zip(new_lines, old_lines):
+        if new == old:
+            continue
+        wl, n, k = map(float, new.split(","))
+        wl_old, n_old, k_old = map(float, old.split(","))
+        assert (wl, n) == (wl_old, n_old) and any(lo <= wl <= hi for lo, hi in spans), (new, old)
+        assert k == pytest.approx(k_old, rel=1e-4), (new, old)

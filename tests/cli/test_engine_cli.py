@@ -34,9 +34,10 @@ def test_reflectance_writes_netcdf_csv_and_plot(tmp_path):
 
 
 def test_reflectance_shares_paths_unless_told_not_to(tmp_path):
-    # Sharing applies to the classic model; the default memory 'packed' is traced wavelength by
-    # wavelength (docs/transport.md).
-    for flag, shared in [(["--memory", "none"], 1), (["--memory", "none", "--no-share"], 0), ([], 0)]:
+    # Sharing applies to the classic model and to the path memories, the default 'packed'
+    # included (docs/transport.md).
+    cases = [(["--memory", "none"], 1), (["--memory", "none", "--no-share"], 0), ([], 1), (["--no-share"], 0)]
+    for flag, shared in cases:
         nc = tmp_path / f"r{len(flag)}.nc"
         args = ["reflectance", "--preset", "red-dune", "-w", "450,550", "-n", "1000", "-o", str(nc), *flag]
         res = runner.invoke(app, args)

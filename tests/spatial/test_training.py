@@ -200,7 +200,7 @@ def test_path_memory_is_the_engines_and_is_recorded(tmp_path):
         threads=1,
     )
     np.testing.assert_array_equal(measured, engine_measure(**node, memory="cut")["counts"])
-    assert not np.array_equal(measured, engine_measure(**node)["counts"])
+    assert not np.array_equal(measured, engine_measure(**node, memory="none")["counts"])
     with pytest.raises(JobSettingsError, match="memory"):
         measure_nodes(tmp_path / "nodes", mesh, 450.0, 20_000, 3, InProcessExecutor(), **kw)
     model = SpatialModel().fit(node_brdfs(status.dataset_path), mesh, training_set={"memory": "cut"})

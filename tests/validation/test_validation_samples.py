@@ -9,6 +9,7 @@ import pytest
 import sandlight
 from sandlight import validation as v
 from sandlight.errors import ParameterError
+from sandlight.physics.composition import DEFAULT_FILMS
 
 FEW_WL = [450.0, 550.0, 650.0, 1000.0, 2000.0]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
@@ -41,7 +42,9 @@ def test_validate_uses_the_presets_and_the_shipped_spectra(results):
 
     for r in results:
         assert r.label == f"preset {r.sample.preset}"
-        assert r.sample_values == SandSample.preset(r.sample.preset).to_dict()
+        # What was traced: the preset, and the film model, recorded since it is not the
+        # pre-issue-17 'uniform' (SandMedium.describe).
+        assert r.sample_values == {**SandSample.preset(r.sample.preset).to_dict(), "films": DEFAULT_FILMS}
         direct = read_usgs(usgs_library(r.sample.spectrum))
         assert r.measured == pytest.approx(v.measured_on_grid(direct, FEW_WL))
         # The model is the engine's reflectance of the preset, with the same seed.
