@@ -2,8 +2,9 @@
 
 Traces every shipped preset (400–700 nm, CIELAB D50/10°) with the chosen coating optics, film
 model, path memory, particle optics (``--particle-optics``: how the separate iron-oxide particles
-of the ``particles`` form are traced, docs/model.md §2.4 item 8) and coating coverage (``--coating-coverage F``: ``SandSample.coating_coverage``
-set to F in every preset, docs/model.md §2.4), each by default the engine's default, with the
+of the ``particles`` form are traced, docs/model.md §2.4 item 8) and coating coverage
+(``--coating-coverage F``: ``SandSample.coating_coverage`` set to F in every preset,
+docs/model.md §2.4), each by default the engine's default, with the
 shipped optical constants (the calibrated k of the quartz host and goethite), and prints
 L*, C*ab ± its Monte Carlo standard error and h°; a preset with iron_oxide ≤ 0.05 whose C*ab
 exceeds 50 by more than 4 standard errors fails the check, and the script then exits with
@@ -50,7 +51,8 @@ def main() -> int:
     args = ap.parse_args()
     print(
         f"coating_optics {args.coating_optics!r} (pigment {PIGMENT_DIAMETER_UM} µm), films {args.films!r}, "
-        f"memory {args.memory!r}, particle_optics {args.particle_optics!r}, coating_coverage {args.coating_coverage:g}, shipped optical constants, "
+        f"memory {args.memory!r}, particle_optics {args.particle_optics!r}, "
+        f"coating_coverage {args.coating_coverage:g}, shipped optical constants, "
         f"{args.rays} rays\n"
     )
     print("| preset | iron oxide | L* | C*ab | h° | check |\n|---|---|---|---|---|---|")

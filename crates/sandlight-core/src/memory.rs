@@ -572,7 +572,8 @@ mod tests {
         // and some meet a scatterer (the packed memory's events exceed those without them).
         let fines = scatterer(2.0, henyey_greenstein(0.5, 1.0, 0.7));
         let volume = clear_sand(1.0).with_volume_scatterers(vec![None, None, Some(fines)]).unwrap();
-        let (with, without) = (WithMemory::new(volume, Memory::Packed), WithMemory::new(clear_sand(1.0), Memory::Packed));
+        let (with, without) =
+            (WithMemory::new(volume, Memory::Packed), WithMemory::new(clear_sand(1.0), Memory::Packed));
         let d = Vec3::new(0.3, 0.4, -(0.75f64).sqrt());
         let (mut left, mut events, mut events_without) = (0, 0, 0);
         for i in 0..1500 {

@@ -387,9 +387,8 @@ mod tests {
         let n = 60_000;
         let albedo = 0.8;
         let grains = clear_sand(PoreOptics::DRY, f64::INFINITY);
-        let medium = grains
-            .with_volume_scatterers(vec![Some(scatterer(2.0, henyey_greenstein(0.5, albedo, 0.0)))])
-            .unwrap();
+        let medium =
+            grains.with_volume_scatterers(vec![Some(scatterer(2.0, henyey_greenstein(0.5, albedo, 0.0)))]).unwrap();
         assert_eq!(medium.flight_mean_free_path_mm, 0.05);
         let dir = oblique(30.0);
         let c = fates(&medium, dir, n, &Limits::default());

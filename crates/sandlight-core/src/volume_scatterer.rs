@@ -148,7 +148,8 @@ mod tests {
             let se = (p * (1.0 - p) / n as f64).sqrt();
             assert!((c as f64 / n as f64 - p).abs() < 4.0 * se, "{fate:?}: {c} vs {p}");
         }
-        let sum: f64 = [VolumeFate::Null, VolumeFate::Scatter, VolumeFate::Absorb].map(|f| o.probability(f)).iter().sum();
+        let sum: f64 =
+            [VolumeFate::Null, VolumeFate::Scatter, VolumeFate::Absorb].map(|f| o.probability(f)).iter().sum();
         assert!((sum - 1.0).abs() < 1e-15);
     }
 

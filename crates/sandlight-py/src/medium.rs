@@ -17,8 +17,8 @@ use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, ParticleTyp
 use sandlight_core::memory::{Memory, WithMemory};
 use sandlight_core::packing::{PackedParticle, Packing, PackingParams};
 use sandlight_core::particle::{Coating, ParticleOptics, PoreOptics};
-use sandlight_core::sizes::QuantileTable;
 use sandlight_core::phase_table::PhaseTable;
+use sandlight_core::sizes::QuantileTable;
 use sandlight_core::transport::Limits;
 use sandlight_core::volume_scatterer::{VolumeOptics, VolumeScatterer};
 
