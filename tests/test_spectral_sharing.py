@@ -16,8 +16,9 @@ from sandlight.physics.powder import Powder
 from sandlight.physics.spectral_groups import direction_indices, spectral_groups
 
 
-def absorption_only(name: str):
-    """The preset with every real index frozen at its 550 nm value: only absorption varies."""
+def absorption_only(name):
+    """The preset (or sand medium) with every real index frozen at its 550 nm value: only
+    absorption varies."""
 
     def index(material: str, wavelength_nm: float) -> complex:
         return complex(complex_index(material, 550.0).real, complex_index(material, wavelength_nm).imag)
@@ -90,6 +91,24 @@ def test_packed_memory_wet_agrees_with_independent_runs():
     cases = [packed(films, saturation=saturation) for films in ("uniform", "pendular") for saturation in (0.1, 0.6)]
     assert [m.composition.water_filled_probability > 0 for m in cases] == [False, True] * 2
     z = np.concatenate([z_scores(m, WATER_BANDS, rays=600, seeds=range(1, 6)) for m in cases])
+    report(z)
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
+def test_mie_particles_agree_with_independent_runs():
+    # GDS76's hematite as 0.5 µm Mie volume scatterers (null, scatter and absorb weights and the
+    # phase-function ratio), real indices frozen so that 450–700 nm is one group, classic and
+    # packed tracers.
+    sample = sandlight.SandSample.preset("gds76-hematite-quartz").replace(iron_oxide_particle_size_um=0.5)
+    wl = np.linspace(450.0, 700.0, 6)
+    z = []
+    for memory in ("none", "packed"):
+        medium = SandMedium.from_sample(sample, memory, particle_optics="mie")
+        frozen = dataclasses.replace(medium, optical_constants=absorption_only(medium).optical_constants)
+        assert len(spectral_groups(frozen.composition, wl, 0.0, optical_constants=frozen.optical_constants)) == 1
+        z.append(z_scores(frozen, wl, rays=1500, seeds=range(1, 11)))
+    z = np.concatenate(z)
     report(z)
     assert abs(z.mean()) < 0.2, z.mean()
     assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)

@@ -1,8 +1,10 @@
 """Preset chroma check (issue 17): no preset with iron oxide ≤ 5 % more chromatic than C*ab 50.
 
 Traces every shipped preset (400–700 nm, CIELAB D50/10°) with the chosen coating optics, film
-model, path memory and coating coverage (``--coating-coverage F``: ``SandSample.coating_coverage``
-set to F in every preset, docs/model.md §2.4), each by default the engine's default, with the
+model, path memory, particle optics (``--particle-optics``: how the separate iron-oxide particles
+of the ``particles`` form are traced, docs/model.md §2.4 item 8) and coating coverage
+(``--coating-coverage F``: ``SandSample.coating_coverage`` set to F in every preset,
+docs/model.md §2.4), each by default the engine's default, with the
 shipped optical constants (the calibrated k of the quartz host and goethite), and prints
 L*, C*ab ± its Monte Carlo standard error and h°; a preset with iron_oxide ≤ 0.05 whose C*ab
 exceeds 50 by more than 4 standard errors fails the check, and the script then exits with
@@ -11,7 +13,8 @@ status 1.
 Usage::
 
     python scripts/studies/preset_chroma.py [--coating-optics uniform|mie] [--films pendular|uniform]
-        [--memory packed|none|...] [--coating-coverage 1] [--rays 4000] [--seed 1]
+        [--memory packed|none|...] [--particle-optics geometric|mie] [--coating-coverage 1]
+        [--rays 4000] [--seed 1]
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ import numpy as np
 import sandlight
 from sandlight.colour.lch import lch_with_chroma_error
 from sandlight.physics.composition import DEFAULT_FILMS, FILM_MODELS
+from sandlight.physics.fine_particles import DEFAULT_PARTICLE_OPTICS, PARTICLE_OPTICS
 from sandlight.physics.media import DEFAULT_MEMORY, MEMORIES, SandMedium
 from sandlight.physics.medium import COATING_OPTICS
 from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
@@ -38,6 +42,7 @@ def main() -> int:
     ap.add_argument("--coating-optics", choices=COATING_OPTICS, default="uniform")
     ap.add_argument("--films", choices=FILM_MODELS, default=DEFAULT_FILMS)
     ap.add_argument("--memory", choices=MEMORIES, default=DEFAULT_MEMORY)
+    ap.add_argument("--particle-optics", choices=PARTICLE_OPTICS, default=DEFAULT_PARTICLE_OPTICS)
     ap.add_argument(
         "--coating-coverage", type=float, default=1.0, help="SandSample.coating_coverage of every preset (0, 1]"
     )
@@ -46,14 +51,21 @@ def main() -> int:
     args = ap.parse_args()
     print(
         f"coating_optics {args.coating_optics!r} (pigment {PIGMENT_DIAMETER_UM} µm), films {args.films!r}, "
-        f"memory {args.memory!r}, coating_coverage {args.coating_coverage:g}, shipped optical constants, "
+        f"memory {args.memory!r}, particle_optics {args.particle_optics!r}, "
+        f"coating_coverage {args.coating_coverage:g}, shipped optical constants, "
         f"{args.rays} rays\n"
     )
     print("| preset | iron oxide | L* | C*ab | h° | check |\n|---|---|---|---|---|---|")
     failed = []
     for name in sandlight.SandSample.presets():
         sample = sandlight.SandSample.preset(name).replace(coating_coverage=args.coating_coverage)
-        medium = SandMedium.from_sample(sample, args.memory, coating_optics=args.coating_optics, films=args.films)
+        medium = SandMedium.from_sample(
+            sample,
+            args.memory,
+            coating_optics=args.coating_optics,
+            films=args.films,
+            particle_optics=args.particle_optics,
+        )
         r = sandlight.reflectance(medium, WAVELENGTHS_NM, rays=args.rays, seed=args.seed, progress=False)
         L, C, h, se = lch_with_chroma_error(r.wavelengths, r.values, r.covariance)
         # Without path sharing (the default memory) the covariance between wavelengths is not

@@ -343,6 +343,13 @@ impl Explicit {
                 "must be generated from a medium with the same particle types and aspect ratios",
             ));
         }
+        if medium.has_volume_scatterers() {
+            return Err(SandlightError::parameter(
+                "volume_scatterers",
+                "a medium with volume scatterers",
+                "none: Mie volume scatterers are traced only by the on-the-fly tracers",
+            ));
+        }
         if bottom_mm.is_nan() || bottom_mm <= 0.0 {
             return Err(SandlightError::parameter(
                 "bottom_mm",

@@ -15,8 +15,9 @@
 //! per-particle interaction and boundary as `transport`).
 //! `render` (the spectral renderer) uses only `error`, `math`, `rng` and `sampling`;
 //! `appearance` (the fast BRDF evaluator) only `error`. `mie` (Lorenz–Mie solution of a sphere)
-//! and `phase_table` (sampling a tabulated phase function): fine-particle optics, not yet used
-//! by the transport. No PyO3 here: bindings live in `sandlight-py`.
+//! and `phase_table` (sampling a tabulated phase function): fine-particle optics; `phase_table`
+//! → `volume_scatterer` (Mie particles as volume scatterers in the pore space, an opt-in of the
+//! on-the-fly tracers) → `particle`. No PyO3 here: bindings live in `sandlight-py`.
 
 pub mod appearance;
 pub mod deposition;
@@ -45,5 +46,6 @@ pub mod spectral;
 pub mod spheroid;
 pub mod surface_layer;
 pub mod transport;
+pub mod volume_scatterer;
 
 pub use error::SandlightError;

@@ -6,6 +6,7 @@ use crate::error::{check_range, SandlightError};
 use crate::particle::{Coating, ParticleOptics, PoreOptics, Stacks};
 use crate::sampling::pick_cumulative;
 use crate::sizes::QuantileTable;
+use crate::volume_scatterer::VolumeScatterer;
 
 /// One kind of particle in a sand sample.
 #[derive(Clone, Debug)]
@@ -38,11 +39,17 @@ pub struct Particulate {
     cumulative: Vec<f64>,
     a_over_d: Vec<f64>,
     stacks: Vec<Stacks>,
-    /// Mean free path in the pore space (mm), docs/model.md §2.1.
+    /// Mean free path in the pore space (mm), docs/model.md §2.1: between geometric meetings,
+    /// what the path memories' tables describe.
     pub mean_free_path_mm: f64,
+    /// Mean flight between candidate meetings (mm): `mean_free_path_mm`, shortened by the
+    /// majorants of volume scatterers (`with_volume_scatterers`).
+    pub flight_mean_free_path_mm: f64,
     pub pore: PoreOptics,
     /// Sample thickness (mm); infinite for a semi-infinite sample.
     pub depth_mm: f64,
+    /// Per type, its volume-scatterer optics; empty when no type is one.
+    volume: Vec<Option<VolumeScatterer>>,
 }
 
 impl Particulate {
@@ -105,7 +112,63 @@ impl Particulate {
             .collect();
         let a_over_d = types.iter().map(ParticleType::a_over_d).collect();
         let stacks = types.iter().map(|t| Stacks::tabulated(&t.optics, &pore)).collect();
-        Ok(Particulate { types, cumulative, a_over_d, stacks, mean_free_path_mm, pore, depth_mm })
+        Ok(Particulate {
+            types,
+            cumulative,
+            a_over_d,
+            stacks,
+            mean_free_path_mm,
+            flight_mean_free_path_mm: mean_free_path_mm,
+            pore,
+            depth_mm,
+            volume: Vec::new(),
+        })
+    }
+
+    /// This medium with the types given a `Some` traced as volume scatterers (docs/transport.md,
+    /// "Fine particles as volume scatterers"): type i is met at its geometric rate times its
+    /// majorant Q_max, so the flights shorten to ℓ Σ Pᵢ / Σ Pᵢ fᵢ (fᵢ = Q_max of a volume
+    /// scatterer, 1 otherwise) and the type is drawn with probability ∝ Pᵢ fᵢ; at a meeting the
+    /// scatterer decides null, scatter or absorb (`VolumeScatterer`). One entry per type.
+    pub fn with_volume_scatterers(mut self, volume: Vec<Option<VolumeScatterer>>) -> Result<Self, SandlightError> {
+        if volume.len() != self.types.len() {
+            return Err(SandlightError::parameter(
+                "volume_scatterers",
+                format!("length {}", volume.len()),
+                &format!("one entry per particle type ({})", self.types.len()),
+            ));
+        }
+        if self.pore.water_filled_probability > 0.0 && volume.iter().flatten().any(|v| v.water.is_none()) {
+            return Err(SandlightError::parameter(
+                "volume_scatterers",
+                "no optics relative to water",
+                "optics relative to water when pores can be water-filled",
+            ));
+        }
+        let factor = |i: usize| volume[i].as_ref().map_or(1.0, |v| v.majorant);
+        let total: f64 = self.types.iter().map(|t| t.probability).sum();
+        let weighted: f64 = self.types.iter().enumerate().map(|(i, t)| t.probability * factor(i)).sum();
+        let mut acc = 0.0;
+        self.cumulative = (0..self.types.len())
+            .map(|i| {
+                acc += self.types[i].probability * factor(i) / weighted;
+                acc
+            })
+            .collect();
+        self.flight_mean_free_path_mm = self.mean_free_path_mm * total / weighted;
+        self.volume = volume;
+        Ok(self)
+    }
+
+    /// The volume-scatterer optics of type `i`; None for a particle traced in geometric optics.
+    #[inline]
+    pub fn volume_scatterer(&self, i: usize) -> Option<&VolumeScatterer> {
+        self.volume.get(i).and_then(Option::as_ref)
+    }
+
+    /// Whether any type is a volume scatterer.
+    pub fn has_volume_scatterers(&self) -> bool {
+        self.volume.iter().any(Option::is_some)
     }
 
     /// Index of the type of the next particle, for a uniform `u` in [0, 1).

@@ -12,7 +12,10 @@ use crate::particle::{interact_with_stacks, Absorber, Interaction, Mono, PathCho
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
 use crate::surface_layer::SurfaceLayer;
-use crate::transport::{enter_water_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, UP};
+use crate::transport::{
+    enter_water_surface, leave_water_surface, meet_volume_scatterer, Fate, Limits, Medium, RayOutcome, UP,
+};
+use crate::volume_scatterer::VolumeFate;
 
 /// What a ray remembers near the surface.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -138,6 +141,22 @@ impl PoreWalls {
     }
 }
 
+/// The nearest of the remembered grains (`behind` and the `walls`) that a flight from `from`
+/// along `d` enters, and the distance to it (infinite and None if it enters none).
+fn nearest_remembered(behind: Option<Grain>, walls: &PoreWalls, from: Vec3, d: Vec3) -> (f64, Option<Grain>) {
+    let (mut to_ahead, mut ahead) = (f64::INFINITY, None);
+    // A packed grain behind is also a wall: measured once.
+    let behind_not_a_wall = behind.filter(|b| !walls.grains().any(|w| w.centre == b.centre));
+    for g in behind_not_a_wall.iter().chain(walls.grains()) {
+        if let Some(t) = g.shape.entry_distance(from - g.centre, d) {
+            if t < to_ahead {
+                (to_ahead, ahead) = (t, Some(*g));
+            }
+        }
+    }
+    (to_ahead, ahead)
+}
+
 /// The on-the-fly transport through `m` with path memory `paths`, its wavelength-dependent
 /// choices made through `choices` (`Mono`: `m`'s wavelength alone; the memory adds no kind of
 /// choice to the classic tracer's). The ray also keeps its position in x and y and remembers the pore it is in (docs/geometry.md, "Near-surface path memory"): while it is still in the pore it reached its last grain
@@ -169,7 +188,9 @@ pub(crate) fn trace_with_memory(
     choices: &mut impl PathChoices,
 ) -> RayOutcome {
     let pore = &m.pore;
-    let ell = m.mean_free_path_mm;
+    // Candidate meetings below the plane, volume scatterers at their majorant rate (the cut
+    // layer's own rates are of packed grains: `SurfaceLayer` uses the geometric ℓ).
+    let ell = m.flight_mean_free_path_mm;
     let surface = paths.surface.as_ref();
     // Height of the boundary plane: 0, or the top of the cut-plane layer.
     let top = surface.map_or(0.0, |s| s.top_mm);
@@ -278,6 +299,30 @@ pub(crate) fn trace_with_memory(
                     if discarded {
                         continue;
                     }
+                    if m.volume_scatterer(i).is_some() {
+                        let (fate, dir) = meet_volume_scatterer(m, i, water, d, rng, choices);
+                        if fate == VolumeFate::Null {
+                            continue;
+                        }
+                        events += 1;
+                        if events > limits.max_events {
+                            return done(Fate::Capped, events);
+                        }
+                        if fate == VolumeFate::Absorb {
+                            return done(Fate::Absorbed, events);
+                        }
+                        // Scattered in place, in the pore it is in: the segment just travelled
+                        // is remembered as after a reflection; the particle itself is no pore
+                        // wall, no neighbour and nothing to meet again.
+                        channel = Some((flight_start, here));
+                        behind = prev;
+                        prev = None;
+                        flight_start = here;
+                        d = dir;
+                        flown = 0.0;
+                        (to_ahead, ahead) = nearest_remembered(behind, &walls, flight_start, d);
+                        continue;
+                    }
                     (i, m.types[i].sizes.sample(rng))
                 }
             };
@@ -383,16 +428,7 @@ pub(crate) fn trace_with_memory(
         }
         prev = Some(grain);
         flown = 0.0;
-        (to_ahead, ahead) = (f64::INFINITY, None);
-        // A packed grain behind is also a wall: measured once.
-        let behind_not_a_wall = behind.filter(|b| !walls.grains().any(|w| w.centre == b.centre));
-        for g in behind_not_a_wall.iter().chain(walls.grains()) {
-            if let Some(t) = g.shape.entry_distance(flight_start - g.centre, d) {
-                if t < to_ahead {
-                    (to_ahead, ahead) = (t, Some(*g));
-                }
-            }
-        }
+        (to_ahead, ahead) = nearest_remembered(behind, &walls, flight_start, d);
     }
 }
 
@@ -402,6 +438,7 @@ mod tests {
     use crate::medium::ParticleType;
     use crate::particle::{Coating, ParticleOptics, PoreOptics};
     use crate::sizes::QuantileTable;
+    use crate::volume_scatterer::testing::{henyey_greenstein, scatterer};
 
     /// Clear grains (no absorption anywhere): packed spheres and spheroids and clay fines, in
     /// water-filled pores half of the time, in a slab `depth_mm` thick.
@@ -526,5 +563,29 @@ mod tests {
             }
             assert!(up > 0 && down > 0 && up + down == 1500);
         }
+    }
+
+    #[test]
+    fn the_packed_memory_keeps_energy_with_lossless_volume_scatterers() {
+        // The clay fines of `clear_sand` as non-absorbing, forward-scattering volume scatterers
+        // (half of the meetings null): every ray leaves by the top or the bottom of the slab,
+        // and some meet a scatterer (the packed memory's events exceed those without them).
+        let fines = scatterer(2.0, henyey_greenstein(0.5, 1.0, 0.7));
+        let volume = clear_sand(1.0).with_volume_scatterers(vec![None, None, Some(fines)]).unwrap();
+        let (with, without) =
+            (WithMemory::new(volume, Memory::Packed), WithMemory::new(clear_sand(1.0), Memory::Packed));
+        let d = Vec3::new(0.3, 0.4, -(0.75f64).sqrt());
+        let (mut left, mut events, mut events_without) = (0, 0, 0);
+        for i in 0..1500 {
+            let out = with.trace(d, &mut Rng::for_ray(2, 0, i), &Limits::default());
+            events += out.events;
+            events_without += without.trace(d, &mut Rng::for_ray(2, 0, i), &Limits::default()).events;
+            match out.fate {
+                Fate::Escaped(_) | Fate::Transmitted => left += 1,
+                other => panic!("ray {i} {other:?}"),
+            }
+        }
+        assert_eq!(left, 1500);
+        assert!(events != events_without, "{events} {events_without}");
     }
 }

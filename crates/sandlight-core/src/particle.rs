@@ -16,6 +16,7 @@ use crate::rng::Rng;
 use crate::sampling::cosine_hemisphere;
 use crate::scattering_layer::{Fractions, ScatteringStack, Turbidity};
 use crate::spheroid::{Hit, Spheroid};
+use crate::volume_scatterer::{VolumeFate, VolumeOptics};
 
 /// A thin layer on the particle surface: real index, absorption coefficient (mm⁻¹), thickness
 /// (mm) where present, the scattering coefficient (mm⁻¹) and asymmetry g of its pigment (zero
@@ -515,6 +516,13 @@ pub trait PathChoices {
     /// Whether the reflection (`reflected`) or transmission just decided at stack `kind`
     /// (scattering, `Stacks::scatters`) was diffuse, for a uniform `u`.
     fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool;
+    /// Null collision, scattering or absorption at a meeting with the volume scatterer of type
+    /// `type_index` in a pore (water-filled if `water`), whose optics there are `hero`, for a
+    /// uniform `u`.
+    fn volume_fate(&mut self, type_index: usize, water: bool, hero: &VolumeOptics, u: f64) -> VolumeFate;
+    /// The path was scattered by that volume scatterer through the angle of cosine `mu`, drawn
+    /// from `hero.phase`.
+    fn volume_scattered(&mut self, type_index: usize, water: bool, hero: &VolumeOptics, mu: f64);
 }
 
 /// A path at one wavelength: every choice is the hero's, nothing to weigh.
@@ -538,6 +546,12 @@ impl PathChoices for Mono {
     fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool {
         u < stacks.diffuse_probability(kind, cos, reflected)
     }
+    #[inline]
+    fn volume_fate(&mut self, _type_index: usize, _water: bool, hero: &VolumeOptics, u: f64) -> VolumeFate {
+        hero.fate(u)
+    }
+    #[inline(always)]
+    fn volume_scattered(&mut self, _type_index: usize, _water: bool, _hero: &VolumeOptics, _mu: f64) {}
 }
 
 /// A direction with a cosine distribution about unit `normal`.

@@ -8,6 +8,7 @@ use crate::particle::{interact_with_stacks, Absorber, Interaction, Mono, PathCho
 use crate::rng::Rng;
 use crate::sampling::{cosine_hemisphere, uniform_sphere};
 use crate::spheroid::Spheroid;
+use crate::volume_scatterer::{scattered, VolumeFate};
 
 /// How a ray ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,6 +91,28 @@ pub(crate) fn leave_water_surface(
     refract(d, -UP, water_n)
 }
 
+/// A meeting with type `i` of `m`, a volume scatterer, in a pore (water-filled if `water`) by a
+/// ray along `d`: its fate and the direction after it (`d` unless it scattered). Shared by the
+/// classic and the memory tracer.
+#[inline]
+pub(crate) fn meet_volume_scatterer(
+    m: &Particulate,
+    i: usize,
+    water: bool,
+    d: Vec3,
+    rng: &mut Rng,
+    choices: &mut impl PathChoices,
+) -> (VolumeFate, Vec3) {
+    let optics = m.volume_scatterer(i).expect("a volume-scatterer type").optics(water);
+    let fate = choices.volume_fate(i, water, optics, rng.uniform());
+    if fate != VolumeFate::Scatter {
+        return (fate, d);
+    }
+    let mu = optics.phase.sample(rng.uniform());
+    choices.volume_scattered(i, water, optics, mu);
+    (fate, scattered(d, mu, rng.uniform()))
+}
+
 /// Sand traced on the fly without memory: every free path and every particle independent of
 /// the past (docs/model.md §2.6). The path memory variants (`memory`) are a separate
 /// tracer, so that this one's code, random numbers and speed stay those of the engine before
@@ -114,7 +137,8 @@ pub(crate) fn trace_classic(
     choices: &mut impl PathChoices,
 ) -> RayOutcome {
     let pore = &m.pore;
-    let ell = m.mean_free_path_mm;
+    // Candidate meetings, volume scatterers at their majorant rate (`with_volume_scatterers`).
+    let ell = m.flight_mean_free_path_mm;
     let mut z = 0.0f64;
     let mut events = 0u64;
     let done = |fate, events| RayOutcome { fate, events };
@@ -154,11 +178,26 @@ pub(crate) fn trace_classic(
             return done(Fate::Absorbed, events);
         }
         z += s * d.z;
+        // The type is drawn before the event is counted: a null collision is no event (a
+        // capped ray ends, so its remaining random numbers do not matter).
+        let i = m.pick_index(rng.uniform());
+        let volume = m.volume_scatterer(i).is_some().then(|| meet_volume_scatterer(m, i, water, d, rng, choices));
+        if let Some((VolumeFate::Null, _)) = volume {
+            continue;
+        }
         events += 1;
         if events > limits.max_events {
             return done(Fate::Capped, events);
         }
-        let i = m.pick_index(rng.uniform());
+        match volume {
+            Some((VolumeFate::Absorb, _)) => return done(Fate::Absorbed, events),
+            // Scattered in place: the ray stays in its pore.
+            Some((_, dir)) => {
+                d = dir;
+                continue;
+            }
+            None => {}
+        }
         choices.particle(i);
         let ptype = &m.types[i];
         let (a_over_d, stacks) = m.type_tables(i);
@@ -235,6 +274,8 @@ mod tests {
     use crate::medium::ParticleType;
     use crate::particle::{ParticleOptics, PoreOptics};
     use crate::sizes::QuantileTable;
+    use crate::volume_scatterer::testing::{henyey_greenstein, scatterer};
+    use crate::volume_scatterer::VolumeScatterer;
 
     const N_WATER: f64 = 1.333;
 
@@ -326,16 +367,61 @@ mod tests {
         // (docs/model.md §2.7), within 4 binomial standard errors.
         let n = 100_000;
         for (albedo, theta_deg) in [(0.8, 0.0), (0.8, 60.0), (0.99, 30.0)] {
-            let medium = IsotropicScatterers::new(albedo, f64::INFINITY).unwrap();
-            let dir = oblique(theta_deg);
-            let c = fates(&medium, dir, n, &Limits::default());
-            assert_eq!((c[2], c[3]), (0, 0));
-            assert_eq!(c[0] + c[1], n);
-            let expected = 1.0 - chandrasekhar_h(albedo, -dir.z) * (1.0 - albedo).sqrt();
-            let se = (expected * (1.0 - expected) / n as f64).sqrt();
-            let got = c[0] as f64 / n as f64;
-            assert!((got - expected).abs() < 4.0 * se, "ω {albedo}, θ {theta_deg}°: {got} vs {expected}");
+            assert_chandrasekhar(&IsotropicScatterers::new(albedo, f64::INFINITY).unwrap(), albedo, theta_deg, n);
         }
+    }
+
+    /// Directional-hemispherical reflectance of `medium` at `theta_deg` over `n` rays is
+    /// Chandrasekhar's 1 − H(μ₀)√(1 − ω) within 4 binomial standard errors, no ray lost.
+    fn assert_chandrasekhar(medium: &impl Medium, albedo: f64, theta_deg: f64, n: u64) {
+        let dir = oblique(theta_deg);
+        let c = fates(medium, dir, n, &Limits::default());
+        assert_eq!((c[2], c[3]), (0, 0));
+        assert_eq!(c[0] + c[1], n);
+        let expected = 1.0 - chandrasekhar_h(albedo, -dir.z) * (1.0 - albedo).sqrt();
+        let se = (expected * (1.0 - expected) / n as f64).sqrt();
+        let got = c[0] as f64 / n as f64;
+        assert!((got - expected).abs() < 4.0 * se, "ω {albedo}, θ {theta_deg}°: {got} vs {expected} ± {se}");
+    }
+
+    #[test]
+    fn volume_scatterers_with_null_collisions_match_chandrasekhar() {
+        // A medium of volume scatterers only, isotropic, met at twice the rate of their real
+        // collisions (majorant 2, extinction 1/2): the real collisions are isotropic point
+        // scatterers of mean free path ℓ, Chandrasekhar's half-space, within 4 standard errors.
+        let n = 60_000;
+        let albedo = 0.8;
+        let grains = clear_sand(PoreOptics::DRY, f64::INFINITY);
+        let medium =
+            grains.with_volume_scatterers(vec![Some(scatterer(2.0, henyey_greenstein(0.5, albedo, 0.0)))]).unwrap();
+        assert_eq!(medium.flight_mean_free_path_mm, 0.05);
+        assert_chandrasekhar(&medium, albedo, 30.0, n);
+    }
+
+    #[test]
+    fn a_lossless_half_space_with_volume_scatterers_returns_every_ray_or_caps_it() {
+        // Clear grains and forward-scattering, non-absorbing volume scatterers (ω = 1), dry and
+        // with water-filled pores: no ray is absorbed.
+        let limits = Limits { max_events: 5000, max_internal: 10_000 };
+        for pore in [PoreOptics::DRY, wet_pores()] {
+            let grains = clear_sand(pore, f64::INFINITY);
+            let fine = ParticleType { probability: 2.0, ..grains.types[0].clone() };
+            let m = Particulate::new(vec![grains.types[0].clone(), fine], 0.1, pore, f64::INFINITY)
+                .unwrap()
+                .with_volume_scatterers(vec![None, Some(scatterer(3.0, henyey_greenstein(0.7, 1.0, 0.8)))])
+                .unwrap();
+            let c = fates(&m, oblique(20.0), 1000, &limits);
+            assert_eq!((c[1], c[2]), (0, 0), "{pore:?}: {c:?}");
+            assert!(c[3] < 100, "{c:?}");
+        }
+    }
+
+    #[test]
+    fn volume_scatterers_without_water_optics_are_refused_for_wet_pores() {
+        let grains = clear_sand(wet_pores(), f64::INFINITY);
+        let air_only = VolumeScatterer::new(2.0, henyey_greenstein(0.5, 0.5, 0.0), None).unwrap();
+        let e = grains.with_volume_scatterers(vec![Some(air_only)]).unwrap_err();
+        assert!(e.to_string().contains("volume_scatterers"), "{e}");
     }
 
     #[test]

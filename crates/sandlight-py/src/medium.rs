@@ -17,8 +17,10 @@ use sandlight_core::medium::{IsotropicScatterers, LambertianSurface, ParticleTyp
 use sandlight_core::memory::{Memory, WithMemory};
 use sandlight_core::packing::{PackedParticle, Packing, PackingParams};
 use sandlight_core::particle::{Coating, ParticleOptics, PoreOptics};
+use sandlight_core::phase_table::PhaseTable;
 use sandlight_core::sizes::QuantileTable;
 use sandlight_core::transport::Limits;
+use sandlight_core::volume_scatterer::{VolumeOptics, VolumeScatterer};
 
 use crate::errors::to_py;
 use crate::pool::run_with_threads;
@@ -70,6 +72,22 @@ pub(crate) fn rays_and_limits(
     (Rays { seed, stream, first: first_ray, n: n_rays }, Limits { max_events, max_internal })
 }
 
+/// A volume scatterer's optics in one pore medium as Python gives it: (Q̄_ext/Q_max, ω, phase
+/// nodes μ, phase values).
+type VolumeOpticsArgs = (f64, f64, Vec<f64>, Vec<f64>);
+
+/// A particle type traced as a volume scatterer as Python gives it: (Q_max, optics relative to
+/// air, optics relative to water or None).
+type VolumeScattererArgs = (f64, VolumeOpticsArgs, Option<VolumeOpticsArgs>);
+
+fn volume_optics((extinction, albedo, mu, p): VolumeOpticsArgs) -> Result<VolumeOptics, SandlightError> {
+    VolumeOptics::new(extinction, albedo, PhaseTable::new(mu, p)?)
+}
+
+fn volume_scatterer((majorant, air, water): VolumeScattererArgs) -> Result<VolumeScatterer, SandlightError> {
+    VolumeScatterer::new(majorant, volume_optics(air)?, water.map(volume_optics).transpose()?)
+}
+
 fn same_len(name: &str, got: usize, want: usize) -> Result<(), SandlightError> {
     if got == want {
         Ok(())
@@ -87,7 +105,7 @@ impl PyMedium {
                         coating_n, coating_alpha_per_mm, coating_thickness_mm, mean_free_path_mm,
                         water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability, depth_mm, memory = "none",
                         film_coverage = 1.0, coating_scattering_per_mm = None, coating_asymmetry = None,
-                        coating_coverage = None))]
+                        coating_coverage = None, volume_scatterers = None))]
     #[allow(clippy::too_many_arguments)] // one argument per Python parameter
     fn particulate(
         py: Python<'_>,
@@ -111,6 +129,7 @@ impl PyMedium {
         coating_scattering_per_mm: Option<Vec<f64>>,
         coating_asymmetry: Option<Vec<f64>>,
         coating_coverage: Option<Vec<f64>>,
+        volume_scatterers: Option<Vec<Option<VolumeScattererArgs>>>,
     ) -> PyResult<Self> {
         let build = || -> Result<WithMemory, SandlightError> {
             let n = probabilities.len();
@@ -164,7 +183,21 @@ impl PyMedium {
                     return Err(SandlightError::parameter("memory", other, "'none', 'channel', 'cut' or 'packed'"))
                 }
             };
-            Ok(WithMemory::new(Particulate::new(types, mean_free_path_mm, pore, depth_mm)?, memory))
+            let mut medium = Particulate::new(types, mean_free_path_mm, pore, depth_mm)?;
+            // Volume scatterers (Mie fine particles) only when some type is one, so that every
+            // other medium is built exactly as before.
+            if let Some(v) = volume_scatterers.filter(|v| v.iter().any(Option::is_some)) {
+                if matches!(memory, Memory::Channel | Memory::Cut) {
+                    return Err(SandlightError::parameter(
+                        "memory",
+                        format!("{memory:?}").to_lowercase(),
+                        "'none' or 'packed' with volume scatterers (particle_optics='mie')",
+                    ));
+                }
+                let v = v.into_iter().map(|s| s.map(volume_scatterer).transpose()).collect::<Result<_, _>>()?;
+                medium = medium.with_volume_scatterers(v)?;
+            }
+            Ok(WithMemory::new(medium, memory))
         };
         build().map(|p| PyMedium { kind: Kind::Particulate(p) }).map_err(|e| to_py(py, e))
     }

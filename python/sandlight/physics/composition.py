@@ -48,6 +48,8 @@ if TYPE_CHECKING:
 
 SAND_RANGE_MM = (0.05, 2.0)
 SILT_RANGE_MM = (0.002, 0.05)
+#: The populations of the ``particles`` form: separate hematite and goethite particles.
+IRON_OXIDE_PARTICLES = ("hematite particles", "goethite particles")
 CLAY_RANGE_MM = (0.0002, 0.002)
 
 
@@ -237,8 +239,8 @@ def compose(sample: SandSample, films: str = DEFAULT_FILMS) -> Composition:
     if form == "particles":
         d = sample.iron_oxide_particle_size_um * 1e-3
         pigment = SizeDistribution("lognormal", d, d, median_mm=d, spread=1.0)
-        add("hematite particles", v_hem, pigment, 1.0, {"hematite": 1.0})
-        add("goethite particles", v_goe, pigment, 1.0, {"goethite": 1.0})
+        for name, volume, material in zip(IRON_OXIDE_PARTICLES, (v_hem, v_goe), ("hematite", "goethite")):
+            add(name, volume, pigment, 1.0, {material: 1.0})
 
     v_total = sum(p.volume_fraction for p in pops)
     pops = [dataclasses.replace(p, volume_fraction=p.volume_fraction / v_total) for p in pops]

@@ -28,13 +28,15 @@ import math
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 from sandlight import _native
 from sandlight.checks import check_choice
 from sandlight.errors import ParameterError
 from sandlight.physics.composition import DEFAULT_FILMS, FILM_MODELS, Composition, compose
-from sandlight.physics.medium import COATING_OPTICS, OpticalConstants, Traceable, native_medium
+from sandlight.physics.fine_particles import DEFAULT_PARTICLE_OPTICS, PARTICLE_OPTICS
+from sandlight.physics.medium import COATING_OPTICS, OpticalConstants, Traceable, mie_majorants, native_medium
 from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
 
 if TYPE_CHECKING:
@@ -113,6 +115,12 @@ class SandMedium:
         recorded here, applied by :func:`~sandlight.physics.composition.compose`): 'pendular'
         (rings at the grain contacts, docs/model.md §2.5; the default,
         :data:`~sandlight.physics.composition.DEFAULT_FILMS`) or 'uniform' (a film on every particle).
+    particle_optics : {'geometric', 'mie'}
+        How the separate iron-oxide particles of the ``particles`` form are traced
+        (:data:`~sandlight.physics.fine_particles.PARTICLE_OPTICS`): 'geometric' (spheres in
+        geometric optics, the default: the engine the predictor bank was trained on) or 'mie'
+        (Lorenz–Mie volume scatterers in the pore space, docs/model.md §2.4 item 8; with the
+        memories 'none' and 'packed' only). No effect on samples of the other forms.
     """
 
     composition: Composition
@@ -122,11 +130,15 @@ class SandMedium:
     coating_optics: str = "uniform"
     pigment_diameter_um: float = PIGMENT_DIAMETER_UM
     films: str = DEFAULT_FILMS
+    particle_optics: str = DEFAULT_PARTICLE_OPTICS
 
     def __post_init__(self) -> None:
         check_choice("memory", self.memory, MEMORIES)
         check_choice("coating_optics", self.coating_optics, COATING_OPTICS)
         check_choice("films", self.films, FILM_MODELS)
+        check_choice("particle_optics", self.particle_optics, PARTICLE_OPTICS)
+        if self.particle_optics == "mie" and self.memory not in ("none", "packed"):
+            raise ParameterError("memory", self.memory, "'none' or 'packed' with particle_optics='mie'")
 
     @classmethod
     def from_sample(
@@ -138,6 +150,7 @@ class SandMedium:
         coating_optics: str = "uniform",
         pigment_diameter_um: float = PIGMENT_DIAMETER_UM,
         films: str = DEFAULT_FILMS,
+        particle_optics: str = DEFAULT_PARTICLE_OPTICS,
     ) -> SandMedium:
         """The medium of a :class:`~sandlight.SandSample` (``memory`` None: :data:`DEFAULT_MEMORY`)."""
         memory = DEFAULT_MEMORY if memory is None else memory
@@ -149,7 +162,16 @@ class SandMedium:
             coating_optics,
             pigment_diameter_um,
             films,
+            particle_optics,
         )
+
+    @cached_property
+    def majorants(self) -> tuple[float | None, ...] | None:
+        """The Mie majorants of the populations with ``particle_optics='mie'`` (computed once;
+        :func:`~sandlight.physics.medium.mie_majorants`), None otherwise."""
+        if self.particle_optics != "mie":
+            return None
+        return mie_majorants(self.composition, self.optical_constants)
 
     def medium(self, wavelength_nm: float) -> _native.Medium:
         """The native medium at ``wavelength_nm`` (nm)."""
@@ -160,16 +182,21 @@ class SandMedium:
             optical_constants=self.optical_constants,
             coating_optics=self.coating_optics,
             pigment_diameter_um=self.pigment_diameter_um,
+            particle_optics=self.particle_optics,
+            majorants=self.majorants,
         )
 
     def describe(self) -> dict:
         """The description, with geometry and memory when the memory is not 'none', the coating
-        optics when not 'uniform' and the films when not 'uniform' (the film model before issue 17)."""
+        optics when not 'uniform', the films when not 'uniform' (the film model before issue 17)
+        and the particle optics when not 'geometric'."""
         out = _with_engine(self.description, "on-the-fly", self.memory)
         if self.coating_optics != "uniform":
             out |= {"coating_optics": self.coating_optics, "pigment_diameter_um": self.pigment_diameter_um}
         if self.films != "uniform":
             out |= {"films": self.films}
+        if self.particle_optics != DEFAULT_PARTICLE_OPTICS:
+            out |= {"particle_optics": self.particle_optics}
         return out
 
 

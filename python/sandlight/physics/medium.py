@@ -15,7 +15,9 @@ k is multiplied by the composition's ``host_absorption`` first (:func:`with_host
 With ``coating_optics='mie'`` a coating's iron oxide is instead a Mie-scattering pigment in its
 kaolinite matrix (:mod:`sandlight.physics.pigment`, docs/model.md §2.4). Either coating covers the
 composition's ``coating_coverage`` of its particles' surface (patches drawn per surface point by
-the engine; bare surface elsewhere).
+the engine; bare surface elsewhere). With ``particle_optics='mie'`` the separate iron-oxide
+particles of the ``particles`` form are Lorenz–Mie volume scatterers in the pore space
+(:mod:`sandlight.physics.fine_particles`, docs/model.md §2.4 item 8).
 """
 
 from __future__ import annotations
@@ -28,7 +30,15 @@ import numpy as np
 from sandlight import _native
 from sandlight.checks import check_choice
 from sandlight.optics import complex_index
-from sandlight.physics.composition import Composition
+from sandlight.physics.composition import IRON_OXIDE_PARTICLES, Composition, Population
+from sandlight.physics.fine_particles import (
+    DEFAULT_PARTICLE_OPTICS,
+    PARTICLE_OPTICS,
+    check_below_majorant,
+    majorant,
+    mie_optics,
+    size_nodes_um,
+)
 from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
 from sandlight.physics.pigment import coating_optics as pigmented_coating
 
@@ -37,6 +47,7 @@ __all__ = [
     "OpticalConstants",
     "COATING_OPTICS",
     "native_medium",
+    "mie_majorants",
     "absorption_per_mm",
     "with_host_absorption",
 ]
@@ -98,6 +109,56 @@ def with_host_absorption(index: OpticalConstants, factor: float) -> OpticalConst
     return scaled
 
 
+def _particles_index(comp: Composition, optical_constants: OpticalConstants | None) -> OpticalConstants:
+    return with_host_absorption(complex_index if optical_constants is None else optical_constants, comp.host_absorption)
+
+
+def _pore_indices(comp: Composition, index: OpticalConstants) -> list[Callable[[float], float]]:
+    """The real indices of the pore media a fine particle can sit in: air, and water when
+    pores can be water-filled."""
+    air = [lambda _wavelength_nm: 1.0]
+    if comp.water_filled_probability == 0.0:
+        return air
+    return [*air, lambda wavelength_nm: complex(index("water", wavelength_nm)).real]
+
+
+def _is_volume_scatterer(p: Population) -> bool:
+    return p.name in IRON_OXIDE_PARTICLES
+
+
+def mie_majorants(comp: Composition, optical_constants: OpticalConstants | None = None) -> tuple[float | None, ...]:
+    """Per population of ``comp``, the majorant efficiency Q_max of a Mie volume scatterer (the
+    iron-oxide particles of the ``particles`` form, :func:`sandlight.physics.fine_particles.majorant`),
+    None for the others. Wavelength independent: computed once per medium."""
+    index = _particles_index(comp, optical_constants)
+    pores = _pore_indices(comp, index)
+    return tuple(
+        majorant(lambda w, p=p: _mix(p.core, w, index), pores, size_nodes_um(p)) if _is_volume_scatterer(p) else None
+        for p in comp.populations
+    )
+
+
+def _volume_scatterers(
+    comp: Composition, wavelength_nm: float, index: OpticalConstants, majorants: tuple[float | None, ...]
+) -> list[tuple | None]:
+    """The binding's ``volume_scatterers``: per population None, or (Q_max, optics relative to
+    air, optics relative to water or None), each optics (Q̄_ext/Q_max, ω, μ nodes, phase)."""
+
+    def optics(p: Population, pore_n: float, q_max: float) -> tuple:
+        o = mie_optics(_mix(p.core, wavelength_nm, index), pore_n, size_nodes_um(p), wavelength_nm)
+        return check_below_majorant(o, q_max, wavelength_nm), o.albedo, o.mu.tolist(), o.phase.tolist()
+
+    pores = [n(wavelength_nm) for n in _pore_indices(comp, index)]
+    out = []
+    for p, q_max in zip(comp.populations, majorants):
+        if q_max is None:
+            out.append(None)
+            continue
+        water = optics(p, pores[1], q_max) if len(pores) > 1 else None
+        out.append((q_max, optics(p, pores[0], q_max), water))
+    return out
+
+
 def native_medium(
     comp: Composition,
     wavelength_nm: float,
@@ -106,6 +167,8 @@ def native_medium(
     optical_constants: OpticalConstants | None = None,
     coating_optics: str = "uniform",
     pigment_diameter_um: float = PIGMENT_DIAMETER_UM,
+    particle_optics: str = DEFAULT_PARTICLE_OPTICS,
+    majorants: tuple[float | None, ...] | None = None,
 ) -> _native.Medium:
     """The native medium of composition ``comp`` at ``wavelength_nm`` (nm, vacuum).
 
@@ -113,12 +176,17 @@ def native_medium(
     'channel', 'cut' or 'packed' (docs/geometry.md). ``optical_constants`` replaces the shipped
     tables (:func:`sandlight.optics.complex_index`), e.g. for a what-if run; the composition's
     ``host_absorption`` applies to either. ``coating_optics`` is one of :data:`COATING_OPTICS`;
-    ``pigment_diameter_um`` the pigment crystals' diameter (µm) for 'mie'.
+    ``pigment_diameter_um`` the pigment crystals' diameter (µm) for 'mie'. ``particle_optics``
+    is one of :data:`~sandlight.physics.fine_particles.PARTICLE_OPTICS`: with 'mie' the iron-oxide
+    particles are volume scatterers with Mie optics, with ``majorants`` from
+    :func:`mie_majorants` (computed here when None; pass them to build many wavelengths).
     """
     check_choice("coating_optics", coating_optics, COATING_OPTICS)
-    index = with_host_absorption(
-        complex_index if optical_constants is None else optical_constants, comp.host_absorption
-    )
+    check_choice("particle_optics", particle_optics, PARTICLE_OPTICS)
+    index = _particles_index(comp, optical_constants)
+    mie_particles = particle_optics == "mie"
+    if mie_particles and majorants is None:
+        majorants = mie_majorants(comp, optical_constants)
     probs = comp.encounter_probabilities()
     quantiles, aspect, core_n, core_k, core_a, coat_n, coat_a, coat_t = ([] for _ in range(8))
     coat_s, coat_g, coat_f = [], [], []
@@ -165,4 +233,5 @@ def native_medium(
         film_coverage=comp.film_coverage,
         coating_coverage=coat_f,
         **({"coating_scattering_per_mm": coat_s, "coating_asymmetry": coat_g} if coating_optics == "mie" else {}),
+        **({"volume_scatterers": _volume_scatterers(comp, wavelength_nm, index, majorants)} if mie_particles else {}),
     )
