@@ -68,8 +68,8 @@ def main() -> int:
         )
         r = sandlight.reflectance(medium, WAVELENGTHS_NM, rays=args.rays, seed=args.seed, progress=False)
         L, C, h, se = lch_with_chroma_error(r.wavelengths, r.values, r.covariance)
-        # Without path sharing (the default memory) the covariance between wavelengths is not
-        # known (NaN): then C*ab itself is compared with the limit.
+        # Without path sharing (a medium that cannot share, or --no-share runs) the covariance
+        # between wavelengths is not known (NaN): then C*ab itself is compared with the limit.
         margin = 4 * se if np.isfinite(se) else 0.0
         over = sample.iron_oxide <= IRON_OXIDE_LIMIT and margin < C - CHROMA_LIMIT
         failed += [name] if over else []
