@@ -53,6 +53,8 @@ from pathlib import Path
 
 import numpy as np
 
+from sandlight.physics.media import MEMORIES
+
 FULL_RAYS = 20000
 FULL_STEPS_NM = (10.0, 25.0)  # below / above 1000 nm
 FULL_K_STEP = 0.125
@@ -133,6 +135,12 @@ def parse_args(argv):
         help="σ of the literature prior on log10 k, decades (KFit.prior_sigma_log10_k, default 1; goethite only)",
     )
     parser.add_argument("--seed", type=int, default=0, help="master seed of the engine (default 0)")
+    parser.add_argument(
+        "--memory",
+        choices=MEMORIES,
+        default="none",
+        help="path memory of the engine's powders (default none: the classic model of the shipped calibration)",
+    )
     parser.add_argument("--threads", type=int, default=1, help="engine threads (RAYON_NUM_THREADS, default 1)")
     parser.add_argument(
         "--cache", type=Path, default=None, help="folder of the restartable table cache (default: none)"
@@ -167,7 +175,7 @@ def canonical_command(args) -> str:
     return (
         f"{SCRIPT} --mineral {args.mineral} --scale {args.scale:g} --smoothing {args.smoothing:g} "
         f"--model-sigma {args.model_sigma if args.model_sigma == 'auto' else format(args.model_sigma, 'g')}"
-        f"{prior} --seed {args.seed}"
+        f"{prior} --seed {args.seed}" + (f" --memory {args.memory}" if args.memory != "none" else "")
     )
 
 
@@ -193,7 +201,7 @@ def main(argv=None) -> int:
     wl, log10_k, rays = grids(args.scale, setup.log10_k_range)
     members = cal.end_members(args.mineral, fit_only=True)
     excluded = [m for m in cal.end_members(args.mineral) if not m.use_in_fit]
-    forward = cal.EnginePowder(rays=rays, seed=args.seed)
+    forward = cal.EnginePowder(rays=rays, seed=args.seed, memory=args.memory)
     command = canonical_command(args)
     prior_log10_k = np.log10(cal.literature_k(args.mineral, wl)) if setup.prior else None
     if args.mineral in cal.LITERATURE_MINERALS:
@@ -225,7 +233,8 @@ def main(argv=None) -> int:
     out = [f"# Calibration of {args.mineral} k(λ) on pure end-members\n"]
     out.append(f"Command: `{command}`\n")
     out.append(
-        f"Engine powder (sandlight.validation.powder_reflectance, classic model), {rays:,} rays per run, master "
+        f"Engine powder (sandlight.validation.powder_reflectance, "
+        f"{'classic model' if args.memory == 'none' else f'memory {args.memory!r}'}), {rays:,} rays per run, master "
         f"seed {args.seed}; {wl.size} wavelengths {wl[0]:g}–{wl[-1]:g} nm; log10 k grid {log10_k[0]:g} to "
         f"{log10_k[-1]:g} in {log10_k.size} steps; smoothing {args.smoothing:g}; "
         + (
@@ -367,7 +376,9 @@ def round_trip(cal, setup, members, tables, wl, args, prior_log10_k) -> list[str
     with the fit where the identifiability says k is identified."""
     truth = cal.edge_and_band_log10_k(wl, **setup.truth)
     truth = np.clip(truth, *setup.log10_k_range)
-    synthetic_forward = cal.EnginePowder(rays=tables[0].settings["forward"]["rays"], seed=args.seed + 1)
+    synthetic_forward = cal.EnginePowder(
+        rays=tables[0].settings["forward"]["rays"], seed=args.seed + 1, memory=args.memory
+    )
     values, sigma = cal.synthetic_spectra(
         synthetic_forward, members, wl, truth, sigma=SYNTHETIC_SIGMA, seed=args.seed + 2
     )

@@ -46,6 +46,15 @@ def test_opaque_powder_is_dark_and_transparent_powder_bright():
     assert (quartz.geometry, quartz.memory) == ("on-the-fly", "none")
 
 
+def test_a_powder_takes_a_path_memory_as_a_sand_does():
+    powder = Powder("hematite", (150.0, 250.0), memory="packed")
+    assert powder.describe()["memory"] == "packed"
+    r = sandlight.reflectance(powder, [500.0, 2000.0], rays=400, seed=3, progress=False)
+    assert (r.memory, r.sample) == ("packed", Powder("hematite", (150.0, 250.0)).describe())
+    with pytest.raises(ParameterError, match="memory"):
+        Powder("quartz", 10.0, memory="full")
+
+
 def test_powder_reflectance_of_validation_is_the_engine_on_the_powder():
     from sandlight.validation import powder_reflectance
 

@@ -18,9 +18,10 @@ directional-hemispherical reflectance at (near-)normal incidence, which is what
 :func:`sandlight.validation.powder_reflectance` computes (here the engine on a
 :class:`sandlight.physics.powder.Powder` whose optical constants carry the trial k): one
 population of spheres of the pure mineral, equal mass per log-size interval over the
-end-member's ``size_um``, on-the-fly geometric optics with independent exponential free paths
-(the classic model, ``memory="none"``). Its porosity only scales the free paths, so it does not
-change the reflectance; it is recorded.
+end-member's ``size_um``, on-the-fly geometric optics, with independent exponential free paths
+(the classic model, ``memory="none"``: the shipped calibration) or a path memory (``memory``).
+Its porosity only scales the free paths of the classic model, so it does not change its
+reflectance; it is recorded.
 """
 
 from __future__ import annotations
@@ -33,7 +34,9 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
+from sandlight.checks import check_choice
 from sandlight.errors import ParameterError
+from sandlight.physics.media import MEMORIES
 from sandlight.physics.medium import OpticalConstants
 
 if TYPE_CHECKING:
@@ -85,13 +88,20 @@ class EnginePowder:
     aspect_ratio : float
         Prolate spheroid aspect ratio in [1, 20]; 1 (spheres) by default, as no end-member
         description gives a shape the model could use.
+    memory : {'none', 'channel', 'cut', 'packed'}
+        Path memory of the engine (:class:`~sandlight.physics.powder.Powder`); 'none', the
+        classic model of the shipped calibration, by default. Recorded in the settings only when
+        not 'none', so the tables cached before the option existed stay valid.
     """
 
-    def __init__(self, rays: int = 2000, seed: int = 0, porosity: float = 0.45, aspect_ratio: float = 1.0):
+    def __init__(
+        self, rays: int = 2000, seed: int = 0, porosity: float = 0.45, aspect_ratio: float = 1.0, memory: str = "none"
+    ):
         self.rays = rays
         self.seed = seed
         self.porosity = porosity
         self.aspect_ratio = aspect_ratio
+        self.memory = check_choice("memory", memory, MEMORIES)
 
     def member_seed(self, member: EndMember) -> int:
         """The engine seed of ``member``'s runs: the master seed and a CRC-32 of its id."""
@@ -111,7 +121,7 @@ class EnginePowder:
             "porosity": float(self.porosity),
             "aspect_ratio": float(self.aspect_ratio),
             "n_sha256": hashlib.sha256(np.ascontiguousarray(n, dtype="<f8").tobytes()).hexdigest(),
-        }
+        } | ({"memory": self.memory} if self.memory != "none" else {})
 
     def reflectance(self, member: EndMember, wavelengths_nm: ArrayLike, k: float) -> tuple[np.ndarray, np.ndarray]:
         """Reflectance and its standard error of ``member``'s powder with k = ``k`` everywhere.
@@ -130,7 +140,12 @@ class EnginePowder:
         if not (isinstance(k, (int, float, np.floating)) and math.isfinite(k) and k > 0):
             raise ParameterError("k", k, "a finite number > 0")
         powder = Powder(
-            member.mineral, member.size_um, self.porosity, self.aspect_ratio, _trial_k(member.mineral, float(k))
+            member.mineral,
+            member.size_um,
+            self.porosity,
+            self.aspect_ratio,
+            _trial_k(member.mineral, float(k)),
+            memory=self.memory,
         )
         # share=False: every wavelength keeps its own random numbers, so the committed tables are
         # reproduced byte for byte by the calibration (spectral sharing would draw other paths).

@@ -17,8 +17,8 @@ IsotropicScatterers, LambertianSurface
     Reference media with known answers (Chandrasekhar's half-space, the ideal diffuse reflector).
 as_traceable
     A SandSample, preset name or Traceable, with the engine's geometry and memory, as a Traceable.
-engine_settings
-    A description split into the sample part and the engine's geometry and memory.
+engine_settings, with_engine
+    A description split into the sample part and the engine's geometry and memory, and joined.
 GEOMETRIES, MEMORIES, DEFAULT_MEMORY, WET_TOP_LAYER
 """
 
@@ -53,6 +53,7 @@ __all__ = [
     "LambertianSurface",
     "as_traceable",
     "engine_settings",
+    "with_engine",
 ]
 
 GEOMETRIES = ("on-the-fly", "explicit")
@@ -73,9 +74,10 @@ WET_TOP_LAYER = (
 )
 
 
-def _with_engine(description: Mapping, geometry: str, memory: str) -> dict:
-    # Geometry and memory are recorded only when not the defaults, so that descriptions (and the
-    # checkpoint keys and BRDF files made from them) read as they did before either existed.
+def with_engine(description: Mapping, geometry: str, memory: str) -> dict:
+    """``description`` with the engine's ``geometry`` and ``memory``, recorded only when not
+    'on-the-fly' and 'none', so that descriptions (and the checkpoint keys and BRDF files made
+    from them) read as they did before either existed."""
     if geometry == "on-the-fly" and memory == "none":
         return dict(description)
     return {**description, "geometry": geometry, "memory": memory}
@@ -83,7 +85,7 @@ def _with_engine(description: Mapping, geometry: str, memory: str) -> dict:
 
 def engine_settings(description: Mapping) -> tuple[dict, str, str]:
     """``(rest, geometry, memory)`` of a :meth:`Traceable.describe` dict: the engine's geometry
-    and path memory ('on-the-fly' and 'none' when absent, as :func:`_with_engine` writes them) and
+    and path memory ('on-the-fly' and 'none' when absent, as :func:`with_engine` writes them) and
     everything else."""
     rest = {k: v for k, v in description.items() if k not in ("geometry", "memory")}
     return rest, description.get("geometry", "on-the-fly"), description.get("memory", "none")
@@ -190,7 +192,7 @@ class SandMedium:
         """The description, with geometry and memory when the memory is not 'none', the coating
         optics when not 'uniform', the films when not 'uniform' (the film model before issue 17)
         and the particle optics when not 'geometric'."""
-        out = _with_engine(self.description, "on-the-fly", self.memory)
+        out = with_engine(self.description, "on-the-fly", self.memory)
         if self.coating_optics != "uniform":
             out |= {"coating_optics": self.coating_optics, "pigment_diameter_um": self.pigment_diameter_um}
         if self.films != "uniform":
@@ -233,7 +235,7 @@ class PackedSand:
 
     def describe(self) -> dict:
         """The description, with geometry 'explicit' and memory 'none'."""
-        return _with_engine(self.description, "explicit", "none")
+        return with_engine(self.description, "explicit", "none")
 
 
 @dataclass(frozen=True)

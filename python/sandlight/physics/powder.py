@@ -4,7 +4,8 @@ A :class:`~sandlight.SandSample` is a quartz sand with at most 10 wt% iron oxide
 describe an iron-oxide end-member (the pure hematite of the paper's Figure 3). :class:`Powder`
 builds the same kind of medium directly: one particle population of the material, exponential
 free paths with the mean ℓ = 4φ / [(1 − φ) ⟨S⟩/⟨V⟩] (docs/model.md §2.1), particles drawn on
-the fly, no water, infinitely deep. Trace it like a sample:
+the fly with the classic model or a path memory (``memory``, as a sand's), no water, infinitely
+deep. Trace it like a sample:
 ``sandlight.reflectance(Powder("hematite", 2.5), wavelengths_nm, rays=...)``.
 """
 
@@ -21,6 +22,7 @@ from sandlight.checks import check_choice, check_real
 from sandlight.errors import ParameterError
 from sandlight.optics import MATERIALS
 from sandlight.physics.composition import Composition, mean_free_path_mm, population
+from sandlight.physics.media import MEMORIES, with_engine
 from sandlight.physics.medium import OpticalConstants, native_medium
 from sandlight.physics.sizes import SizeDistribution
 
@@ -44,6 +46,10 @@ class Powder:
         Prolate spheroid aspect ratio ε in [1, 20].
     optical_constants : callable, optional
         (material, λ in nm) → n + ik in place of the shipped tables (the calibration's trial k).
+    memory : {'none', 'channel', 'cut', 'packed'}
+        Near-surface path memory of the on-the-fly engine (docs/geometry.md). 'none', the classic
+        model, by default: the powders of the shipped calibration were traced with it
+        (docs/optical-constants.md); a sand's default is 'packed'.
     """
 
     material: str
@@ -51,9 +57,11 @@ class Powder:
     porosity: float = 0.45
     aspect_ratio: float = 1.0
     optical_constants: OpticalConstants | None = None
+    memory: str = "none"
 
     def __post_init__(self) -> None:
         check_choice("material", self.material, MATERIALS)
+        check_choice("memory", self.memory, MEMORIES)
         allowed = "a diameter > 0 µm, or (d_min, d_max) with 0 < d_min < d_max"
         try:
             sizes = self.sizes_um
@@ -94,13 +102,17 @@ class Powder:
 
     def medium(self, wavelength_nm: float) -> _native.Medium:
         """The native medium at ``wavelength_nm`` (nm)."""
-        return native_medium(self.composition, wavelength_nm, optical_constants=self.optical_constants)
+        return native_medium(
+            self.composition, wavelength_nm, memory=self.memory, optical_constants=self.optical_constants
+        )
 
     def describe(self) -> dict:
-        """``{"material", "diameter_um" (list, µm), "porosity", "aspect_ratio"}``."""
-        return {
+        """``{"material", "diameter_um" (list, µm), "porosity", "aspect_ratio"}``, with geometry
+        and memory when the memory is not 'none'."""
+        own = {
             "material": self.material,
             "diameter_um": self.sizes_um.tolist(),
             "porosity": self.porosity,
             "aspect_ratio": self.aspect_ratio,
         }
+        return with_engine(own, "on-the-fly", self.memory)
