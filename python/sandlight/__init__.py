@@ -31,6 +31,7 @@ _NATIVE_API = {
     "LambertianSurface": "sandlight.physics.media",
     "Powder": "sandlight.physics.powder",
     "SpectralModel": "sandlight.predictor",
+    "predict": "sandlight.predictor.prediction",
     "SpatialModel": "sandlight.spatial",
     "SandAppearance": "sandlight.appearance",
     "fit": "sandlight.retrieval",

@@ -7,6 +7,9 @@ SpectralModel, evaluate, HoldoutReport
 ModelBank, default_model
     Several models, each sample predicted by the most accurate one covering it; the shipped
     bank (:mod:`sandlight.predictor.bank`).
+predict
+    ``sandlight.predict``: the bank at any wavelength it spans, with the answering model and its
+    hold-out error, as an xarray Dataset (:mod:`sandlight.predictor.prediction`).
 Domain, Dimension
     Training domains over SandSample parameters (:mod:`sandlight.predictor.domain`).
 generate_training_set, fit_training_set, train_spectral
@@ -25,6 +28,7 @@ fitted state, save/load: :mod:`sandlight.predictor.estimator`), the model-file f
 from sandlight.predictor.bank import ModelBank, default_model
 from sandlight.predictor.domain import Dimension, Domain
 from sandlight.predictor.model_file import ModelVersionWarning
+from sandlight.predictor.prediction import predict
 from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
 from sandlight.predictor.training import fit_training_set, generate_training_set, train_spectral, wavelength_grid
 
@@ -35,6 +39,7 @@ __all__ = [
     "ModelVersionWarning",
     "ModelBank",
     "default_model",
+    "predict",
     "Domain",
     "Dimension",
     "generate_training_set",
