@@ -60,3 +60,13 @@ def test_predict_csv_carries_its_metadata_in_comments(tmp_path):
     assert "sandlight" in comments["source"] and "Conventions" not in comments
     table = pd.read_csv(out, comment="#")
     assert list(table.columns) == ["wavelength_nm", "reflectance"] and len(table) == 16
+
+
+def test_predict_answers_the_wavelengths_asked_for(tmp_path):
+    out = tmp_path / "p.csv"
+    res = runner.invoke(app, ["predict", "--preset", "red-dune", "-w", "400:700:5", "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    table = pd.read_csv(out, comment="#")
+    assert table["wavelength_nm"].tolist() == list(range(400, 701, 5))
+    res = runner.invoke(app, ["predict", "--preset", "red-dune", "-w", "350:700:10"])
+    assert res.exit_code == 2 and "--wavelengths = 350.0 is not allowed" in res.output, res.output

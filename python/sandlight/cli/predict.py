@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from sandlight.checks import check_count
+from sandlight.checks import check_count, parse_range
 from sandlight.cli._app import app
 from sandlight.cli._common import (
     COUNT_FORM,
@@ -20,6 +20,7 @@ from sandlight.cli._common import (
     option_names,
 )
 from sandlight.cli._output import echo, show, table
+from sandlight.errors import ParameterError
 from sandlight.io import cf_attributes, check_output_directory, check_output_file, write_atomically, write_csv
 
 #: The parameters of predictor.training.train_spectral as this command's options.
@@ -137,6 +138,13 @@ def predict(
         None, "--plot", help="Save a plot: .png, .pdf or .svg, as the suffix says (overwritten if it exists)."
     ),
     extrapolate: bool = typer.Option(False, "--extrapolate", help="Allow samples outside the training domain."),
+    wavelengths: str | None = typer.Option(
+        None,
+        "--wavelengths",
+        "-w",
+        help="Wavelengths in nm within the model's range, start:stop:step or a list (default: the model's own; "
+        "between them PCHIP interpolation, docs/spectral-predictor.md).",
+    ),
 ) -> None:
     """Predict the spectral reflectance of a sand sample in microseconds.
 
@@ -144,6 +152,7 @@ def predict(
     answers; the command says which one and its hold-out error.
     """
     from sandlight.predictor.bank import ModelBank, default_model
+    from sandlight.predictor.prediction import predict as predict_spectrum
     from sandlight.predictor.spectral import SpectralModel
 
     if output is not None:
@@ -152,14 +161,21 @@ def predict(
         check_output_file(plot, "--plot", (".png", ".pdf", ".svg"), make_dirs=True)
     sample = load_sample(sample_file, preset, default=None)
     label = preset if sample_file is None else sample_file.stem
+    wl = None if wavelengths is None else parse_range("--wavelengths", wavelengths)
     bank = default_model() if model_path is None else ModelBank([SpectralModel.load(model_path)])
-    values, used = bank.predict([sample], extrapolate=extrapolate, return_models=True)
-    reflectance, model = values[0], bank.model(str(used[0]))
-    outside = bank.select([sample])[0] < 0  # no model covers it: the fallback extrapolated
+    try:
+        ds = predict_spectrum(sample, wl, extrapolate=extrapolate, bank=bank)
+    except ParameterError as exc:
+        # The option's name on the command line, not the Python argument's.
+        raise ParameterError(
+            "--wavelengths" if exc.name == "wavelengths_nm" else exc.name, exc.value, exc.allowed
+        ) from None
+    reflectance, model = ds["reflectance"].values, bank.model(str(ds["model"].values))
+    outside = bool(ds["extrapolated"])  # no model covers it: the fallback extrapolated
     echo(
         f"model {bank.describe(model.name_)}" + (" [extrapolated: the sample is outside its domain]" if outside else "")
     )
-    wavelengths = model.wavelengths_
+    wavelengths = ds["wavelength"].values
     if output is not None:
         metadata = {
             **cf_attributes("sandlight spectral predictor reflectance", "sandlight predict"),
