@@ -49,6 +49,7 @@ from scipy.stats import spearmanr
 import sandlight
 from sandlight.io import write_atomically
 from sandlight.measured import usgs_library
+from sandlight.physics.media import MEMORIES
 from sandlight.retrieval.spectrum import as_spectrum
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -63,9 +64,12 @@ def swapped_pairs(letters: list[str], fitted: list[float]) -> list[str]:
     return [f"{a}–{b}" for (i, a), (j, b) in combinations(enumerate(letters), 2) if fitted[i] <= fitted[j]]
 
 
-def fit_series(variant: str, rays: int, fractions: str) -> list[dict]:
+def fit_series(variant: str, rays: int, fractions: str, memory: str = "none") -> list[dict]:
     rows = []
-    print(f"\nvariant {variant!r}: free {VARIANTS[variant]}, {rays} rays, {WINDOW_NM[0]:g}–{WINDOW_NM[-1]:g} nm")
+    print(
+        f"\nvariant {variant!r}: free {VARIANTS[variant]}, {rays} rays, {WINDOW_NM[0]:g}–{WINDOW_NM[-1]:g} nm, "
+        f"memory {memory!r}"
+    )
     print("| spectrum | sieve (µm) | fitted diameter (µm), 95 % | scale | residual RMS |")
     print("|---|---|---|---|---|")
     for letter, (sieve, midpoint, (lo, hi)) in GDS69.items():
@@ -77,6 +81,7 @@ def fit_series(variant: str, rays: int, fractions: str) -> list[dict]:
             VARIANTS[variant],
             forward="powder",
             material="hematite",
+            memory=memory,
             rays=rays,
             wavelengths=WINDOW_NM,
             threads=1,
@@ -212,6 +217,7 @@ def main(argv=None) -> None:
     parser.add_argument("--out", type=Path, default=Path("docs/data"))
     parser.add_argument("--figures", type=Path, default=Path("docs/figures"))
     parser.add_argument("--fractions", default="abcdefg", help="GDS69 fractions to fit (letters a-g)")
+    parser.add_argument("--memory", choices=MEMORIES, default="none", help="path memory of the powder engine")
     parser.add_argument(
         "--parts", nargs="+", choices=("gds69", "recovery", "correlation"), default=["gds69", "recovery", "correlation"]
     )
@@ -223,7 +229,7 @@ def main(argv=None) -> None:
         recovery()
     if "gds69" not in args.parts:
         return
-    rows = [r for variant in VARIANTS for r in fit_series(variant, args.rays, args.fractions)]
+    rows = [r for variant in VARIANTS for r in fit_series(variant, args.rays, args.fractions, args.memory)]
     print(f"({time.perf_counter() - t0:.0f} s)")
     plot(rows, args.figures / "retrieval_powder.png")
     keys = [k for k in rows[0] if k not in ("fitted", "measured")]

@@ -65,6 +65,7 @@ def test_the_diameter_is_fitted_in_log_and_the_scale_multiplies():
         ({"fixed": {"scale": 2.0}, "free": ["diameter_um", "scale"]}, "fixed"),
         ({"method": "bank"}, "method"),
         ({"forward": "dust"}, "forward"),
+        ({"memory": "full"}, "memory"),
     ],
 )
 def test_bad_powder_input_names_the_parameter(powder_spectrum, kwargs, name):
@@ -78,3 +79,14 @@ def test_a_sand_fit_refuses_a_material(dry_spectrum):
     with pytest.raises(ParameterError) as err:
         sandlight.fit(dry_spectrum, ["iron_oxide"], material="hematite")
     assert err.value.name == "material"
+    with pytest.raises(ParameterError) as err:
+        sandlight.fit(dry_spectrum, ["iron_oxide"], memory="packed")
+    assert err.value.name == "memory"
+
+
+def test_the_powder_is_traced_with_the_memory_asked_for():
+    classic = PowderSpace.build(["diameter_um"], None, "hematite")
+    packed = PowderSpace.build(["diameter_um"], None, "hematite", "packed")
+    x = np.array([2.0])
+    assert classic.sample(x).memory == "none" and packed.sample(x).memory == "packed"
+    assert "memory 'packed'" in PowderForward(packed, WINDOW, rays=RAYS, seed=3, threads=1).describe()

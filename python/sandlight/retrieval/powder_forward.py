@@ -37,6 +37,7 @@ import numpy as np
 from sandlight.checks import check_choice, check_real
 from sandlight.errors import ParameterError
 from sandlight.optics import MATERIALS
+from sandlight.physics.media import MEMORIES
 from sandlight.physics.powder import Powder
 from sandlight.retrieval.forward import EngineForward
 from sandlight.retrieval.space import free_and_fixed
@@ -67,7 +68,8 @@ _LOG = ("diameter_um",)
 class PowderSpace:
     """Free powder parameters over bounds (diameter in log10 µm), the rest at ``base``.
 
-    Build it with `PowderSpace.build`; ``low``/``high`` are in the fit's coordinates.
+    Build it with `PowderSpace.build`; ``low``/``high`` are in the fit's coordinates. ``memory``
+    is the engine's path memory for the powder (an engine setting, not a parameter).
     """
 
     free: tuple[str, ...]
@@ -75,19 +77,22 @@ class PowderSpace:
     base: Mapping[str, float]
     low: np.ndarray
     high: np.ndarray
+    memory: str = "none"
 
     @classmethod
-    def build(cls, free: Any, fixed: Mapping[str, Any] | None, material: Any) -> PowderSpace:
-        """Check ``free``, ``fixed`` and ``material`` and make the space.
+    def build(cls, free: Any, fixed: Mapping[str, Any] | None, material: Any, memory: Any = "none") -> PowderSpace:
+        """Check ``free``, ``fixed``, ``material`` and ``memory`` and make the space.
 
         Raises
         ------
         ParameterError
-            ``material`` not one of the shipped materials; ``free`` empty, not a list of names,
+            ``material`` not one of the shipped materials, ``memory`` not one of the engine's
+            path memories; ``free`` empty, not a list of names,
             naming a parameter not in `POWDER_FREEABLE` or repeating one; ``fixed`` naming an
             unknown parameter or one also free, or a value outside `POWDER_BOUNDS`.
         """
         check_choice("material", material, MATERIALS)
+        check_choice("memory", memory, MEMORIES)
         free, fixed = free_and_fixed(
             free, fixed, POWDER_FREEABLE, "powder parameter names, e.g. ['diameter_um']", lambda _: "a powder parameter"
         )
@@ -99,7 +104,7 @@ class PowderSpace:
             base[name] = check_real(name, value, lo, hi)
         low = np.array([cls._coordinate(n, POWDER_BOUNDS[n][0]) for n in free])
         high = np.array([cls._coordinate(n, POWDER_BOUNDS[n][1]) for n in free])
-        return cls(tuple(free), material, base, low, high)
+        return cls(tuple(free), material, base, low, high, memory)
 
     @staticmethod
     def _coordinate(name: str, value: float) -> float:
@@ -134,7 +139,9 @@ class PowderSpace:
     def sample(self, x: np.ndarray) -> Powder:
         """The Powder at fit coordinates ``x`` (``scale`` is not part of it)."""
         p = self.parameters(x)
-        return Powder(self.material, p["diameter_um"], porosity=p["porosity"], aspect_ratio=p["aspect_ratio"])
+        return Powder(
+            self.material, p["diameter_um"], porosity=p["porosity"], aspect_ratio=p["aspect_ratio"], memory=self.memory
+        )
 
     def scale(self, x: np.ndarray) -> np.ndarray:
         """The nuisance scale of each row of ``x`` (k, p) → (k,)."""
@@ -169,6 +176,7 @@ class PowderForward(EngineForward):
 
     def describe(self) -> str:
         return (
-            f"pure {self.space.material} powder (sandlight.physics.powder.Powder), Monte Carlo engine, "
+            f"pure {self.space.material} powder (sandlight.physics.powder.Powder), Monte Carlo engine "
+            f"(memory {self.space.memory!r}), "
             f"{self.rays} rays per wavelength, seed {self.seed} (common random numbers)"
         )

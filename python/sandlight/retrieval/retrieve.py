@@ -93,6 +93,7 @@ def fit(
     *,
     forward: str = "sand",
     material: str | None = None,
+    memory: str | None = None,
     method: str | None = None,
     sample: SandSample | None = None,
     noise: ArrayLike | None = None,
@@ -128,6 +129,9 @@ def fit(
         log10 µm (:mod:`sandlight.retrieval.powder_forward`); ``method`` is then 'engine'.
     material : str
         The powder's material (``sandlight.optics.MATERIALS``), with ``forward='powder'`` only.
+    memory : {'none', 'channel', 'cut', 'packed'}, optional
+        The engine's path memory for the powder, with ``forward='powder'`` only (None: 'none',
+        the classic model; docs/retrieval.md, "Powder forward model").
     method : {'bank', 'engine'}, default 'bank' ('engine' for a powder)
         'bank': the shipped predictor bank (fast; the answering model's hold-out error enters
         the error budget; then an engine check at the optimum). 'engine': the Monte Carlo
@@ -185,7 +189,7 @@ def fit(
         if sample is not None:
             raise ParameterError("sample", type(sample).__name__, "None with forward='powder' (set fixed instead)")
         return _fit_powder(
-            PowderSpace.build(free, fixed, material),
+            PowderSpace.build(free, fixed, material, "none" if memory is None else memory),
             as_spectrum(measured, name=spectrum_name),
             mask=BandMask.parse(mask),
             sensor=sensor,
@@ -198,6 +202,10 @@ def fit(
         )
     if material is not None:
         raise ParameterError("material", material, "None unless forward='powder' (a sand's minerals are parameters)")
+    if memory is not None:
+        raise ParameterError(
+            "memory", memory, "None unless forward='powder' (a sand is traced with the default engine)"
+        )
     space = ParameterSpace.build(free, fixed, sample)
     spectrum = as_spectrum(measured, name=spectrum_name)
     mask = BandMask.parse(mask)
