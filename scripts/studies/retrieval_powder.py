@@ -26,7 +26,9 @@ the Monte Carlo covariance from replicates.
 Prints one table per variant (fitted diameter and 95 % interval against the sieve range), the
 Spearman rank correlation of the fitted diameters with the sieve midpoints and the pairs whose
 order is swapped; writes ``retrieval_powder.csv`` to ``--out`` and ``retrieval_powder.png`` to
-``--figures``.
+``--figures`` (``retrieval_powder_packed.*`` with ``--memory packed``, and so on).
+
+``--memory``: the engine's path memory for the powders (default 'none', the classic model).
 
 Usage::
 
@@ -169,7 +171,7 @@ def recovery() -> None:
     )
 
 
-def plot(rows: list[dict], path: Path) -> None:
+def plot(rows: list[dict], path: Path, memory: str = "none") -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -197,7 +199,8 @@ def plot(rows: list[dict], path: Path) -> None:
     left.set_ylabel("fitted diameter (µm), 95 % interval")
     left.legend(fontsize=7)
     left.grid(alpha=0.3, which="both")
-    left.set_title("GDS69 hematite: powder fits (shipped hematite k)", fontsize=9)
+    engine = "classic model" if memory == "none" else f"memory {memory!r}"
+    left.set_title(f"GDS69 hematite: powder fits (shipped hematite k, {engine})", fontsize=9)
     for k, r in enumerate(r for r in rows if r["variant"] == "diameter"):
         right.plot(WINDOW_NM, r["measured"], "o", ms=3, color=f"C{k}")
         right.plot(WINDOW_NM, r["fitted"], "-", color=f"C{k}", label=f"{r['spectrum']} ({r['diameter_um']:.3g} µm)")
@@ -231,7 +234,8 @@ def main(argv=None) -> None:
         return
     rows = [r for variant in VARIANTS for r in fit_series(variant, args.rays, args.fractions, args.memory)]
     print(f"({time.perf_counter() - t0:.0f} s)")
-    plot(rows, args.figures / "retrieval_powder.png")
+    stem = "retrieval_powder" + ("" if args.memory == "none" else f"_{args.memory}")
+    plot(rows, args.figures / f"{stem}.png", args.memory)
     keys = [k for k in rows[0] if k not in ("fitted", "measured")]
 
     def write(tmp: Path) -> None:
@@ -240,7 +244,7 @@ def main(argv=None) -> None:
             w.writeheader()
             w.writerows(rows)
 
-    write_atomically(args.out / "retrieval_powder.csv", write)
+    write_atomically(args.out / f"{stem}.csv", write)
 
 
 if __name__ == "__main__":
