@@ -651,6 +651,36 @@ mod tests {
     }
 
     #[test]
+    fn a_group_of_one_traces_as_companions_would() {
+        // `Single` (a group of one wavelength) makes the decisions `Companions` makes, from the
+        // same random numbers, and leaves the weights at 1: classic and packed memory, films,
+        // wet pores, a partial coating.
+        for (memory, medium) in [(Memory::None, sand(1.0, 0.0)), (Memory::Packed, packed_sand(1.0, 0.0))] {
+            let g = HeroGroup::new(vec![medium], memory).unwrap();
+            let dir = incident_direction(0.5);
+            let mut weights = SpectralWeights::new(1, 0);
+            for i in 0..3000 {
+                let mut r1 = Rng::for_ray(6, 0, i);
+                let (fate, events) = g.trace(dir, &mut r1, &Limits::default(), &mut weights);
+                assert_eq!(weights, SpectralWeights::new(1, 0));
+                let mut r2 = Rng::for_ray(6, 0, i);
+                r2.uniform(); // the hero's draw
+                let mut w2 = SpectralWeights::new(1, 0);
+                let mut companions = Companions { group: &g, weights: &mut w2, particle: 0 };
+                let out = match &g.paths {
+                    None => trace_classic(&g.media[0], dir, &mut r2, &Limits::default(), &mut companions),
+                    Some(p) => trace_with_memory(p, &g.media[0], dir, &mut r2, &Limits::default(), &mut companions),
+                };
+                assert_eq!((fate, events), (out.fate, out.events), "{memory:?} ray {i}");
+                assert_eq!(r1.next_u64(), r2.next_u64(), "{memory:?} ray {i}");
+                let mut e = [0.0];
+                w2.estimates(&mut e);
+                assert_eq!(e, [1.0]);
+            }
+        }
+    }
+
+    #[test]
     fn stack_tables_are_close_to_the_exact_stacks() {
         // Interpolated or exact by cell: within 1e-6 of the exact R and R + T at 40 001
         // cosines, every stack, including the square-root edges at critical cosines; most cells
