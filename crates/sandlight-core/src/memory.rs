@@ -105,7 +105,7 @@ impl PathMemory {
 }
 
 /// A grain the memory keeps: its shape, centre (sample frame) and type.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Default)]
 struct Grain {
     shape: Spheroid,
     centre: Vec3,
@@ -115,25 +115,37 @@ struct Grain {
 /// The packed grains that bound the pore a ray is in (`Memory::Cut`): the grain it left to
 /// enter the pore and those it was turned back by since, the latest `N`. Fine particles live
 /// inside pores and do not change it.
+///
+/// Slots fill in order and are then overwritten round the ring, so the walls are always the
+/// first `len` slots, in slot order.
 #[derive(Clone, Copy, Default)]
 struct PoreWalls {
-    grains: [Option<Grain>; PoreWalls::N],
+    grains: [Grain; PoreWalls::N],
+    len: usize,
     next: usize,
 }
 
 impl PoreWalls {
     const N: usize = 4;
 
+    /// Forgets every wall (a new pore).
+    #[inline]
+    fn clear(&mut self) {
+        (self.len, self.next) = (0, 0);
+    }
+
     fn add(&mut self, g: Grain) {
         if self.grains().any(|w| w.centre == g.centre) {
             return;
         }
-        self.grains[self.next] = Some(g);
+        self.grains[self.next] = g;
         self.next = (self.next + 1) % Self::N;
+        self.len = (self.len + 1).min(Self::N);
     }
 
-    fn grains(&self) -> impl Iterator<Item = &Grain> {
-        self.grains.iter().flatten()
+    #[inline]
+    fn grains(&self) -> std::slice::Iter<'_, Grain> {
+        self.grains[..self.len].iter()
     }
 
     fn contain(&self, p: Vec3) -> bool {
@@ -141,16 +153,27 @@ impl PoreWalls {
     }
 }
 
+/// Which remembered grain a flight meets first (`nearest_remembered`): `BEHIND`, or the wall in
+/// that slot of `PoreWalls`. An index rather than a copy of the grain: `behind` and the walls do
+/// not change between the search and the flight that uses it.
+const BEHIND: usize = PoreWalls::N;
+
 /// The nearest of the remembered grains (`behind` and the `walls`) that a flight from `from`
 /// along `d` enters, and the distance to it (infinite and None if it enters none).
-fn nearest_remembered(behind: Option<Grain>, walls: &PoreWalls, from: Vec3, d: Vec3) -> (f64, Option<Grain>) {
+fn nearest_remembered(behind: &Option<Grain>, walls: &PoreWalls, from: Vec3, d: Vec3) -> (f64, Option<usize>) {
     let (mut to_ahead, mut ahead) = (f64::INFINITY, None);
     // A packed grain behind is also a wall: measured once.
-    let behind_not_a_wall = behind.filter(|b| !walls.grains().any(|w| w.centre == b.centre));
-    for g in behind_not_a_wall.iter().chain(walls.grains()) {
+    if let Some(b) = behind.as_ref().filter(|b| !walls.grains().any(|w| w.centre == b.centre)) {
+        if let Some(t) = b.shape.entry_distance(from - b.centre, d) {
+            if t < to_ahead {
+                (to_ahead, ahead) = (t, Some(BEHIND));
+            }
+        }
+    }
+    for (k, g) in walls.grains().enumerate() {
         if let Some(t) = g.shape.entry_distance(from - g.centre, d) {
             if t < to_ahead {
-                (to_ahead, ahead) = (t, Some(*g));
+                (to_ahead, ahead) = (t, Some(k));
             }
         }
     }
@@ -201,11 +224,11 @@ pub(crate) fn trace_with_memory(
     let mut flight_start = Vec3::new(0.0, 0.0, top);
     let mut flown = 0.0f64;
     let mut channel: Option<(Vec3, Vec3)> = None;
-    let mut behind: Option<Grain>;
+    let mut behind: Option<Grain> = None;
     let mut prev: Option<Grain> = None;
     let mut walls = PoreWalls::default();
-    // The nearest remembered grain ahead (`behind` or a wall) and the distance to it.
-    let mut ahead: Option<Grain> = None;
+    // The nearest remembered grain ahead (`BEHIND` or a wall's slot) and the distance to it.
+    let mut ahead: Option<usize> = None;
     let mut to_ahead = f64::INFINITY;
     let mut events = 0u64;
     let done = |fate, events| RayOutcome { fate, events };
@@ -251,7 +274,7 @@ pub(crate) fn trace_with_memory(
             y += to_surface * d.y;
             flight_start = Vec3::new(x, y, top);
             (channel, prev, ahead, flown, to_ahead) = (None, None, None, 0.0, f64::INFINITY);
-            walls = PoreWalls::default();
+            walls.clear();
             match leave_water_surface(pore.water_n, d, rng, choices) {
                 Some(out) => return done(Fate::Escaped(out), events),
                 None => {
@@ -273,7 +296,10 @@ pub(crate) fn trace_with_memory(
         flown += s;
         let here = Vec3::new(x, y, z);
         let (grain, hit) = if rehit {
-            let g = ahead.expect("a finite distance to the remembered grain");
+            let g = match ahead.expect("a finite distance to the remembered grain") {
+                BEHIND => behind.expect("the grain behind"),
+                k => walls.grains[k],
+            };
             let rel = here - g.centre;
             (g, Hit { point: rel, normal: g.shape.normal_at(rel) })
         } else {
@@ -320,7 +346,7 @@ pub(crate) fn trace_with_memory(
                         flight_start = here;
                         d = dir;
                         flown = 0.0;
-                        (to_ahead, ahead) = nearest_remembered(behind, &walls, flight_start, d);
+                        (to_ahead, ahead) = nearest_remembered(&behind, &walls, flight_start, d);
                         continue;
                     }
                     (i, m.types[i].sizes.sample(rng))
@@ -413,7 +439,7 @@ pub(crate) fn trace_with_memory(
                 } else {
                     (channel, behind) = (None, None);
                     if packed {
-                        walls = PoreWalls::default();
+                        walls.clear();
                     }
                 }
                 flight_start = Vec3::new(x, y, z);
@@ -428,7 +454,7 @@ pub(crate) fn trace_with_memory(
         }
         prev = Some(grain);
         flown = 0.0;
-        (to_ahead, ahead) = nearest_remembered(behind, &walls, flight_start, d);
+        (to_ahead, ahead) = nearest_remembered(&behind, &walls, flight_start, d);
     }
 }
 

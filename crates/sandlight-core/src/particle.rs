@@ -614,9 +614,11 @@ pub fn interact_with_stacks(
     let kind = StackKind { exit: false, water, film, bare };
     let fate = choices.stack_fate(stacks, kind, cos_i, rng.uniform());
     // Diffuse parts exist only where the coating scatters; elsewhere no uniform is drawn, so a
-    // non-scattering stack makes today's decisions from today's random numbers.
-    let diffuse = fate != StackFate::Absorb
-        && stacks.scatters(kind)
+    // non-scattering stack makes today's decisions from today's random numbers. Whether the
+    // stack scatters is asked first: it is the same for every ray of a sample (well predicted),
+    // while a test of the random fate here was a second mispredicted branch beside the `match`.
+    let diffuse = stacks.scatters(kind)
+        && fate != StackFate::Absorb
         && choices.diffuse(stacks, kind, cos_i, fate == StackFate::Reflect, rng.uniform());
     let mut dir = match fate {
         StackFate::Reflect => {
@@ -645,8 +647,8 @@ pub fn interact_with_stacks(
         let bare = p.draw_bare(rng);
         let kind = StackKind { exit: true, water: water_beyond, film, bare };
         let fate = choices.stack_fate(stacks, kind, cos_in, rng.uniform());
-        let diffuse = fate != StackFate::Absorb
-            && stacks.scatters(kind)
+        let diffuse = stacks.scatters(kind)
+            && fate != StackFate::Absorb
             && choices.diffuse(stacks, kind, cos_in, fate == StackFate::Reflect, rng.uniform());
         match fate {
             StackFate::Reflect => {

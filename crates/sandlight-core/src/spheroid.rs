@@ -22,7 +22,7 @@ pub fn surface_factor(eps: f64) -> f64 {
     2.0 * a * a * (1.0 + c / (a * e) * e.asin())
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub struct Spheroid {
     /// Unit symmetry axis.
     pub u: Vec3,
@@ -186,7 +186,7 @@ impl Spheroid {
     /// redrawing on a miss gives the same law at 1/acceptance ≈ 1.6 times the cost for ε = 1.4,
     /// and unpredictable branches). A point on the very rim can still miss by rounding and is
     /// drawn again; None only after `max_tries` such misses in a row (never seen).
-    #[inline]
+    #[inline(always)]
     pub fn sample_hit(&self, d: Vec3, rng: &mut Rng, max_tries: u32) -> Option<Hit> {
         let cos_g = self.u.dot(d);
         let v = self.u - d * cos_g;
