@@ -327,27 +327,6 @@ impl PathChoices for Single<'_> {
     fn stack_fate(&mut self, _stacks: &Stacks, kind: StackKind, cos: f64, u: f64) -> StackFate {
         self.group.hero_fate(self.particle, kind, cos, u, 0).fate
     }
-
-    #[inline(always)]
-    fn survives(&mut self, _absorber: Absorber, alpha_per_mm: f64, len: f64, rng: &mut Rng) -> bool {
-        alpha_per_mm <= 0.0 || survives(rng.uniform(), alpha_per_mm * len)
-    }
-
-    #[inline]
-    fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool {
-        u < stacks.diffuse_probability(kind, cos, reflected)
-    }
-
-    #[inline]
-    fn volume_fate(&mut self, _type_index: usize, _water: bool, hero: &VolumeOptics, u: f64) -> VolumeFate {
-        hero.fate(u)
-    }
-
-    #[inline(always)]
-    fn volume_scattered(&mut self, _type_index: usize, _water: bool, _hero: &VolumeOptics, _mu: f64) {}
-
-    #[inline(always)]
-    fn water_surface(&mut self, _from_air: bool, _cos: f64, _reflected: bool) {}
 }
 
 /// The choices of a hero-wavelength path: the hero decides, every wavelength's weight takes

@@ -507,22 +507,36 @@ pub trait PathChoices {
     /// Reflect, transmit or absorb at stack `kind` of the current particle (`stacks` are the
     /// hero's), incidence cosine `cos`, uniform `u`.
     fn stack_fate(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, u: f64) -> StackFate;
+    // The rest default to one wavelength's choices (the hero's alone, nothing to weigh), which
+    // `Mono` and `hero::Single` take; `hero::Companions` weighs every wavelength.
+
     /// Survival over `len` (mm) in `absorber` of coefficient `alpha_per_mm` (the hero's); draws
     /// a uniform from `rng` only when that coefficient is positive.
-    fn survives(&mut self, absorber: Absorber, alpha_per_mm: f64, len: f64, rng: &mut Rng) -> bool;
+    #[inline(always)]
+    fn survives(&mut self, _absorber: Absorber, alpha_per_mm: f64, len: f64, rng: &mut Rng) -> bool {
+        alpha_per_mm <= 0.0 || survives(rng.uniform(), alpha_per_mm * len)
+    }
     /// A flat water surface reflected (`reflected`) or transmitted the ray at incidence cosine
     /// `cos`, arriving from the air (`from_air`) or from the water; the hero decided.
-    fn water_surface(&mut self, from_air: bool, cos: f64, reflected: bool);
+    #[inline(always)]
+    fn water_surface(&mut self, _from_air: bool, _cos: f64, _reflected: bool) {}
     /// Whether the reflection (`reflected`) or transmission just decided at stack `kind`
     /// (scattering, `Stacks::scatters`) was diffuse, for a uniform `u`.
-    fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool;
+    #[inline]
+    fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool {
+        u < stacks.diffuse_probability(kind, cos, reflected)
+    }
     /// Null collision, scattering or absorption at a meeting with the volume scatterer of type
     /// `type_index` in a pore (water-filled if `water`), whose optics there are `hero`, for a
     /// uniform `u`.
-    fn volume_fate(&mut self, type_index: usize, water: bool, hero: &VolumeOptics, u: f64) -> VolumeFate;
+    #[inline]
+    fn volume_fate(&mut self, _type_index: usize, _water: bool, hero: &VolumeOptics, u: f64) -> VolumeFate {
+        hero.fate(u)
+    }
     /// The path was scattered by that volume scatterer through the angle of cosine `mu`, drawn
     /// from `hero.phase`.
-    fn volume_scattered(&mut self, type_index: usize, water: bool, hero: &VolumeOptics, mu: f64);
+    #[inline(always)]
+    fn volume_scattered(&mut self, _type_index: usize, _water: bool, _hero: &VolumeOptics, _mu: f64) {}
 }
 
 /// A path at one wavelength: every choice is the hero's, nothing to weigh.
@@ -536,22 +550,6 @@ impl PathChoices for Mono {
     fn stack_fate(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, u: f64) -> StackFate {
         stacks.fate(kind, cos, u)
     }
-    #[inline(always)]
-    fn survives(&mut self, _absorber: Absorber, alpha_per_mm: f64, len: f64, rng: &mut Rng) -> bool {
-        alpha_per_mm <= 0.0 || survives(rng.uniform(), alpha_per_mm * len)
-    }
-    #[inline(always)]
-    fn water_surface(&mut self, _from_air: bool, _cos: f64, _reflected: bool) {}
-    #[inline]
-    fn diffuse(&mut self, stacks: &Stacks, kind: StackKind, cos: f64, reflected: bool, u: f64) -> bool {
-        u < stacks.diffuse_probability(kind, cos, reflected)
-    }
-    #[inline]
-    fn volume_fate(&mut self, _type_index: usize, _water: bool, hero: &VolumeOptics, u: f64) -> VolumeFate {
-        hero.fate(u)
-    }
-    #[inline(always)]
-    fn volume_scattered(&mut self, _type_index: usize, _water: bool, _hero: &VolumeOptics, _mu: f64) {}
 }
 
 /// A direction with a cosine distribution about unit `normal`.
