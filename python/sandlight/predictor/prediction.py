@@ -75,10 +75,13 @@ def predict(
     wl = nodes if wavelengths_nm is None else _check_within(wavelengths_nm, nodes)
     values, used = bank.predict(batch, extrapolate=extrapolate, return_models=True)
     outside = bank.select(batch) < 0
-    errors = np.array([_holdout_rms(bank, name, nodes) for name in used])
+    # One error curve per answering model, not per sample (batches of millions).
+    names, which = np.unique(used, return_inverse=True)
+    curves = np.array([_holdout_rms(bank, name, nodes) for name in names])
     if wl is not nodes:
         values = interpolate_spectra(nodes, values, wl)
-        errors = np.stack([np.interp(wl, nodes, e) for e in errors])
+        curves = np.array([np.interp(wl, nodes, c) for c in curves])
+    errors = curves[which.reshape(-1)]
     ds = xr.Dataset(
         {
             "reflectance": (("sample", "wavelength"), values, _attrs("directional-hemispherical reflectance", "1")),
