@@ -74,6 +74,13 @@ def test_a_sample_no_model_covers_is_refused_unless_extrapolated(tmp_path):
         assert bool(back["extrapolated"])
 
 
+def test_a_batch_may_name_presets_among_its_samples():
+    ds = sandlight.predict([sandlight.SandSample(iron_oxide=0.01), "yellow-dune"])
+    alone = sandlight.predict("yellow-dune")
+    assert ds["reflectance"].shape[0] == 2 and str(ds["model"].values[1]) == str(alone["model"].values)
+    np.testing.assert_allclose(ds["reflectance"].values[1], alone["reflectance"].values, rtol=1e-12, atol=1e-15)
+
+
 def test_a_dict_of_columns_is_a_batch_and_a_dict_of_scalars_one_sample():
     batch = sandlight.predict({"iron_oxide": [0.005, 0.02], "hematite_ratio": 0.5})
     one = sandlight.predict({"iron_oxide": 0.005, "hematite_ratio": 0.5})

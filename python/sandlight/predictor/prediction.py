@@ -43,8 +43,8 @@ def predict(
     ----------
     samples : SandSample, preset name, or a batch
         One sample (a :class:`~sandlight.SandSample`, a preset name or a dict of parameters), or
-        a batch as :meth:`ModelBank.predict` takes it (a list of them, a dict of columns, a
-        structured array, a DataFrame, an xarray.Dataset).
+        a batch: a list of such samples, or columns as :meth:`ModelBank.predict` takes them (a
+        dict of columns, a structured array, a DataFrame, an xarray.Dataset).
     wavelengths_nm : array_like, optional
         Vacuum wavelengths in nm within the models' range (400–700 nm for the shipped bank);
         None: the models' own wavelengths. Between those, PCHIP interpolation (module docstring).
@@ -70,7 +70,12 @@ def predict(
     """
     bank = default_model() if bank is None else bank
     single = isinstance(samples, (SandSample, str, dict)) and not _is_columns(samples)
-    batch = [_as_sample(samples)] if single else samples
+    if single:
+        batch = [_as_sample(samples)]
+    elif isinstance(samples, (list, tuple)):
+        batch = [_as_sample(s) for s in samples]  # preset names among the samples
+    else:
+        batch = samples
     nodes = np.asarray(bank.wavelengths_, dtype=float)
     wl = nodes if wavelengths_nm is None else _check_within(wavelengths_nm, nodes)
     values, used = bank.predict(batch, extrapolate=extrapolate, return_models=True)
@@ -120,7 +125,7 @@ def _is_columns(samples: Any) -> bool:
     return isinstance(samples, dict) and any(np.ndim(v) > 0 for v in samples.values())
 
 
-def _as_sample(sample: SandSample | str | dict) -> SandSample | dict:
+def _as_sample(sample: Any) -> Any:
     return SandSample.preset(sample) if isinstance(sample, str) else sample
 
 
