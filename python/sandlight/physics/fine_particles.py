@@ -109,10 +109,6 @@ def size_nodes_um(population: Population) -> np.ndarray:
     return np.interp(levels, np.linspace(0.0, 1.0, q.size), q) * 1e3
 
 
-def _relative(core: complex, pore_n: float) -> complex:
-    return complex(core) / pore_n
-
-
 def mie_optics(core: complex, pore_n: float, diameters_um: np.ndarray, wavelength_nm: float) -> MieOptics:
     """Size-averaged optics of spheres of complex index ``core`` (n + ik, k ≥ 0) and diameters
     ``diameters_um`` (µm, equal weights) in a pore of real index ``pore_n`` at vacuum wavelength
@@ -121,7 +117,7 @@ def mie_optics(core: complex, pore_n: float, diameters_um: np.ndarray, wavelengt
     The phase function is Σ Q_sca,k p_k(μ)/Σ Q_sca,k at the nodes of the largest sphere's
     sampling table (the finest: nodes grow with the series terms, :func:`~sandlight.physics.mie.phase_table`).
     """
-    m = _relative(core, pore_n)
+    m = complex(core) / pore_n
     x = np.atleast_1d(size_parameter(diameters_um, wavelength_nm, pore_n))
     e = mie_efficiencies(m, x)
     q_ext, q_sca = np.atleast_1d(e.q_ext), np.atleast_1d(e.q_sca)

@@ -109,7 +109,8 @@ def with_host_absorption(index: OpticalConstants, factor: float) -> OpticalConst
     return scaled
 
 
-def _particles_index(comp: Composition, optical_constants: OpticalConstants | None) -> OpticalConstants:
+def _optical_index(comp: Composition, optical_constants: OpticalConstants | None) -> OpticalConstants:
+    # The shipped (or given) constants with the composition's host absorption, for every material.
     return with_host_absorption(complex_index if optical_constants is None else optical_constants, comp.host_absorption)
 
 
@@ -130,7 +131,7 @@ def mie_majorants(comp: Composition, optical_constants: OpticalConstants | None 
     """Per population of ``comp``, the majorant efficiency Q_max of a Mie volume scatterer (the
     iron-oxide particles of the ``particles`` form, :func:`sandlight.physics.fine_particles.majorant`),
     None for the others. Wavelength independent: computed once per medium."""
-    index = _particles_index(comp, optical_constants)
+    index = _optical_index(comp, optical_constants)
     pores = _pore_indices(comp, index)
     return tuple(
         majorant(lambda w, p=p: _mix(p.core, w, index), pores, size_nodes_um(p)) if _is_volume_scatterer(p) else None
@@ -183,7 +184,7 @@ def native_medium(
     """
     check_choice("coating_optics", coating_optics, COATING_OPTICS)
     check_choice("particle_optics", particle_optics, PARTICLE_OPTICS)
-    index = _particles_index(comp, optical_constants)
+    index = _optical_index(comp, optical_constants)
     mie_particles = particle_optics == "mie"
     if mie_particles and majorants is None:
         majorants = mie_majorants(comp, optical_constants)
