@@ -42,6 +42,7 @@ def test_issue_parameters_and_additions():
         "iron_oxide_particle_size_um",
         "depth_mm",
         "host_absorption",
+        "host_scattering",
         "coating_coverage",
     }
     form = SandSample.parameter("iron_oxide_form")
@@ -70,6 +71,7 @@ def test_defaults():
         iron_oxide_particle_size_um=1.0,
         depth_mm=math.inf,
         host_absorption=1.0,
+        host_scattering=0.0,
         coating_coverage=1.0,
     )
     assert {p.name: getattr(s, p.name) for p in PARAMETERS} == expected
@@ -95,6 +97,7 @@ def test_domains_as_specified():
         "iron_oxide_particle_size_um": (0.1, 50),
         "depth_mm": (0, math.inf),
         "host_absorption": (0, 10),
+        "host_scattering": (0, 100),
         "coating_coverage": (0, 1),
     }
     assert [p.name for p in PARAMETERS if p.low_open] == ["depth_mm", "coating_coverage"]

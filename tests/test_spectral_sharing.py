@@ -125,6 +125,22 @@ def test_powders_agree_with_independent_runs():
     assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
 
 
+def test_host_inclusions_agree_with_independent_runs():
+    # Inclusions in the quartz host (host_scattering, grey: their free paths are geometry) with
+    # the absorption of the core and coating varying, classic and packed tracers, indices frozen.
+    sample = sandlight.SandSample.preset("red-dune").replace(host_scattering=8.0)
+    wl = np.linspace(450.0, 650.0, 6)
+    z = []
+    for memory in ("none", "packed"):
+        medium = SandMedium.from_sample(sample, memory)
+        frozen = dataclasses.replace(medium, optical_constants=absorption_only(medium).optical_constants)
+        z.append(z_scores(frozen, wl, rays=1500, seeds=range(1, 11)))
+    z = np.concatenate(z)
+    report(z)
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
 @pytest.mark.parametrize("medium", ["red-dune", packed(saturation=0.6)], ids=["classic", "packed-wet"])
 def test_shared_results_do_not_depend_on_the_thread_count(medium):
     wl = np.linspace(400.0, 700.0, 8)

@@ -12,8 +12,8 @@ SandSample
     file, or a named preset shipped in ``sandlight/data/presets/``.
 
 The parameters of issue 2 follow SPLITS (Kimmel & Baranoski 2007) and the paper in
-``shared/paper``; ``film_saturation``, ``iron_oxide_particle_size_um``, ``depth_mm``, ``host_absorption`` and
-``coating_coverage`` are sandlight's additions (``Parameter.added``). See ``docs/sample.md``.
+``shared/paper``; ``film_saturation``, ``iron_oxide_particle_size_um``, ``depth_mm``, ``host_absorption``,
+``host_scattering`` and ``coating_coverage`` are sandlight's additions (``Parameter.added``). See ``docs/sample.md``.
 """
 
 from __future__ import annotations
@@ -184,6 +184,16 @@ PARAMETERS: tuple[Parameter, ...] = (
         added=True,
     ),
     Parameter(
+        "host_scattering",
+        "mm⁻¹",
+        0.0,
+        0.0,
+        100.0,
+        "scattering coefficient of the inclusions and micro-fractures inside the quartz host grains "
+        "(isotropic, grey): 0 is a clear crystal, the paper's grain",
+        added=True,
+    ),
+    Parameter(
         "coating_coverage",
         "",
         1.0,
@@ -260,6 +270,11 @@ class SandSample:
         in [0, 10]: 1 (default) is natural-grain quartz as calibrated on the USGS quartz powders
         and Ottawa sand (docs/optical-constants.md); 0 a perfectly clear crystal; > 1 a more
         stained or included host.
+    host_scattering : float
+        Scattering coefficient σ of the quartz host grains' interior, mm⁻¹, in [0, 100]: fluid and
+        mineral inclusions and micro-fractures, isotropic and the same at every wavelength
+        (docs/model.md §2.4). 0 (default) is a clear crystal, as in the paper; σ·D ≳ 1 a
+        milky grain.
     coating_coverage : float
         Fraction (dimensionless) of a coated particle's surface that carries the coating, in
         (0, 1] ('coating' form only). At coverage f the coating on the covered patches is t_c/f
@@ -309,6 +324,7 @@ class SandSample:
     iron_oxide_particle_size_um: float = _default("iron_oxide_particle_size_um")
     depth_mm: float = _default("depth_mm")
     host_absorption: float = _default("host_absorption")
+    host_scattering: float = _default("host_scattering")
     coating_coverage: float = _default("coating_coverage")
 
     def __post_init__(self) -> None:

@@ -4,7 +4,8 @@ Traces every shipped preset (400–700 nm, CIELAB D50/10°) with the chosen coat
 model, path memory, particle optics (``--particle-optics``: how the separate iron-oxide particles
 of the ``particles`` form are traced, docs/model.md §2.4 item 8) and coating coverage
 (``--coating-coverage F``: ``SandSample.coating_coverage`` set to F in every preset,
-docs/model.md §2.4), each by default the engine's default, with the
+docs/model.md §2.4) and inclusions in the host grains (``--host-scattering S``:
+``SandSample.host_scattering`` set to S mm⁻¹ in every preset), each by default the engine's default, with the
 shipped optical constants (the calibrated k of the quartz host and goethite), and prints
 L*, C*ab ± its Monte Carlo standard error and h°; a preset with iron_oxide ≤ 0.05 whose C*ab
 exceeds 50 by more than 4 standard errors fails the check, and the script then exits with
@@ -14,7 +15,7 @@ Usage::
 
     python scripts/studies/preset_chroma.py [--coating-optics uniform|mie] [--films pendular|uniform]
         [--memory packed|none|...] [--particle-optics geometric|mie] [--coating-coverage 1]
-        [--rays 4000] [--seed 1]
+        [--host-scattering 0] [--rays 4000] [--seed 1]
 """
 
 from __future__ import annotations
@@ -46,19 +47,25 @@ def main() -> int:
     ap.add_argument(
         "--coating-coverage", type=float, default=1.0, help="SandSample.coating_coverage of every preset (0, 1]"
     )
+    ap.add_argument(
+        "--host-scattering", type=float, default=0.0, help="SandSample.host_scattering of every preset, mm⁻¹"
+    )
     ap.add_argument("--rays", type=int, default=4000)
     ap.add_argument("--seed", type=int, default=1)
     args = ap.parse_args()
     print(
         f"coating_optics {args.coating_optics!r} (pigment {PIGMENT_DIAMETER_UM} µm), films {args.films!r}, "
         f"memory {args.memory!r}, particle_optics {args.particle_optics!r}, "
-        f"coating_coverage {args.coating_coverage:g}, shipped optical constants, "
+        f"coating_coverage {args.coating_coverage:g}, host_scattering {args.host_scattering:g} mm⁻¹, "
+        f"shipped optical constants, "
         f"{args.rays} rays\n"
     )
     print("| preset | iron oxide | L* | C*ab | h° | check |\n|---|---|---|---|---|---|")
     failed = []
     for name in sandlight.SandSample.presets():
-        sample = sandlight.SandSample.preset(name).replace(coating_coverage=args.coating_coverage)
+        sample = sandlight.SandSample.preset(name).replace(
+            coating_coverage=args.coating_coverage, host_scattering=args.host_scattering
+        )
         medium = SandMedium.from_sample(
             sample,
             args.memory,

@@ -153,6 +153,7 @@ class TestDomainContains:
         columns = {n: values[:, j].copy() for j, n in enumerate(domain.names)}
         columns["depth_mm"] = np.full(2, np.inf)
         columns["host_absorption"] = np.ones(2)
+        columns["host_scattering"] = np.zeros(2)
         columns["coating_coverage"] = np.ones(2)
         columns["silt"][0], columns["clay"][0] = 0.09, 0.05  # 0.09 + 1.5·0.05 = 0.165 > 0.15
         columns["porosity"][1] = np.nan

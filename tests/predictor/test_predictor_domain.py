@@ -49,7 +49,11 @@ class TestDraw:
 
     def test_fixed_and_forms(self, draws):
         assert all(
-            s["depth_mm"] == math.inf and s["host_absorption"] == 1.0 and s["coating_coverage"] == 1.0 for s in draws
+            s["depth_mm"] == math.inf
+            and s["host_absorption"] == 1.0
+            and s["host_scattering"] == 0.0
+            and s["coating_coverage"] == 1.0
+            for s in draws
         )
         forms = column(draws, "iron_oxide_form")
         assert {f: int((forms == f).sum()) for f in FORMS} == {f: 1000 for f in FORMS}
@@ -57,6 +61,7 @@ class TestDraw:
             "sand",
             "depth_mm",
             "host_absorption",
+            "host_scattering",
             "coating_coverage",
             "iron_oxide_form",
         }
@@ -143,19 +148,26 @@ class TestRestrictAndSerialise:
         assert Domain.from_dict(d.to_dict()) == d
 
     def test_a_stored_domain_fixes_a_parameter_added_after_it_at_its_default(self):
-        # Models trained before host_absorption and coating_coverage existed store
-        # fixed = {depth_mm: inf} only.
+        # Models trained before host_absorption, host_scattering and coating_coverage existed
+        # store fixed = {depth_mm: inf} only.
         stored = DEFAULT.to_dict()
-        del stored["fixed"]["host_absorption"], stored["fixed"]["coating_coverage"]
+        for name in ("host_absorption", "host_scattering", "coating_coverage"):
+            del stored["fixed"][name]
         loaded = Domain.from_dict(stored)
-        assert loaded.fixed == {"depth_mm": math.inf, "host_absorption": 1.0, "coating_coverage": 1.0}
-        columns = {n: np.full(3, 0.5 * (d.low + d.high)) for n, d in zip(DEFAULT.names, DEFAULT.dimensions)}
+        assert loaded.fixed == {
+            "depth_mm": math.inf,
+            "host_absorption": 1.0,
+            "host_scattering": 0.0,
+            "coating_coverage": 1.0,
+        }
+        columns = {n: np.full(4, 0.5 * (d.low + d.high)) for n, d in zip(DEFAULT.names, DEFAULT.dimensions)}
         columns.update(
-            depth_mm=np.full(3, math.inf),
-            host_absorption=np.array([1.0, 2.0, 1.0]),
-            coating_coverage=np.array([1.0, 1.0, 0.5]),
+            depth_mm=np.full(4, math.inf),
+            host_absorption=np.array([1.0, 2.0, 1.0, 1.0]),
+            host_scattering=np.array([0.0, 0.0, 0.0, 3.0]),
+            coating_coverage=np.array([1.0, 1.0, 0.5, 1.0]),
         )
-        assert loaded.contains(columns).tolist() == [True, False, False]
+        assert loaded.contains(columns).tolist() == [True, False, False, False]
 
     def test_bad_dimensions(self):
         with pytest.raises(ParameterError, match="low > 0"):

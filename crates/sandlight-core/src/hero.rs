@@ -591,6 +591,7 @@ mod tests {
             core_n: 1.55 + dn,
             core_k: 1e-6 * absorb,
             core_alpha_per_mm: 0.2 * absorb,
+            core_scattering_per_mm: 0.0,
             coating: Some(coating),
             wets: true,
         };

@@ -469,7 +469,14 @@ mod tests {
     /// Clear grains (no absorption anywhere): packed spheres and spheroids and clay fines, in
     /// water-filled pores half of the time, in a slab `depth_mm` thick.
     fn clear_sand(depth_mm: f64) -> Particulate {
-        let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true };
+        let optics = ParticleOptics {
+            core_n: 1.544,
+            core_k: 0.0,
+            core_alpha_per_mm: 0.0,
+            core_scattering_per_mm: 0.0,
+            coating: None,
+            wets: true,
+        };
         let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
         let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
             probability,
@@ -492,8 +499,14 @@ mod tests {
     /// a partial coating and clay fines, films, water-filled pores of absorbing water.
     fn absorbing_sand() -> Particulate {
         let coating = Coating { coverage: 0.7, ..Coating::uniform(1.9, 60.0, 5e-4) };
-        let optics =
-            ParticleOptics { core_n: 1.55, core_k: 1e-6, core_alpha_per_mm: 0.3, coating: Some(coating), wets: true };
+        let optics = ParticleOptics {
+            core_n: 1.55,
+            core_k: 1e-6,
+            core_alpha_per_mm: 0.3,
+            core_scattering_per_mm: 0.0,
+            coating: Some(coating),
+            wets: true,
+        };
         let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
         let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
             probability,

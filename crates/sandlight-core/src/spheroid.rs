@@ -173,6 +173,17 @@ impl Spheroid {
         (t, x0 + d * t)
     }
 
+    /// Chord from the interior point `x0` (an internal scattering event) along the unit
+    /// direction `d` to the surface: the positive root of f(t) = A t² + 2 hb t + c with c < 0,
+    /// taken as −c/(hb + √disc) when hb > 0 (an exit close ahead) to avoid cancellation.
+    #[inline]
+    pub fn chord_from_inside(&self, x0: Vec3, d: Vec3) -> (f64, Vec3) {
+        let (a, hb, c) = self.quad(x0, d);
+        let root = (hb * hb - a * c).max(0.0).sqrt();
+        let t = if hb > 0.0 { (-c / (hb + root)).max(0.0) } else { (-hb + root) / a };
+        (t, x0 + d * t)
+    }
+
     /// Area-weighted hit point for a ray with direction `d` meeting this particle
     /// (docs/model.md §2.3): a point uniform in the particle's shadow on the plane
     /// perpendicular to the ray, then the first intersection of the ray through it.
@@ -250,6 +261,27 @@ mod tests {
             let top = (s.u * (s.c * s.c * s.u.z) + (z - s.u * s.u.z) * (s.a * s.a)) * (1.0 / s.half_height());
             assert!((f(top) - 1.0).abs() < 1e-9 && (top.z - s.half_height()).abs() < 1e-12);
         }
+    }
+
+    #[test]
+    fn chords_from_inside_end_on_the_surface_ahead() {
+        let mut rng = Rng::for_ray(5, 0, 0);
+        let f = |s: &Spheroid, x: Vec3| x.norm2() / (s.a * s.a) + s.k * x.dot(s.u).powi(2);
+        for _ in 0..1000 {
+            let s = Spheroid::new(0.25, 1.7, Spheroid::random_axis(&mut rng));
+            // A point inside: a surface point pulled towards the centre, also very close to it.
+            let h = s.sample_hit(Spheroid::random_axis(&mut rng), &mut rng, 1000).unwrap();
+            let x0 = h.point * [rng.uniform(), 1.0 - 1e-9][(rng.uniform() < 0.1) as usize];
+            let d = Spheroid::random_axis(&mut rng);
+            let (l, x1) = s.chord_from_inside(x0, d);
+            assert!(l >= 0.0 && l <= 2.0 * s.c + 1e-12, "{l}");
+            assert!((f(&s, x1) - 1.0).abs() < 1e-9, "{}", f(&s, x1));
+            assert!((x1 - x0 - d * l).norm2() < 1e-24);
+        }
+        // From the centre of a sphere every chord is the radius.
+        let ball = Spheroid::new(0.4, 1.0, Vec3::new(0.0, 0.0, 1.0));
+        let (l, _) = ball.chord_from_inside(Vec3::new(0.0, 0.0, 0.0), Spheroid::random_axis(&mut rng));
+        assert!((l - 0.2).abs() < 1e-12, "{l}");
     }
 
     #[test]

@@ -216,7 +216,14 @@ mod tests {
     use crate::sizes::QuantileTable;
 
     fn sand_with_fines() -> Particulate {
-        let optics = ParticleOptics { core_n: 1.544, core_k: 0.0, core_alpha_per_mm: 0.0, coating: None, wets: true };
+        let optics = ParticleOptics {
+            core_n: 1.544,
+            core_k: 0.0,
+            core_alpha_per_mm: 0.0,
+            core_scattering_per_mm: 0.0,
+            coating: None,
+            wets: true,
+        };
         let sand = ParticleType {
             probability: 0.4,
             sizes: QuantileTable::new((0..65).map(|j| 0.15 + 0.3 * j as f64 / 64.0).collect()).unwrap(),

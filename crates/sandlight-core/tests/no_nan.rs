@@ -12,7 +12,14 @@ fn medium(aspect: f64, k: f64, alpha: f64, coating: Option<Coating>, film: f64, 
         probability: p,
         sizes: QuantileTable::new(vec![d * 0.5, d, d * 2.0]).unwrap(),
         aspect_ratio: aspect,
-        optics: ParticleOptics { core_n: n, core_k: k, core_alpha_per_mm: alpha, coating, wets: true },
+        optics: ParticleOptics {
+            core_n: n,
+            core_k: k,
+            core_alpha_per_mm: alpha,
+            core_scattering_per_mm: 0.0,
+            coating,
+            wets: true,
+        },
     };
     let pore = PoreOptics {
         water_n: 1.333,

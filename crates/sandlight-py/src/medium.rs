@@ -105,7 +105,7 @@ impl PyMedium {
                         coating_n, coating_alpha_per_mm, coating_thickness_mm, mean_free_path_mm,
                         water_n, water_alpha_per_mm, film_thickness_mm, water_filled_probability, depth_mm, memory = "none",
                         film_coverage = 1.0, coating_scattering_per_mm = None, coating_asymmetry = None,
-                        coating_coverage = None, volume_scatterers = None))]
+                        coating_coverage = None, volume_scatterers = None, core_scattering_per_mm = None))]
     #[allow(clippy::too_many_arguments)] // one argument per Python parameter
     fn particulate(
         py: Python<'_>,
@@ -130,6 +130,7 @@ impl PyMedium {
         coating_asymmetry: Option<Vec<f64>>,
         coating_coverage: Option<Vec<f64>>,
         volume_scatterers: Option<Vec<Option<VolumeScattererArgs>>>,
+        core_scattering_per_mm: Option<Vec<f64>>,
     ) -> PyResult<Self> {
         let build = || -> Result<WithMemory, SandlightError> {
             let n = probabilities.len();
@@ -139,6 +140,12 @@ impl PyMedium {
             // The whole surface coated unless the coverage is given.
             let coating_coverage = coating_coverage.unwrap_or_else(|| vec![1.0; n]);
             same_len("coating_coverage", coating_coverage.len(), n)?;
+            // Clear cores (no inclusions) unless their scattering is given.
+            let core_scattering_per_mm = core_scattering_per_mm.unwrap_or_else(|| vec![0.0; n]);
+            same_len("core_scattering_per_mm", core_scattering_per_mm.len(), n)?;
+            if let Some(bad) = core_scattering_per_mm.iter().find(|s| !(s.is_finite() && **s >= 0.0)) {
+                return Err(SandlightError::parameter("core_scattering_per_mm", bad, "finite values ≥ 0 (mm⁻¹)"));
+            }
             same_len("coating_scattering_per_mm", coating_scattering_per_mm.len(), n)?;
             same_len("coating_asymmetry", coating_asymmetry.len(), n)?;
             same_len("size_quantiles_mm", size_quantiles_mm.len(), n)?;
@@ -167,6 +174,7 @@ impl PyMedium {
                         core_n: core_n[i],
                         core_k: core_k[i],
                         core_alpha_per_mm: core_alpha_per_mm[i],
+                        core_scattering_per_mm: core_scattering_per_mm[i],
                         coating,
                         wets: true,
                     },

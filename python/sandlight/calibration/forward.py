@@ -34,7 +34,7 @@ from typing import TYPE_CHECKING, Protocol
 import numpy as np
 from numpy.typing import ArrayLike
 
-from sandlight.checks import check_choice
+from sandlight.checks import check_choice, check_real
 from sandlight.errors import ParameterError
 from sandlight.physics.media import MEMORIES
 from sandlight.physics.medium import OpticalConstants
@@ -92,16 +92,27 @@ class EnginePowder:
         Path memory of the engine (:class:`~sandlight.physics.powder.Powder`); 'none', the
         classic model of the shipped calibration, by default. Recorded in the settings only when
         not 'none', so the tables cached before the option existed stay valid.
+    scattering_per_mm : float
+        Scattering coefficient (mm⁻¹, ≥ 0) of inclusions inside quartz grains
+        (:class:`~sandlight.physics.powder.Powder`), for the quartz host; 0 (clear grains) by
+        default. Recorded in the settings only when not 0, for the same reason.
     """
 
     def __init__(
-        self, rays: int = 2000, seed: int = 0, porosity: float = 0.45, aspect_ratio: float = 1.0, memory: str = "none"
+        self,
+        rays: int = 2000,
+        seed: int = 0,
+        porosity: float = 0.45,
+        aspect_ratio: float = 1.0,
+        memory: str = "none",
+        scattering_per_mm: float = 0.0,
     ):
         self.rays = rays
         self.seed = seed
         self.porosity = porosity
         self.aspect_ratio = aspect_ratio
         self.memory = check_choice("memory", memory, MEMORIES)
+        self.scattering_per_mm = check_real("scattering_per_mm", scattering_per_mm, 0.0)
 
     def member_seed(self, member: EndMember) -> int:
         """The engine seed of ``member``'s runs: the master seed and a CRC-32 of its id."""
@@ -113,15 +124,19 @@ class EnginePowder:
         from sandlight.optics import complex_index
 
         n = np.real(complex_index(member.mineral, np.asarray(wavelengths_nm, dtype=float)))
-        return {
-            "model": "sandlight.validation.powder_reflectance",
-            "sandlight_version": sandlight.__version__,
-            "rays": int(self.rays),
-            "seed": self.member_seed(member),
-            "porosity": float(self.porosity),
-            "aspect_ratio": float(self.aspect_ratio),
-            "n_sha256": hashlib.sha256(np.ascontiguousarray(n, dtype="<f8").tobytes()).hexdigest(),
-        } | ({"memory": self.memory} if self.memory != "none" else {})
+        return (
+            {
+                "model": "sandlight.validation.powder_reflectance",
+                "sandlight_version": sandlight.__version__,
+                "rays": int(self.rays),
+                "seed": self.member_seed(member),
+                "porosity": float(self.porosity),
+                "aspect_ratio": float(self.aspect_ratio),
+                "n_sha256": hashlib.sha256(np.ascontiguousarray(n, dtype="<f8").tobytes()).hexdigest(),
+            }
+            | ({"memory": self.memory} if self.memory != "none" else {})
+            | ({"scattering_per_mm": self.scattering_per_mm} if self.scattering_per_mm > 0 else {})
+        )
 
     def reflectance(self, member: EndMember, wavelengths_nm: ArrayLike, k: float) -> tuple[np.ndarray, np.ndarray]:
         """Reflectance and its standard error of ``member``'s powder with k = ``k`` everywhere.
@@ -146,6 +161,7 @@ class EnginePowder:
             self.aspect_ratio,
             _trial_k(member.mineral, float(k)),
             memory=self.memory,
+            scattering_per_mm=self.scattering_per_mm,
         )
         # share=False: every wavelength keeps its own random numbers, so the committed tables are
         # reproduced byte for byte by the calibration (spectral sharing would draw other paths).

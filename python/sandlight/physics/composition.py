@@ -106,6 +106,8 @@ class Composition:
     #: Fraction of the particle surface facing an air-filled pore that the film wets.
     film_coverage: float = 1.0
     host_absorption: float = 1.0
+    #: Scattering coefficient (mm⁻¹) of the quartz host's inclusions (``SandSample.host_scattering``).
+    host_scattering_per_mm: float = 0.0
     #: Fraction of a coated particle's surface that carries the coating (drawn per surface point).
     coating_coverage: float = 1.0
 
@@ -261,5 +263,6 @@ def compose(sample: SandSample, films: str = DEFAULT_FILMS) -> Composition:
         depth_mm=sample.depth_mm,
         film_coverage=coverage if coverage > 0.0 else 1.0,
         host_absorption=sample.host_absorption,
+        host_scattering_per_mm=sample.host_scattering,
         coating_coverage=sample.coating_coverage,
     )

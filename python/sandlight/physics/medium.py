@@ -190,7 +190,7 @@ def native_medium(
         majorants = mie_majorants(comp, optical_constants)
     probs = comp.encounter_probabilities()
     quantiles, aspect, core_n, core_k, core_a, coat_n, coat_a, coat_t = ([] for _ in range(8))
-    coat_s, coat_g, coat_f = [], [], []
+    coat_s, coat_g, coat_f, core_s = [], [], [], []
     for p in comp.populations:
         core = _mix(p.core, wavelength_nm, index)
         quantiles.append(p.sizes.encounter_quantiles().tolist())
@@ -198,6 +198,8 @@ def native_medium(
         core_n.append(core.real)
         core_k.append(core.imag)
         core_a.append(absorption_per_mm(core.imag, wavelength_nm))
+        # The host's inclusions, in proportion to the host's share of the core.
+        core_s.append(comp.host_scattering_per_mm * p.core.get(HOST_MATERIAL, 0.0))
         coated = bool(p.coating) and p.coating_thickness_mm > 0
         if coated and coating_optics == "mie":
             c = pigmented_coating(p.coating, wavelength_nm, pigment_diameter_um, optical_constants=index)
@@ -233,6 +235,7 @@ def native_medium(
         memory=memory,
         film_coverage=comp.film_coverage,
         coating_coverage=coat_f,
+        **({"core_scattering_per_mm": core_s} if any(core_s) else {}),
         **({"coating_scattering_per_mm": coat_s, "coating_asymmetry": coat_g} if coating_optics == "mie" else {}),
         **({"volume_scatterers": _volume_scatterers(comp, wavelength_nm, index, majorants)} if mie_particles else {}),
     )

@@ -23,7 +23,7 @@ from sandlight.errors import ParameterError
 from sandlight.optics import MATERIALS
 from sandlight.physics.composition import Composition, mean_free_path_mm, population
 from sandlight.physics.media import MEMORIES, with_engine
-from sandlight.physics.medium import OpticalConstants, native_medium
+from sandlight.physics.medium import HOST_MATERIAL, OpticalConstants, native_medium
 from sandlight.physics.sizes import SizeDistribution
 
 __all__ = ["Powder"]
@@ -50,6 +50,10 @@ class Powder:
         Near-surface path memory of the on-the-fly engine (docs/geometry.md). 'none', the classic
         model, by default: the powders of the shipped calibration were traced with it
         (docs/optical-constants.md); a sand's default is 'packed'.
+    scattering_per_mm : float
+        Scattering coefficient σ (mm⁻¹, ≥ 0) of the inclusions inside the grains, isotropic and
+        grey (``SandSample.host_scattering``, docs/model.md §2.4); quartz only. 0, a clear
+        crystal, by default.
     """
 
     material: str
@@ -58,6 +62,7 @@ class Powder:
     aspect_ratio: float = 1.0
     optical_constants: OpticalConstants | None = None
     memory: str = "none"
+    scattering_per_mm: float = 0.0
 
     def __post_init__(self) -> None:
         check_choice("material", self.material, MATERIALS)
@@ -76,6 +81,13 @@ class Powder:
             raise ParameterError("diameter_um", self.diameter_um, allowed)
         check_real("porosity", self.porosity, 0.0, 1.0, low_open=True, high_open=True)
         check_real("aspect_ratio", self.aspect_ratio, 1.0, 20.0)
+        check_real("scattering_per_mm", self.scattering_per_mm, 0.0)
+        if self.scattering_per_mm > 0 and self.material != HOST_MATERIAL:
+            raise ParameterError(
+                "scattering_per_mm",
+                self.scattering_per_mm,
+                f"0 for {self.material!r} (inclusions are a {HOST_MATERIAL} property)",
+            )
 
     @property
     def sizes_um(self) -> np.ndarray:
@@ -98,6 +110,7 @@ class Powder:
             film_thickness_mm=0.0,
             water_filled_probability=0.0,
             depth_mm=math.inf,
+            host_scattering_per_mm=self.scattering_per_mm,
         )
 
     def medium(self, wavelength_nm: float) -> _native.Medium:
@@ -107,12 +120,12 @@ class Powder:
         )
 
     def describe(self) -> dict:
-        """``{"material", "diameter_um" (list, µm), "porosity", "aspect_ratio"}``, with geometry
-        and memory when the memory is not 'none'."""
+        """``{"material", "diameter_um" (list, µm), "porosity", "aspect_ratio"}``, with
+        ``scattering_per_mm`` when not 0, and geometry and memory when the memory is not 'none'."""
         own = {
             "material": self.material,
             "diameter_um": self.sizes_um.tolist(),
             "porosity": self.porosity,
             "aspect_ratio": self.aspect_ratio,
-        }
+        } | ({"scattering_per_mm": self.scattering_per_mm} if self.scattering_per_mm > 0 else {})
         return with_engine(own, "on-the-fly", self.memory)

@@ -44,8 +44,9 @@ balance refuses (sandlight.physics.composition); from 0.1 up every point of the 
 physical sample.
 
 Fixed: ``depth_mm = inf`` (semi-infinite samples, as in the paper), ``host_absorption = 1``
-(the calibrated natural-grain quartz host, docs/optical-constants.md) and ``coating_coverage = 1``
-(the uniform coating the shipped bank was trained with, docs/model.md §2.4). Derived: ``sand = 1 − silt −
+(the calibrated natural-grain quartz host, docs/optical-constants.md), ``host_scattering = 0`` (clear
+host grains) and ``coating_coverage = 1`` (the uniform coating the shipped bank was trained with,
+docs/model.md §2.4). Derived: ``sand = 1 − silt −
 clay``. Forms: ``coating``, ``mixed`` and ``particles`` (the categorical ``iron_oxide_form`` is
 never a dimension; draws give each form an equal share of the samples).
 
@@ -208,7 +209,7 @@ class Domain:
         Iron-oxide forms covered (subset of ``FORMS``).
     fixed : mapping
         Parameters held at one value (default ``{"depth_mm": inf, "host_absorption": 1.0,
-        "coating_coverage": 1.0}``).
+        "host_scattering": 0.0, "coating_coverage": 1.0}``).
     texture_limit : float
         Upper bound of silt + 1.5·clay, in (0, 0.15] (0.15: the whole sand class).
     """
@@ -216,7 +217,12 @@ class Domain:
     dimensions: tuple = field(default_factory=_default_dimensions)
     forms: tuple = FORMS
     fixed: Mapping = field(
-        default_factory=lambda: {"depth_mm": math.inf, "host_absorption": 1.0, "coating_coverage": 1.0}
+        default_factory=lambda: {
+            "depth_mm": math.inf,
+            "host_absorption": 1.0,
+            "host_scattering": 0.0,
+            "coating_coverage": 1.0,
+        }
     )
     texture_limit: float = SAND_CLASS_LIMIT
 
