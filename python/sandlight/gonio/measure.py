@@ -175,7 +175,8 @@ def _run_unit(
     checkpoint: Path | None,
 ) -> None:
     """Traces the rays of one unit into ``arrays`` (unsigned integers, filled in place by
-    ``batch(first, n)``), resuming from and saving to ``checkpoint`` (removed when done)."""
+    ``batch(first, n)``), resuming from and saving to ``checkpoint`` (which :func:`brdf`
+    removes once every unit is done, so an interrupted run keeps its finished units)."""
     h = settings.hemisphere
     key = _checkpoint_key(
         {
@@ -199,8 +200,6 @@ def _run_unit(
         on_checkpoint=save,
         checkpoint_seconds=settings.checkpoint_seconds,
     )
-    if checkpoint is not None and checkpoint.exists():
-        os.remove(checkpoint)
 
 
 def _measure_one(settings: _Settings, medium: _native.Medium, wl: float, checkpoint: Path | None) -> MeasuredBRDF:
@@ -395,7 +394,8 @@ def brdf(
     )
     checkpoint = Path(checkpoint) if checkpoint is not None else None
     results: list[MeasuredBRDF | None] = [None] * wl.size
-    if share and wl.size > 1 and shareable(traced):
+    sharing = share and wl.size > 1 and shareable(traced)
+    if sharing:
         groups = [
             part
             for g in spectral_groups(
@@ -418,6 +418,9 @@ def brdf(
             for i, lam in enumerate(wl):
                 unit = _unit_checkpoint(checkpoint, i, wl.size)
                 results[i] = _measure_one(settings, traced.medium(float(lam)), float(lam), unit)
+    units = len(groups) if sharing else wl.size
+    for unit in range(units) if checkpoint is not None else ():
+        _unit_checkpoint(checkpoint, unit, units).unlink(missing_ok=True)
     for result in results:
         _warn_if_undefined(result, result.launched)
     return results[0] if np.ndim(wavelength_nm) == 0 else results
