@@ -133,14 +133,13 @@ impl PySpectralGroup {
         let contiguous = |name: &str| {
             to_py(py, SandlightError::parameter(name, "a non-contiguous array", "a C-contiguous uint64 array"))
         };
-        let escaped = escaped.as_slice_mut().map_err(|_| contiguous("escaped"))?;
-        let squares = squares.as_slice_mut().map_err(|_| contiguous("squares"))?;
-        let transmitted = transmitted.as_slice_mut().map_err(|_| contiguous("transmitted"))?;
-        let launched = launched.as_slice_mut().map_err(|_| contiguous("launched"))?;
-        let capped = capped.as_slice_mut().map_err(|_| contiguous("capped"))?;
-        let (r, w) = (h.n_patches(), self.group.len());
-        let mut sums =
-            SpectralBrdfSums::new(r, w, escaped, squares, transmitted, launched, capped).map_err(|e| to_py(py, e))?;
+        let mut sums = SpectralBrdfSums {
+            escaped: escaped.as_slice_mut().map_err(|_| contiguous("escaped"))?,
+            squares: squares.as_slice_mut().map_err(|_| contiguous("squares"))?,
+            transmitted: transmitted.as_slice_mut().map_err(|_| contiguous("transmitted"))?,
+            launched: launched.as_slice_mut().map_err(|_| contiguous("launched"))?,
+            capped: capped.as_slice_mut().map_err(|_| contiguous("capped"))?,
+        };
         py.detach(|| run_with_threads(threads, || measure_brdf_shared(&self.group, &h, rays, &limits, &mut sums)))
             .map_err(PyRuntimeError::new_err)?
             .map_err(|e| to_py(py, e))

@@ -75,13 +75,7 @@ pub fn measure_brdf_shared(
     sums: &mut SpectralBrdfSums<'_>,
 ) -> Result<(), SandlightError> {
     let w = group.len();
-    if (sums.n_patches(), sums.n_wavelengths()) != (hemisphere.n_patches(), w) {
-        return Err(SandlightError::parameter(
-            "sums",
-            format!("sums of {} patches × {} wavelengths", sums.n_patches(), sums.n_wavelengths()),
-            &format!("{} patches × {w} wavelengths (the hemisphere's and the group's)", hemisphere.n_patches()),
-        ));
-    }
+    sums.check(hemisphere.n_patches(), w)?;
     let mut q = vec![0u64; SHARED_CHUNK.min(rays.n) as usize * w];
     let end = rays.first + rays.n;
     for lo in (rays.first..end).step_by(SHARED_CHUNK as usize) {
@@ -161,7 +155,13 @@ mod tests {
     fn shared(group: &HeroGroup, h: &CollectorHemisphere, batches: &[(u64, u64)]) -> Arrays {
         let (r, w) = (h.n_patches(), group.len());
         let [mut e, mut s, mut t, mut l, mut c] = [r * r * w, r * r * w, r * w, r, r].map(|n| vec![0u64; n]);
-        let mut sums = SpectralBrdfSums::new(r, w, &mut e, &mut s, &mut t, &mut l, &mut c).unwrap();
+        let mut sums = SpectralBrdfSums {
+            escaped: &mut e,
+            squares: &mut s,
+            transmitted: &mut t,
+            launched: &mut l,
+            capped: &mut c,
+        };
         for &(first, n) in batches {
             let rays = Rays { seed: 7, stream: 1, first, n };
             measure_brdf_shared(group, h, rays, &Limits::default(), &mut sums).unwrap();

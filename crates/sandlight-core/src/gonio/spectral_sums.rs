@@ -32,94 +32,79 @@ pub enum Outcome {
     Capped,
 }
 
-/// The sums of a shared run over r patches and w wavelengths, borrowed from their owner.
+/// The sums of a shared run over r patches and w wavelengths, borrowed from their owner
+/// (row-major; [`SpectralBrdfSums::check`] tests the sizes).
 #[derive(Debug)]
 pub struct SpectralBrdfSums<'a> {
-    n_patches: usize,
-    n_wavelengths: usize,
     /// Σ round(F_k · 2³²) over trials of incoming patch i escaped into patch j, at (i r + j) w + k.
-    escaped: &'a mut [u64],
+    pub escaped: &'a mut [u64],
     /// Σ round(F_k² · 2¹⁶), same layout.
-    squares: &'a mut [u64],
+    pub squares: &'a mut [u64],
     /// Σ round(F_k · 2³²) over trials of incoming patch i transmitted through the bottom, at i w + k.
-    transmitted: &'a mut [u64],
+    pub transmitted: &'a mut [u64],
     /// All trials of incoming patch i (shared by the wavelengths).
-    launched: &'a mut [u64],
+    pub launched: &'a mut [u64],
     /// Trials of incoming patch i stopped by the event cap (no estimate).
-    capped: &'a mut [u64],
+    pub capped: &'a mut [u64],
 }
 
-/// `Err` naming `name` unless `got` = `want` entries.
-fn check_len(name: &str, got: usize, want: usize, layout: &str) -> Result<(), SandlightError> {
-    if got == want {
-        Ok(())
-    } else {
-        Err(SandlightError::parameter(name, format!("{got} entries"), &format!("{want} entries ({layout})")))
-    }
-}
-
-impl<'a> SpectralBrdfSums<'a> {
-    /// The sums over `n_patches` patches and `n_wavelengths` wavelengths in the given arrays
-    /// (row-major, layouts as the fields say).
+impl SpectralBrdfSums<'_> {
+    /// Ok if the arrays are sized for `n_patches` patches and `n_wavelengths` wavelengths.
     ///
     /// # Errors
     /// `SandlightError::Parameter` naming the first array of the wrong length.
-    pub fn new(
-        n_patches: usize,
-        n_wavelengths: usize,
-        escaped: &'a mut [u64],
-        squares: &'a mut [u64],
-        transmitted: &'a mut [u64],
-        launched: &'a mut [u64],
-        capped: &'a mut [u64],
-    ) -> Result<Self, SandlightError> {
+    pub fn check(&self, n_patches: usize, n_wavelengths: usize) -> Result<(), SandlightError> {
         let (r, w) = (n_patches, n_wavelengths);
-        check_len("escaped", escaped.len(), r * r * w, "incoming × outgoing × wavelength")?;
-        check_len("squares", squares.len(), r * r * w, "incoming × outgoing × wavelength")?;
-        check_len("transmitted", transmitted.len(), r * w, "incoming × wavelength")?;
-        check_len("launched", launched.len(), r, "one per incoming patch")?;
-        check_len("capped", capped.len(), r, "one per incoming patch")?;
-        Ok(SpectralBrdfSums { n_patches, n_wavelengths, escaped, squares, transmitted, launched, capped })
-    }
-
-    pub fn n_patches(&self) -> usize {
-        self.n_patches
-    }
-
-    pub fn n_wavelengths(&self) -> usize {
-        self.n_wavelengths
+        let cells = "incoming × outgoing × wavelength";
+        for (name, got, want, layout) in [
+            ("escaped", self.escaped.len(), r * r * w, cells),
+            ("squares", self.squares.len(), r * r * w, cells),
+            ("transmitted", self.transmitted.len(), r * w, "incoming × wavelength"),
+            ("launched", self.launched.len(), r, "one per incoming patch"),
+            ("capped", self.capped.len(), r, "one per incoming patch"),
+        ] {
+            if got != want {
+                return Err(SandlightError::parameter(
+                    name,
+                    format!("{got} entries"),
+                    &format!("{want} entries ({layout}; {r} patches, {w} wavelengths)"),
+                ));
+            }
+        }
+        Ok(())
     }
 
     /// Adds a trial of incoming patch `i_in` with `outcome` and fixed-point estimates `q`
-    /// (round(F_k · 2³²), one per wavelength; read only for an escape or a transmission).
+    /// (round(F_k · 2³²), one per wavelength of the sums; read only for an escape or a
+    /// transmission). The sums must have passed [`SpectralBrdfSums::check`].
     ///
     /// # Errors
     /// `SandlightError::Parameter` ("escaped" or "transmitted") if a sum would exceed 2⁶⁴ − 1;
     /// nothing is added then.
     ///
     /// # Panics
-    /// If a patch index is ≥ n_patches or `q` has fewer than n_wavelengths entries (caller bugs).
+    /// If a patch index is ≥ r (a caller bug).
     pub fn record(&mut self, i_in: usize, outcome: Outcome, q: &[u64]) -> Result<(), SandlightError> {
-        let (r, w) = (self.n_patches, self.n_wavelengths);
+        let (r, w) = (self.launched.len(), q.len());
         assert!(i_in < r, "incoming patch {i_in} out of range 0..{r}");
         match outcome {
             Outcome::Escaped(j) => {
                 assert!(j < r, "outgoing patch {j} out of range 0..{r}");
                 let cell = (i_in * r + j) * w..(i_in * r + j + 1) * w;
-                let squares = q[..w].iter().map(|&q| {
+                let squares = q.iter().map(|&q| {
                     let f = q as f64 / FIXED_ONE;
                     (f * f * SQUARE_ONE).round() as u64
                 });
                 let (escaped, sq) = (&mut self.escaped[cell.clone()], &mut self.squares[cell]);
-                fits("escaped", escaped, q[..w].iter().copied())?;
+                fits("escaped", escaped, q.iter().copied())?;
                 fits("squares", sq, squares.clone())?;
-                add(escaped, q[..w].iter().copied());
+                add(escaped, q.iter().copied());
                 add(sq, squares);
             }
             Outcome::Transmitted => {
                 let sums = &mut self.transmitted[i_in * w..(i_in + 1) * w];
-                fits("transmitted", sums, q[..w].iter().copied())?;
-                add(sums, q[..w].iter().copied());
+                fits("transmitted", sums, q.iter().copied())?;
+                add(sums, q.iter().copied());
             }
             Outcome::Capped => self.capped[i_in] += 1,
             Outcome::Absorbed => {}
@@ -169,18 +154,14 @@ mod tests {
             }
         }
 
-        fn sums(&mut self, r: usize, w: usize) -> SpectralBrdfSums<'_> {
-            let a = self;
-            SpectralBrdfSums::new(
-                r,
-                w,
-                &mut a.escaped,
-                &mut a.squares,
-                &mut a.transmitted,
-                &mut a.launched,
-                &mut a.capped,
-            )
-            .unwrap()
+        fn sums(&mut self) -> SpectralBrdfSums<'_> {
+            SpectralBrdfSums {
+                escaped: &mut self.escaped,
+                squares: &mut self.squares,
+                transmitted: &mut self.transmitted,
+                launched: &mut self.launched,
+                capped: &mut self.capped,
+            }
         }
     }
 
@@ -189,7 +170,8 @@ mod tests {
         let (r, w) = (3, 2);
         let mut a = Arrays::new(r, w);
         let half = (0.5 * FIXED_ONE) as u64;
-        let mut s = a.sums(r, w);
+        let mut s = a.sums();
+        s.check(r, w).unwrap();
         s.record(1, Outcome::Escaped(2), &[half, 3 * half]).unwrap();
         s.record(1, Outcome::Escaped(2), &[half, 0]).unwrap();
         s.record(0, Outcome::Transmitted, &[2 * half, half]).unwrap();
@@ -207,19 +189,13 @@ mod tests {
     #[test]
     fn wrong_lengths_and_overflow_are_errors_naming_the_array() {
         let mut a = Arrays::new(2, 2);
-        let err = SpectralBrdfSums::new(
-            2,
-            3,
-            &mut a.escaped,
-            &mut a.squares,
-            &mut a.transmitted,
-            &mut a.launched,
-            &mut a.capped,
-        )
-        .unwrap_err();
-        assert!(matches!(err, SandlightError::Parameter { ref name, .. } if name == "escaped"), "{err:?}");
+        for (r, w) in [(2, 3), (3, 2)] {
+            let err = a.sums().check(r, w).unwrap_err();
+            assert!(matches!(err, SandlightError::Parameter { ref name, .. } if name == "escaped"), "{err:?}");
+        }
+        a.sums().check(2, 2).unwrap();
         a.escaped[0] = u64::MAX - 1;
-        let mut s = a.sums(2, 2);
+        let mut s = a.sums();
         let err = s.record(0, Outcome::Escaped(0), &[2, 2]).unwrap_err();
         assert!(matches!(err, SandlightError::Parameter { ref name, .. } if name == "escaped"), "{err:?}");
         assert_eq!((a.escaped[0], a.escaped[1], a.launched[0]), (u64::MAX - 1, 0, 0));
