@@ -1,10 +1,12 @@
 """Speed and memory of the virtual goniophotometer (prints figures; asserts nothing).
 
-    python3 benchmarks/gonio.py [--rays 1e6] [--preset NAME]
+    python3 benchmarks/gonio.py [--rays 1e6] [--preset NAME] [--spectral-rays 1e6]
 
 Prints trials per second with 1 and 2 threads for the default sample (``SandSample()``) at
 550 nm on the paper's 901-patch hemisphere, the projected time for 10⁸ trials, the memory of one
-counter set and the process's peak resident memory.
+counter set and the process's peak resident memory; then the time of 16 wavelengths 400–700 nm
+measured with shared paths and wavelength by wavelength (``share=False``), side by side (one run
+each, 2 threads) with their ratio and the memory of the shared sums.
 """
 
 from __future__ import annotations
@@ -15,8 +17,10 @@ import platform
 import resource
 import time
 
+import numpy as np
+
 import sandlight
-from sandlight.gonio.measure import brdf
+from sandlight.gonio.measure import MAX_GONIO_GROUP, brdf
 from sandlight.sample import SandSample
 
 
@@ -24,6 +28,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__)
     ap.add_argument("--rays", type=float, default=1e6)
     ap.add_argument("--preset", default=None, help="a preset instead of the default sample")
+    ap.add_argument("--spectral-rays", type=float, default=1e6, help="trials per wavelength of the 16-wavelength runs")
     args = ap.parse_args()
     sample = SandSample.preset(args.preset) if args.preset else SandSample()
     n = int(args.rays)
@@ -48,6 +53,26 @@ def main() -> None:
     print(f"one counter set: {counter_mb:.1f} MB ({r}×{r} uint64 + 3 per-patch counters)")
     print(f"peak resident memory of this process: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
     print(f"normal-incidence reflectance of the last run: {result.normal_reflectance:.4f}")
+    spectral(sample, int(args.spectral_rays), r)
+
+
+def spectral(sample: SandSample, n: int, r: int) -> None:
+    """Shared and independent measurements of 16 wavelengths 400–700 nm, side by side."""
+    wl = np.linspace(400.0, 700.0, 16)
+    print(f"16 wavelengths 400–700 nm, {n:,} trials each, 2 threads, one run each:")
+    seconds = {}
+    for share in (True, False):
+        t0 = time.perf_counter()
+        results = brdf(sample, wl, rays=n, seed=1, threads=2, progress=False, share=share)
+        seconds[share] = time.perf_counter() - t0
+        shared = results[0].squares is not None
+        rate = 16 * n / seconds[share]
+        print(f"  share={share}: {seconds[share]:.1f} s ({rate:,.0f} wavelength-trials/s, shared: {shared})")
+    ratio = seconds[True] / seconds[False]
+    print(f"shared / independent time: {ratio:.2f} (speed-up {1 / ratio:.2f}×)")
+    group = min(16, MAX_GONIO_GROUP)
+    print(f"shared sums of a group of {group}: {16 * r * r * group / 1e6:.0f} MB (16 bytes per in × out × wavelength)")
+    print(f"peak resident memory of this process: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ import sys
 import time
 
 import pandas as pd
+import pytest
 import xarray as xr
 from typer.testing import CliRunner
 
@@ -128,6 +129,21 @@ def test_brdf_command(tmp_path):
     )
     assert res.exit_code == 0, res.output
     assert read_netcdf(cut).sample["memory"] == "cut"
+
+
+@pytest.mark.parametrize("share", ["--share", "--no-share"])
+def test_brdf_command_over_several_wavelengths_writes_one_file_each(tmp_path, share):
+    from sandlight.gonio.io import read_netcdf
+
+    out = tmp_path / "b.nc"
+    args = ["brdf", "--preset", "red-dune", "-w", "500,600", "-n", "3000", "--stacks", "5", "--slices", "4"]
+    res = runner.invoke(app, [*args, share, "-o", str(out)])
+    assert res.exit_code == 0, res.output
+    files = sorted(p.name for p in tmp_path.iterdir())
+    assert files == ["b-500nm.nc", "b-600nm.nc"], files
+    b = read_netcdf(tmp_path / "b-600nm.nc")
+    assert b.wavelength_nm == 600.0 and (b.squares is not None) == (share == "--share")
+    assert "at 600 nm" in res.output
 
 
 def test_brdf_refuses_a_malformed_checkpoint_with_exit_2(tmp_path):

@@ -45,6 +45,17 @@ def test_round_trip_small_with_pooled_and_without_optional_metadata(tmp_path, sm
     assert back == bare and back.wavelength_nm is None and back.seed is None and back.sample == {}
 
 
+def test_round_trip_of_a_shared_run_keeps_its_weight_sums(tmp_path):
+    from sandlight.gonio.measure import brdf
+
+    shared = brdf("red-dune", [500.0, 600.0], rays=3_000, stacks=5, slices=4, seed=1, progress=False)[1]
+    path = to_netcdf(shared, tmp_path / "shared.nc")
+    assert read_netcdf(path) == shared
+    ds = xr.open_dataset(path, engine="h5netcdf")
+    assert ds["counts"].dtype == np.float64 and ds["squares"].dims == ("incoming", "outgoing")
+    ds.close()
+
+
 def test_file_contents_units_and_attributes(tmp_path, small_brdf):
     path = to_netcdf(small_brdf, tmp_path / "brdf.nc")
     with xr.open_dataset(path, engine="h5netcdf") as ds:

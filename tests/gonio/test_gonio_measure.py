@@ -1,14 +1,19 @@
 """The goniophotometer driven by the transport engine, against exact answers."""
 
+import dataclasses
+import hashlib
 import math
 
 import numpy as np
 import pytest
 
 import sandlight
+from sandlight import _native
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio import CollectorHemisphere, EquivalenceClasses, reduce_counts
 from sandlight.gonio.measure import IsotropicScatterers, LambertianSurface, brdf, fixed_incidence
+from sandlight.optics import complex_index
+from sandlight.physics.media import as_traceable
 from sandlight.testing import synthetic_brdf
 
 STACKS, SLICES = 7, 6
@@ -198,3 +203,116 @@ def test_too_few_rays_warn_with_the_number_of_nan_values():
             LambertianSurface(0.5), rays=rays_for_every_patch(r), stacks=STACKS, slices=SLICES, seed=1, progress=False
         )
     assert np.isfinite(full.unique_values).all()
+
+
+# Spectral path sharing (docs/transport.md) ----------------------------------------------------
+
+
+def absorption_only(name):
+    """The preset with every real index frozen at its 550 nm value: only absorption varies."""
+
+    def index(material: str, wavelength_nm: float) -> complex:
+        return complex(complex_index(material, 550.0).real, complex_index(material, wavelength_nm).imag)
+
+    return dataclasses.replace(as_traceable(name), optical_constants=index)
+
+
+def sharing_z(traced, wl, rays: int, seed: int) -> np.ndarray:
+    """z = (shared − independent)/√(se_s² + se_i²) of the absolute unique values, over classes and
+    wavelengths; each independent run has a seed of its own, so its errors are independent."""
+    shared = brdf(traced, wl, rays=rays, stacks=STACKS, slices=SLICES, seed=seed, progress=False)
+    assert all(b.squares is not None for b in shared)
+    z = []
+    for k, lam in enumerate(wl):
+        ind = brdf(traced, lam, rays=rays, stacks=STACKS, slices=SLICES, seed=100 + 10 * seed + k, progress=False)
+        assert ind.squares is None
+        s, i = shared[k].reduced, ind.reduced
+        z.append((s.unique_absolute - i.unique_absolute) / np.hypot(s.unique_absolute_stderr, i.unique_absolute_stderr))
+    z = np.concatenate(z)
+    print(f"{z.size} z: mean {z.mean():+.3f}, spread {z.std(ddof=1):.3f}, max |z| {np.abs(z).max():.2f}")
+    return z
+
+
+@pytest.mark.parametrize(
+    "traced, wl",
+    [
+        # Iron-oxide absorption: ρ from about 0.04 to 0.6 over 450–650 nm, one group.
+        (absorption_only("red-dune"), [450.0, 520.0, 590.0, 650.0]),
+        # Real dispersion, grouped by the default tolerance.
+        ("ottawa-quartz", [400.0, 500.0, 600.0, 700.0]),
+    ],
+    ids=["absorption-only", "ottawa-quartz"],
+)
+def test_shared_brdf_agrees_with_independent_measurements(traced, wl):
+    z = sharing_z(traced, wl, rays=60_000, seed=1)
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
+def test_shared_sums_do_not_depend_on_the_thread_count():
+    run = {"rays": 20_000, "stacks": STACKS, "slices": SLICES, "seed": 3, "progress": False}
+    one = brdf("red-dune", [500.0, 600.0], threads=1, **run)
+    two = brdf("red-dune", [500.0, 600.0], threads=2, **run)
+    assert one == two
+    assert one[0].counts.dtype == np.float64 and not np.array_equal(one[0].counts, np.round(one[0].counts))
+
+
+def test_no_sharing_is_the_single_wavelength_measurement_bit_for_bit():
+    run = {"rays": 20_000, "stacks": STACKS, "slices": SLICES, "seed": 2, "progress": False}
+    both = brdf("red-dune", [550.0, 650.0], share=False, **run)
+    assert [b.wavelength_nm for b in both] == [550.0, 650.0]
+    assert both[1] == brdf("red-dune", 650.0, **run) == brdf("red-dune", [650.0], **run)[0]
+    # The counts of this run before sharing existed (scripts/dev/fingerprint.py, 'brdf/red-dune').
+    digest = hashlib.sha256(np.ascontiguousarray(both[1].counts, dtype=np.int64).tobytes()).hexdigest()
+    assert digest == "06d4d54b82b28ec0c840ff9843608b35e5aed9bf140755e81bda7c4188e4172d"
+    assert both[1].counts.sum() == 14065
+
+
+def test_media_that_cannot_share_are_measured_wavelength_by_wavelength():
+    run = {"rays": 5_000, "stacks": STACKS, "slices": SLICES, "seed": 2, "progress": False}
+    shared = brdf(LambertianSurface(0.5), [500.0, 600.0], **run)
+    assert shared == brdf(LambertianSurface(0.5), [500.0, 600.0], share=False, **run)
+    assert shared[0].squares is None
+
+
+def test_an_interrupted_shared_run_resumes_without_retracing_finished_groups(tmp_path, monkeypatch):
+    run = {"rays": 8_000, "stacks": STACKS, "slices": SLICES, "seed": 6, "progress": False}
+    wl = [400.0, 1500.0]  # two groups: quartz's index differs by more than the tolerance
+    full = brdf("ottawa-quartz", wl, **run)
+    native_group, traced = _native.SpectralGroup, []
+
+    class Counted:
+        """SpectralGroup counting its traced trials; Ctrl-C in the first batch of group
+        ``interrupt_at`` (1-based, counted over the groups made)."""
+
+        fixed_one, square_one = native_group.fixed_one, native_group.square_one
+        made, interrupt_at = 0, 2
+
+        def __init__(self, media):
+            Counted.made += 1
+            self.group, self.interrupt = native_group(media), Counted.made == Counted.interrupt_at
+
+        def brdf_sums(self, *args):
+            if self.interrupt:
+                raise KeyboardInterrupt
+            traced.append(args[5])  # n_rays
+            return self.group.brdf_sums(*args)
+
+    ck = tmp_path / "run.npz"
+    monkeypatch.setattr(_native, "SpectralGroup", Counted)
+    with pytest.raises(KeyboardInterrupt):
+        brdf("ottawa-quartz", wl, checkpoint=ck, checkpoint_seconds=0.0, **run)
+    assert sum(traced) == run["rays"] and sorted(p.name for p in tmp_path.iterdir()) == ["run.npz.0"]
+    traced.clear()
+    Counted.interrupt_at = None
+    assert brdf("ottawa-quartz", wl, checkpoint=ck, **run) == full
+    assert sum(traced) == run["rays"] and not any(tmp_path.iterdir())  # group 1 from its checkpoint
+
+
+def test_bad_sharing_inputs_name_the_parameter():
+    with pytest.raises(ParameterError, match=r"share.*'yes'.*True or False"):
+        brdf("red-dune", [500.0, 600.0], rays=10, share="yes")
+    with pytest.raises(ParameterError, match=r"dispersion_tolerance.*\[0"):
+        brdf("red-dune", [500.0, 600.0], rays=10, dispersion_tolerance=2.0)
+    with pytest.raises(ParameterError, match=r"wavelength_nm.*\[350, 2500\]"):
+        brdf("red-dune", [500.0, 3000.0], rays=10)

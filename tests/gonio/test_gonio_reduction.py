@@ -175,6 +175,48 @@ class TestInput:
             reduce_counts(hemisphere, **bad)
 
 
+class TestWeightSums:
+    """Sums of trial weights with Σ F² (shared paths): the error model with the second moment."""
+
+    def test_indicator_weights_reduce_exactly_as_counts(self, hemisphere, lambert_counts):
+        # F ∈ {0, 1}: Σ F² = Σ F, so the weighted reduction is the multinomial one.
+        c = lambert_counts
+        as_counts = reduce_counts(hemisphere, **c)
+        as_weights = reduce_counts(
+            hemisphere, **{k: np.asarray(v, dtype=float) for k, v in c.items()}, squares=np.asarray(c["counts"], float)
+        )
+        assert as_weights.equals(as_counts)
+
+    def test_heavier_second_moments_widen_the_errors(self, hemisphere, lambert_counts):
+        # Weights 2 on half the trials of every cell and 0 on the rest: the same Σ F, twice Σ F².
+        c = {k: np.asarray(v, dtype=float) for k, v in lambert_counts.items()}
+        base = reduce_counts(hemisphere, **c, squares=c["counts"])
+        doubled = reduce_counts(hemisphere, **c, squares=2.0 * c["counts"])
+        np.testing.assert_array_equal(doubled.unique_absolute, base.unique_absolute)
+        assert np.all(doubled.unique_absolute_stderr > base.unique_absolute_stderr)
+        assert doubled.normal_reflectance_stderr > base.normal_reflectance_stderr
+
+    @pytest.mark.parametrize(
+        "name, value, fault",
+        [
+            ("squares", np.zeros((900, 901)), "shape"),
+            ("squares", np.full((901, 901), np.nan), "finite"),
+            ("counts", -np.ones((901, 901)), "non-negative"),
+        ],
+    )
+    def test_invalid_sums_name_the_array(self, hemisphere, lambert_counts, name, value, fault):
+        c = {k: np.asarray(v, dtype=float) for k, v in lambert_counts.items()}
+        sums = {**c, "squares": c["counts"], name: value}
+        with pytest.raises(ParameterError, match=f"{name}.*{fault}"):
+            reduce_counts(hemisphere, **sums)
+
+    def test_launched_must_balance_the_weights(self, hemisphere, lambert_counts):
+        c = {k: np.asarray(v, dtype=float) for k, v in lambert_counts.items()}
+        c["absorbed"][3] += 0.5
+        with pytest.raises(ParameterError, match="launched.*incoming patch 3"):
+            reduce_counts(hemisphere, **c, squares=c["counts"])
+
+
 class TestFixedIncidence:
     def test_lambertian_row(self, hemisphere, lambert_probabilities, lambert_albedo):
         rng = np.random.default_rng(2)

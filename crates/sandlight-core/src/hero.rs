@@ -501,6 +501,21 @@ impl SpectralCounts {
     }
 }
 
+/// The path's estimates as tallied: q_j = round(F_j · 2³²) into `q`, with `estimates` as scratch
+/// (both of the group's length).
+#[inline]
+pub fn fixed_point_estimates(weights: &SpectralWeights, estimates: &mut [f64], q: &mut [u64]) {
+    if estimates.len() == 1 {
+        // `Single` leaves the weights at 1: the estimate N W / Σ W is 1.
+        estimates[0] = 1.0;
+    } else {
+        weights.estimates(estimates);
+    }
+    for (q, &f) in q.iter_mut().zip(estimates.iter()) {
+        *q = (f * FIXED_ONE).round() as u64;
+    }
+}
+
 /// A block's tally with the scratch space of its rays.
 struct Block {
     counts: SpectralCounts,
@@ -538,15 +553,7 @@ pub fn spectral_directional_hemispherical(
             }
             Fate::Absorbed => return,
         };
-        if n == 1 {
-            // `Single` leaves the weights at 1: the estimate N W / Σ W is 1.
-            b.estimates[0] = 1.0;
-        } else {
-            b.weights.estimates(&mut b.estimates);
-        }
-        for (q, &f) in b.q.iter_mut().zip(&b.estimates) {
-            *q = (f * FIXED_ONE).round() as u64;
-        }
+        fixed_point_estimates(&b.weights, &mut b.estimates, &mut b.q);
         if !escaped {
             c.transmitted.iter_mut().zip(&b.q).for_each(|(s, &q)| *s += q as u128);
             return;
@@ -567,25 +574,21 @@ pub fn spectral_directional_hemispherical(
     for_rays(rays.first, rays.n, 16, init, body, merge).counts
 }
 
+/// Sand media for the tests of the shared tracers.
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::driver::{directional_hemispherical, incident_direction};
-    use crate::medium::ParticleType;
-    use crate::memory::WithMemory;
+pub(crate) mod testing {
+    use crate::medium::{ParticleType, Particulate};
     use crate::particle::{Coating, ParticleOptics, PoreOptics};
     use crate::sizes::QuantileTable;
-    use crate::transport::Medium;
-    use crate::volume_scatterer::testing::{henyey_greenstein, scatterer};
 
     /// A quartz-like sand with a weakly absorbing coating over 70 % of the surface and wet
     /// pores, whose absorption
     /// (core, coating, water) is scaled by `absorb` and whose indices are shifted by `dn`.
-    fn sand(absorb: f64, dn: f64) -> Particulate {
+    pub(crate) fn sand(absorb: f64, dn: f64) -> Particulate {
         sand_with(absorb, dn, Coating { coverage: 0.7, ..Coating::uniform(1.9 + dn, 40.0 * absorb, 5e-4) })
     }
 
-    fn sand_with(absorb: f64, dn: f64, coating: Coating) -> Particulate {
+    pub(crate) fn sand_with(absorb: f64, dn: f64, coating: Coating) -> Particulate {
         let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
         let optics = ParticleOptics {
             core_n: 1.55 + dn,
@@ -609,12 +612,23 @@ mod tests {
     /// For the path memories: packed spheres (the pair correlation of `Memory::Packed`) and
     /// clay fines, the coating, films and wet pores of `sand`, absorption scaled by `absorb`,
     /// indices shifted by `dn`.
-    fn packed_sand(absorb: f64, dn: f64) -> Particulate {
+    pub(crate) fn packed_sand(absorb: f64, dn: f64) -> Particulate {
         let m = sand(absorb, dn);
         let grain = ParticleType { probability: 0.8, aspect_ratio: 1.0, ..m.types[0].clone() };
         let fine = ParticleType { probability: 0.2, sizes: QuantileTable::constant(0.002), ..grain.clone() };
         Particulate::new(vec![grain, fine], m.mean_free_path_mm, m.pore, m.depth_mm).unwrap()
     }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::testing::{packed_sand, sand, sand_with};
+    use super::*;
+    use crate::driver::{directional_hemispherical, incident_direction};
+    use crate::memory::WithMemory;
+    use crate::particle::Coating;
+    use crate::transport::Medium;
+    use crate::volume_scatterer::testing::{henyey_greenstein, scatterer};
 
     /// ρ and its standard error of wavelength `j` of a shared run's tallies over `n` rays.
     fn shared_estimate(c: &SpectralCounts, j: usize, n: u64) -> (f64, f64) {

@@ -1,9 +1,13 @@
 //! `sandlight._native.SpectralGroup`: the sand media of a group of wavelengths traced together
 //! with spectral path sharing (docs/transport.md, "Spectral path sharing").
 
+use numpy::{PyReadwriteArray1, PyReadwriteArray2, PyReadwriteArray3};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use sandlight_core::error::SandlightError;
+use sandlight_core::gonio::measure::measure_brdf_shared;
+use sandlight_core::gonio::spectral_sums::SQUARE_ONE;
+use sandlight_core::gonio::{CollectorHemisphere, SpectralBrdfSums};
 use sandlight_core::hero::{spectral_directional_hemispherical, HeroGroup, FIXED_ONE};
 use sandlight_core::memory::Memory;
 
@@ -59,6 +63,12 @@ impl PySpectralGroup {
         FIXED_ONE
     }
 
+    /// Fixed-point scale of the goniophotometer's sums of squares (F² counts as round(F² · scale)).
+    #[classattr]
+    fn square_one() -> f64 {
+        SQUARE_ONE
+    }
+
     /// Fraction of the layer-stack table cells evaluated exactly rather than interpolated.
     fn exact_fraction(&self) -> f64 {
         self.group.exact_fraction()
@@ -90,5 +100,48 @@ impl PySpectralGroup {
             })
             .map_err(PyRuntimeError::new_err)?;
         Ok((c.launched, c.capped, c.events, c.escaped, c.transmitted, c.products))
+    }
+
+    /// Uniform-incidence goniophotometer trials `first_ray .. first_ray + n_rays` on a
+    /// `stacks` × `slices` hemisphere (r patches), with shared paths, added in place to the
+    /// uint64 sums `escaped` and `squares` (r, r, wavelengths), `transmitted` (r, wavelengths),
+    /// `launched` and `capped` (r,) (see `sandlight_core::gonio::spectral_sums`). The GIL is
+    /// released.
+    #[pyo3(signature = (stacks, slices, seed, stream, first_ray, n_rays, max_events, max_internal,
+                        escaped, squares, transmitted, launched, capped, threads = None))]
+    #[allow(clippy::too_many_arguments)] // one argument per Python parameter
+    fn brdf_sums(
+        &self,
+        py: Python<'_>,
+        stacks: usize,
+        slices: usize,
+        seed: u64,
+        stream: u64,
+        first_ray: u64,
+        n_rays: u64,
+        max_events: u64,
+        max_internal: u32,
+        mut escaped: PyReadwriteArray3<'_, u64>,
+        mut squares: PyReadwriteArray3<'_, u64>,
+        mut transmitted: PyReadwriteArray2<'_, u64>,
+        mut launched: PyReadwriteArray1<'_, u64>,
+        mut capped: PyReadwriteArray1<'_, u64>,
+        threads: Option<usize>,
+    ) -> PyResult<()> {
+        let h = CollectorHemisphere::new(stacks, slices).map_err(|e| to_py(py, e))?;
+        let (rays, limits) = rays_and_limits(seed, stream, first_ray, n_rays, max_events, max_internal);
+        let contiguous = |name: &str| {
+            to_py(py, SandlightError::parameter(name, "a non-contiguous array", "a C-contiguous uint64 array"))
+        };
+        let mut sums = SpectralBrdfSums {
+            escaped: escaped.as_slice_mut().map_err(|_| contiguous("escaped"))?,
+            squares: squares.as_slice_mut().map_err(|_| contiguous("squares"))?,
+            transmitted: transmitted.as_slice_mut().map_err(|_| contiguous("transmitted"))?,
+            launched: launched.as_slice_mut().map_err(|_| contiguous("launched"))?,
+            capped: capped.as_slice_mut().map_err(|_| contiguous("capped"))?,
+        };
+        py.detach(|| run_with_threads(threads, || measure_brdf_shared(&self.group, &h, rays, &limits, &mut sums)))
+            .map_err(PyRuntimeError::new_err)?
+            .map_err(|e| to_py(py, e))
     }
 }

@@ -69,6 +69,14 @@ MemoryOption = Annotated[str | None, typer.Option("--memory", help=MEMORY_HELP)]
 GeometryOption = Annotated[str, typer.Option("--geometry", help=GEOMETRY_HELP)]
 StacksOption = Annotated[int, typer.Option("--stacks", help=STACKS_HELP)]
 SlicesOption = Annotated[int, typer.Option("--slices", help=SLICES_HELP)]
+ShareOption = Annotated[
+    bool,
+    typer.Option(
+        "--share/--no-share",
+        help="Spectral path sharing: trace wavelengths of nearly equal indices together (default; "
+        "docs/transport.md). --no-share traces every wavelength on its own.",
+    ),
+]
 
 
 def load_sample(

@@ -19,6 +19,7 @@ from sandlight.cli._common import (
     PresetOption,
     SampleFileArgument,
     SeedOption,
+    ShareOption,
     ThreadsOption,
     load_sample,
     option_names,
@@ -55,12 +56,7 @@ def reflectance(
     ),
     memory: MemoryOption = None,
     geometry: GeometryOption = "on-the-fly",
-    share: bool = typer.Option(
-        True,
-        "--share/--no-share",
-        help="Spectral path sharing: trace wavelengths of nearly equal indices together (default; "
-        "docs/transport.md). --no-share traces every wavelength on its own.",
-    ),
+    share: ShareOption = True,
 ) -> None:
     """Monte Carlo directional-hemispherical reflectance of a sand sample."""
     from sandlight.engine import reflectance as run

@@ -7,17 +7,18 @@ from pathlib import Path
 
 import typer
 
-from sandlight.checks import check_count
+from sandlight.checks import check_count, check_wavelengths, parse_range
 from sandlight.cli._app import app
 from sandlight.cli._common import (
     COUNT_FORM,
     ENGINE_OPTIONS,
-    WAVELENGTH_HELP,
+    WAVELENGTHS_HELP,
     GeometryOption,
     MemoryOption,
     PresetOption,
     SampleFileArgument,
     SeedOption,
+    ShareOption,
     SlicesOption,
     StacksOption,
     ThreadsOption,
@@ -32,7 +33,13 @@ from sandlight.io import check_output_file
 def brdf(
     sample_file: SampleFileArgument = None,
     preset: PresetOption = None,
-    wavelength: float = typer.Option(550.0, "--wavelengths", "--wavelength", "-w", help=WAVELENGTH_HELP),
+    wavelengths: str = typer.Option(
+        "550",
+        "--wavelengths",
+        "--wavelength",
+        "-w",
+        help=f"{WAVELENGTHS_HELP} Several write one file per wavelength, NAME-<λ>nm.nc (and .png).",
+    ),
     rays: str = typer.Option(
         "1e6", "--rays", "-n", help=f"Trials (rays), {COUNT_FORM} (the paper uses 1e8; 901 patches need about 1e4)."
     ),
@@ -51,6 +58,7 @@ def brdf(
     ),
     memory: MemoryOption = None,
     geometry: GeometryOption = "on-the-fly",
+    share: ShareOption = True,
 ) -> None:
     """Measure the BRDF of a sand sample with the virtual goniophotometer (paper §3.2.1).
 
@@ -63,10 +71,11 @@ def brdf(
     if plot is not None:
         check_output_file(plot, "--plot", (".png",))
     sample = load_sample(sample_file, preset)
+    wl = check_wavelengths("--wavelengths", parse_range("--wavelengths", wavelengths))
     with option_names(ENGINE_OPTIONS):
-        result = measure(
+        results = measure(
             sample,
-            wavelength,
+            wl,
             rays=check_count("--rays", rays),
             stacks=stacks,
             slices=slices,
@@ -76,13 +85,20 @@ def brdf(
             checkpoint=output.with_name(output.name + ".checkpoint.npz"),
             memory=memory,
             geometry=geometry,
+            share=share,
         )
-    to_netcdf(result, output)
-    rho = result.normal_reflectance
-    if math.isnan(rho):  # the warning above says why: too few rays for every incoming patch
-        echo(f"normal-incidence reflectance unknown (too few rays: see the warning); wrote {output}")
-    else:
-        echo(f"normal-incidence reflectance {rho:.4f} ± {result.reduced.normal_reflectance_stderr:.4f}; wrote {output}")
-    if plot is not None:
-        save_overview_png(result, plot)
-        echo(f"wrote {plot}")
+    for result in results:
+        lam = f"-{result.wavelength_nm:g}nm" if wl.size > 1 else ""
+        path = output.with_name(f"{output.stem}{lam}{output.suffix}")
+        to_netcdf(result, path)
+        rho = result.normal_reflectance
+        at = f" at {result.wavelength_nm:g} nm" if wl.size > 1 else ""
+        if math.isnan(rho):  # the warning above says why: too few rays for every incoming patch
+            echo(f"normal-incidence reflectance{at} unknown (too few rays: see the warning); wrote {path}")
+        else:
+            stderr = result.reduced.normal_reflectance_stderr
+            echo(f"normal-incidence reflectance{at} {rho:.4f} ± {stderr:.4f}; wrote {path}")
+        if plot is not None:
+            png = plot.with_name(f"{plot.stem}{lam}{plot.suffix}")
+            save_overview_png(result, png)
+            echo(f"wrote {png}")

@@ -43,7 +43,7 @@ from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
 from sandlight.gonio.hemisphere import CollectorHemisphere
-from sandlight.gonio.reduction import ReducedBRDF, check_counts, reduce_counts
+from sandlight.gonio.reduction import ReducedBRDF, check_sums, reduce_counts
 from sandlight.gonio.symmetry import EquivalenceClasses, PatchClasses
 
 __all__ = ["MeasuredBRDF", "band_grid", "band_grid_f", "interpolate_band_grid", "mu_bracket"]
@@ -66,9 +66,11 @@ class MeasuredBRDF(PatchClasses):
     stacks, slices : int
         Geometry of the collector hemisphere (r = 1 + (stacks − 1)·slices patches).
     counts : numpy.ndarray of int64, shape (r, r)
-        Raw counts n[i, j] (incoming patch i, outgoing patch j).
+        Raw counts n[i, j] (incoming patch i, outgoing patch j); for a run with shared paths
+        (``squares`` not None) the weight sums Σ F of its trials, float64.
     absorbed, launched, lost : numpy.ndarray of int64, shape (r,)
-        Raw per-incoming-patch counters; launched = escaped + absorbed + lost.
+        Raw per-incoming-patch counters; launched = escaped + absorbed + lost (absorbed and
+        lost weight sums, float64, for a shared run; launched always counts trials).
     reduced : ReducedBRDF
         Unique values (normalised and absolute), standard errors, normal-incidence reflectance.
     sample : dict
@@ -83,6 +85,9 @@ class MeasuredBRDF(PatchClasses):
         Version of sandlight that produced the counts.
     reduction_method : {'average', 'pooled'}
         How the classes were estimated (`sandlight.gonio.reduction.reduce_counts`).
+    squares : numpy.ndarray of float64, shape (r, r), or None
+        Σ F² per cell of a run with shared paths (spectral path sharing, docs/transport.md),
+        which the standard errors need; None for counts of independent trials.
     """
 
     stacks: int
@@ -98,6 +103,7 @@ class MeasuredBRDF(PatchClasses):
     seed: int | None = None
     sandlight_version: str = field(default_factory=_version)
     reduction_method: str = "average"
+    squares: np.ndarray | None = None
 
     @classmethod
     def from_counts(
@@ -114,6 +120,7 @@ class MeasuredBRDF(PatchClasses):
         rays: int | None = None,
         seed: int | None = None,
         method: str = "average",
+        squares: ArrayLike | None = None,
     ) -> MeasuredBRDF:
         """Reduce raw goniophotometer counts (paper §3.2.1) into a `MeasuredBRDF`.
 
@@ -138,6 +145,9 @@ class MeasuredBRDF(PatchClasses):
         method : {'average', 'pooled'}, default 'average'
             Class estimator: the paper's average of values, or pooled counts
             (`sandlight.gonio.reduction.reduce_counts`).
+        squares : array_like of float, shape (r, r), optional
+            Σ F² per cell of a run with shared paths, whose counts, absorbed and lost are then
+            weight sums (floats); None for counts of independent trials.
 
         Raises
         ------
@@ -147,7 +157,7 @@ class MeasuredBRDF(PatchClasses):
         h = CollectorHemisphere(stacks, slices)
         if lost is None:
             lost = np.zeros(h.n_patches, dtype=np.int64)
-        counts, absorbed, launched, lost = check_counts(h, counts, absorbed, launched, lost)
+        counts, absorbed, launched, lost, squares = check_sums(h, counts, absorbed, launched, lost, squares)
         sample = {} if sample is None else dict(sample)
         try:
             json.dumps(sample)
@@ -165,8 +175,9 @@ class MeasuredBRDF(PatchClasses):
             raise ParameterError("rays", rays, "must be a non-negative integer")
         if seed is not None and (isinstance(seed, bool) or int(seed) != seed):
             raise ParameterError("seed", seed, "must be an integer or None")
-        for a in (counts, absorbed, launched, lost):
-            a.setflags(write=False)
+        for a in (counts, absorbed, launched, lost, squares):
+            if a is not None:
+                a.setflags(write=False)
         return cls(
             stacks=h.stacks,
             slices=h.slices,
@@ -174,12 +185,13 @@ class MeasuredBRDF(PatchClasses):
             absorbed=absorbed,
             launched=launched,
             lost=lost,
-            reduced=reduce_counts(h, counts, absorbed, launched, lost, method=method),
+            reduced=reduce_counts(h, counts, absorbed, launched, lost, method=method, squares=squares),
             sample=sample,
             wavelength_nm=wavelength_nm,
             rays=int(rays),
             seed=None if seed is None else int(seed),
             reduction_method=method,
+            squares=squares,
         )
 
     # Geometry and the full arrays -------------------------------------------------------------
@@ -264,6 +276,8 @@ class MeasuredBRDF(PatchClasses):
             and self.sample == other.sample
             and _same_float(self.wavelength_nm, other.wavelength_nm)
             and all(np.array_equal(getattr(self, a), getattr(other, a)) for a in arrays)
+            and (self.squares is None) == (other.squares is None)
+            and (self.squares is None or np.array_equal(self.squares, other.squares))
             and self.reduced.equals(other.reduced)
         )
 

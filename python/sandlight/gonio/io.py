@@ -16,7 +16,8 @@ Dimensions ``incoming`` (r), ``outgoing`` (r), ``patch`` (r), ``unique`` (m), ``
 ==============================  ====================  =====  ==========================================
 variable                        dimensions            units  meaning
 ==============================  ====================  =====  ==========================================
-counts                          incoming, outgoing    1      raw n[i, j]
+counts                          incoming, outgoing    1      raw n[i, j] (shared run: Σ F, float)
+squares                         incoming, outgoing    1      shared run only: Σ F² per cell
 absorbed, launched, lost        incoming              1      raw counters per incoming patch
 brdf                            incoming, outgoing    sr-1   reduced f̂ (normalised), full array
 unique_brdf                     unique                sr-1   the m unique values of f̂
@@ -32,6 +33,11 @@ phi_min/max                     patch                 rad    patch bounds in azi
 solid_angle                     patch                 sr     2π/r each
 projected_solid_angle           patch                 sr     ω_p, summing to π
 ==============================  ====================  =====  ==========================================
+
+A run with spectral path sharing (``sandlight.brdf`` over several wavelengths, docs/transport.md)
+stores weight sums: ``counts``, ``absorbed`` and ``lost`` are float64 sums of the trials'
+weights F, and the variable ``squares`` (absent otherwise) holds Σ F² per cell, which the
+standard errors need (`sandlight.gonio.reduction`). ``launched`` always counts trials.
 
 Global attributes: ``format``, ``format_version``, ``sandlight_version``, ``stacks``, ``slices``,
 ``rays``, ``seed`` (absent if None), ``wavelength_nm`` (absent if None), ``sample`` (JSON),
@@ -51,7 +57,7 @@ from numpy.typing import ArrayLike
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
-from sandlight.gonio.reduction import ReducedBRDF, check_counts
+from sandlight.gonio.reduction import ReducedBRDF, check_sums
 from sandlight.gonio.symmetry import EquivalenceClasses
 from sandlight.io import read_netcdf_file, write_atomically
 
@@ -111,6 +117,8 @@ def _dataset(brdf: MeasuredBRDF) -> xr.Dataset:
         "solid_angle": var("patch", h.solid_angles, "sr", "solid angle of the patch"),
         "projected_solid_angle": var("patch", h.projected_solid_angles, "sr", "projected solid angle of the patch"),
     }
+    if brdf.squares is not None:
+        data["squares"] = var(pair, brdf.squares, "1", "sum of squared trial weights, per (incoming, outgoing) patch")
     attrs = {
         **cf_attributes("BRDF measured by the sandlight virtual goniophotometer", "sandlight.gonio.brdf"),
         "format": FORMAT_NAME,
@@ -151,7 +159,7 @@ def to_netcdf(brdf: MeasuredBRDF, path: str | PathLike) -> Path:
         raise ParameterError("brdf", type(brdf).__name__, "must be a MeasuredBRDF")
     path = Path(path)
     ds = _dataset(brdf)
-    encoding = {name: dict(_COMPRESSED) for name in ("counts", "brdf")}
+    encoding = {name: dict(_COMPRESSED) for name in ("counts", "brdf", "squares") if name in ds}
     return write_atomically(path, lambda tmp: ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding), make_dirs=False)
 
 
@@ -186,8 +194,9 @@ def read_netcdf(path: str | PathLike) -> MeasuredBRDF:
 def _from_dataset(ds: xr.Dataset) -> MeasuredBRDF:
     attrs = ds.attrs
     h = CollectorHemisphere(int(attrs["stacks"]), int(attrs["slices"]))
-    counts, absorbed, launched, lost = check_counts(
-        h, ds["counts"].values, ds["absorbed"].values, ds["launched"].values, ds["lost"].values
+    squares = ds["squares"].values if "squares" in ds else None
+    counts, absorbed, launched, lost, squares = check_sums(
+        h, ds["counts"].values, ds["absorbed"].values, ds["launched"].values, ds["lost"].values, squares
     )
     m = EquivalenceClasses(h).n_classes
 
@@ -208,8 +217,9 @@ def _from_dataset(ds: xr.Dataset) -> MeasuredBRDF:
         normal_reflectance=float(ds["normal_reflectance"].values),
         normal_reflectance_stderr=float(ds["normal_reflectance_stderr"].values),
     )
-    for a in (counts, absorbed, launched, lost):
-        a.setflags(write=False)
+    for a in (counts, absorbed, launched, lost, squares):
+        if a is not None:
+            a.setflags(write=False)
     return MeasuredBRDF(
         stacks=h.stacks,
         slices=h.slices,
@@ -224,4 +234,5 @@ def _from_dataset(ds: xr.Dataset) -> MeasuredBRDF:
         seed=int(attrs["seed"]) if "seed" in attrs else None,
         sandlight_version=str(attrs["sandlight_version"]),
         reduction_method=str(attrs["reduction_method"]),
+        squares=squares,
     )

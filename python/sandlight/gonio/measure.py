@@ -18,23 +18,27 @@ import math
 import os
 import warnings
 import zipfile
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
+import numpy.typing as npt
 
 from sandlight import _native
-from sandlight._runner import run_in_batches
+from sandlight._runner import SHOW_AFTER_SECONDS, run_in_batches
 from sandlight.checks import check_count, check_incidence, check_real, check_seed, check_threads, check_wavelengths
-from sandlight.engine import DEFAULT_MAX_EVENTS, MAX_INTERNAL_REFLECTIONS
-from sandlight.errors import ModelFileError
+from sandlight.engine import DEFAULT_MAX_EVENTS, MAX_INTERNAL_REFLECTIONS, shareable
+from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.reduction import reduce_fixed_incidence
 from sandlight.io import atomic_path
 from sandlight.physics.media import IsotropicScatterers, LambertianSurface, as_traceable
 from sandlight.physics.medium import Traceable
+from sandlight.physics.spectral_groups import DISPERSION_TOLERANCE, spectral_groups
+from sandlight.progress import progress_bar
 
 if TYPE_CHECKING:
     from sandlight.sample import SandSample
@@ -140,9 +144,170 @@ def _save_checkpoint(path: Path, key: str, done: int, arrays: dict[str, np.ndarr
         np.savez(f, key=np.array(key), done=np.array(done), **arrays)
 
 
+#: Most wavelengths measured together (spectral path sharing): a group's sums take 16 bytes per
+#: (incoming patch, outgoing patch, wavelength), 13 MB per wavelength at 901 patches, so a
+#: group of 16 holds 208 MB (docs/performance.md). Larger dispersion groups are split.
+MAX_GONIO_GROUP = 16
+
+
+@dataclass(frozen=True)
+class _Settings:
+    """The parameters every unit of a :func:`brdf` run (a wavelength, or a group sharing paths)
+    is traced and reduced with."""
+
+    hemisphere: CollectorHemisphere
+    rays: int
+    seed: int
+    threads: int | None
+    max_events: int
+    method: str
+    sample: dict
+    checkpoint_seconds: float
+    progress: bool
+
+
+def _run_unit(
+    settings: _Settings,
+    key_fields: dict,
+    arrays: dict[str, np.ndarray],
+    batch: Callable[[int, int], None],
+    label: str,
+    checkpoint: Path | None,
+) -> None:
+    """Traces the rays of one unit into ``arrays`` (unsigned integers, filled in place by
+    ``batch(first, n)``), resuming from and saving to ``checkpoint`` (which :func:`brdf`
+    removes once every unit is done, so an interrupted run keeps its finished units)."""
+    h = settings.hemisphere
+    key = _checkpoint_key(
+        {
+            "sample": settings.sample,
+            **key_fields,
+            "rays": settings.rays,
+            "seed": settings.seed,
+            "stacks": h.stacks,
+            "slices": h.slices,
+            "max_events": settings.max_events,
+        }
+    )
+    done = _load_checkpoint(checkpoint, key, arrays, settings.rays) if checkpoint is not None else 0
+    save = (lambda d: _save_checkpoint(checkpoint, key, d, arrays)) if checkpoint is not None else None
+    run_in_batches(
+        batch,
+        settings.rays,
+        label=label,
+        progress=settings.progress,
+        start_at=done,
+        on_checkpoint=save,
+        checkpoint_seconds=settings.checkpoint_seconds,
+    )
+
+
+def _measure_one(settings: _Settings, medium: _native.Medium, wl: float, checkpoint: Path | None) -> MeasuredBRDF:
+    """The BRDF at ``wl`` (nm) from trials of its own (random stream 0)."""
+    h = settings.hemisphere
+    r = h.n_patches
+    arrays = {
+        "counts": np.zeros((r, r), np.uint64),
+        "absorbed": np.zeros(r, np.uint64),
+        "launched": np.zeros(r, np.uint64),
+        "lost": np.zeros(r, np.uint64),
+    }
+
+    def batch(first: int, n: int) -> None:
+        parts = medium.brdf_counts(
+            h.stacks,
+            h.slices,
+            settings.seed,
+            0,
+            first,
+            n,
+            settings.max_events,
+            MAX_INTERNAL_REFLECTIONS,
+            settings.threads,
+        )
+        for name, part in zip(arrays, parts):
+            arrays[name] += part
+
+    _run_unit(settings, {"wavelength_nm": wl}, arrays, batch, f"BRDF at {wl:g} nm", checkpoint)
+    return MeasuredBRDF.from_counts(*arrays.values(), **_metadata(settings), wavelength_nm=wl, method=settings.method)
+
+
+def _measure_shared(
+    settings: _Settings, group: _native.SpectralGroup, wl: np.ndarray, stream: int, label: str, checkpoint: Path | None
+) -> list[MeasuredBRDF]:
+    """The BRDFs at the wavelengths ``wl`` of ``group`` from shared trials (random stream
+    ``stream``): the fixed-point sums of the native group (``SpectralGroup.brdf_sums``) as
+    weight sums Σ F and Σ F² per cell, absorbed = launched − escaped − lost."""
+    h = settings.hemisphere
+    r, w = h.n_patches, wl.size
+    arrays = {
+        "escaped": np.zeros((r, r, w), np.uint64),
+        "squares": np.zeros((r, r, w), np.uint64),
+        "transmitted": np.zeros((r, w), np.uint64),
+        "launched": np.zeros(r, np.uint64),
+        "capped": np.zeros(r, np.uint64),
+    }
+
+    def batch(first: int, n: int) -> None:
+        group.brdf_sums(
+            h.stacks,
+            h.slices,
+            settings.seed,
+            stream,
+            first,
+            n,
+            settings.max_events,
+            MAX_INTERNAL_REFLECTIONS,
+            *arrays.values(),
+            settings.threads,
+        )
+
+    key_fields = {"wavelengths_nm": wl.tolist(), "shared_stream": stream}
+    _run_unit(settings, key_fields, arrays, batch, label, checkpoint)
+    one, square_one = _native.SpectralGroup.fixed_one, _native.SpectralGroup.square_one
+    launched = arrays["launched"].astype(np.int64)
+    results = []
+    for k, lam in enumerate(wl):
+        counts = arrays["escaped"][:, :, k] / one
+        lost = arrays["transmitted"][:, k] / one + arrays["capped"]
+        results.append(
+            MeasuredBRDF.from_counts(
+                counts,
+                launched - counts.sum(axis=1) - lost,
+                launched,
+                lost,
+                squares=arrays["squares"][:, :, k] / square_one,
+                **_metadata(settings),
+                wavelength_nm=float(lam),
+                method=settings.method,
+            )
+        )
+    return results
+
+
+def _metadata(settings: _Settings) -> dict:
+    """The keywords of `MeasuredBRDF.from_counts` that every unit shares."""
+    h = settings.hemisphere
+    return {
+        "stacks": h.stacks,
+        "slices": h.slices,
+        "sample": settings.sample,
+        "rays": settings.rays,
+        "seed": settings.seed,
+    }
+
+
+def _unit_checkpoint(checkpoint: Path | None, unit: int, units: int) -> Path | None:
+    """The checkpoint file of unit ``unit`` of ``units``: ``checkpoint`` itself for one unit,
+    else ``checkpoint`` with ``.{unit}`` appended to its name."""
+    if checkpoint is None or units == 1:
+        return checkpoint
+    return checkpoint.with_name(f"{checkpoint.name}.{unit}")
+
+
 def brdf(
     sample: SandSample | str | Traceable,
-    wavelength_nm: float = 550.0,
+    wavelength_nm: float | npt.ArrayLike = 550.0,
     *,
     rays: int,
     stacks: int = 31,
@@ -157,7 +322,9 @@ def brdf(
     geometry: str = "on-the-fly",
     memory: str | None = None,
     packing: _native.Packing | None = None,
-) -> MeasuredBRDF:
+    share: bool = True,
+    dispersion_tolerance: float = DISPERSION_TOLERANCE,
+) -> MeasuredBRDF | list[MeasuredBRDF]:
     """Measures the BRDF of a sample with uniform incidence (paper §3.2.1).
 
     Parameters
@@ -165,10 +332,10 @@ def brdf(
     sample : SandSample, str or Traceable
         The sand sample (or preset name), or any Traceable medium, e.g. a reference medium
         (``IsotropicScatterers``, ``LambertianSurface``) or a ``Powder``.
-    wavelength_nm : float
-        Vacuum wavelength λ (nm), in [350, 2500].
+    wavelength_nm : float or array_like
+        Vacuum wavelength λ (nm), in [350, 2500], or a sequence of them (one BRDF each).
     rays : int
-        Trials N (the paper uses about 10⁸).
+        Trials N per wavelength (the paper uses about 10⁸).
     stacks, slices : int
         Collector hemisphere: r = 1 + (stacks − 1)·slices equal-solid-angle patches (31 × 30 → 901).
     seed : int
@@ -177,18 +344,31 @@ def brdf(
         How values equal by isotropy and reciprocity are combined (``MeasuredBRDF.from_counts``).
     checkpoint : path, optional
         File where the counts are saved about every minute; an existing checkpoint of the same
-        run is resumed. Removed when the run completes.
+        run is resumed. Removed when the run completes. A run of several wavelengths keeps one
+        file per wavelength or shared group, named with ``.0``, ``.1``, … appended.
     checkpoint_seconds : float
         Wall time between two saves of the checkpoint, s, ≥ 0 (default 60; 0: after every batch
         of rays).
     geometry, memory, packing
         As in :func:`sandlight.reflectance`: 'explicit' traces a stored packing of the sample's
         grains (the slow reference, docs/geometry.md). A packing generated here uses ``seed``.
+    share : bool
+        Spectral path sharing (docs/transport.md), as in :func:`sandlight.reflectance`: with
+        several wavelengths, those of each group of nearly equal refractive indices (at most
+        :data:`MAX_GONIO_GROUP`) are measured with the same trials, each trial traced once at a
+        hero wavelength with a weight per wavelength; group g uses random stream g + 1. Applies
+        to the media :func:`sandlight.engine.shareable` names; a single wavelength, other media
+        and ``False`` measure every wavelength with trials of its own (stream 0, the same at
+        every wavelength), as a single-wavelength call does.
+    dispersion_tolerance : float
+        Largest spread of any material's real index within a group (``share`` only), in [0, 1].
 
     Returns
     -------
-    MeasuredBRDF
-        Raw counts, reduced and normalised values with standard errors, metadata.
+    MeasuredBRDF or list of MeasuredBRDF
+        One for a scalar ``wavelength_nm``, else one per wavelength in the order given: raw
+        counts (weight sums and ``squares`` when shared), reduced and normalised values with
+        standard errors, metadata.
 
     Warns
     -----
@@ -199,69 +379,51 @@ def brdf(
         is a legitimate smoke test) but warned about, naming :func:`rays_for_every_patch`
         (N = r ln(100 r), 10 280 for 901 patches), after which an empty patch is rare.
     """
-    wl = float(check_wavelengths("wavelength_nm", [wavelength_nm])[0])
+    wl = check_wavelengths("wavelength_nm", wavelength_nm)
     rays = check_count("rays", rays)
     seed = check_seed("seed", seed)
     threads = check_threads("threads", threads)
     checkpoint_seconds = check_real("checkpoint_seconds", checkpoint_seconds, 0.0)
+    if not isinstance(share, bool):
+        raise ParameterError("share", share, "True or False")
+    dispersion_tolerance = check_real("dispersion_tolerance", dispersion_tolerance, 0.0, 1.0)
     hemi = CollectorHemisphere(stacks, slices)  # validates stacks and slices
     traced = as_traceable(sample, geometry=geometry, memory=memory, packing=packing, seed=seed)
-    medium, meta = traced.medium(wl), traced.describe()
-    r = hemi.n_patches
-    arrays = {
-        "counts": np.zeros((r, r), np.uint64),
-        "absorbed": np.zeros(r, np.uint64),
-        "launched": np.zeros(r, np.uint64),
-        "lost": np.zeros(r, np.uint64),
-    }
-    key = _checkpoint_key(
-        {
-            "sample": meta,
-            "wavelength_nm": wl,
-            "rays": rays,
-            "seed": seed,
-            "stacks": stacks,
-            "slices": slices,
-            "max_events": int(max_events),
-        }
+    settings = _Settings(
+        hemi, rays, seed, threads, int(max_events), method, traced.describe(), checkpoint_seconds, progress
     )
     checkpoint = Path(checkpoint) if checkpoint is not None else None
-    done = _load_checkpoint(checkpoint, key, arrays, rays) if checkpoint is not None else 0
-
-    def batch(first: int, n: int) -> None:
-        parts = medium.brdf_counts(
-            stacks, slices, seed, 0, first, n, int(max_events), MAX_INTERNAL_REFLECTIONS, threads
-        )
-        for name, part in zip(arrays, parts):
-            arrays[name] += part
-
-    save = (lambda d: _save_checkpoint(checkpoint, key, d, arrays)) if checkpoint is not None else None
-    run_in_batches(
-        batch,
-        rays,
-        label=f"BRDF at {wl:g} nm",
-        progress=progress,
-        start_at=done,
-        on_checkpoint=save,
-        checkpoint_seconds=checkpoint_seconds,
-    )
-    result = MeasuredBRDF.from_counts(
-        arrays["counts"],
-        arrays["absorbed"],
-        arrays["launched"],
-        arrays["lost"],
-        stacks=stacks,
-        slices=slices,
-        sample=meta,
-        wavelength_nm=wl,
-        rays=rays,
-        seed=seed,
-        method=method,
-    )
-    if checkpoint is not None and checkpoint.exists():
-        os.remove(checkpoint)
-    _warn_if_undefined(result, arrays["launched"])
-    return result
+    results: list[MeasuredBRDF | None] = [None] * wl.size
+    sharing = share and wl.size > 1 and shareable(traced)
+    if sharing:
+        groups = [
+            part
+            for g in spectral_groups(
+                traced.composition, wl, dispersion_tolerance, optical_constants=traced.optical_constants
+            )
+            for part in np.array_split(g, math.ceil(g.size / MAX_GONIO_GROUP))
+        ]
+        with progress_bar(
+            "tracing", len(groups) * rays, unit="rays", enabled=progress, show_after_s=SHOW_AFTER_SECONDS
+        ):
+            for g, idx in enumerate(groups):
+                group = _native.SpectralGroup([traced.medium(float(wl[i])) for i in idx])
+                span = f"{wl[idx].min():g}–{wl[idx].max():g} nm" if idx.size > 1 else f"{wl[idx[0]]:g} nm"
+                label = f"BRDF at λ = {span} (group {g + 1}/{len(groups)})"
+                unit = _unit_checkpoint(checkpoint, g, len(groups))
+                for i, b in zip(idx, _measure_shared(settings, group, wl[idx], g + 1, label, unit)):
+                    results[i] = b
+    else:
+        with progress_bar("tracing", wl.size * rays, unit="rays", enabled=progress, show_after_s=SHOW_AFTER_SECONDS):
+            for i, lam in enumerate(wl):
+                unit = _unit_checkpoint(checkpoint, i, wl.size)
+                results[i] = _measure_one(settings, traced.medium(float(lam)), float(lam), unit)
+    units = len(groups) if sharing else wl.size
+    for unit in range(units) if checkpoint is not None else ():
+        _unit_checkpoint(checkpoint, unit, units).unlink(missing_ok=True)
+    for result in results:
+        _warn_if_undefined(result, result.launched)
+    return results[0] if np.ndim(wavelength_nm) == 0 else results
 
 
 @dataclass(frozen=True)

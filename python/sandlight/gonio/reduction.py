@@ -43,6 +43,15 @@ exactly for f̄ and to first order (delta method) for f̂:
     Var(f̂_c) = [Var(f̄_c) − 2 f̂_c Cov(f̄_c, R) + f̂_c² Var(R)] / R²,
 
 which includes the strong correlation between R and the classes that involve the cap.
+A run whose trials share their paths over several wavelengths (``sandlight.brdf`` with
+``share``; docs/transport.md) gives each trial a weight F ∈ [0, N] per wavelength instead of an
+indicator: the counts are then the sums Σ F per cell (``counts``, floats) and ``squares`` holds
+Σ F² per cell. The same covariance holds with the second moment in place of the first on the
+diagonal: Cov(n_ij, n_ik) = N_i (s_ij δ_jk − p_ij p_ik) with s_ij = E[F² 1(cell j)] the
+per-trial second moment, estimated like p_ij by symmetrising ``squares`` with the same
+weights (s̄ per class, s_ij = s̄[i, j] ω_p(j)). For indicators F² = F, squares = counts and
+s = p: the formulas reduce to the multinomial ones above.
+
 The cell probabilities p_ij are estimated by the symmetrised values themselves,
 p_ij = f̄[i, j] ω_p(j), rather than by each cell's own count: that estimate is far less noisy,
 is defined where a cell saw no count, and does not correlate the error bar with the value it
@@ -62,7 +71,7 @@ from sandlight.errors import ParameterError
 from sandlight.gonio.hemisphere import CollectorHemisphere
 from sandlight.gonio.symmetry import EquivalenceClasses
 
-__all__ = ["ReducedBRDF", "reduce_counts", "reduce_fixed_incidence", "REDUCTION_METHODS"]
+__all__ = ["ReducedBRDF", "reduce_counts", "reduce_fixed_incidence", "check_sums", "REDUCTION_METHODS"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -158,6 +167,70 @@ def check_counts(
     return counts, absorbed, launched, lost
 
 
+def _as_sums(name: str, value: ArrayLike, shape: tuple[int, ...], *, signed: bool = False) -> np.ndarray:
+    a = np.asarray(value)
+    if a.shape != shape:
+        raise ParameterError(name, f"an array of shape {a.shape}", f"must have shape {shape}")
+    if a.dtype.kind not in "iuf" or not np.all(np.isfinite(a)):
+        raise ParameterError(name, f"an array of dtype {a.dtype}", "must hold finite weight sums")
+    a = a.astype(float)
+    if not signed and a.size and a.min() < 0:
+        raise ParameterError(name, float(a.min()), "weight sums must be non-negative")
+    return a
+
+
+def check_weight_sums(
+    hemisphere: CollectorHemisphere,
+    counts: ArrayLike,
+    absorbed: ArrayLike,
+    launched: ArrayLike,
+    lost: ArrayLike,
+    squares: ArrayLike,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Validated float copies (launched: int64) of the sums of a shared run (module docstring).
+
+    ``absorbed`` is launched − escaped − lost, a weight sum that may be slightly negative
+    (weights above 1 for a nearly white sample).
+
+    Raises
+    ------
+    sandlight.errors.ParameterError
+        On wrong shapes, non-finite or negative sums, or if launched ≠ escaped + absorbed + lost
+        (to 10⁻⁹ relative) for some incoming patch.
+    """
+    r = hemisphere.n_patches
+    counts = _as_sums("counts", counts, (r, r))
+    squares = _as_sums("squares", squares, (r, r))
+    absorbed = _as_sums("absorbed", absorbed, (r,), signed=True)
+    lost = _as_sums("lost", lost, (r,))
+    launched = _as_counts("launched", launched, (r,))
+    balance = counts.sum(axis=1) + absorbed + lost
+    off = np.abs(balance - launched) > 1e-9 * np.maximum(launched, 1)
+    if off.any():
+        i = int(np.flatnonzero(off)[0])
+        raise ParameterError(
+            "launched",
+            f"{int(launched[i])} for incoming patch {i}",
+            f"must equal escaped + absorbed + lost = {balance[i]:.6g} for every incoming patch",
+        )
+    return counts, absorbed, launched, lost, squares
+
+
+def check_sums(
+    hemisphere: CollectorHemisphere,
+    counts: ArrayLike,
+    absorbed: ArrayLike,
+    launched: ArrayLike,
+    lost: ArrayLike,
+    squares: ArrayLike | None = None,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray | None]:
+    """The counters of a run of independent trials (``squares`` None: `check_counts`) or the
+    weight sums of a shared run (`check_weight_sums`), validated, with ``squares``."""
+    if squares is None:
+        return (*check_counts(hemisphere, counts, absorbed, launched, lost), None)
+    return check_weight_sums(hemisphere, counts, absorbed, launched, lost, squares)
+
+
 REDUCTION_METHODS = ("average", "pooled")
 
 
@@ -169,6 +242,7 @@ def reduce_counts(
     lost: ArrayLike,
     *,
     method: str = "average",
+    squares: ArrayLike | None = None,
 ) -> ReducedBRDF:
     """Estimate, symmetrise, normalise and compress the BRDF from uniform-incidence counts.
 
@@ -187,6 +261,9 @@ def reduce_counts(
         How each class is estimated: 'average', the paper's unweighted mean of the values
         f[i, j] of its entries; 'pooled', Σ n[i, j] / Σ ω_p(j) N_i over the entries, the
         minimum-variance (maximum-likelihood) estimator. See the module docstring.
+    squares : array_like of float, shape (r, r), optional
+        Σ F² per cell of a run with shared paths, whose ``counts`` (and absorbed, lost) are then
+        weight sums Σ F (floats); None for counts of independent trials (module docstring).
 
     Returns
     -------
@@ -194,7 +271,7 @@ def reduce_counts(
     """
     if method not in REDUCTION_METHODS:
         raise ParameterError("method", method, f"must be one of {REDUCTION_METHODS}")
-    counts, absorbed, launched, lost = check_counts(hemisphere, counts, absorbed, launched, lost)
+    counts, absorbed, launched, lost, squares = check_sums(hemisphere, counts, absorbed, launched, lost, squares)
     classes = EquivalenceClasses(hemisphere)
     m = classes.n_classes
     cls = classes.class_of
@@ -219,10 +296,16 @@ def reduce_counts(
 
     # Fitted cell probabilities p[i, j] = f̄[i, j] ω_p(j), for the error model.
     p = np.where(valid, np.nan_to_num(f_bar)[cls] * wp[None, :], 0.0)
+    # Per-trial second moments s[i, j]: p itself for indicators, else from the symmetrised Σ F².
+    if squares is None:
+        s2 = p
+    else:
+        s_bar = np.bincount(cls.ravel(), weights=(a * squares).ravel(), minlength=m)
+        s2 = np.where(valid, s_bar[cls] * wp[None, :], 0.0)
     n_col = n_in[:, None]
 
-    # Var(f̄_c) = Σ_i N_i [Σ_j a² p − (Σ_j a p)²], sums over the entries of class c in row i.
-    var_term = np.bincount(cls.ravel(), weights=(a * a * n_col * p).ravel(), minlength=m)
+    # Var(f̄_c) = Σ_i N_i [Σ_j a² s − (Σ_j a p)²], sums over the entries of class c in row i.
+    var_term = np.bincount(cls.ravel(), weights=(a * a * n_col * s2).ravel(), minlength=m)
     u, group_class, group_row = classes.row_group_sums(a * p)
     var_cross = np.bincount(group_class, weights=n_in[group_row] * u * u, minlength=m)
     var_f_bar = np.maximum(var_term - var_cross, 0.0)
@@ -234,8 +317,8 @@ def reduce_counts(
     w_cell = weight[cls]
     # Var(R) and Cov(f̄_c, R) from the same multinomial covariance (R is linear in the counts).
     v_row = (a * p * w_cell).sum(axis=1)
-    var_r = float((a * a * n_col * p * w_cell * w_cell).sum() - (n_in * v_row * v_row).sum())
-    cov_term = np.bincount(cls.ravel(), weights=(a * a * n_col * p * w_cell).ravel(), minlength=m)
+    var_r = float((a * a * n_col * s2 * w_cell * w_cell).sum() - (n_in * v_row * v_row).sum())
+    cov_term = np.bincount(cls.ravel(), weights=(a * a * n_col * s2 * w_cell).ravel(), minlength=m)
     cov_cross = np.bincount(cls.ravel(), weights=(n_col * a * p * v_row[:, None]).ravel(), minlength=m)
     cov_f_r = cov_term - cov_cross
 
