@@ -142,10 +142,11 @@ def parse_args(argv):
         help="path memory of the engine's powders (default none: the classic model of the shipped calibration)",
     )
     parser.add_argument(
-        "--host-scattering",
+        "--grain-scattering",
         type=float,
         default=0.0,
-        help="scattering coefficient (mm⁻¹) of inclusions in the quartz grains (quartz only; default 0: clear grains)",
+        help="scattering coefficient (mm⁻¹) of inclusions and internal fractures in the powders' grains "
+        "(default 0: clear grains)",
     )
     parser.add_argument("--threads", type=int, default=1, help="engine threads (RAYON_NUM_THREADS, default 1)")
     parser.add_argument(
@@ -158,10 +159,8 @@ def parse_args(argv):
     args = parser.parse_args(argv)
     if not (0.0 < args.scale <= 1.0):
         parser.error(f"--scale = {args.scale!r} is not allowed: a number in (0, 1]")
-    if not (args.host_scattering >= 0.0 and math.isfinite(args.host_scattering)):
-        parser.error(f"--host-scattering = {args.host_scattering!r} is not allowed: a finite number >= 0")
-    if args.host_scattering > 0 and args.mineral != "quartz":
-        parser.error(f"--host-scattering = {args.host_scattering!r} is not allowed for {args.mineral}: quartz only")
+    if not (args.grain_scattering >= 0.0 and math.isfinite(args.grain_scattering)):
+        parser.error(f"--grain-scattering = {args.grain_scattering!r} is not allowed: a finite number >= 0")
     if args.threads < 1:
         parser.error(f"--threads = {args.threads!r} is not allowed: an integer >= 1")
     if not (args.prior_sigma > 0.0 and math.isfinite(args.prior_sigma)):
@@ -187,7 +186,7 @@ def canonical_command(args) -> str:
         f"--model-sigma {args.model_sigma if args.model_sigma == 'auto' else format(args.model_sigma, 'g')}"
         f"{prior} --seed {args.seed}"
         + (f" --memory {args.memory}" if args.memory != "none" else "")
-        + (f" --host-scattering {args.host_scattering:g}" if args.host_scattering > 0 else "")
+        + (f" --grain-scattering {args.grain_scattering:g}" if args.grain_scattering > 0 else "")
     )
 
 
@@ -213,7 +212,7 @@ def main(argv=None) -> int:
     wl, log10_k, rays = grids(args.scale, setup.log10_k_range)
     members = cal.end_members(args.mineral, fit_only=True)
     excluded = [m for m in cal.end_members(args.mineral) if not m.use_in_fit]
-    forward = cal.EnginePowder(rays=rays, seed=args.seed, memory=args.memory, scattering_per_mm=args.host_scattering)
+    forward = cal.EnginePowder(rays=rays, seed=args.seed, memory=args.memory, scattering_per_mm=args.grain_scattering)
     command = canonical_command(args)
     prior_log10_k = np.log10(cal.literature_k(args.mineral, wl)) if setup.prior else None
     if args.mineral in cal.LITERATURE_MINERALS:
@@ -247,7 +246,7 @@ def main(argv=None) -> int:
     out.append(
         f"Engine powder (sandlight.validation.powder_reflectance, "
         f"{'classic model' if args.memory == 'none' else f'memory {args.memory!r}'}"
-        f"{f', inclusions σ {args.host_scattering:g} mm⁻¹' if args.host_scattering > 0 else ''}), "
+        f"{f', inclusions σ {args.grain_scattering:g} mm⁻¹' if args.grain_scattering > 0 else ''}), "
         f"{rays:,} rays per run, master "
         f"seed {args.seed}; {wl.size} wavelengths {wl[0]:g}–{wl[-1]:g} nm; log10 k grid {log10_k[0]:g} to "
         f"{log10_k[-1]:g} in {log10_k.size} steps; smoothing {args.smoothing:g}; "
@@ -394,7 +393,7 @@ def round_trip(cal, setup, members, tables, wl, args, prior_log10_k) -> list[str
         rays=tables[0].settings["forward"]["rays"],
         seed=args.seed + 1,
         memory=args.memory,
-        scattering_per_mm=args.host_scattering,
+        scattering_per_mm=args.grain_scattering,
     )
     values, sigma = cal.synthetic_spectra(
         synthetic_forward, members, wl, truth, sigma=SYNTHETIC_SIGMA, seed=args.seed + 2

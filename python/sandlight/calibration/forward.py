@@ -93,9 +93,9 @@ class EnginePowder:
         classic model of the shipped calibration, by default. Recorded in the settings only when
         not 'none', so the tables cached before the option existed stay valid.
     scattering_per_mm : float
-        Scattering coefficient (mm⁻¹, ≥ 0) of inclusions inside quartz grains
-        (:class:`~sandlight.physics.powder.Powder`), for the quartz host; 0 (clear grains) by
-        default. Recorded in the settings only when not 0, for the same reason.
+        Scattering coefficient (mm⁻¹, ≥ 0) of inclusions and internal fractures inside the
+        grains (:class:`~sandlight.physics.powder.Powder`); 0 (clear grains) by default.
+        Recorded in the settings only when not 0, for the same reason.
     """
 
     def __init__(

@@ -74,6 +74,9 @@ class Population:
     coating_thickness_mm : float
     surface_per_volume_per_mm : float
         ⟨S⟩/⟨V⟩ of this population (mm⁻¹).
+    core_scattering_per_mm : float
+        Scattering coefficient of the inclusions inside the cores (mm⁻¹; docs/model.md §2.4
+        item 9), 0 for clear cores.
     """
 
     name: str
@@ -84,6 +87,7 @@ class Population:
     coating: dict = field(default_factory=dict)
     coating_thickness_mm: float = 0.0
     surface_per_volume_per_mm: float = 0.0
+    core_scattering_per_mm: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -106,8 +110,6 @@ class Composition:
     #: Fraction of the particle surface facing an air-filled pore that the film wets.
     film_coverage: float = 1.0
     host_absorption: float = 1.0
-    #: Scattering coefficient (mm⁻¹) of the quartz host's inclusions (``SandSample.host_scattering``).
-    host_scattering_per_mm: float = 0.0
     #: Fraction of a coated particle's surface that carries the coating (drawn per surface point).
     coating_coverage: float = 1.0
 
@@ -135,6 +137,7 @@ def population(
     core: dict,
     coating: dict | None = None,
     coating_thickness_mm: float = 0.0,
+    core_scattering_per_mm: float = 0.0,
 ) -> Population:
     """A :class:`Population` with its ⟨S⟩/⟨V⟩ computed from its sizes and shape."""
     return Population(
@@ -146,6 +149,7 @@ def population(
         coating=coating or {},
         coating_thickness_mm=coating_thickness_mm,
         surface_per_volume_per_mm=surface_per_volume_per_mm(sizes, aspect_ratio),
+        core_scattering_per_mm=core_scattering_per_mm,
     )
 
 
@@ -232,7 +236,9 @@ def compose(sample: SandSample, films: str = DEFAULT_FILMS) -> Composition:
         t: float = 0.0,
     ) -> None:
         if volume > 0:
-            pops.append(population(name, volume, sizes, aspect, core, coat, t))
+            # The host's inclusions in proportion to its share of the core (item 9 of §2.4).
+            sigma = sample.host_scattering * core.get("quartz", 0.0)
+            pops.append(population(name, volume, sizes, aspect, core, coat, t, sigma))
 
     add("quartz sand", v_sand, sand_sizes, eps, quartz_core, coating, t_coat)
     add("quartz silt", v_silt, silt_sizes, eps, quartz_core, coating, t_coat)
@@ -263,6 +269,5 @@ def compose(sample: SandSample, films: str = DEFAULT_FILMS) -> Composition:
         depth_mm=sample.depth_mm,
         film_coverage=coverage if coverage > 0.0 else 1.0,
         host_absorption=sample.host_absorption,
-        host_scattering_per_mm=sample.host_scattering,
         coating_coverage=sample.coating_coverage,
     )

@@ -198,8 +198,7 @@ def native_medium(
         core_n.append(core.real)
         core_k.append(core.imag)
         core_a.append(absorption_per_mm(core.imag, wavelength_nm))
-        # The host's inclusions, in proportion to the host's share of the core.
-        core_s.append(comp.host_scattering_per_mm * p.core.get(HOST_MATERIAL, 0.0))
+        core_s.append(p.core_scattering_per_mm)
         coated = bool(p.coating) and p.coating_thickness_mm > 0
         if coated and coating_optics == "mie":
             c = pigmented_coating(p.coating, wavelength_nm, pigment_diameter_um, optical_constants=index)

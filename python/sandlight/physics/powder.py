@@ -23,7 +23,7 @@ from sandlight.errors import ParameterError
 from sandlight.optics import MATERIALS
 from sandlight.physics.composition import Composition, mean_free_path_mm, population
 from sandlight.physics.media import MEMORIES, with_engine
-from sandlight.physics.medium import HOST_MATERIAL, OpticalConstants, native_medium
+from sandlight.physics.medium import OpticalConstants, native_medium
 from sandlight.physics.sizes import SizeDistribution
 
 __all__ = ["Powder"]
@@ -51,9 +51,9 @@ class Powder:
         model, by default: the powders of the shipped calibration were traced with it
         (docs/optical-constants.md); a sand's default is 'packed'.
     scattering_per_mm : float
-        Scattering coefficient σ (mm⁻¹, ≥ 0) of the inclusions inside the grains, isotropic and
-        grey (``SandSample.host_scattering``, docs/model.md §2.4); quartz only. 0, a clear
-        crystal, by default.
+        Scattering coefficient σ (mm⁻¹, ≥ 0) of the inclusions and internal fractures of the
+        grains, isotropic and grey (as ``SandSample.host_scattering`` for the quartz host,
+        docs/model.md §2.4 item 9). 0, a clear crystal, by default.
     """
 
     material: str
@@ -82,12 +82,6 @@ class Powder:
         check_real("porosity", self.porosity, 0.0, 1.0, low_open=True, high_open=True)
         check_real("aspect_ratio", self.aspect_ratio, 1.0, 20.0)
         check_real("scattering_per_mm", self.scattering_per_mm, 0.0)
-        if self.scattering_per_mm > 0 and self.material != HOST_MATERIAL:
-            raise ParameterError(
-                "scattering_per_mm",
-                self.scattering_per_mm,
-                f"0 for {self.material!r} (inclusions are a {HOST_MATERIAL} property)",
-            )
 
     @property
     def sizes_um(self) -> np.ndarray:
@@ -102,7 +96,16 @@ class Powder:
             sizes = SizeDistribution("lognormal", d_mm[0], d_mm[0], median_mm=d_mm[0], spread=1.0)
         else:
             sizes = SizeDistribution("loguniform", d_mm[0], d_mm[1])
-        pops = (population(f"{self.material} powder", 1.0, sizes, self.aspect_ratio, {self.material: 1.0}),)
+        pops = (
+            population(
+                f"{self.material} powder",
+                1.0,
+                sizes,
+                self.aspect_ratio,
+                {self.material: 1.0},
+                core_scattering_per_mm=self.scattering_per_mm,
+            ),
+        )
         return Composition(
             populations=pops,
             porosity=self.porosity,
@@ -110,7 +113,6 @@ class Powder:
             film_thickness_mm=0.0,
             water_filled_probability=0.0,
             depth_mm=math.inf,
-            host_scattering_per_mm=self.scattering_per_mm,
         )
 
     def medium(self, wavelength_nm: float) -> _native.Medium:
