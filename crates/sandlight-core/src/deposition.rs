@@ -438,14 +438,7 @@ mod tests {
     use crate::spheroid::surface_factor;
 
     fn grains(quantiles: Vec<f64>, eps: f64) -> Particulate {
-        let optics = ParticleOptics {
-            core_n: 1.544,
-            core_k: 0.0,
-            core_alpha_per_mm: 0.0,
-            core_scattering_per_mm: 0.0,
-            coating: None,
-            wets: true,
-        };
+        let optics = ParticleOptics::clear(1.544);
         let mean_d = quantiles.iter().sum::<f64>() / quantiles.len() as f64;
         let t =
             ParticleType { probability: 1.0, sizes: QuantileTable::new(quantiles).unwrap(), aspect_ratio: eps, optics };

@@ -560,14 +560,7 @@ mod tests {
     use crate::sizes::QuantileTable;
 
     fn grains(alpha_per_mm: f64) -> Particulate {
-        let optics = ParticleOptics {
-            core_n: 1.544,
-            core_k: 0.0,
-            core_alpha_per_mm: alpha_per_mm,
-            core_scattering_per_mm: 0.0,
-            coating: None,
-            wets: true,
-        };
+        let optics = ParticleOptics { core_alpha_per_mm: alpha_per_mm, ..ParticleOptics::clear(1.544) };
         let t = ParticleType { probability: 1.0, sizes: QuantileTable::constant(0.25), aspect_ratio: 1.0, optics };
         // φ = 0.4: ℓ = (2/3) d φ/(1 − φ).
         Particulate::new(vec![t], 2.0 / 3.0 * 0.25 * 0.4 / 0.6, PoreOptics::DRY, f64::INFINITY).unwrap()

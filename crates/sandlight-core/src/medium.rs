@@ -228,14 +228,7 @@ mod tests {
             probability: p,
             sizes: QuantileTable::constant(0.1),
             aspect_ratio: 1.0,
-            optics: ParticleOptics {
-                core_n: 1.5,
-                core_k: 0.0,
-                core_alpha_per_mm: 0.0,
-                core_scattering_per_mm: 0.0,
-                coating: None,
-                wets: true,
-            },
+            optics: ParticleOptics::clear(1.5),
         };
         let m = Particulate::new(vec![t(0.25), t(0.0), t(0.5), t(0.25)], 0.1, PoreOptics::DRY, f64::INFINITY).unwrap();
         let mut rng = Rng::for_ray(1, 0, 0);

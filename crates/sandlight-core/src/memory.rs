@@ -469,14 +469,7 @@ mod tests {
     /// Clear grains (no absorption anywhere): packed spheres and spheroids and clay fines, in
     /// water-filled pores half of the time, in a slab `depth_mm` thick.
     fn clear_sand(depth_mm: f64) -> Particulate {
-        let optics = ParticleOptics {
-            core_n: 1.544,
-            core_k: 0.0,
-            core_alpha_per_mm: 0.0,
-            core_scattering_per_mm: 0.0,
-            coating: None,
-            wets: true,
-        };
+        let optics = ParticleOptics::clear(1.544);
         let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
         let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
             probability,

@@ -399,14 +399,7 @@ mod tests {
     use crate::spheroid::surface_factor;
 
     fn spheres(d: f64, porosity: f64, eps: f64) -> Particulate {
-        let optics = ParticleOptics {
-            core_n: 1.544,
-            core_k: 0.0,
-            core_alpha_per_mm: 0.0,
-            core_scattering_per_mm: 0.0,
-            coating: None,
-            wets: true,
-        };
+        let optics = ParticleOptics::clear(1.544);
         let t = ParticleType { probability: 1.0, sizes: QuantileTable::constant(d), aspect_ratio: eps, optics };
         // ℓ = 4φ/[(1 − φ) 6 f(ε)/d] (docs/model.md §2.1).
         let ell = 4.0 * porosity / ((1.0 - porosity) * 6.0 * surface_factor(eps) / d);

@@ -107,6 +107,18 @@ impl PoreOptics {
 }
 
 impl ParticleOptics {
+    /// A clear grain of real index `n`: no absorption, no inclusions, no coating, wetted by films.
+    pub const fn clear(n: f64) -> ParticleOptics {
+        ParticleOptics {
+            core_n: n,
+            core_k: 0.0,
+            core_alpha_per_mm: 0.0,
+            core_scattering_per_mm: 0.0,
+            coating: None,
+            wets: true,
+        }
+    }
+
     /// Whether the surface point a ray meets is bare, outside the coating's patches: never
     /// without a coating or with full coverage, and a uniform is drawn only for a partial
     /// coverage (0 < coverage < 1), so full coverage makes the draws of a uniform coating.
@@ -698,17 +710,6 @@ pub fn interact_with_stacks(
 mod tests {
     use super::*;
 
-    fn glass(n: f64) -> ParticleOptics {
-        ParticleOptics {
-            core_n: n,
-            core_k: 0.0,
-            core_alpha_per_mm: 0.0,
-            core_scattering_per_mm: 0.0,
-            coating: None,
-            wets: true,
-        }
-    }
-
     #[test]
     fn survival_shortcut_is_the_beer_lambert_test() {
         let mut rng = Rng::for_ray(2, 0, 0);
@@ -878,7 +879,7 @@ mod tests {
         let plain = Coating { coverage: 0.35, ..Coating::uniform(2.4, 50.0, 1e-3) };
         let pigmented = Coating { scattering_per_mm: 2e4, asymmetry: 0.5, ..plain };
         for (seed, coating) in [(14, plain), (15, pigmented)] {
-            let p = ParticleOptics { coating: Some(coating), ..glass(1.55) };
+            let p = ParticleOptics { coating: Some(coating), ..ParticleOptics::clear(1.55) };
             let stacks = Stacks::new(&p, &pore);
             let r = |film, bare| stacks.rt(StackKind { exit: false, water: false, film, bare }, 1.0).0;
             let expected =
@@ -908,8 +909,8 @@ mod tests {
         // Coverage 1 (and a type without coating) never meets bare surface and draws nothing,
         // so the coated stacks (those of before) are met from the same random numbers as
         // before; coverage 0 is bare everywhere: the same outcomes, draw for draw, as no coating.
-        let full = ParticleOptics { coating: Some(Coating::uniform(1.9, 300.0, 5e-4)), ..glass(1.55) };
-        for p in [full, glass(1.55)] {
+        let full = ParticleOptics { coating: Some(Coating::uniform(1.9, 300.0, 5e-4)), ..ParticleOptics::clear(1.55) };
+        for p in [full, ParticleOptics::clear(1.55)] {
             let (mut a, mut b) = (Rng::for_ray(16, 0, 0), Rng::for_ray(16, 0, 0));
             assert!((0..1000).all(|_| !p.draw_bare(&mut a)));
             assert_eq!(a.uniform(), b.uniform());
@@ -928,7 +929,7 @@ mod tests {
         for _ in 0..20_000 {
             let (h1, h2) = (s.sample_hit(d, &mut r1, 100).unwrap(), s.sample_hit(d, &mut r2, 100).unwrap());
             let a = interact(&none, &pore, &s, h1, d, false, &mut r1, 1000);
-            let b = interact(&glass(1.55), &pore, &s, h2, d, false, &mut r2, 1000);
+            let b = interact(&ParticleOptics::clear(1.55), &pore, &s, h2, d, false, &mut r2, 1000);
             assert_eq!(a, b);
         }
     }
@@ -944,10 +945,11 @@ mod tests {
             water_filled_probability: 0.3,
             film_coverage: 1.0,
         };
-        let uniform = ParticleOptics { coating: Some(Coating::uniform(1.9, 300.0, 5e-4)), ..glass(1.55) };
+        let uniform =
+            ParticleOptics { coating: Some(Coating::uniform(1.9, 300.0, 5e-4)), ..ParticleOptics::clear(1.55) };
         let zero = ParticleOptics {
             coating: Some(Coating { scattering_per_mm: 0.0, asymmetry: 0.6, ..Coating::uniform(1.9, 300.0, 5e-4) }),
-            ..glass(1.55)
+            ..ParticleOptics::clear(1.55)
         };
         let d = Vec3::new(0.0, 0.0, -1.0);
         let (mut r1, mut r2) = (Rng::for_ray(12, 0, 0), Rng::for_ray(12, 0, 0));
@@ -965,7 +967,7 @@ mod tests {
         // off the mirror and Snell directions (diffuse), all directions unit.
         let s = Spheroid::new(0.25, 1.0, Vec3::new(0.0, 0.0, 1.0));
         let coating = Coating { scattering_per_mm: 2e4, asymmetry: 0.5, ..Coating::uniform(1.56, 0.0, 5e-4) };
-        let p = ParticleOptics { coating: Some(coating), ..glass(1.544) };
+        let p = ParticleOptics { coating: Some(coating), ..ParticleOptics::clear(1.544) };
         let mut rng = Rng::for_ray(13, 0, 0);
         let d = Vec3::new(0.0, 0.0, -1.0);
         let mut off_mirror = 0;
@@ -988,7 +990,8 @@ mod tests {
     fn asymmetry_with_inclusions(sigma: f64, alpha: f64) -> (f64, usize) {
         let mut rng = Rng::for_ray(12, 0, 0);
         let s = Spheroid::new(0.25, 1.0, Vec3::new(0.0, 0.0, 1.0));
-        let p = ParticleOptics { core_scattering_per_mm: sigma, core_alpha_per_mm: alpha, ..glass(1.544) };
+        let p =
+            ParticleOptics { core_scattering_per_mm: sigma, core_alpha_per_mm: alpha, ..ParticleOptics::clear(1.544) };
         let d = Vec3::new(0.0, 0.0, -1.0);
         let (mut sum, mut absorbed) = (0.0, 0);
         for _ in 0..20_000 {
@@ -1029,7 +1032,7 @@ mod tests {
         let d = Vec3::new(0.0, 0.0, -1.0);
         for _ in 0..10_000 {
             let hit = s.sample_hit(d, &mut rng, 100).unwrap();
-            match interact(&glass(1.5), &PoreOptics::DRY, &s, hit, d, false, &mut rng, 10_000) {
+            match interact(&ParticleOptics::clear(1.5), &PoreOptics::DRY, &s, hit, d, false, &mut rng, 10_000) {
                 Interaction::Reflected { dir } | Interaction::Transmitted { dir, .. } => {
                     assert!((dir.norm2() - 1.0).abs() < 1e-9)
                 }

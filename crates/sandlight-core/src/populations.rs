@@ -132,14 +132,7 @@ mod tests {
     use crate::sizes::QuantileTable;
 
     fn sand(types: &[(f64, QuantileTable, f64)], ell_mm: f64) -> Particulate {
-        let optics = ParticleOptics {
-            core_n: 1.544,
-            core_k: 0.0,
-            core_alpha_per_mm: 0.0,
-            core_scattering_per_mm: 0.0,
-            coating: None,
-            wets: true,
-        };
+        let optics = ParticleOptics::clear(1.544);
         let types = types
             .iter()
             .map(|(p, sizes, eps)| ParticleType { probability: *p, sizes: sizes.clone(), aspect_ratio: *eps, optics })

@@ -216,14 +216,7 @@ mod tests {
     use crate::sizes::QuantileTable;
 
     fn sand_with_fines() -> Particulate {
-        let optics = ParticleOptics {
-            core_n: 1.544,
-            core_k: 0.0,
-            core_alpha_per_mm: 0.0,
-            core_scattering_per_mm: 0.0,
-            coating: None,
-            wets: true,
-        };
+        let optics = ParticleOptics::clear(1.544);
         let sand = ParticleType {
             probability: 0.4,
             sizes: QuantileTable::new((0..65).map(|j| 0.15 + 0.3 * j as f64 / 64.0).collect()).unwrap(),

@@ -281,14 +281,7 @@ mod tests {
 
     /// Clear quartz-like spheroids (no absorption anywhere) in a slab `depth_mm` thick.
     fn clear_sand(pore: PoreOptics, depth_mm: f64) -> Particulate {
-        let optics = ParticleOptics {
-            core_n: 1.544,
-            core_k: 0.0,
-            core_alpha_per_mm: 0.0,
-            core_scattering_per_mm: 0.0,
-            coating: None,
-            wets: true,
-        };
+        let optics = ParticleOptics::clear(1.544);
         let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
         let t = ParticleType { probability: 1.0, sizes, aspect_ratio: 1.4, optics };
         Particulate::new(vec![t], 0.1, pore, depth_mm).unwrap()
