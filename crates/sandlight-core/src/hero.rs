@@ -126,6 +126,7 @@ impl HeroGroup {
                         && a.sizes == b.sizes
                         && a.aspect_ratio == b.aspect_ratio
                         && a.optics.wets == b.optics.wets
+                        && a.optics.core_scattering_per_mm == b.optics.core_scattering_per_mm
                         && a.optics.coating.map(|c| (c.thickness_mm, c.coverage))
                             == b.optics.coating.map(|c| (c.thickness_mm, c.coverage))
                 });
@@ -145,7 +146,7 @@ impl HeroGroup {
                     &format!("media[{j}]"),
                     "a medium of other geometry",
                     "the media of a spectral group differ only in their optics (same particle types, sizes, shapes, \
-                     free path, pore filling, film thickness and coverage, coating thickness and coverage, volume \
+                     inclusions, free path, pore filling, film thickness and coverage, coating thickness and coverage, volume \
                      scatterers and their majorants, and depth)",
                 ));
             }
