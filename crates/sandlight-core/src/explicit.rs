@@ -554,6 +554,7 @@ impl Medium for Explicit {
 mod tests {
     use super::*;
     use crate::medium::ParticleType;
+    use crate::memory::testing::{absorbing_sand, signature};
     use crate::packing::{PackedParticle, PackingParams};
     use crate::particle::{ParticleOptics, PoreOptics};
     use crate::populations::Populations;
@@ -638,6 +639,21 @@ mod tests {
             rng = r1;
         }
         assert!(outcomes.iter().all(|&n| n > 100), "{outcomes:?}");
+    }
+
+    #[test]
+    fn one_wavelength_makes_the_decisions_it_made_before_spectral_sharing() {
+        // Recorded from the explicit tracer before it made its choices through any
+        // `PathChoices` but `Mono` (commit 4696da1): the same paths from the same random
+        // numbers, through coated grains, fines, films and water-filled pores of absorbing
+        // water, semi-infinite and as a slab 1 mm deep.
+        let m = absorbing_sand();
+        let params = PackingParams { lateral_mm: 1.5, depth_mm: 1.5, seed: 3, ..Default::default() };
+        let scene = Arc::new(Scene::new(Packing::generate(&m, &params).unwrap()));
+        let semi = Explicit::new(m.clone(), scene.clone(), f64::INFINITY).unwrap();
+        assert_eq!(signature(&semi, 2000), [364, 1636, 0, 0, 11628, 1286168667432159318]);
+        let slab = Explicit::new(m, scene, 1.0).unwrap();
+        assert_eq!(signature(&slab, 2000), [349, 1308, 343, 0, 9318, 13791052080783838233]);
     }
 
     #[test]

@@ -458,39 +458,19 @@ pub(crate) fn trace_with_memory(
     }
 }
 
+/// Test media and a tracer's signature, shared by the tests of the memory and explicit tracers.
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::medium::ParticleType;
+pub(crate) mod testing {
+    use crate::math::Vec3;
+    use crate::medium::{ParticleType, Particulate};
     use crate::particle::{Coating, ParticleOptics, PoreOptics};
+    use crate::rng::Rng;
     use crate::sizes::QuantileTable;
-    use crate::volume_scatterer::testing::{henyey_greenstein, scatterer};
+    use crate::transport::{Fate, Limits, Medium};
 
-    /// Clear grains (no absorption anywhere): packed spheres and spheroids and clay fines, in
-    /// water-filled pores half of the time, in a slab `depth_mm` thick.
-    fn clear_sand(depth_mm: f64) -> Particulate {
-        let optics = ParticleOptics::clear(1.544);
-        let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
-        let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
-            probability,
-            sizes: sizes.clone(),
-            aspect_ratio,
-            optics,
-        };
-        let pore = PoreOptics {
-            water_n: 1.333,
-            water_alpha_per_mm: 0.0,
-            film_thickness_mm: 0.01,
-            film_coverage: 1.0,
-            water_filled_probability: 0.5,
-        };
-        let types = vec![t(0.4, &sizes, 1.0), t(0.4, &sizes, 1.4), t(0.2, &QuantileTable::constant(0.002), 1.0)];
-        Particulate::new(types, 0.08, pore, depth_mm).unwrap()
-    }
-
-    /// An absorbing sand for every choice of the memory tracer: packed spheres and spheroids with
+    /// An absorbing sand for every choice of the memory and explicit tracers: packed spheres and spheroids with
     /// a partial coating and clay fines, films, water-filled pores of absorbing water.
-    fn absorbing_sand() -> Particulate {
+    pub(crate) fn absorbing_sand() -> Particulate {
         let coating = Coating { coverage: 0.7, ..Coating::uniform(1.9, 60.0, 5e-4) };
         let optics = ParticleOptics {
             core_n: 1.55,
@@ -520,7 +500,7 @@ mod tests {
 
     /// [escaped, absorbed, transmitted, capped, events, XOR of each ray's next random number after
     /// it ended] of rays 0..n: equal only if every ray made the same draws and decisions.
-    fn signature(m: &impl Medium, n: u64) -> [u64; 6] {
+    pub(crate) fn signature(m: &impl Medium, n: u64) -> [u64; 6] {
         let d = Vec3::new(0.3, 0.4, -(0.75f64).sqrt());
         let mut s = [0u64; 6];
         for i in 0..n {
@@ -537,6 +517,38 @@ mod tests {
             s[5] ^= rng.next_u64();
         }
         s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::testing::{absorbing_sand, signature};
+    use super::*;
+    use crate::medium::ParticleType;
+    use crate::particle::{ParticleOptics, PoreOptics};
+    use crate::sizes::QuantileTable;
+    use crate::volume_scatterer::testing::{henyey_greenstein, scatterer};
+
+    /// Clear grains (no absorption anywhere): packed spheres and spheroids and clay fines, in
+    /// water-filled pores half of the time, in a slab `depth_mm` thick.
+    fn clear_sand(depth_mm: f64) -> Particulate {
+        let optics = ParticleOptics::clear(1.544);
+        let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
+        let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
+            probability,
+            sizes: sizes.clone(),
+            aspect_ratio,
+            optics,
+        };
+        let pore = PoreOptics {
+            water_n: 1.333,
+            water_alpha_per_mm: 0.0,
+            film_thickness_mm: 0.01,
+            film_coverage: 1.0,
+            water_filled_probability: 0.5,
+        };
+        let types = vec![t(0.4, &sizes, 1.0), t(0.4, &sizes, 1.4), t(0.2, &QuantileTable::constant(0.002), 1.0)];
+        Particulate::new(types, 0.08, pore, depth_mm).unwrap()
     }
 
     #[test]
