@@ -37,7 +37,7 @@ use crate::error::SandlightError;
 use crate::math::Vec3;
 use crate::medium::Particulate;
 use crate::packing::{PackedParticle, Packing};
-use crate::particle::{interact_with_stacks, survives, Interaction, Mono};
+use crate::particle::{interact_with_stacks, Absorber, Interaction, Mono, PathChoices};
 use crate::rng::Rng;
 use crate::spheroid::{Hit, Spheroid};
 use crate::transport::{enter_water_surface, leave_water_surface, Fate, Limits, Medium, RayOutcome, UP};
@@ -319,6 +319,14 @@ impl Scene {
 #[derive(Clone, Debug)]
 pub struct Explicit {
     pub medium: Particulate,
+    pub geometry: ExplicitGeometry,
+}
+
+/// What an explicit sample is apart from its optics: the scene, the bottom and the fines'
+/// free path and draw, the same for the media of every wavelength (a spectral group traces
+/// them with its hero's medium, `hero::HeroGroup::explicit`).
+#[derive(Clone, Debug)]
+pub struct ExplicitGeometry {
     pub scene: Arc<Scene>,
     /// Depth below the cut plane beyond which a ray counts as transmitted (mm); infinite for
     /// a semi-infinite sample.
@@ -370,45 +378,70 @@ impl Explicit {
         for f in fines.iter_mut() {
             f.0 /= acc;
         }
-        Ok(Explicit { medium, scene, bottom_mm, fines_free_path_mm, fines })
+        Ok(Explicit { medium, geometry: ExplicitGeometry { scene, bottom_mm, fines_free_path_mm, fines } })
     }
+}
 
+impl ExplicitGeometry {
     /// The interaction with packed grain `k` at `hit` (relative to its centre): the on-the-fly
-    /// engine's function with the medium's tables for the grain's type.
+    /// engine's function with `medium`'s tables for the grain's type, its wavelength-dependent
+    /// choices made through `choices`.
     #[inline]
+    #[allow(clippy::too_many_arguments)] // `interact_with_stacks`' ray and generator, the grain by index
     pub fn interact_packed(
         &self,
+        medium: &Particulate,
         k: usize,
         hit: Hit,
         d: Vec3,
         water: bool,
         rng: &mut Rng,
         max_internal: u32,
+        choices: &mut impl PathChoices,
     ) -> Interaction {
         let i = self.scene.grain(k).type_index;
-        let (_, stacks) = self.medium.type_tables(i);
+        choices.particle(i);
+        let (_, stacks) = medium.type_tables(i);
         interact_with_stacks(
-            &self.medium.types[i].optics,
+            &medium.types[i].optics,
             stacks,
-            &self.medium.pore,
+            &medium.pore,
             &self.scene.shapes[k],
             hit,
             d,
             water,
             rng,
             max_internal,
-            &mut Mono,
+            choices,
         )
     }
 
-    /// Traces from the point `o` (above the sample or in its pores) along `d`.
-    pub fn trace_from(&self, mut o: Vec3, mut d: Vec3, mut water: bool, rng: &mut Rng, limits: &Limits) -> RayOutcome {
+    /// Traces a ray arriving along `dir_in` through `medium` (one wavelength's optics, or the
+    /// hero's) at a uniformly random point of the plane above the sample, its
+    /// wavelength-dependent choices made through `choices` (`Mono` for one wavelength).
+    pub fn trace(
+        &self,
+        medium: &Particulate,
+        dir_in: Vec3,
+        rng: &mut Rng,
+        limits: &Limits,
+        choices: &mut impl PathChoices,
+    ) -> RayOutcome {
         let scene = &*self.scene;
-        let pore = &self.medium.pore;
+        let pore = &medium.pore;
         let per = scene.packing.period;
         let bottom_z = per.z - self.bottom_mm;
         let mut events = 0u64;
         let done = |fate, events| RayOutcome { fate, events };
+        let mut o = Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, scene.top_mm);
+        let mut d = dir_in;
+        let mut water = pore.draw_water(rng);
+        if water {
+            match enter_water_surface(pore.water_n, d, rng, choices) {
+                Some(dir) => d = dir,
+                None => return done(Fate::Escaped(d.reflect(UP)), 0),
+            }
+        }
         loop {
             // Translational symmetry: keep x, y in the first period.
             o.x = o.x.rem_euclid(per.x);
@@ -433,10 +466,7 @@ impl Explicit {
                 Err(()) => return done(Fate::Capped, events),
             };
             let flight = hit.map_or(reach, |h| h.0);
-            if water
-                && pore.water_alpha_per_mm > 0.0
-                && !survives(rng.uniform(), pore.water_alpha_per_mm * flight.min(t_top))
-            {
+            if water && !choices.survives(Absorber::Water, pore.water_alpha_per_mm, flight.min(t_top), rng) {
                 return done(Fate::Absorbed, events);
             }
             if hit.is_none() && t_top <= s_fines && t_top <= t_bottom {
@@ -444,7 +474,7 @@ impl Explicit {
                     return done(Fate::Escaped(d), events);
                 }
                 // A water-filled surface pore: water → air at a flat surface (as on the fly).
-                match leave_water_surface(pore.water_n, d, rng, &mut Mono) {
+                match leave_water_surface(pore.water_n, d, rng, choices) {
                     Some(out) => return done(Fate::Escaped(out), events),
                     None => {
                         o = o + d * t_top;
@@ -465,7 +495,7 @@ impl Explicit {
                     let x = o + d * t;
                     let rel = x - c;
                     let h = Hit { point: rel, normal: scene.shapes[k].normal_at(rel) };
-                    match self.interact_packed(k, h, d, water, rng, limits.max_internal) {
+                    match self.interact_packed(medium, k, h, d, water, rng, limits.max_internal, choices) {
                         Interaction::Reflected { dir } => {
                             o = x;
                             d = dir;
@@ -490,8 +520,8 @@ impl Explicit {
                     }
                     let u = rng.uniform();
                     let i = self.fines.iter().find(|f| u < f.0).map_or(self.fines[self.fines.len() - 1].1, |f| f.1);
-                    let ptype = &self.medium.types[i];
-                    let (a_over_d, stacks) = self.medium.type_tables(i);
+                    let ptype = &medium.types[i];
+                    let (a_over_d, stacks) = medium.type_tables(i);
                     let diameter = ptype.sizes.sample(rng);
                     let shape = Spheroid::with_semi_axis_ratio(
                         diameter,
@@ -503,6 +533,7 @@ impl Explicit {
                         return done(Fate::Capped, events);
                     };
                     o = x;
+                    choices.particle(i);
                     match interact_with_stacks(
                         &ptype.optics,
                         stacks,
@@ -513,7 +544,7 @@ impl Explicit {
                         water,
                         rng,
                         limits.max_internal,
-                        &mut Mono,
+                        choices,
                     ) {
                         Interaction::Reflected { dir } => d = dir,
                         Interaction::Transmitted { dir, exit_point, water: w } => {
@@ -535,18 +566,7 @@ impl Explicit {
 
 impl Medium for Explicit {
     fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
-        let per = self.scene.packing.period;
-        let o = Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, self.scene.top_mm);
-        let pore = &self.medium.pore;
-        let mut d = dir_in;
-        let water = pore.draw_water(rng);
-        if water {
-            match enter_water_surface(pore.water_n, d, rng, &mut Mono) {
-                Some(dir) => d = dir,
-                None => return RayOutcome { fate: Fate::Escaped(d.reflect(UP)), events: 0 },
-            }
-        }
-        self.trace_from(o, d, water, rng, limits)
+        self.geometry.trace(&self.medium, dir_in, rng, limits, &mut Mono)
     }
 }
 
@@ -599,6 +619,7 @@ mod tests {
             let centre = Vec3::new(2.5, 2.5, 2.5);
             let o = centre + h.point - d * 0.4;
             let (t, k, c) = ex
+                .geometry
                 .scene
                 .nearest(o, d, 1.0, f64::NEG_INFINITY, f64::INFINITY, false)
                 .unwrap()
@@ -606,8 +627,8 @@ mod tests {
             let rel = o + d * t - c;
             assert!((rel - h.point).norm2() < 1e-20, "hit {rel:?} vs {:?}", h.point);
             let (mut r1, mut r2) = (rng.clone(), rng.clone());
-            let explicit =
-                ex.interact_packed(k, Hit { point: rel, normal: shape.normal_at(rel) }, d, false, &mut r1, 10_000);
+            let hit = Hit { point: rel, normal: shape.normal_at(rel) };
+            let explicit = ex.geometry.interact_packed(&ex.medium, k, hit, d, false, &mut r1, 10_000, &mut Mono);
             let (_, stacks) = m.type_tables(0);
             let on_the_fly = interact_with_stacks(
                 &m.types[0].optics,
