@@ -7,8 +7,8 @@
 //! filling, film thickness, depth); their optics differ. The wavelength-dependent choices are
 //! the layer stacks at every particle (reflect / transmit / absorb), absorption along chords
 //! through cores and paths through pore water, and the flat water surface of a filled surface
-//! pore. The paths are those of the classic tracer or of a path memory (`memory`), whose
-//! geometry the group shares. Directions come from the hero's refractive indices (dispersion: docs/transport.md says
+//! pore. The paths are those of the classic tracer, of a path memory (`memory`) or of an
+//! explicit packing (`explicit`), whose geometry the group shares. Directions come from the hero's refractive indices (dispersion: docs/transport.md says
 //! how groups are formed and what this costs).
 //!
 //! The stacks' probabilities are read from tables of R and R + T over the incidence cosine,
@@ -18,8 +18,11 @@
 //! estimator is exact for these stacks, which differ from the exact ones by < 1e-6 in any
 //! probability (tested below; docs/transport.md).
 
+use std::sync::Arc;
+
 use crate::driver::{for_rays, Rays};
 use crate::error::SandlightError;
+use crate::explicit::{Explicit, ExplicitGeometry};
 use crate::fresnel;
 use crate::math::Vec3;
 use crate::medium::Particulate;
@@ -27,7 +30,7 @@ use crate::memory::{trace_with_memory, Memory, PathMemory};
 use crate::particle::{survives, Absorber, PathChoices, StackFate, StackKind, Stacks};
 use crate::rng::Rng;
 use crate::spectral::SpectralWeights;
-use crate::transport::{trace_classic, Fate, Limits};
+use crate::transport::{trace_classic, Fate, Limits, RayOutcome};
 use crate::volume_scatterer::{VolumeFate, VolumeOptics};
 
 /// Cells of the stack tables over the incidence cosine μ ∈ [0, 1].
@@ -57,8 +60,19 @@ pub struct HeroGroup {
     water_n: Option<Vec<f64>>,
     /// Core real indices per type, per wavelength; None where all are equal.
     core_n: Vec<Option<Vec<f64>>>,
-    /// The group's path memory; None for the classic tracer.
-    paths: Option<PathMemory>,
+    /// The tracer of the group's paths.
+    paths: Paths,
+}
+
+/// The tracer a group's paths take: the geometry they share (the media differ in their
+/// optics only).
+#[derive(Clone, Debug)]
+enum Paths {
+    Classic,
+    /// A path memory (`memory`), built once for the group.
+    Memory(PathMemory),
+    /// An explicit packing (`explicit`), the same scene and bottom for every medium.
+    Explicit(ExplicitGeometry),
 }
 
 /// One stack's table over the incidence cosine, every wavelength of the group.
@@ -107,50 +121,85 @@ fn varies(v: Vec<f64>) -> Option<Vec<f64>> {
     v.iter().any(|&x| x != v[0]).then_some(v)
 }
 
+/// Checks that `media` (one per wavelength, 1 to `MAX_GROUP`) differ only in their optics.
+fn check_geometry(media: &[Particulate]) -> Result<(), SandlightError> {
+    if media.is_empty() || media.len() > MAX_GROUP {
+        return Err(SandlightError::parameter(
+            "media",
+            format!("{} media", media.len()),
+            &format!("1 to {MAX_GROUP} media, one per wavelength"),
+        ));
+    }
+    let first = &media[0];
+    for (j, m) in media.iter().enumerate() {
+        let same_types = m.types.len() == first.types.len()
+            && m.types.iter().zip(&first.types).all(|(a, b)| {
+                a.probability == b.probability
+                    && a.sizes == b.sizes
+                    && a.aspect_ratio == b.aspect_ratio
+                    && a.optics.wets == b.optics.wets
+                    && a.optics.core_scattering_per_mm == b.optics.core_scattering_per_mm
+                    && a.optics.coating.map(|c| (c.thickness_mm, c.coverage))
+                        == b.optics.coating.map(|c| (c.thickness_mm, c.coverage))
+            });
+        let same_pore = m.pore.film_thickness_mm == first.pore.film_thickness_mm
+            && m.pore.film_coverage == first.pore.film_coverage
+            && m.pore.water_filled_probability == first.pore.water_filled_probability;
+        let majorants =
+            |m: &Particulate| (0..m.types.len()).map(|i| m.volume_scatterer(i).map(|v| v.majorant)).collect::<Vec<_>>();
+        if !same_types
+            || !same_pore
+            || majorants(m) != majorants(first)
+            || m.mean_free_path_mm != first.mean_free_path_mm
+            || m.depth_mm != first.depth_mm
+        {
+            return Err(SandlightError::parameter(
+                &format!("media[{j}]"),
+                "a medium of other geometry",
+                "the media of a spectral group differ only in their optics (same particle types, sizes, shapes, \
+                 inclusions, free path, pore filling, film thickness and coverage, coating thickness and coverage, volume \
+                 scatterers and their majorants, and depth)",
+            ));
+        }
+    }
+    Ok(())
+}
+
 impl HeroGroup {
     /// The group of `media` (one per wavelength, at most `MAX_GROUP`), which must share their
     /// geometry, traced with path memory `memory`.
     pub fn new(media: Vec<Particulate>, memory: Memory) -> Result<HeroGroup, SandlightError> {
-        if media.is_empty() || media.len() > MAX_GROUP {
-            return Err(SandlightError::parameter(
-                "media",
-                format!("{} media", media.len()),
-                &format!("1 to {MAX_GROUP} media, one per wavelength"),
-            ));
-        }
-        let first = &media[0];
-        for (j, m) in media.iter().enumerate() {
-            let same_types = m.types.len() == first.types.len()
-                && m.types.iter().zip(&first.types).all(|(a, b)| {
-                    a.probability == b.probability
-                        && a.sizes == b.sizes
-                        && a.aspect_ratio == b.aspect_ratio
-                        && a.optics.wets == b.optics.wets
-                        && a.optics.core_scattering_per_mm == b.optics.core_scattering_per_mm
-                        && a.optics.coating.map(|c| (c.thickness_mm, c.coverage))
-                            == b.optics.coating.map(|c| (c.thickness_mm, c.coverage))
-                });
-            let same_pore = m.pore.film_thickness_mm == first.pore.film_thickness_mm
-                && m.pore.film_coverage == first.pore.film_coverage
-                && m.pore.water_filled_probability == first.pore.water_filled_probability;
-            let majorants = |m: &Particulate| {
-                (0..m.types.len()).map(|i| m.volume_scatterer(i).map(|v| v.majorant)).collect::<Vec<_>>()
-            };
-            if !same_types
-                || !same_pore
-                || majorants(m) != majorants(first)
-                || m.mean_free_path_mm != first.mean_free_path_mm
-                || m.depth_mm != first.depth_mm
-            {
+        check_geometry(&media)?;
+        // The memory's geometry is that of every medium of the group (checked equal above).
+        let paths = PathMemory::new(&media[0], memory).map_or(Paths::Classic, Paths::Memory);
+        Ok(HeroGroup::with_paths(media, paths))
+    }
+
+    /// The group of the explicit samples `samples` (one per wavelength, at most `MAX_GROUP`),
+    /// which must share their geometry and be traced through the same scene (one `Arc<Scene>`)
+    /// with the same bottom.
+    pub fn explicit(samples: Vec<Explicit>) -> Result<HeroGroup, SandlightError> {
+        let (media, geometries): (Vec<Particulate>, Vec<ExplicitGeometry>) =
+            samples.into_iter().map(|e| (e.medium, e.geometry)).unzip();
+        check_geometry(&media)?;
+        let first = &geometries[0];
+        for (j, g) in geometries.iter().enumerate() {
+            if !Arc::ptr_eq(&g.scene, &first.scene) || g.bottom_mm != first.bottom_mm {
                 return Err(SandlightError::parameter(
                     &format!("media[{j}]"),
-                    "a medium of other geometry",
-                    "the media of a spectral group differ only in their optics (same particle types, sizes, shapes, \
-                     inclusions, free path, pore filling, film thickness and coverage, coating thickness and coverage, volume \
-                     scatterers and their majorants, and depth)",
+                    "an explicit sample of another scene or bottom",
+                    "the explicit samples of a spectral group are traced through one packing (the same scene) \
+                     with the same bottom",
                 ));
             }
         }
+        // The fines' free path and draw of `first` are those of every medium (checked equal).
+        Ok(HeroGroup::with_paths(media, Paths::Explicit(first.clone())))
+    }
+
+    /// The group of `media` (checked by `check_geometry`) whose paths `paths` trace.
+    fn with_paths(media: Vec<Particulate>, paths: Paths) -> HeroGroup {
+        let first = &media[0];
         let n = media.len();
         let types = first.types.len();
         let mut tables = Vec::with_capacity(StackKind::ALL.len() * types);
@@ -191,9 +240,7 @@ impl HeroGroup {
         let water_alpha = varies(media.iter().map(|m| m.pore.water_alpha_per_mm).collect());
         let water_n = varies(media.iter().map(|m| m.pore.water_n).collect());
         let core_n = (0..types).map(|t| varies(media.iter().map(|m| m.types[t].optics.core_n).collect())).collect();
-        // The memory's geometry is that of every medium of the group (checked equal above).
-        let paths = PathMemory::new(first, memory);
-        Ok(HeroGroup { media, tables, core_alpha, water_alpha, water_n, core_n, paths })
+        HeroGroup { media, tables, core_alpha, water_alpha, water_n, core_n, paths }
     }
 
     /// Wavelengths in the group.
@@ -265,19 +312,29 @@ impl HeroGroup {
         let out = if n == 1 {
             // One wavelength: every ratio is the hero's own, so the weights stay 1 and only the
             // decisions are made (`Single`, the same decisions from the same numbers).
-            let mut single = Single { group: self, particle: 0 };
-            match &self.paths {
-                None => trace_classic(medium, dir_in, rng, limits, &mut single),
-                Some(paths) => trace_with_memory(paths, medium, dir_in, rng, limits, &mut single),
-            }
+            self.trace_path(medium, dir_in, rng, limits, &mut Single { group: self, particle: 0 })
         } else {
-            let mut companions = Companions { group: self, weights, particle: 0 };
-            match &self.paths {
-                None => trace_classic(medium, dir_in, rng, limits, &mut companions),
-                Some(paths) => trace_with_memory(paths, medium, dir_in, rng, limits, &mut companions),
-            }
+            self.trace_path(medium, dir_in, rng, limits, &mut Companions { group: self, weights, particle: 0 })
         };
         (out.fate, out.events)
+    }
+
+    /// One path through the hero's `medium` by the group's tracer, its choices made by
+    /// `choices`.
+    #[inline]
+    fn trace_path(
+        &self,
+        medium: &Particulate,
+        dir_in: Vec3,
+        rng: &mut Rng,
+        limits: &Limits,
+        choices: &mut impl PathChoices,
+    ) -> RayOutcome {
+        match &self.paths {
+            Paths::Classic => trace_classic(medium, dir_in, rng, limits, choices),
+            Paths::Memory(paths) => trace_with_memory(paths, medium, dir_in, rng, limits, choices),
+            Paths::Explicit(geometry) => geometry.trace(medium, dir_in, rng, limits, choices),
+        }
     }
 
     /// The hero's decision at stack `kind` of type `t` for a uniform `u` at incidence cosine
@@ -578,7 +635,11 @@ pub fn spectral_directional_hemispherical(
 /// Sand media for the tests of the shared tracers.
 #[cfg(test)]
 pub(crate) mod testing {
+    use std::sync::Arc;
+
+    use crate::explicit::{Explicit, Scene};
     use crate::medium::{ParticleType, Particulate};
+    use crate::packing::{Packing, PackingParams};
     use crate::particle::{Coating, ParticleOptics, PoreOptics};
     use crate::sizes::QuantileTable;
 
@@ -610,6 +671,17 @@ pub(crate) mod testing {
         Particulate::new(vec![t], 0.12, pore, f64::INFINITY).unwrap()
     }
 
+    /// `packed_sand(absorb, dn)` through the explicit packing `scene` (semi-infinite).
+    pub(crate) fn explicit_sand(scene: &Arc<Scene>, absorb: f64, dn: f64) -> Explicit {
+        Explicit::new(packed_sand(absorb, dn), scene.clone(), f64::INFINITY).unwrap()
+    }
+
+    /// A packing of the grains of `packed_sand` (a 1.5 mm box; its clay stays on the fly).
+    pub(crate) fn packed_scene(seed: u64) -> Arc<Scene> {
+        let params = PackingParams { lateral_mm: 1.5, depth_mm: 1.5, seed, ..Default::default() };
+        Arc::new(Scene::new(Packing::generate(&packed_sand(1.0, 0.0), &params).unwrap()))
+    }
+
     /// For the path memories: packed spheres (the pair correlation of `Memory::Packed`) and
     /// clay fines, the coating, films and wet pores of `sand`, absorption scaled by `absorb`,
     /// indices shifted by `dn`.
@@ -623,7 +695,7 @@ pub(crate) mod testing {
 
 #[cfg(test)]
 mod tests {
-    use super::testing::{packed_sand, sand, sand_with};
+    use super::testing::{explicit_sand, packed_sand, packed_scene, sand, sand_with};
     use super::*;
     use crate::driver::{directional_hemispherical, incident_direction};
     use crate::memory::WithMemory;
@@ -639,6 +711,36 @@ mod tests {
         let s2 = c.products[k] as f64 / (FIXED_ONE * FIXED_ONE);
         let rho = s1 / n as f64;
         (rho, ((s2 / n as f64 - rho * rho) / (n - 1) as f64).sqrt())
+    }
+
+    /// Asserts that each shared estimate of `g` over `rays` (stream 1) lies within 4 standard
+    /// errors of its own wavelength's independent run, `own[j]` over the same rays in stream 0.
+    fn assert_agrees_with_own_runs(g: &HeroGroup, own: &[impl Medium], dir: Vec3, rays: Rays, label: &str) {
+        let c = spectral_directional_hemispherical(g, dir, rays, &Limits::default());
+        for (j, m) in own.iter().enumerate() {
+            let (rho, se_shared) = shared_estimate(&c, j, rays.n);
+            let mono = directional_hemispherical(m, dir, Rays { stream: 0, ..rays }, &Limits::default());
+            let mono = mono.escaped as f64 / rays.n as f64;
+            let se = (se_shared.powi(2) + mono * (1.0 - mono) / rays.n as f64).sqrt();
+            assert!((rho - mono).abs() < 4.0 * se, "{label}, case {j}: shared {rho} vs {mono} ± {se}");
+        }
+    }
+
+    /// Asserts that a group of one wavelength traces the paths `own` traces, choice for choice:
+    /// the hero draw takes one number, then every ray has the same fate, events and next number
+    /// (every weight 1; the stacks decide from their tables, within 5e-7 of the exact
+    /// probabilities, which no decision of these rays falls between).
+    fn assert_traces_as(g: &HeroGroup, own: &impl Medium, dir: Vec3, label: &str) {
+        let mut weights = SpectralWeights::new(1, 0);
+        for i in 0..300 {
+            let mut a = Rng::for_ray(3, 1, i);
+            let (fate, events) = g.trace(dir, &mut a, &Limits::default(), &mut weights);
+            let mut b = Rng::for_ray(3, 1, i);
+            b.uniform();
+            let out = own.trace(dir, &mut b, &Limits::default());
+            assert_eq!((fate, events), (out.fate, out.events), "{label}, ray {i}");
+            assert_eq!(a.next_u64(), b.next_u64(), "{label}, ray {i}");
+        }
     }
 
     fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
@@ -662,10 +764,7 @@ mod tests {
                 r2.uniform(); // the hero's draw
                 let mut w2 = SpectralWeights::new(1, 0);
                 let mut companions = Companions { group: &g, weights: &mut w2, particle: 0 };
-                let out = match &g.paths {
-                    None => trace_classic(&g.media[0], dir, &mut r2, &Limits::default(), &mut companions),
-                    Some(p) => trace_with_memory(p, &g.media[0], dir, &mut r2, &Limits::default(), &mut companions),
-                };
+                let out = g.trace_path(&g.media[0], dir, &mut r2, &Limits::default(), &mut companions);
                 assert_eq!((fate, events), (out.fate, out.events), "{memory:?} ray {i}");
                 assert_eq!(r1.next_u64(), r2.next_u64(), "{memory:?} ray {i}");
                 let mut e = [0.0];
@@ -792,19 +891,16 @@ mod tests {
             })
             .collect();
         let dir = incident_direction(0.4);
-        let n = 20_000;
         for memory in [Memory::None, Memory::Packed] {
             let g = HeroGroup::new(media.clone(), memory).unwrap();
-            let rays = Rays { seed: 9, stream: 1, first: 0, n };
-            let c = spectral_directional_hemispherical(&g, dir, rays, &Limits::default());
-            for (j, m) in media.iter().enumerate() {
-                let (rho, se_shared) = shared_estimate(&c, j, n);
-                let own = WithMemory::new(m.clone(), memory);
-                let mono = directional_hemispherical(&own, dir, Rays { stream: 0, ..rays }, &Limits::default());
-                let mono = mono.escaped as f64 / n as f64;
-                let se = (se_shared.powi(2) + mono * (1.0 - mono) / n as f64).sqrt();
-                assert!((rho - mono).abs() < 4.0 * se, "{memory:?}, case {j}: shared {rho} vs {mono} ± {se}");
-            }
+            let own: Vec<_> = media.iter().map(|m| WithMemory::new(m.clone(), memory)).collect();
+            assert_agrees_with_own_runs(
+                &g,
+                &own,
+                dir,
+                Rays { seed: 9, stream: 1, first: 0, n: 20_000 },
+                &format!("{memory:?}"),
+            );
         }
         // Media whose volume scatterers differ in their majorant are no group.
         let other = packed_sand(1.0, 0.0)
@@ -821,61 +917,66 @@ mod tests {
         // indices by 0.02.
         let cases = [(0.25, 0.0), (1.0, 0.01), (3.0, 0.02)];
         let dir = incident_direction(0.4);
-        let n = 20_000;
+        let rays = Rays { seed: 8, stream: 1, first: 0, n: 20_000 };
         for memory in [Memory::Channel, Memory::Cut, Memory::Packed] {
             let media: Vec<_> = cases.iter().map(|&(a, dn)| packed_sand(a, dn)).collect();
             let g = HeroGroup::new(media.clone(), memory).unwrap();
-            let rays = Rays { seed: 8, stream: 1, first: 0, n };
-            let c = spectral_directional_hemispherical(&g, dir, rays, &Limits::default());
-            for (j, m) in media.into_iter().enumerate() {
-                let (rho, se_shared) = shared_estimate(&c, j, n);
-                let own = WithMemory::new(m, memory);
-                let classic = directional_hemispherical(&own, dir, Rays { stream: 0, ..rays }, &Limits::default());
-                let mono = classic.escaped as f64 / n as f64;
-                let se = (se_shared.powi(2) + mono * (1.0 - mono) / n as f64).sqrt();
-                assert!((rho - mono).abs() < 4.0 * se, "{memory:?}, case {j}: shared {rho} vs {mono} ± {se}");
-            }
+            let own: Vec<_> = media.into_iter().map(|m| WithMemory::new(m, memory)).collect();
+            assert_agrees_with_own_runs(&g, &own, dir, rays, &format!("{memory:?}"));
         }
     }
 
     #[test]
-    fn a_group_of_one_wavelength_traces_the_paths_of_its_memory() {
-        // One wavelength: the hero draw takes one number, then the path is the memory tracer's
-        // own, choice for choice (every weight 1; the stacks decide from their tables, within
-        // 5e-7 of the exact probabilities, which no decision of these rays falls between).
+    fn shared_estimates_agree_with_independent_runs_through_an_explicit_packing() {
+        // The explicit tracer makes the choices of the memory tracers through `Companions`
+        // (water surfaces, survivals in water and cores, stacks of packed grains and of fines):
+        // each shared estimate within 4 standard errors of its own explicit run, absorption
+        // differing by a factor 12 and indices by 0.02, through one packing.
+        let scene = packed_scene(1);
+        let own: Vec<_> = [(0.25, 0.0), (1.0, 0.01), (3.0, 0.02)].map(|(a, dn)| explicit_sand(&scene, a, dn)).into();
+        let g = HeroGroup::explicit(own.clone()).unwrap();
+        assert_agrees_with_own_runs(
+            &g,
+            &own,
+            incident_direction(0.4),
+            Rays { seed: 8, stream: 1, first: 0, n: 10_000 },
+            "explicit",
+        );
+    }
+
+    #[test]
+    fn a_group_of_one_wavelength_traces_the_paths_of_its_memory_or_packing() {
         let m = packed_sand(1.0, 0.0);
         let dir = incident_direction(0.5);
         for memory in [Memory::Channel, Memory::Cut, Memory::Packed] {
             let g = HeroGroup::new(vec![m.clone()], memory).unwrap();
-            let own = WithMemory::new(m.clone(), memory);
-            let mut weights = SpectralWeights::new(1, 0);
-            for i in 0..300 {
-                let mut a = Rng::for_ray(3, 1, i);
-                let (fate, events) = g.trace(dir, &mut a, &Limits::default(), &mut weights);
-                let mut b = Rng::for_ray(3, 1, i);
-                b.uniform();
-                let out = own.trace(dir, &mut b, &Limits::default());
-                assert_eq!((fate, events), (out.fate, out.events), "{memory:?}, ray {i}");
-                assert_eq!(a.next_u64(), b.next_u64());
-            }
+            assert_traces_as(&g, &WithMemory::new(m.clone(), memory), dir, &format!("{memory:?}"));
         }
+        let own = explicit_sand(&packed_scene(1), 1.0, 0.0);
+        assert_traces_as(&HeroGroup::explicit(vec![own.clone()]).unwrap(), &own, dir, "explicit");
     }
 
     #[test]
     fn shared_tallies_do_not_depend_on_threads_or_batches() {
-        for memory in [Memory::None, Memory::Packed] {
-            let media = vec![packed_sand(0.5, 0.0), packed_sand(2.0, 0.01), packed_sand(4.0, 0.02)];
-            let g = HeroGroup::new(media, memory).unwrap();
+        let cases = [(0.5, 0.0), (2.0, 0.01), (4.0, 0.02)];
+        let media = cases.map(|(a, dn)| packed_sand(a, dn));
+        let scene = packed_scene(1);
+        let groups = [
+            ("classic", HeroGroup::new(media.to_vec(), Memory::None).unwrap()),
+            ("packed", HeroGroup::new(media.to_vec(), Memory::Packed).unwrap()),
+            ("explicit", HeroGroup::explicit(cases.map(|(a, dn)| explicit_sand(&scene, a, dn)).into()).unwrap()),
+        ];
+        for (label, g) in groups {
             let dir = incident_direction(0.7);
             let run = |first, n| {
                 spectral_directional_hemispherical(&g, dir, Rays { seed: 9, stream: 2, first, n }, &Limits::default())
             };
             let one = on_threads(1, || run(0, 3000));
             for threads in [2, 3] {
-                assert_eq!(on_threads(threads, || run(0, 3000)), one, "{memory:?}, {threads} threads");
+                assert_eq!(on_threads(threads, || run(0, 3000)), one, "{label}, {threads} threads");
             }
             let batches = on_threads(2, || run(0, 1000).merge(run(1000, 1)).merge(run(1001, 1999)));
-            assert_eq!(batches, one, "{memory:?}");
+            assert_eq!(batches, one, "{label}");
             assert!(one.escaped.iter().all(|&e| e > 0));
         }
     }
@@ -886,5 +987,13 @@ mod tests {
         other.depth_mm = 3.0;
         assert!(HeroGroup::new(vec![sand(1.0, 0.0), other], Memory::None).is_err());
         assert!(HeroGroup::new(vec![], Memory::None).is_err());
+        // Explicit samples: through one scene (the same `Arc`) with one bottom only.
+        let (scene, again) = (packed_scene(1), packed_scene(1));
+        let sample = explicit_sand(&scene, 1.0, 0.0);
+        let slab = Explicit::new(packed_sand(2.0, 0.0), scene.clone(), 2.0).unwrap();
+        assert!(HeroGroup::explicit(vec![sample.clone(), explicit_sand(&scene, 2.0, 0.0)]).is_ok());
+        assert!(HeroGroup::explicit(vec![sample.clone(), explicit_sand(&again, 2.0, 0.0)]).is_err());
+        assert!(HeroGroup::explicit(vec![sample, slab]).is_err());
+        assert!(HeroGroup::explicit(vec![]).is_err());
     }
 }
