@@ -427,21 +427,21 @@ impl ExplicitGeometry {
         limits: &Limits,
         choices: &mut impl PathChoices,
     ) -> RayOutcome {
-        let scene = &*self.scene;
+        let per = self.scene.packing.period;
+        let mut o = Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, self.scene.top_mm);
         let pore = &medium.pore;
-        let per = scene.packing.period;
-        let bottom_z = per.z - self.bottom_mm;
-        let mut events = 0u64;
-        let done = |fate, events| RayOutcome { fate, events };
-        let mut o = Vec3::new(rng.uniform() * per.x, rng.uniform() * per.y, scene.top_mm);
         let mut d = dir_in;
         let mut water = pore.draw_water(rng);
         if water {
             match enter_water_surface(pore.water_n, d, rng, choices) {
                 Some(dir) => d = dir,
-                None => return done(Fate::Escaped(d.reflect(UP)), 0),
+                None => return RayOutcome { fate: Fate::Escaped(d.reflect(UP)), events: 0 },
             }
         }
+        let scene = &*self.scene;
+        let bottom_z = per.z - self.bottom_mm;
+        let mut events = 0u64;
+        let done = |fate, events| RayOutcome { fate, events };
         loop {
             // Translational symmetry: keep x, y in the first period.
             o.x = o.x.rem_euclid(per.x);

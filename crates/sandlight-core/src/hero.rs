@@ -308,28 +308,28 @@ impl HeroGroup {
         let n = self.media.len();
         let hero = ((rng.uniform() * n as f64) as usize).min(n - 1);
         weights.reset(hero);
-        let medium = &self.media[hero];
         let out = if n == 1 {
             // One wavelength: every ratio is the hero's own, so the weights stay 1 and only the
             // decisions are made (`Single`, the same decisions from the same numbers).
-            self.trace_path(medium, dir_in, rng, limits, &mut Single { group: self, particle: 0 })
+            self.trace_path(hero, dir_in, rng, limits, &mut Single { group: self, particle: 0 })
         } else {
-            self.trace_path(medium, dir_in, rng, limits, &mut Companions { group: self, weights, particle: 0 })
+            self.trace_path(hero, dir_in, rng, limits, &mut Companions { group: self, weights, particle: 0 })
         };
         (out.fate, out.events)
     }
 
-    /// One path through the hero's `medium` by the group's tracer, its choices made by
-    /// `choices`.
+    /// One path through the medium of wavelength `hero` by the group's tracer, its choices
+    /// made by `choices`.
     #[inline]
     fn trace_path(
         &self,
-        medium: &Particulate,
+        hero: usize,
         dir_in: Vec3,
         rng: &mut Rng,
         limits: &Limits,
         choices: &mut impl PathChoices,
     ) -> RayOutcome {
+        let medium = &self.media[hero];
         match &self.paths {
             Paths::Classic => trace_classic(medium, dir_in, rng, limits, choices),
             Paths::Memory(paths) => trace_with_memory(paths, medium, dir_in, rng, limits, choices),
@@ -764,7 +764,7 @@ mod tests {
                 r2.uniform(); // the hero's draw
                 let mut w2 = SpectralWeights::new(1, 0);
                 let mut companions = Companions { group: &g, weights: &mut w2, particle: 0 };
-                let out = g.trace_path(&g.media[0], dir, &mut r2, &Limits::default(), &mut companions);
+                let out = g.trace_path(0, dir, &mut r2, &Limits::default(), &mut companions);
                 assert_eq!((fate, events), (out.fate, out.events), "{memory:?} ray {i}");
                 assert_eq!(r1.next_u64(), r2.next_u64(), "{memory:?} ray {i}");
                 let mut e = [0.0];

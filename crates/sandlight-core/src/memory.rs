@@ -468,8 +468,9 @@ pub(crate) mod testing {
     use crate::sizes::QuantileTable;
     use crate::transport::{Fate, Limits, Medium};
 
-    /// An absorbing sand for every choice of the memory and explicit tracers: packed spheres and spheroids with
-    /// a partial coating and clay fines, films, water-filled pores of absorbing water.
+    /// An absorbing sand for every choice of the memory and explicit tracers: packed spheres and
+    /// spheroids with a partial coating and clay fines, films, water-filled pores of absorbing
+    /// water.
     pub(crate) fn absorbing_sand() -> Particulate {
         let coating = Coating { coverage: 0.7, ..Coating::uniform(1.9, 60.0, 5e-4) };
         let optics = ParticleOptics {
@@ -480,13 +481,6 @@ pub(crate) mod testing {
             coating: Some(coating),
             wets: true,
         };
-        let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
-        let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
-            probability,
-            sizes: sizes.clone(),
-            aspect_ratio,
-            optics,
-        };
         let pore = PoreOptics {
             water_n: 1.333,
             water_alpha_per_mm: 0.4,
@@ -494,8 +488,22 @@ pub(crate) mod testing {
             film_coverage: 0.6,
             water_filled_probability: 0.4,
         };
-        let types = vec![t(0.45, &sizes, 1.0), t(0.35, &sizes, 1.3), t(0.2, &QuantileTable::constant(0.002), 1.0)];
+        let types = grains_and_clay(optics, [(0.45, 1.0), (0.35, 1.3)]);
         Particulate::new(types, 0.1, pore, f64::INFINITY).unwrap()
+    }
+
+    /// Two types of grain (each its encounter probability and aspect ratio, sizes 0.15–0.35 mm)
+    /// and clay fines (0.002 mm spheres, probability 0.2), all of `optics`.
+    pub(crate) fn grains_and_clay(optics: ParticleOptics, grains: [(f64, f64); 2]) -> Vec<ParticleType> {
+        let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
+        let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
+            probability,
+            sizes: sizes.clone(),
+            aspect_ratio,
+            optics,
+        };
+        let [(p0, e0), (p1, e1)] = grains;
+        vec![t(p0, &sizes, e0), t(p1, &sizes, e1), t(0.2, &QuantileTable::constant(0.002), 1.0)]
     }
 
     /// [escaped, absorbed, transmitted, capped, events, XOR of each ray's next random number after
@@ -522,24 +530,14 @@ pub(crate) mod testing {
 
 #[cfg(test)]
 mod tests {
-    use super::testing::{absorbing_sand, signature};
+    use super::testing::{absorbing_sand, grains_and_clay, signature};
     use super::*;
-    use crate::medium::ParticleType;
     use crate::particle::{ParticleOptics, PoreOptics};
-    use crate::sizes::QuantileTable;
     use crate::volume_scatterer::testing::{henyey_greenstein, scatterer};
 
     /// Clear grains (no absorption anywhere): packed spheres and spheroids and clay fines, in
     /// water-filled pores half of the time, in a slab `depth_mm` thick.
     fn clear_sand(depth_mm: f64) -> Particulate {
-        let optics = ParticleOptics::clear(1.544);
-        let sizes = QuantileTable::new((0..17).map(|j| 0.15 + 0.2 * j as f64 / 16.0).collect()).unwrap();
-        let t = |probability, sizes: &QuantileTable, aspect_ratio| ParticleType {
-            probability,
-            sizes: sizes.clone(),
-            aspect_ratio,
-            optics,
-        };
         let pore = PoreOptics {
             water_n: 1.333,
             water_alpha_per_mm: 0.0,
@@ -547,7 +545,7 @@ mod tests {
             film_coverage: 1.0,
             water_filled_probability: 0.5,
         };
-        let types = vec![t(0.4, &sizes, 1.0), t(0.4, &sizes, 1.4), t(0.2, &QuantileTable::constant(0.002), 1.0)];
+        let types = grains_and_clay(ParticleOptics::clear(1.544), [(0.4, 1.0), (0.4, 1.4)]);
         Particulate::new(types, 0.08, pore, depth_mm).unwrap()
     }
 
