@@ -11,7 +11,9 @@ import pytest
 import sandlight
 from sandlight.errors import ParameterError
 from sandlight.optics import complex_index
-from sandlight.physics.media import IsotropicScatterers, SandMedium, as_traceable
+from sandlight.physics.media import IsotropicScatterers, PackedSand, SandMedium, as_traceable
+from sandlight.physics.medium import native_medium
+from sandlight.physics.packing import generate_packing, reference_grain_mm
 from sandlight.physics.powder import Powder
 from sandlight.physics.spectral_groups import direction_indices, spectral_groups
 
@@ -141,8 +143,55 @@ def test_host_inclusions_agree_with_independent_runs():
     assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
 
 
-@pytest.mark.parametrize("medium", ["red-dune", packed(saturation=0.6)], ids=["classic", "packed-wet"])
-def test_shared_results_do_not_depend_on_the_thread_count(medium):
+@pytest.fixture(scope="module")
+def explicit_red_dune() -> PackedSand:
+    """red-dune through an explicit packing of its grains in a small box (2 mm, seed 1); its
+    fines stay on the fly."""
+    comp = as_traceable("red-dune").composition
+    pk = generate_packing(
+        native_medium(comp, 550.0), reference_mm=reference_grain_mm(comp), lateral_mm=2.0, depth_mm=2.0, seed=1
+    )
+    return as_traceable("red-dune", geometry="explicit", packing=pk)
+
+
+def test_explicit_geometry_agrees_with_independent_runs(explicit_red_dune):
+    # The explicit reference shared through its packing: absorption only (450–650 nm, ρ from
+    # about 0.03 to 0.6, one group), and its real dispersion over 400–700 nm (one group at the
+    # default tolerance).
+    frozen = absorption_only(explicit_red_dune)
+    wl = np.linspace(450.0, 650.0, 6)
+    assert len(spectral_groups(frozen.composition, wl, 0.0, optical_constants=frozen.optical_constants)) == 1
+    z_frozen = z_scores(frozen, wl, rays=2000, seeds=range(1, 21))
+    report(z_frozen)
+    wl = np.linspace(400.0, 700.0, 6)
+    assert len(spectral_groups(explicit_red_dune.composition, wl)) == 1
+    z_real = z_scores(explicit_red_dune, wl, rays=2000, seeds=range(1, 21))
+    report(z_real)
+    z = np.concatenate([z_frozen, z_real])
+    report(z)
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
+def test_explicit_single_wavelengths_are_traced_on_their_own(explicit_red_dune):
+    # share=False and a single wavelength trace the explicit medium wavelength by wavelength,
+    # as before sharing (the native tracer's paths are pinned by the Rust test
+    # one_wavelength_makes_the_decisions_it_made_before_spectral_sharing).
+    kw = dict(rays=1000, seed=3, progress=False)
+    both = sandlight.reflectance(explicit_red_dune, [500.0, 600.0], share=False, **kw)
+    one = sandlight.reflectance(explicit_red_dune, [600.0], **kw)
+    assert not both.shared and not one.shared
+    np.testing.assert_allclose(both.values, both.counts["escaped"] / 1000)
+    assert one.values[0] == both.values[1]
+    assert one.counts["events"][0] == both.counts["events"][1]
+
+
+@pytest.mark.parametrize(
+    "medium", ["red-dune", packed(saturation=0.6), "explicit"], ids=["classic", "packed-wet", "explicit"]
+)
+def test_shared_results_do_not_depend_on_the_thread_count(medium, request):
+    if medium == "explicit":
+        medium = request.getfixturevalue("explicit_red_dune")
     wl = np.linspace(400.0, 700.0, 8)
     runs = [sandlight.reflectance(medium, wl, rays=3000, seed=5, threads=t, progress=False) for t in (1, 2, 3)]
     for r in runs[1:]:

@@ -34,7 +34,7 @@ from sandlight.checks import (
     check_wavelengths,
 )
 from sandlight.errors import ParameterError
-from sandlight.physics.media import IsotropicScatterers, SandMedium, as_traceable, engine_settings
+from sandlight.physics.media import IsotropicScatterers, PackedSand, SandMedium, as_traceable, engine_settings
 from sandlight.physics.medium import Traceable
 from sandlight.physics.powder import Powder
 from sandlight.physics.spectral_groups import DISPERSION_TOLERANCE, spectral_groups
@@ -324,9 +324,10 @@ def reflectance(
     share : bool
         Spectral path sharing (docs/transport.md): the wavelengths of each group of nearly
         equal refractive indices are traced together, one path at a hero wavelength with a
-        weight per wavelength. Applies to an on-the-fly sand medium, with any path memory, and
-        to a ``Powder`` (:func:`shareable`); other media are traced wavelength by wavelength. ``False`` traces
-        every wavelength on its own (the reference of the sharing's tests).
+        weight per wavelength. Applies to a sand medium, on the fly with any path memory or
+        explicit, and to a ``Powder`` (:func:`shareable`); other media, and a single wavelength
+        of an explicit one, are traced wavelength by wavelength. ``False`` traces every
+        wavelength on its own (the reference of the sharing's tests).
     dispersion_tolerance : float
         Largest spread of any material's real index within a group (``share`` only), in
         [0, 1]; 0 groups only wavelengths of equal indices.
@@ -359,7 +360,9 @@ def reflectance(
     start = time.perf_counter()
     traced = as_traceable(sample, geometry=geometry, memory=memory, packing=packing, seed=seed)
     run = dict(incidence_deg=incidence_deg, seed=seed, threads=threads, max_events=max_events, progress=progress)
-    if share and shareable(traced):
+    # A single wavelength of the explicit reference is traced on its own, as before sharing
+    # (its paths unchanged; the on-the-fly media take a group of one).
+    if share and shareable(traced) and (wl.size > 1 or not isinstance(traced, PackedSand)):
         values, stderr, counts, cov, groups = _shared_spectrum(traced, wl, rays, dispersion_tolerance, run)
     else:
         share = False
@@ -400,13 +403,13 @@ def reflectance(
 
 def shareable(traced: Traceable) -> bool:
     """Whether spectral path sharing applies to ``traced``: a sand medium on the fly, with or
-    without path memory, or a powder (both traced on the fly; the explicit reference and the
-    reference media trace wavelength by wavelength, docs/transport.md)."""
-    return isinstance(traced, (SandMedium, Powder))
+    without path memory, or through an explicit packing, or a powder (the reference media and
+    user Traceables trace wavelength by wavelength, docs/transport.md)."""
+    return isinstance(traced, (SandMedium, PackedSand, Powder))
 
 
 def _shared_spectrum(
-    traced: SandMedium | Powder, wl: np.ndarray, rays: int, tolerance: float, run: dict
+    traced: SandMedium | PackedSand | Powder, wl: np.ndarray, rays: int, tolerance: float, run: dict
 ) -> tuple[np.ndarray, np.ndarray, dict, np.ndarray, tuple]:
     """Values, standard errors, counts, covariance and groups of a shared run over ``wl``."""
     groups = spectral_groups(traced.composition, wl, tolerance, optical_constants=traced.optical_constants)

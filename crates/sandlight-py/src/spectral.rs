@@ -26,30 +26,37 @@ type SharedCounts = (u64, u64, u64, Vec<u128>, Vec<u128>, Vec<u128>);
 
 #[pymethods]
 impl PySpectralGroup {
-    /// The group of `media` (one on-the-fly sand medium per wavelength, same geometry and path
-    /// memory).
+    /// The group of `media`: one on-the-fly sand medium per wavelength, same geometry and path
+    /// memory, or one explicit sand medium per wavelength, through the same packing with the
+    /// same bottom.
     #[new]
     fn new(py: Python<'_>, media: Vec<PyRef<'_, PyMedium>>) -> PyResult<Self> {
-        let mut list = Vec::with_capacity(media.len());
-        let mut memory = None;
-        for (j, m) in media.iter().enumerate() {
-            match &m.kind {
-                Kind::Particulate(w) if *memory.get_or_insert(w.memory) == w.memory => list.push(w.medium.clone()),
-                _ => {
-                    return Err(to_py(
-                        py,
-                        SandlightError::parameter(
-                            &format!("media[{j}]"),
-                            "another kind of medium",
-                            "an on-the-fly sand medium with the path memory of media[0]",
-                        ),
-                    ))
-                }
-            }
-        }
-        HeroGroup::new(list, memory.unwrap_or(Memory::None))
-            .map(|group| PySpectralGroup { group })
-            .map_err(|e| to_py(py, e))
+        let refused = |j: usize| {
+            to_py(
+                py,
+                SandlightError::parameter(
+                    &format!("media[{j}]"),
+                    "another kind of medium",
+                    "a sand medium of the kind of media[0]: on the fly with its path memory, or explicit",
+                ),
+            )
+        };
+        let group = if let Some(Kind::Explicit(_)) = media.first().map(|m| &m.kind) {
+            let samples = media.iter().enumerate().map(|(j, m)| match &m.kind {
+                Kind::Explicit(e) => Ok(e.clone()),
+                _ => Err(refused(j)),
+            });
+            HeroGroup::explicit(samples.collect::<PyResult<_>>()?)
+        } else {
+            let mut memory = None;
+            let media = media.iter().enumerate().map(|(j, m)| match &m.kind {
+                Kind::Particulate(w) if *memory.get_or_insert(w.memory) == w.memory => Ok(w.medium.clone()),
+                _ => Err(refused(j)),
+            });
+            let media = media.collect::<PyResult<_>>()?;
+            HeroGroup::new(media, memory.unwrap_or(Memory::None))
+        };
+        group.map(|group| PySpectralGroup { group }).map_err(|e| to_py(py, e))
     }
 
     /// Wavelengths in the group.

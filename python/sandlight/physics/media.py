@@ -208,12 +208,15 @@ class PackedSand:
 
     Rays follow the same per-particle physics through a stored random dense packing
     (:func:`sandlight.physics.packing.generate_packing`, wavelength independent), down to the
-    composition's depth (docs/geometry.md).
+    composition's depth (docs/geometry.md). ``optical_constants`` as in :class:`SandMedium`.
+    The media of all wavelengths share the packing, so their paths can be shared
+    (docs/transport.md, "Spectral path sharing").
     """
 
     composition: Composition
     packing: _native.Packing
     description: Mapping = field(default_factory=dict)
+    optical_constants: OpticalConstants | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.packing, _native.Packing):
@@ -231,7 +234,8 @@ class PackedSand:
 
     def medium(self, wavelength_nm: float) -> _native.Medium:
         """The native explicit medium at ``wavelength_nm`` (nm)."""
-        return native_medium(self.composition, wavelength_nm).explicit(self.packing, self.composition.depth_mm)
+        medium = native_medium(self.composition, wavelength_nm, optical_constants=self.optical_constants)
+        return medium.explicit(self.packing, self.composition.depth_mm)
 
     def describe(self) -> dict:
         """The description, with geometry 'explicit' and memory 'none'."""
