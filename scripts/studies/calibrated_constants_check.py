@@ -84,8 +84,11 @@ def main(argv=None) -> int:
 
     start = time.perf_counter()
     out = [f"Engine, {args.rays:,} rays per wavelength, seed {args.seed}; colours D50, CIE 1964 10°, 400–700 nm.\n"]
-    out.append("| sample | RMS 400–700 ± MC | RMS 400–2500 ± MC | bias 400–700 | ΔE2000 model vs measured |")
-    out.append("|---|---|---|---|---|")
+    out.append(
+        "| sample | RMS 400–700 ± MC | RMS 400–2500 ± MC | bias 400–700 | ΔE2000 model vs measured "
+        "| ρ 450 / 600 / 700 nm, model (measured) |"
+    )
+    out.append("|---|---|---|---|---|---|")
     runs = [(s, s.name, s.traced()) for s in SAMPLES]
     if args.hematite_k is not None:
         index = with_k("hematite", args.hematite_k)
@@ -106,9 +109,12 @@ def main(argv=None) -> int:
             method="CIE 2000",
         )
         vis, full = result.errors["400–700 nm"], result.errors["400–2500 nm"]
+        at = [int(np.argmin(abs(VISIBLE_NM - w))) for w in (450.0, 600.0, 700.0)]
+        measured = measured_on_grid(spectrum, VISIBLE_NM)
+        rho = " / ".join(f"{visible.values[i]:.3f} ({measured[i]:.3f})" for i in at)
         out.append(
             f"| {name} | {vis.rms:.4f} ± {vis.rms_mc:.4f} | {full.rms:.4f} ± {full.rms_mc:.4f} | "
-            f"{vis.bias:+.4f} | {float(de):.1f} |"
+            f"{vis.bias:+.4f} | {float(de):.1f} | {rho} |"
         )
     out.append("\n| preset | L* | a* | b* | C*ab | h° |")
     out.append("|---|---|---|---|---|---|")
