@@ -184,19 +184,23 @@ mod tests {
     /// The arrays of a shared run (escaped, squares, transmitted, launched, capped).
     type Arrays = [Vec<u64>; 5];
 
+    /// Zeroed arrays for n incoming patches, r outgoing patches and w wavelengths.
+    fn zeroed(n: usize, r: usize, w: usize) -> Arrays {
+        [n * r * w, n * r * w, n * w, n, n].map(|n| vec![0u64; n])
+    }
+
+    /// The arrays as the sums a measurement adds to.
+    fn as_sums(a: &mut Arrays) -> SpectralBrdfSums<'_> {
+        let [escaped, squares, transmitted, launched, capped] = a;
+        SpectralBrdfSums { escaped, squares, transmitted, launched, capped }
+    }
+
     /// Shared sums of `group` over the rays of each batch `(first, n)` of seed 7, added in turn:
     /// uniform incidence, or every trial from `fixed` (one incoming patch).
     fn shared(group: &HeroGroup, h: &CollectorHemisphere, fixed: Option<Vec3>, batches: &[(u64, u64)]) -> Arrays {
         let (r, w) = (h.n_patches(), group.len());
-        let n = if fixed.is_some() { 1 } else { r };
-        let [mut e, mut s, mut t, mut l, mut c] = [n * r * w, n * r * w, n * w, n, n].map(|n| vec![0u64; n]);
-        let mut sums = SpectralBrdfSums {
-            escaped: &mut e,
-            squares: &mut s,
-            transmitted: &mut t,
-            launched: &mut l,
-            capped: &mut c,
-        };
+        let mut arrays = zeroed(if fixed.is_some() { 1 } else { r }, r, w);
+        let mut sums = as_sums(&mut arrays);
         for &(first, n) in batches {
             let (rays, limits) = (Rays { seed: 7, stream: 1, first, n }, Limits::default());
             match fixed {
@@ -205,7 +209,7 @@ mod tests {
             }
             .unwrap();
         }
-        [e, s, t, l, c]
+        arrays
     }
 
     /// Light from 40° off the normal, azimuth 0.
@@ -245,53 +249,44 @@ mod tests {
         assert!(e.iter().sum::<u64>() > 0);
     }
 
-    #[test]
-    fn shared_reflectance_per_incoming_patch_agrees_with_independent_measurements() {
-        // Two wavelengths that differ only in absorption (×6): per incoming patch, the shared
-        // escaped weight Σ F / N_i and the independent count n / N_i agree within 4 standard
-        // errors (the shared one's from Σ F²).
-        let h = CollectorHemisphere::new(2, 4).unwrap();
-        let absorb = [0.5, 3.0];
-        let g = HeroGroup::new(absorb.iter().map(|&a| sand(a, 0.0)).collect(), Memory::None).unwrap();
-        let n = 40_000;
-        let [e, s, _, l, _] = shared(&g, &h, None, &[(0, n)]);
-        let (r, w) = (h.n_patches(), absorb.len());
-        for (k, &a) in absorb.iter().enumerate() {
-            let own = measure_brdf(&sand(a, 0.0), &h, Rays { seed: 7, stream: 0, first: 0, n }, &Limits::default());
-            for i in 0..r {
-                let ni = l[i] as f64;
-                let s1: f64 = (0..r).map(|j| e[(i * r + j) * w + k] as f64 / FIXED_ONE).sum();
-                let s2: f64 = (0..r).map(|j| s[(i * r + j) * w + k] as f64 / SQUARE_ONE).sum();
-                let rho = s1 / ni;
-                let var_shared = (s2 / ni - rho * rho) / ni;
-                let mono = own.escaped(i) as f64 / own.launched[i] as f64;
-                let se = (var_shared + mono * (1.0 - mono) / own.launched[i] as f64).sqrt();
-                assert!((rho - mono).abs() < 4.0 * se, "absorption ×{a}, patch {i}: {rho} vs {mono} ± {se}");
-            }
-        }
+    /// Asserts that a shared estimate Σ F / N, with Σ F and Σ F² as fixed-point sums `e` and
+    /// `s` over N trials, and an independent one n / N' agree within 4 standard errors (the
+    /// shared one's Var = (Σ F²/N − (Σ F/N)²)/N; the independent one's binomial).
+    fn assert_agree((e, s, n): (u64, u64, u64), (count, own_n): (u64, u64), what: &str) {
+        let n = n as f64;
+        let rho = e as f64 / FIXED_ONE / n;
+        let var_shared = (s as f64 / SQUARE_ONE / n - rho * rho) / n;
+        let mono = count as f64 / own_n as f64;
+        let se = (var_shared + mono * (1.0 - mono) / own_n as f64).sqrt();
+        assert!((rho - mono).abs() < 4.0 * se, "{what}: {rho} vs {mono} ± {se}");
     }
 
     #[test]
-    fn shared_fixed_incidence_agrees_with_independent_measurements() {
-        // Light from 40°, two wavelengths that differ only in absorption (×6): per outgoing
-        // patch j, the shared Σ F / N and the independent count n_j / N agree within 4
-        // standard errors (the shared one's from Σ F²: Var = (Σ F²/N − (Σ F/N)²)/N).
-        let h = CollectorHemisphere::new(3, 4).unwrap();
+    fn shared_estimates_agree_with_independent_measurements() {
+        // Two wavelengths that differ only in absorption (×6), against their own runs (stream
+        // 0): uniform incidence per incoming patch i (escaped weight Σ_j over row i), and light
+        // from 40° per outgoing patch j.
         let absorb = [0.5, 3.0];
         let g = HeroGroup::new(absorb.iter().map(|&a| sand(a, 0.0)).collect(), Memory::None).unwrap();
-        let n = 40_000;
-        let [e, s, _, l, c] = shared(&g, &h, Some(from_40_degrees()), &[(0, n)]);
-        assert_eq!((l, c), (vec![n], vec![0]));
-        let (r, w, n) = (h.n_patches(), absorb.len(), n as f64);
+        let (w, n) = (absorb.len(), 40_000);
+        let own = Rays { seed: 7, stream: 0, first: 0, n };
+        let h = CollectorHemisphere::new(2, 4).unwrap();
+        let r = h.n_patches();
+        let [e, s, _, l, _] = shared(&g, &h, None, &[(0, n)]);
         for (k, &a) in absorb.iter().enumerate() {
-            let rays = Rays { seed: 7, stream: 0, first: 0, n: n as u64 };
-            let own = measure_fixed_incidence(&sand(a, 0.0), &h, from_40_degrees(), rays, &Limits::default());
-            for j in 0..r {
-                let rho = e[j * w + k] as f64 / FIXED_ONE / n;
-                let var_shared = (s[j * w + k] as f64 / SQUARE_ONE / n - rho * rho) / n;
-                let mono = own.counts[j] as f64 / n;
-                let se = (var_shared + mono * (1.0 - mono) / n).sqrt();
-                assert!((rho - mono).abs() < 4.0 * se, "absorption ×{a}, patch {j}: {rho} vs {mono} ± {se}");
+            let t = measure_brdf(&sand(a, 0.0), &h, own, &Limits::default());
+            for i in 0..r {
+                let row = |x: &[u64]| (0..r).map(|j| x[(i * r + j) * w + k]).sum::<u64>();
+                assert_agree((row(&e), row(&s), l[i]), (t.escaped(i), t.launched[i]), &format!("×{a}, in {i}"));
+            }
+        }
+        let h = CollectorHemisphere::new(3, 4).unwrap();
+        let [e, s, _, l, c] = shared(&g, &h, Some(from_40_degrees()), &[(0, n)]);
+        assert_eq!((&l, c), (&vec![n], vec![0]));
+        for (k, &a) in absorb.iter().enumerate() {
+            let t = measure_fixed_incidence(&sand(a, 0.0), &h, from_40_degrees(), own, &Limits::default());
+            for j in 0..h.n_patches() {
+                assert_agree((e[j * w + k], s[j * w + k], l[0]), (t.counts[j], t.launched), &format!("×{a}, out {j}"));
             }
         }
     }
@@ -300,20 +295,19 @@ mod tests {
     fn fixed_incidence_sums_must_have_one_incoming_patch() {
         let h = CollectorHemisphere::new(3, 4).unwrap();
         let g = HeroGroup::new(vec![sand(1.0, 0.0), sand(2.0, 0.0)], Memory::None).unwrap();
-        let (r, w) = (h.n_patches(), g.len());
         // Sums sized for uniform incidence (r incoming patches).
-        let [mut e, mut s, mut t, mut l, mut c] = [r * r * w, r * r * w, r * w, r, r].map(|n| vec![0u64; n]);
-        let mut sums = SpectralBrdfSums {
-            escaped: &mut e,
-            squares: &mut s,
-            transmitted: &mut t,
-            launched: &mut l,
-            capped: &mut c,
-        };
+        let mut arrays = zeroed(h.n_patches(), h.n_patches(), g.len());
         let rays = Rays { seed: 7, stream: 1, first: 0, n: 10 };
-        let err = measure_fixed_incidence_shared(&g, &h, from_40_degrees(), rays, &Limits::default(), &mut sums);
+        let err = measure_fixed_incidence_shared(
+            &g,
+            &h,
+            from_40_degrees(),
+            rays,
+            &Limits::default(),
+            &mut as_sums(&mut arrays),
+        );
         assert!(matches!(err, Err(SandlightError::Parameter { ref name, .. }) if name == "escaped"), "{err:?}");
-        assert!(l.iter().all(|&l| l == 0));
+        assert!(arrays[3].iter().all(|&l| l == 0));
     }
 
     #[test]
