@@ -6,7 +6,8 @@ Prints trials per second with 1 and 2 threads for the default sample (``SandSamp
 550 nm on the paper's 901-patch hemisphere, the projected time for 10⁸ trials, the memory of one
 counter set and the process's peak resident memory; then the time of 16 wavelengths 400–700 nm
 measured with shared paths and wavelength by wavelength (``share=False``), side by side (one run
-each, 2 threads) with their ratio and the memory of the shared sums.
+each, 2 threads) with their ratio and the memory of the shared sums: with uniform incidence
+(``brdf``), then with light from 30° (``fixed_incidence``, the classic instrument).
 """
 
 from __future__ import annotations
@@ -20,8 +21,11 @@ import time
 import numpy as np
 
 import sandlight
-from sandlight.gonio.measure import MAX_GONIO_GROUP, brdf
+from sandlight.gonio.measure import MAX_GONIO_GROUP, brdf, fixed_incidence
 from sandlight.sample import SandSample
+
+#: Settings of every 16-wavelength run.
+SPECTRAL = {"seed": 1, "threads": 2, "progress": False}
 
 
 def main() -> None:
@@ -53,17 +57,21 @@ def main() -> None:
     print(f"one counter set: {counter_mb:.1f} MB ({r}×{r} uint64 + 3 per-patch counters)")
     print(f"peak resident memory of this process: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
     print(f"normal-incidence reflectance of the last run: {result.normal_reflectance:.4f}")
-    spectral(sample, int(args.spectral_rays), r)
+    n = int(args.spectral_rays)
+    spectral("uniform incidence", lambda wl, share: brdf(sample, wl, rays=n, share=share, **SPECTRAL), n, r * r)
+    fixed = {"incidence_deg": 30.0, "rays": n, **SPECTRAL}
+    spectral("fixed incidence 30°", lambda wl, share: fixed_incidence(sample, wl, share=share, **fixed), n, r)
 
 
-def spectral(sample: SandSample, n: int, r: int) -> None:
-    """Shared and independent measurements of 16 wavelengths 400–700 nm, side by side."""
+def spectral(instrument: str, measure, n: int, cells: int) -> None:
+    """Shared and independent measurements ``measure(wavelengths, share)`` of 16 wavelengths
+    400–700 nm, side by side; ``cells`` (incoming, outgoing) patch pairs per wavelength."""
     wl = np.linspace(400.0, 700.0, 16)
-    print(f"16 wavelengths 400–700 nm, {n:,} trials each, 2 threads, one run each:")
+    print(f"{instrument}: 16 wavelengths 400–700 nm, {n:,} trials each, 2 threads, one run each:")
     seconds = {}
     for share in (True, False):
         t0 = time.perf_counter()
-        results = brdf(sample, wl, rays=n, seed=1, threads=2, progress=False, share=share)
+        results = measure(wl, share)
         seconds[share] = time.perf_counter() - t0
         shared = results[0].squares is not None
         rate = 16 * n / seconds[share]
@@ -71,7 +79,7 @@ def spectral(sample: SandSample, n: int, r: int) -> None:
     ratio = seconds[True] / seconds[False]
     print(f"shared / independent time: {ratio:.2f} (speed-up {1 / ratio:.2f}×)")
     group = min(16, MAX_GONIO_GROUP)
-    print(f"shared sums of a group of {group}: {16 * r * r * group / 1e6:.0f} MB (16 bytes per in × out × wavelength)")
+    print(f"shared sums of a group of {group}: {16 * cells * group / 1e6:.2f} MB (16 bytes per in × out × wavelength)")
     print(f"peak resident memory of this process: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
 
 

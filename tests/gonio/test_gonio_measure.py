@@ -13,7 +13,10 @@ from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio import CollectorHemisphere, EquivalenceClasses, reduce_counts
 from sandlight.gonio.measure import IsotropicScatterers, LambertianSurface, brdf, fixed_incidence
 from sandlight.optics import complex_index
-from sandlight.physics.media import as_traceable
+from sandlight.physics.media import PackedSand, as_traceable
+from sandlight.physics.medium import native_medium
+from sandlight.physics.packing import generate_packing, reference_grain_mm
+from sandlight.physics.spectral_groups import spectral_groups
 from sandlight.testing import synthetic_brdf
 
 STACKS, SLICES = 7, 6
@@ -217,20 +220,40 @@ def absorption_only(name):
     return dataclasses.replace(as_traceable(name), optical_constants=index)
 
 
-def sharing_z(traced, wl, rays: int, seed: int) -> np.ndarray:
-    """z = (shared − independent)/√(se_s² + se_i²) of the absolute unique values, over classes and
-    wavelengths; each independent run has a seed of its own, so its errors are independent."""
-    shared = brdf(traced, wl, rays=rays, stacks=STACKS, slices=SLICES, seed=seed, progress=False)
-    assert all(b.squares is not None for b in shared)
+def sharing_z(measure, values, traced, wl, seeds) -> np.ndarray:
+    """z = (shared − independent)/√(se_s² + se_i²) over wavelengths and runs: ``measure(traced,
+    wavelengths, seed)`` runs an instrument, ``values(result)`` gives (values, standard errors);
+    for each shared run of seed s, wavelength k is measured on its own with seed 100 + 10 s + k,
+    so that the independent errors are independent."""
     z = []
-    for k, lam in enumerate(wl):
-        ind = brdf(traced, lam, rays=rays, stacks=STACKS, slices=SLICES, seed=100 + 10 * seed + k, progress=False)
-        assert ind.squares is None
-        s, i = shared[k].reduced, ind.reduced
-        z.append((s.unique_absolute - i.unique_absolute) / np.hypot(s.unique_absolute_stderr, i.unique_absolute_stderr))
+    for seed in seeds:
+        shared = measure(traced, wl, seed)
+        assert all(b.squares is not None for b in shared)
+        for k, lam in enumerate(wl):
+            ind = measure(traced, lam, 100 + 10 * seed + k)
+            assert ind.squares is None
+            (s, se_s), (i, se_i) = values(shared[k]), values(ind)
+            z.append((s - i) / np.hypot(se_s, se_i))
     z = np.concatenate(z)
     print(f"{z.size} z: mean {z.mean():+.3f}, spread {z.std(ddof=1):.3f}, max |z| {np.abs(z).max():.2f}")
     return z
+
+
+def z_unbiased(z: np.ndarray) -> None:
+    """Shared and independent agree: z of mean within 0.2 and spread within 0.8–1.2."""
+    assert np.all(np.isfinite(z))
+    assert abs(z.mean()) < 0.2, z.mean()
+    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+
+
+def absolute_values(b):
+    """The absolute unique BRDF values of a uniform-incidence run, with their standard errors."""
+    return b.reduced.unique_absolute, b.reduced.unique_absolute_stderr
+
+
+def brdf_runs(rays: int, stacks: int = STACKS, slices: int = SLICES):
+    """``measure`` for `sharing_z`: uniform-incidence runs of ``rays`` trials."""
+    return lambda traced, wl, seed: brdf(traced, wl, rays=rays, stacks=stacks, slices=slices, seed=seed, progress=False)
 
 
 @pytest.mark.parametrize(
@@ -244,9 +267,22 @@ def sharing_z(traced, wl, rays: int, seed: int) -> np.ndarray:
     ids=["absorption-only", "ottawa-quartz"],
 )
 def test_shared_brdf_agrees_with_independent_measurements(traced, wl):
-    z = sharing_z(traced, wl, rays=60_000, seed=1)
-    assert abs(z.mean()) < 0.2, z.mean()
-    assert 0.8 < z.std(ddof=1) < 1.2, z.std(ddof=1)
+    z_unbiased(sharing_z(brdf_runs(60_000), absolute_values, traced, wl, seeds=[1]))
+
+
+def test_shared_explicit_brdf_agrees_with_independent_measurements():
+    # The explicit reference (PackedSand: a packing of red-dune's grains in a 2 mm box, its
+    # fines on the fly) over 450–650 nm (real dispersion, one group), on a coarser 5 × 4
+    # hemisphere: 13 patches, 41 classes.
+    comp = as_traceable("red-dune").composition
+    pk = generate_packing(
+        native_medium(comp, 550.0), reference_mm=reference_grain_mm(comp), lateral_mm=2, depth_mm=2, seed=1
+    )
+    traced = as_traceable("red-dune", geometry="explicit", packing=pk)
+    assert isinstance(traced, PackedSand)
+    wl = [450.0, 520.0, 590.0, 650.0]
+    assert len(spectral_groups(traced.composition, np.array(wl))) == 1
+    z_unbiased(sharing_z(brdf_runs(10_000, 5, 4), absolute_values, traced, wl, seeds=[1, 2, 3]))
 
 
 def test_shared_sums_do_not_depend_on_the_thread_count():
@@ -316,3 +352,64 @@ def test_bad_sharing_inputs_name_the_parameter():
         brdf("red-dune", [500.0, 600.0], rays=10, dispersion_tolerance=2.0)
     with pytest.raises(ParameterError, match=r"wavelength_nm.*\[350, 2500\]"):
         brdf("red-dune", [500.0, 3000.0], rays=10)
+
+
+# The classic instrument (fixed incidence) with shared paths ------------------------------------
+
+FIXED = {"incidence_deg": 30.0, "azimuth_deg": 20.0, "stacks": STACKS, "slices": SLICES, "progress": False}
+
+
+@pytest.mark.parametrize(
+    "preset, wl",
+    [("red-dune", [450.0, 520.0, 590.0, 650.0]), ("ottawa-quartz", [400.0, 500.0, 600.0, 700.0])],
+)
+def test_shared_fixed_incidence_agrees_with_independent_measurements(preset, wl):
+    # Real presets with their dispersion (one group each at the default tolerance): the 37
+    # values f_j per wavelength, 5 shared runs.
+    def measure(traced, wl, seed):
+        return fixed_incidence(traced, wl, rays=40_000, seed=seed, **FIXED)
+
+    z_unbiased(sharing_z(measure, lambda b: (b.values, b.stderr), preset, wl, seeds=range(1, 6)))
+
+
+def test_shared_fixed_incidence_does_not_depend_on_the_thread_count():
+    run = {"rays": 20_000, "seed": 3, **FIXED}
+    one, two = (fixed_incidence("red-dune", [500.0, 600.0], threads=t, **run) for t in (1, 2))
+    for a, b in zip(one, two):
+        for name in ("counts", "squares", "values", "stderr"):
+            np.testing.assert_array_equal(getattr(a, name), getattr(b, name))
+        assert (a.absorbed, a.launched, a.lost) == (b.absorbed, b.launched, b.lost)
+    a = one[0]
+    assert a.counts.dtype == np.float64 and not np.array_equal(a.counts, np.round(a.counts))
+    assert a.launched == 20_000 and a.counts.sum() + a.absorbed + a.lost == pytest.approx(20_000, rel=1e-12)
+    assert [b.wavelength_nm for b in one] == [500.0, 600.0]
+
+
+def test_fixed_incidence_without_sharing_is_the_single_wavelength_measurement_bit_for_bit():
+    run = {"rays": 20_000, "seed": 2, **FIXED}
+    both = fixed_incidence("red-dune", [550.0, 650.0], share=False, **run)
+    one = fixed_incidence("red-dune", 650.0, **run)
+    assert both[1].squares is None and one.squares is None
+    np.testing.assert_array_equal(both[1].counts, one.counts)
+    np.testing.assert_array_equal(both[1].values, one.values)
+    # The counts of this run before sharing existed (pinned from commit 2dcd636).
+    digest = hashlib.sha256(np.ascontiguousarray(one.counts, dtype=np.int64).tobytes()).hexdigest()
+    assert digest == "d61f5d6793a927f6423d583f2b7202cac0d03dee2358d71fa170396b87a841dd"
+    assert (int(one.counts.sum()), one.absorbed, one.launched, one.lost) == (13701, 6299, 20_000, 0)
+    # A medium that cannot share is measured wavelength by wavelength.
+    lambert = fixed_incidence(LambertianSurface(0.5), [500.0, 600.0], **run)
+    assert lambert[0].squares is None and lambert[0].counts.dtype == np.uint64
+
+
+def test_bad_fixed_incidence_inputs_name_the_parameter():
+    run = {"incidence_deg": 30.0, "rays": 10, "progress": False}
+    with pytest.raises(ParameterError, match=r"share.*'yes'.*True or False"):
+        fixed_incidence("red-dune", [500.0, 600.0], share="yes", **run)
+    with pytest.raises(ParameterError, match=r"dispersion_tolerance.*\[0"):
+        fixed_incidence("red-dune", [500.0, 600.0], dispersion_tolerance=2.0, **run)
+    with pytest.raises(ParameterError, match=r"wavelength_nm.*\[350, 2500\]"):
+        fixed_incidence("red-dune", [500.0, 3000.0], **run)
+    with pytest.raises(ParameterError, match="azimuth_deg"):
+        fixed_incidence("red-dune", [500.0, 600.0], **{**run, "azimuth_deg": math.nan})
+    with pytest.raises(ParameterError, match="incidence_deg"):
+        fixed_incidence("red-dune", [500.0, 600.0], **{**run, "incidence_deg": 90.0})

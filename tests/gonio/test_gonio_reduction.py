@@ -229,3 +229,18 @@ class TestFixedIncidence:
     def test_balance_is_checked(self, hemisphere):
         with pytest.raises(ParameterError, match="launched"):
             reduce_fixed_incidence(hemisphere, np.ones(901, dtype=int), 0, 900)
+
+    def test_weight_sums_of_indicators_give_the_binomial_errors(self, hemisphere, lambert_probabilities):
+        # Weights 0 or 1: Σ F² = Σ F, so the errors from the squares are the binomial ones.
+        p = lambert_probabilities[0]
+        draw = np.random.default_rng(3).multinomial(10**6, np.append(p, 1 - p.sum()))
+        f, se = reduce_fixed_incidence(hemisphere, draw[:-1], draw[-1], 10**6)
+        weights = draw[:-1].astype(float)
+        fs, ses = reduce_fixed_incidence(hemisphere, weights, float(draw[-1]), 10**6, 0.0, squares=weights)
+        np.testing.assert_allclose(fs, f, rtol=1e-15)
+        np.testing.assert_allclose(ses, se, rtol=1e-12)
+        # Weight sums balance to 10⁻⁹ of the trials; the squares are checked like the counts.
+        with pytest.raises(ParameterError, match="launched"):
+            reduce_fixed_incidence(hemisphere, weights, draw[-1] + 0.01, 10**6, squares=weights)
+        with pytest.raises(ParameterError, match="squares"):
+            reduce_fixed_incidence(hemisphere, weights, draw[-1], 10**6, squares=weights[:-1])

@@ -59,6 +59,19 @@ pub(crate) fn checked_incidence(py: Python<'_>, theta_deg: f64) -> PyResult<Vec3
     Ok(incident_direction(theta_deg.to_radians()))
 }
 
+/// The unit direction toward a light at zenith `theta_deg` ∈ [0, 90) and azimuth `phi_deg`
+/// (finite), as the fixed-incidence goniophotometer takes it.
+pub(crate) fn checked_light(py: Python<'_>, theta_deg: f64, phi_deg: f64) -> PyResult<Vec3> {
+    if !(0.0..90.0).contains(&theta_deg) || !phi_deg.is_finite() {
+        return Err(to_py(
+            py,
+            SandlightError::parameter("incidence_deg", theta_deg, "must be in [0, 90) with a finite azimuth"),
+        ));
+    }
+    let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
+    Ok(Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos()))
+}
+
 /// The rays `first_ray .. first_ray + n_rays` of stream `stream` of `seed`, and each path's limits
 /// (particle events, internal reflections), as the Python run methods give them.
 pub(crate) fn rays_and_limits(
@@ -331,15 +344,8 @@ impl PyMedium {
         max_internal: u32,
         threads: Option<usize>,
     ) -> PyResult<(Bound<'py, PyArray1<u64>>, u64, u64, u64)> {
-        if !(0.0..90.0).contains(&theta_deg) || !phi_deg.is_finite() {
-            return Err(to_py(
-                py,
-                SandlightError::parameter("incidence_deg", theta_deg, "must be in [0, 90) with a finite azimuth"),
-            ));
-        }
+        let toward_light = checked_light(py, theta_deg, phi_deg)?;
         let h = CollectorHemisphere::new(stacks, slices).map_err(|e| to_py(py, e))?;
-        let (t, p) = (theta_deg.to_radians(), phi_deg.to_radians());
-        let toward_light = Vec3::new(t.sin() * p.cos(), t.sin() * p.sin(), t.cos());
         let (rays, limits) = rays_and_limits(seed, stream, first_ray, n_rays, max_events, max_internal);
         let run = || -> Result<FixedIncidenceTally, String> {
             run_with_threads(

@@ -5,14 +5,14 @@ use numpy::{PyReadwriteArray1, PyReadwriteArray2, PyReadwriteArray3};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use sandlight_core::error::SandlightError;
-use sandlight_core::gonio::measure::measure_brdf_shared;
+use sandlight_core::gonio::measure::{measure_brdf_shared, measure_fixed_incidence_shared};
 use sandlight_core::gonio::spectral_sums::SQUARE_ONE;
 use sandlight_core::gonio::{CollectorHemisphere, SpectralBrdfSums};
 use sandlight_core::hero::{spectral_directional_hemispherical, HeroGroup, FIXED_ONE};
 use sandlight_core::memory::Memory;
 
 use crate::errors::to_py;
-use crate::medium::{checked_incidence, rays_and_limits, Kind, PyMedium};
+use crate::medium::{checked_incidence, checked_light, rays_and_limits, Kind, PyMedium};
 use crate::pool::run_with_threads;
 
 #[pyclass(frozen, name = "SpectralGroup", module = "sandlight._native")]
@@ -109,13 +109,14 @@ impl PySpectralGroup {
         Ok((c.launched, c.capped, c.events, c.escaped, c.transmitted, c.products))
     }
 
-    /// Uniform-incidence goniophotometer trials `first_ray .. first_ray + n_rays` on a
-    /// `stacks` × `slices` hemisphere (r patches), with shared paths, added in place to the
-    /// uint64 sums `escaped` and `squares` (r, r, wavelengths), `transmitted` (r, wavelengths),
-    /// `launched` and `capped` (r,) (see `sandlight_core::gonio::spectral_sums`). The GIL is
-    /// released.
+    /// Goniophotometer trials `first_ray .. first_ray + n_rays` on a `stacks` × `slices`
+    /// hemisphere (r patches), with shared paths, added in place to the uint64 sums `escaped`
+    /// and `squares` (n, r, wavelengths), `transmitted` (n, wavelengths), `launched` and
+    /// `capped` (n,) (see `sandlight_core::gonio::spectral_sums`). Uniform incidence (n = r
+    /// incoming patches), or with `incidence_deg` = (zenith, azimuth) in degrees the classic
+    /// instrument, every trial from that direction (n = 1). The GIL is released.
     #[pyo3(signature = (stacks, slices, seed, stream, first_ray, n_rays, max_events, max_internal,
-                        escaped, squares, transmitted, launched, capped, threads = None))]
+                        escaped, squares, transmitted, launched, capped, threads = None, incidence_deg = None))]
     #[allow(clippy::too_many_arguments)] // one argument per Python parameter
     fn brdf_sums(
         &self,
@@ -134,7 +135,9 @@ impl PySpectralGroup {
         mut launched: PyReadwriteArray1<'_, u64>,
         mut capped: PyReadwriteArray1<'_, u64>,
         threads: Option<usize>,
+        incidence_deg: Option<(f64, f64)>,
     ) -> PyResult<()> {
+        let toward_light = incidence_deg.map(|(theta, phi)| checked_light(py, theta, phi)).transpose()?;
         let h = CollectorHemisphere::new(stacks, slices).map_err(|e| to_py(py, e))?;
         let (rays, limits) = rays_and_limits(seed, stream, first_ray, n_rays, max_events, max_internal);
         let contiguous = |name: &str| {
@@ -147,8 +150,10 @@ impl PySpectralGroup {
             launched: launched.as_slice_mut().map_err(|_| contiguous("launched"))?,
             capped: capped.as_slice_mut().map_err(|_| contiguous("capped"))?,
         };
-        py.detach(|| run_with_threads(threads, || measure_brdf_shared(&self.group, &h, rays, &limits, &mut sums)))
-            .map_err(PyRuntimeError::new_err)?
-            .map_err(|e| to_py(py, e))
+        let measure = || match toward_light {
+            Some(dir) => measure_fixed_incidence_shared(&self.group, &h, dir, rays, &limits, &mut sums),
+            None => measure_brdf_shared(&self.group, &h, rays, &limits, &mut sums),
+        };
+        py.detach(|| run_with_threads(threads, measure)).map_err(PyRuntimeError::new_err)?.map_err(|e| to_py(py, e))
     }
 }

@@ -232,51 +232,84 @@ def _measure_one(settings: _Settings, medium: _native.Medium, wl: float, checkpo
     return MeasuredBRDF.from_counts(*arrays.values(), **_metadata(settings), wavelength_nm=wl, method=settings.method)
 
 
+def _zero_sums(n_incoming: int, n_patches: int, n_wavelengths: int) -> dict[str, np.ndarray]:
+    """The fixed-point sums ``SpectralGroup.brdf_sums`` fills (``sandlight_core::gonio::
+    spectral_sums``), zeroed: per (incoming patch, outgoing patch, wavelength) Σ round(F·2³²)
+    (``escaped``) and Σ round(F²·2¹⁶) (``squares``); per incoming patch and wavelength
+    Σ round(F·2³²) over transmitted trials; per incoming patch the trials and the event-capped
+    trials. Uniform incidence has ``n_patches`` incoming patches, a fixed direction one."""
+    n, r, w = n_incoming, n_patches, n_wavelengths
+    return {
+        "escaped": np.zeros((n, r, w), np.uint64),
+        "squares": np.zeros((n, r, w), np.uint64),
+        "transmitted": np.zeros((n, w), np.uint64),
+        "launched": np.zeros(n, np.uint64),
+        "capped": np.zeros(n, np.uint64),
+    }
+
+
+def _shared_batch(
+    group: _native.SpectralGroup,
+    hemisphere: CollectorHemisphere,
+    sums: dict[str, np.ndarray],
+    settings: tuple[int, int, int, int | None],
+    incidence_deg: tuple[float, float] | None = None,
+) -> Callable[[int, int], None]:
+    """``batch(first, n)`` adding trials ``first .. first + n`` of ``group`` to ``sums``, with
+    ``settings`` = (seed, random stream, max_events, threads): uniform incidence, or every trial
+    from ``incidence_deg`` = (zenith, azimuth) in degrees."""
+    seed, stream, max_events, threads = settings
+
+    def batch(first: int, n: int) -> None:
+        group.brdf_sums(
+            hemisphere.stacks,
+            hemisphere.slices,
+            seed,
+            stream,
+            first,
+            n,
+            max_events,
+            MAX_INTERNAL_REFLECTIONS,
+            *sums.values(),
+            threads,
+            incidence_deg,
+        )
+
+    return batch
+
+
+def _weight_sums(sums: dict[str, np.ndarray], k: int) -> tuple[np.ndarray, ...]:
+    """Wavelength ``k``'s (counts, absorbed, launched, lost, squares) per incoming patch from
+    the fixed-point ``sums``: counts = Σ F per cell, lost = Σ F over transmitted trials + the
+    event-capped trials, absorbed = launched − escaped − lost, squares = Σ F² per cell."""
+    one, square_one = _native.SpectralGroup.fixed_one, _native.SpectralGroup.square_one
+    launched = sums["launched"].astype(np.int64)
+    counts = sums["escaped"][:, :, k] / one
+    lost = sums["transmitted"][:, k] / one + sums["capped"]
+    return counts, launched - counts.sum(axis=1) - lost, launched, lost, sums["squares"][:, :, k] / square_one
+
+
 def _measure_shared(
     settings: _Settings, group: _native.SpectralGroup, wl: np.ndarray, stream: int, label: str, checkpoint: Path | None
 ) -> list[MeasuredBRDF]:
     """The BRDFs at the wavelengths ``wl`` of ``group`` from shared trials (random stream
     ``stream``): the fixed-point sums of the native group (``SpectralGroup.brdf_sums``) as
-    weight sums Σ F and Σ F² per cell, absorbed = launched − escaped − lost."""
+    weight sums Σ F and Σ F² per cell (:func:`_weight_sums`)."""
     h = settings.hemisphere
-    r, w = h.n_patches, wl.size
-    arrays = {
-        "escaped": np.zeros((r, r, w), np.uint64),
-        "squares": np.zeros((r, r, w), np.uint64),
-        "transmitted": np.zeros((r, w), np.uint64),
-        "launched": np.zeros(r, np.uint64),
-        "capped": np.zeros(r, np.uint64),
-    }
-
-    def batch(first: int, n: int) -> None:
-        group.brdf_sums(
-            h.stacks,
-            h.slices,
-            settings.seed,
-            stream,
-            first,
-            n,
-            settings.max_events,
-            MAX_INTERNAL_REFLECTIONS,
-            *arrays.values(),
-            settings.threads,
-        )
-
+    arrays = _zero_sums(h.n_patches, h.n_patches, wl.size)
+    batch = _shared_batch(group, h, arrays, (settings.seed, stream, settings.max_events, settings.threads))
     key_fields = {"wavelengths_nm": wl.tolist(), "shared_stream": stream}
     _run_unit(settings, key_fields, arrays, batch, label, checkpoint)
-    one, square_one = _native.SpectralGroup.fixed_one, _native.SpectralGroup.square_one
-    launched = arrays["launched"].astype(np.int64)
     results = []
     for k, lam in enumerate(wl):
-        counts = arrays["escaped"][:, :, k] / one
-        lost = arrays["transmitted"][:, k] / one + arrays["capped"]
+        counts, absorbed, launched, lost, squares = _weight_sums(arrays, k)
         results.append(
             MeasuredBRDF.from_counts(
                 counts,
-                launched - counts.sum(axis=1) - lost,
+                absorbed,
                 launched,
                 lost,
-                squares=arrays["squares"][:, :, k] / square_one,
+                squares=squares,
                 **_metadata(settings),
                 wavelength_nm=float(lam),
                 method=settings.method,
@@ -295,6 +328,23 @@ def _metadata(settings: _Settings) -> dict:
         "rays": settings.rays,
         "seed": settings.seed,
     }
+
+
+def _shared_groups(traced: Traceable, wl: np.ndarray, share: bool, tolerance: float) -> list[np.ndarray] | None:
+    """The groups of wavelengths ``wl`` measured with shared trials, as indices into ``wl``:
+    the dispersion groups of ``traced`` (``spectral_groups``) split at :data:`MAX_GONIO_GROUP`.
+    None when nothing is shared: not ``share``, a single wavelength, or a medium that does not
+    share (``shareable``)."""
+    if not (share and wl.size > 1 and shareable(traced)):
+        return None
+    groups = spectral_groups(traced.composition, wl, tolerance, optical_constants=traced.optical_constants)
+    return [part for g in groups for part in np.array_split(g, math.ceil(g.size / MAX_GONIO_GROUP))]
+
+
+def _native_group(traced: Traceable, wl: np.ndarray, idx: np.ndarray) -> tuple[_native.SpectralGroup, str]:
+    """The native group of the wavelengths ``wl[idx]`` of ``traced``, and their span for labels."""
+    group = _native.SpectralGroup([traced.medium(float(wl[i])) for i in idx])
+    return group, f"{wl[idx].min():g}–{wl[idx].max():g} nm" if idx.size > 1 else f"{wl[idx[0]]:g} nm"
 
 
 def _unit_checkpoint(checkpoint: Path | None, unit: int, units: int) -> Path | None:
@@ -394,21 +444,14 @@ def brdf(
     )
     checkpoint = Path(checkpoint) if checkpoint is not None else None
     results: list[MeasuredBRDF | None] = [None] * wl.size
-    sharing = share and wl.size > 1 and shareable(traced)
+    groups = _shared_groups(traced, wl, share, dispersion_tolerance)
+    sharing = groups is not None
     if sharing:
-        groups = [
-            part
-            for g in spectral_groups(
-                traced.composition, wl, dispersion_tolerance, optical_constants=traced.optical_constants
-            )
-            for part in np.array_split(g, math.ceil(g.size / MAX_GONIO_GROUP))
-        ]
         with progress_bar(
             "tracing", len(groups) * rays, unit="rays", enabled=progress, show_after_s=SHOW_AFTER_SECONDS
         ):
             for g, idx in enumerate(groups):
-                group = _native.SpectralGroup([traced.medium(float(wl[i])) for i in idx])
-                span = f"{wl[idx].min():g}–{wl[idx].max():g} nm" if idx.size > 1 else f"{wl[idx[0]]:g} nm"
+                group, span = _native_group(traced, wl, idx)
                 label = f"BRDF at λ = {span} (group {g + 1}/{len(groups)})"
                 unit = _unit_checkpoint(checkpoint, g, len(groups))
                 for i, b in zip(idx, _measure_shared(settings, group, wl[idx], g + 1, label, unit)):
@@ -428,17 +471,26 @@ def brdf(
 
 @dataclass(frozen=True)
 class FixedIncidenceBRDF:
-    """BRDF per outgoing patch for one incident direction (the classic goniophotometer)."""
+    """BRDF per outgoing patch for one incident direction (the classic goniophotometer).
+
+    ``counts`` (n_j per outgoing patch), ``absorbed`` and ``lost`` are trial counts, or weight
+    sums Σ F (floats) when the wavelength was measured with shared paths; ``squares`` then holds
+    Σ F² per outgoing patch (None for independent trials); ``launched`` is N, the trials;
+    ``values`` and ``stderr`` are f_j and its standard error (``reduce_fixed_incidence``);
+    ``wavelength_nm`` the vacuum wavelength.
+    """
 
     hemisphere: CollectorHemisphere
     incidence_deg: float
     azimuth_deg: float
     counts: np.ndarray
-    absorbed: int
+    absorbed: int | float
     launched: int
-    lost: int
+    lost: int | float
     values: np.ndarray
     stderr: np.ndarray
+    squares: np.ndarray | None = None
+    wavelength_nm: float | None = None
 
     @property
     def reflectance(self) -> float:
@@ -448,7 +500,7 @@ class FixedIncidenceBRDF:
 
 def fixed_incidence(
     sample: SandSample | str | Traceable,
-    wavelength_nm: float = 550.0,
+    wavelength_nm: float | npt.ArrayLike = 550.0,
     *,
     incidence_deg: float,
     azimuth_deg: float = 0.0,
@@ -462,40 +514,118 @@ def fixed_incidence(
     geometry: str = "on-the-fly",
     memory: str | None = None,
     packing: _native.Packing | None = None,
-) -> FixedIncidenceBRDF:
+    share: bool = True,
+    dispersion_tolerance: float = DISPERSION_TOLERANCE,
+) -> FixedIncidenceBRDF | list[FixedIncidenceBRDF]:
     """The classic goniophotometer: f_j = n_j / (ω_p(j) N) for light from (θᵢ, φᵢ).
 
     ``sample``, ``geometry``, ``memory`` and ``packing`` as in :func:`brdf`; ``azimuth_deg`` is the
-    azimuth φᵢ of the incident light (degrees, finite).
+    azimuth φᵢ of the incident light (degrees, finite). ``wavelength_nm`` is a wavelength or a
+    sequence of them (one result each, in the order given); ``share`` and
+    ``dispersion_tolerance`` as in :func:`brdf`: the wavelengths of a group are measured with
+    the same trials (random stream g + 1 for group g), their n_j replaced by weight sums Σ F and
+    their standard errors computed from Σ F² (``squares``); a single wavelength, a medium that
+    does not share and ``share=False`` trace every wavelength with trials of its own (stream 0),
+    as a single-wavelength call does.
     """
-    wl = float(check_wavelengths("wavelength_nm", [wavelength_nm])[0])
+    wl = check_wavelengths("wavelength_nm", wavelength_nm)
     rays, seed, threads = check_count("rays", rays), check_seed("seed", seed), check_threads("threads", threads)
     theta = check_incidence("incidence_deg", incidence_deg)
-    azimuth_deg = check_real("azimuth_deg", azimuth_deg)
-    hemi = CollectorHemisphere(stacks, slices)
-    medium = as_traceable(sample, geometry=geometry, memory=memory, packing=packing, seed=seed).medium(wl)
-    counts = np.zeros(hemi.n_patches, np.uint64)
-    totals = np.zeros(3, np.uint64)
-
-    def batch(first: int, n: int) -> None:
-        c, a, l_, lost = medium.fixed_counts(
-            stacks,
-            slices,
-            theta,
-            float(azimuth_deg),
-            seed,
-            0,
-            first,
-            n,
-            int(max_events),
-            MAX_INTERNAL_REFLECTIONS,
-            threads,
-        )
-        counts[:] += c
-        totals[:] += np.array([a, l_, lost], np.uint64)
-
-    run_in_batches(batch, rays, label=f"fixed incidence {theta:g}°", progress=progress)
-    f, se = reduce_fixed_incidence(hemi, counts, int(totals[0]), int(totals[1]), int(totals[2]))
-    return FixedIncidenceBRDF(
-        hemi, theta, float(azimuth_deg), counts, int(totals[0]), int(totals[1]), int(totals[2]), f, se
+    azimuth_deg = float(check_real("azimuth_deg", azimuth_deg))
+    if not isinstance(share, bool):
+        raise ParameterError("share", share, "True or False")
+    dispersion_tolerance = check_real("dispersion_tolerance", dispersion_tolerance, 0.0, 1.0)
+    run = _FixedRun(
+        CollectorHemisphere(stacks, slices), theta, azimuth_deg, rays, seed, threads, int(max_events), progress
     )
+    traced = as_traceable(sample, geometry=geometry, memory=memory, packing=packing, seed=seed)
+    results: list[FixedIncidenceBRDF | None] = [None] * wl.size
+    groups = _shared_groups(traced, wl, share, dispersion_tolerance)
+    units = wl.size if groups is None else len(groups)
+    with progress_bar("tracing", units * rays, unit="rays", enabled=progress, show_after_s=SHOW_AFTER_SECONDS):
+        for g, idx in enumerate(groups or ()):
+            group, span = _native_group(traced, wl, idx)
+            label = f"fixed incidence {theta:g}° at λ = {span} (group {g + 1}/{len(groups)})"
+            for i, b in zip(idx, run.shared(group, wl[idx], g + 1, label)):
+                results[i] = b
+        for i in range(wl.size) if groups is None else ():
+            results[i] = run.one(traced.medium(float(wl[i])), float(wl[i]))
+    return results[0] if np.ndim(wavelength_nm) == 0 else results
+
+
+@dataclass(frozen=True)
+class _FixedRun:
+    """The parameters every wavelength of a :func:`fixed_incidence` run is traced with."""
+
+    hemisphere: CollectorHemisphere
+    incidence_deg: float
+    azimuth_deg: float
+    rays: int
+    seed: int
+    threads: int | None
+    max_events: int
+    progress: bool
+
+    def _result(
+        self,
+        counts: np.ndarray,
+        absorbed: float,
+        launched: int,
+        lost: float,
+        squares: np.ndarray | None,
+        wavelength_nm: float,
+    ) -> FixedIncidenceBRDF:
+        f, se = reduce_fixed_incidence(self.hemisphere, counts, absorbed, launched, lost, squares=squares)
+        return FixedIncidenceBRDF(
+            self.hemisphere,
+            self.incidence_deg,
+            self.azimuth_deg,
+            counts,
+            absorbed,
+            launched,
+            lost,
+            f,
+            se,
+            squares,
+            wavelength_nm,
+        )
+
+    def one(self, medium: _native.Medium, wavelength_nm: float) -> FixedIncidenceBRDF:
+        """The result at ``wavelength_nm`` from trials of its own (random stream 0)."""
+        h = self.hemisphere
+        counts = np.zeros(h.n_patches, np.uint64)
+        totals = np.zeros(3, np.uint64)
+
+        def batch(first: int, n: int) -> None:
+            c, a, l_, lost = medium.fixed_counts(
+                h.stacks,
+                h.slices,
+                self.incidence_deg,
+                self.azimuth_deg,
+                self.seed,
+                0,
+                first,
+                n,
+                self.max_events,
+                MAX_INTERNAL_REFLECTIONS,
+                self.threads,
+            )
+            counts[:] += c
+            totals[:] += np.array([a, l_, lost], np.uint64)
+
+        run_in_batches(batch, self.rays, label=f"fixed incidence {self.incidence_deg:g}°", progress=self.progress)
+        absorbed, launched, lost = (int(t) for t in totals)
+        return self._result(counts, absorbed, launched, lost, None, wavelength_nm)
+
+    def shared(self, group: _native.SpectralGroup, wl: np.ndarray, stream: int, label: str) -> list[FixedIncidenceBRDF]:
+        """The results at the wavelengths ``wl`` of ``group`` from shared trials (random stream
+        ``stream``): the sums of one incoming patch (:func:`_zero_sums`, :func:`_weight_sums`)."""
+        sums = _zero_sums(1, self.hemisphere.n_patches, wl.size)
+        settings = (self.seed, stream, self.max_events, self.threads)
+        batch = _shared_batch(group, self.hemisphere, sums, settings, (self.incidence_deg, self.azimuth_deg))
+        run_in_batches(batch, self.rays, label=label, progress=self.progress)
+        results = []
+        for k, lam in enumerate(wl):
+            counts, absorbed, launched, lost, squares = _weight_sums(sums, k)
+            results.append(self._result(counts[0], absorbed[0], int(launched[0]), lost[0], squares[0], float(lam)))
+        return results

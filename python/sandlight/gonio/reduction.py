@@ -346,7 +346,13 @@ def reduce_counts(
 
 
 def reduce_fixed_incidence(
-    hemisphere: CollectorHemisphere, counts: ArrayLike, absorbed: int, launched: int, lost: int = 0
+    hemisphere: CollectorHemisphere,
+    counts: ArrayLike,
+    absorbed: float,
+    launched: int,
+    lost: float = 0,
+    *,
+    squares: ArrayLike | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """BRDF of the classic goniophotometer: one incident direction, f_j = n_j / (ω_p(j) N).
 
@@ -354,29 +360,44 @@ def reduce_fixed_incidence(
     ----------
     hemisphere : CollectorHemisphere
         Outgoing patches, r of them.
-    counts : array_like of int, shape (r,)
-        n_j, trials that escaped into patch j.
-    absorbed, launched, lost : int
-        Trials absorbed, all trials N (escaped + absorbed + lost), trials lost.
+    counts : array_like, shape (r,)
+        n_j, trials that escaped into patch j (integers), or Σ F over them for a run with
+        shared paths (``squares`` given).
+    absorbed, launched, lost : int, or float weight sums
+        Trials absorbed, all trials N (an integer; escaped + absorbed + lost), trials lost.
+    squares : array_like of float, shape (r,), optional
+        Σ F² per outgoing patch of a run with shared paths (module docstring); None for counts
+        of independent trials.
 
     Returns
     -------
     f : numpy.ndarray, shape (r,)
         BRDF estimate per outgoing patch, sr⁻¹ (cos θ-weighted patch average).
     stderr : numpy.ndarray, shape (r,)
-        Binomial standard error √(N p̂(1 − p̂)) / (ω_p(j) N) with p̂ = n_j/N; zero where n_j = 0.
+        √(N (s_j − p̂_j²)) / (ω_p(j) N) with p̂_j = n_j/N and s_j the per-trial second moment:
+        s_j = p̂_j for counts (the binomial error √(N p̂(1 − p̂)) / (ω_p(j) N)), s_j = Σ F²/N for
+        weight sums; zero where n_j = 0.
     """
     r = hemisphere.n_patches
-    counts = _as_counts("counts", counts, (r,))
-    absorbed, launched, lost = (
-        int(_as_counts(k, v, ())) for k, v in (("absorbed", absorbed), ("launched", launched), ("lost", lost))
-    )
-    if launched != counts.sum() + absorbed + lost or launched == 0:
+    launched = int(_as_counts("launched", launched, ()))
+    if squares is None:
+        counts = _as_counts("counts", counts, (r,))
+        absorbed, lost = (int(_as_counts(k, v, ())) for k, v in (("absorbed", absorbed), ("lost", lost)))
+        tolerance = 0.0
+    else:
+        counts, squares = _as_sums("counts", counts, (r,)), _as_sums("squares", squares, (r,))
+        absorbed = float(_as_sums("absorbed", absorbed, (), signed=True))
+        lost = float(_as_sums("lost", lost, ()))
+        tolerance = 1e-9 * max(launched, 1)  # rounding of the weight sums, as in check_weight_sums
+    balance = counts.sum() + absorbed + lost
+    if abs(launched - balance) > tolerance or launched == 0:
         raise ParameterError(
             "launched",
             launched,
-            f"must be positive and equal escaped + absorbed + lost = {int(counts.sum()) + absorbed + lost}",
+            f"must be positive and equal escaped + absorbed + lost = {balance:.10g}",
         )
     wp = hemisphere.projected_solid_angles
     p = counts / launched
-    return p / wp, np.sqrt(launched * p * (1.0 - p)) / (wp * launched)
+    # Var(n_j / N) = (E[F²] − E[F]²) / N; for indicators F² = F and E[F²] − E[F]² = p(1 − p).
+    second = p * (1.0 - p) if squares is None else np.maximum(squares / launched - p * p, 0.0)
+    return p / wp, np.sqrt(launched * second) / (wp * launched)

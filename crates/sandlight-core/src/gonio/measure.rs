@@ -65,8 +65,9 @@ const SHARED_CHUNK: u64 = 65_536;
 /// so the integer sums do not depend on the thread count.
 ///
 /// # Errors
-/// `SandlightError::Parameter` if `sums` are not sized for `hemisphere` and `group`, or a sum
-/// would overflow (`SpectralBrdfSums::record`; the trials before it are kept).
+/// `SandlightError::Parameter` if `sums` are not sized for `hemisphere` (r incoming and r
+/// outgoing patches) and `group`, or a sum would overflow (`SpectralBrdfSums::record`; the
+/// trials before it are kept).
 pub fn measure_brdf_shared(
     group: &HeroGroup,
     hemisphere: &CollectorHemisphere,
@@ -74,8 +75,40 @@ pub fn measure_brdf_shared(
     limits: &Limits,
     sums: &mut SpectralBrdfSums<'_>,
 ) -> Result<(), SandlightError> {
+    let incidence = |rng: &mut Rng| draw_incidence(hemisphere, rng);
+    measure_shared(group, hemisphere, hemisphere.n_patches(), incidence, rays, limits, sums)
+}
+
+/// The classic goniophotometer with spectral path sharing: [`measure_brdf_shared`] with every
+/// trial from `toward_light` (unit, z > 0), as [`measure_fixed_incidence`]; the sums have one
+/// incoming patch (incoming index 0).
+///
+/// # Errors
+/// As [`measure_brdf_shared`], with sums sized for one incoming patch.
+pub fn measure_fixed_incidence_shared(
+    group: &HeroGroup,
+    hemisphere: &CollectorHemisphere,
+    toward_light: Vec3,
+    rays: Rays,
+    limits: &Limits,
+    sums: &mut SpectralBrdfSums<'_>,
+) -> Result<(), SandlightError> {
+    measure_shared(group, hemisphere, 1, |_: &mut Rng| (0, toward_light), rays, limits, sums)
+}
+
+/// The shared measurement of both instruments: trial i draws (incoming patch, direction
+/// toward the light) with `incidence` from its own random stream, then its hero and path.
+fn measure_shared(
+    group: &HeroGroup,
+    hemisphere: &CollectorHemisphere,
+    n_incoming: usize,
+    incidence: impl Fn(&mut Rng) -> (usize, Vec3) + Sync,
+    rays: Rays,
+    limits: &Limits,
+    sums: &mut SpectralBrdfSums<'_>,
+) -> Result<(), SandlightError> {
     let w = group.len();
-    sums.check(hemisphere.n_patches(), w)?;
+    sums.check(n_incoming, hemisphere.n_patches(), w)?;
     let mut q = vec![0u64; SHARED_CHUNK.min(rays.n) as usize * w];
     let end = rays.first + rays.n;
     for lo in (rays.first..end).step_by(SHARED_CHUNK as usize) {
@@ -87,7 +120,7 @@ pub fn measure_brdf_shared(
                 || (SpectralWeights::new(w, 0), vec![0.0; w]),
                 |(weights, estimates), (k, q)| {
                     let mut rng = rays.rng(lo + k as u64);
-                    let (i_in, toward_light) = draw_incidence(hemisphere, &mut rng);
+                    let (i_in, toward_light) = incidence(&mut rng);
                     let (fate, _) = group.trace(-toward_light, &mut rng, limits, weights);
                     let outcome = match fate {
                         Fate::Escaped(d) => Outcome::Escaped(hemisphere.patch_index([d.x, d.y, d.z])),
@@ -151,38 +184,56 @@ mod tests {
     /// The arrays of a shared run (escaped, squares, transmitted, launched, capped).
     type Arrays = [Vec<u64>; 5];
 
-    /// Shared sums of `group` over the rays of each batch `(first, n)` of seed 7, added in turn.
-    fn shared(group: &HeroGroup, h: &CollectorHemisphere, batches: &[(u64, u64)]) -> Arrays {
+    /// Zeroed arrays for n incoming patches, r outgoing patches and w wavelengths.
+    fn zeroed(n: usize, r: usize, w: usize) -> Arrays {
+        [n * r * w, n * r * w, n * w, n, n].map(|n| vec![0u64; n])
+    }
+
+    /// The arrays as the sums a measurement adds to.
+    fn as_sums(a: &mut Arrays) -> SpectralBrdfSums<'_> {
+        let [escaped, squares, transmitted, launched, capped] = a;
+        SpectralBrdfSums { escaped, squares, transmitted, launched, capped }
+    }
+
+    /// Shared sums of `group` over the rays of each batch `(first, n)` of seed 7, added in turn:
+    /// uniform incidence, or every trial from `fixed` (one incoming patch).
+    fn shared(group: &HeroGroup, h: &CollectorHemisphere, fixed: Option<Vec3>, batches: &[(u64, u64)]) -> Arrays {
         let (r, w) = (h.n_patches(), group.len());
-        let [mut e, mut s, mut t, mut l, mut c] = [r * r * w, r * r * w, r * w, r, r].map(|n| vec![0u64; n]);
-        let mut sums = SpectralBrdfSums {
-            escaped: &mut e,
-            squares: &mut s,
-            transmitted: &mut t,
-            launched: &mut l,
-            capped: &mut c,
-        };
+        let mut arrays = zeroed(if fixed.is_some() { 1 } else { r }, r, w);
+        let mut sums = as_sums(&mut arrays);
         for &(first, n) in batches {
-            let rays = Rays { seed: 7, stream: 1, first, n };
-            measure_brdf_shared(group, h, rays, &Limits::default(), &mut sums).unwrap();
+            let (rays, limits) = (Rays { seed: 7, stream: 1, first, n }, Limits::default());
+            match fixed {
+                Some(toward_light) => measure_fixed_incidence_shared(group, h, toward_light, rays, &limits, &mut sums),
+                None => measure_brdf_shared(group, h, rays, &limits, &mut sums),
+            }
+            .unwrap();
         }
-        [e, s, t, l, c]
+        arrays
+    }
+
+    /// Light from 40° off the normal, azimuth 0.
+    fn from_40_degrees() -> Vec3 {
+        let t = 40f64.to_radians();
+        Vec3::new(t.sin(), 0.0, t.cos())
     }
 
     #[test]
     fn shared_sums_do_not_depend_on_threads_or_batches() {
         let h = CollectorHemisphere::new(3, 4).unwrap();
         let media = vec![packed_sand(0.5, 0.0), packed_sand(2.0, 0.01), packed_sand(4.0, 0.02)];
-        for memory in [Memory::None, Memory::Packed] {
+        for (memory, fixed) in [(Memory::None, None), (Memory::Packed, None), (Memory::Packed, Some(from_40_degrees()))]
+        {
             let g = HeroGroup::new(media.clone(), memory).unwrap();
-            let one = on_threads(1, || shared(&g, &h, &[(0, 4000)]));
+            let one = on_threads(1, || shared(&g, &h, fixed, &[(0, 4000)]));
             for threads in [2, 3] {
-                assert_eq!(on_threads(threads, || shared(&g, &h, &[(0, 4000)])), one, "{memory:?}, {threads} threads");
+                let other = on_threads(threads, || shared(&g, &h, fixed, &[(0, 4000)]));
+                assert_eq!(other, one, "{memory:?}, {fixed:?}, {threads} threads");
             }
-            let batches = on_threads(2, || shared(&g, &h, &[(0, 1000), (1000, 1), (1001, 2999)]));
-            assert_eq!(batches, one, "{memory:?}");
+            let batches = on_threads(2, || shared(&g, &h, fixed, &[(0, 1000), (1000, 1), (1001, 2999)]));
+            assert_eq!(batches, one, "{memory:?}, {fixed:?}");
             assert_eq!(one[3].iter().sum::<u64>(), 4000);
-            assert!(one[0].iter().filter(|&&e| e > 0).count() > 100);
+            assert!(one[0].iter().filter(|&&e| e > 0).count() > if fixed.is_some() { 20 } else { 100 });
         }
     }
 
@@ -192,36 +243,71 @@ mod tests {
         // (and 2¹⁶ for the squares).
         let h = CollectorHemisphere::new(3, 4).unwrap();
         let g = HeroGroup::new(vec![sand(1.0, 0.0)], Memory::None).unwrap();
-        let [e, s, ..] = shared(&g, &h, &[(0, 3000)]);
+        let [e, s, ..] = shared(&g, &h, None, &[(0, 3000)]);
         let one = FIXED_ONE as u64;
         assert!(e.iter().zip(&s).all(|(&e, &s)| e % one == 0 && e / one == s / SQUARE_ONE as u64));
         assert!(e.iter().sum::<u64>() > 0);
     }
 
+    /// Asserts that a shared estimate Σ F / N, with Σ F and Σ F² as fixed-point sums `e` and
+    /// `s` over N trials, and an independent one n / N' agree within 4 standard errors (the
+    /// shared one's Var = (Σ F²/N − (Σ F/N)²)/N; the independent one's binomial).
+    fn assert_agree((e, s, n): (u64, u64, u64), (count, own_n): (u64, u64), what: &str) {
+        let n = n as f64;
+        let rho = e as f64 / FIXED_ONE / n;
+        let var_shared = (s as f64 / SQUARE_ONE / n - rho * rho) / n;
+        let mono = count as f64 / own_n as f64;
+        let se = (var_shared + mono * (1.0 - mono) / own_n as f64).sqrt();
+        assert!((rho - mono).abs() < 4.0 * se, "{what}: {rho} vs {mono} ± {se}");
+    }
+
     #[test]
-    fn shared_reflectance_per_incoming_patch_agrees_with_independent_measurements() {
-        // Two wavelengths that differ only in absorption (×6): per incoming patch, the shared
-        // escaped weight Σ F / N_i and the independent count n / N_i agree within 4 standard
-        // errors (the shared one's from Σ F²).
-        let h = CollectorHemisphere::new(2, 4).unwrap();
+    fn shared_estimates_agree_with_independent_measurements() {
+        // Two wavelengths that differ only in absorption (×6), against their own runs (stream
+        // 0): uniform incidence per incoming patch i (escaped weight Σ_j over row i), and light
+        // from 40° per outgoing patch j.
         let absorb = [0.5, 3.0];
         let g = HeroGroup::new(absorb.iter().map(|&a| sand(a, 0.0)).collect(), Memory::None).unwrap();
-        let n = 40_000;
-        let [e, s, _, l, _] = shared(&g, &h, &[(0, n)]);
-        let (r, w) = (h.n_patches(), absorb.len());
+        let (w, n) = (absorb.len(), 40_000);
+        let own = Rays { seed: 7, stream: 0, first: 0, n };
+        let h = CollectorHemisphere::new(2, 4).unwrap();
+        let r = h.n_patches();
+        let [e, s, _, l, _] = shared(&g, &h, None, &[(0, n)]);
         for (k, &a) in absorb.iter().enumerate() {
-            let own = measure_brdf(&sand(a, 0.0), &h, Rays { seed: 7, stream: 0, first: 0, n }, &Limits::default());
+            let t = measure_brdf(&sand(a, 0.0), &h, own, &Limits::default());
             for i in 0..r {
-                let ni = l[i] as f64;
-                let s1: f64 = (0..r).map(|j| e[(i * r + j) * w + k] as f64 / FIXED_ONE).sum();
-                let s2: f64 = (0..r).map(|j| s[(i * r + j) * w + k] as f64 / SQUARE_ONE).sum();
-                let rho = s1 / ni;
-                let var_shared = (s2 / ni - rho * rho) / ni;
-                let mono = own.escaped(i) as f64 / own.launched[i] as f64;
-                let se = (var_shared + mono * (1.0 - mono) / own.launched[i] as f64).sqrt();
-                assert!((rho - mono).abs() < 4.0 * se, "absorption ×{a}, patch {i}: {rho} vs {mono} ± {se}");
+                let row = |x: &[u64]| (0..r).map(|j| x[(i * r + j) * w + k]).sum::<u64>();
+                assert_agree((row(&e), row(&s), l[i]), (t.escaped(i), t.launched[i]), &format!("×{a}, in {i}"));
             }
         }
+        let h = CollectorHemisphere::new(3, 4).unwrap();
+        let [e, s, _, l, c] = shared(&g, &h, Some(from_40_degrees()), &[(0, n)]);
+        assert_eq!((&l, c), (&vec![n], vec![0]));
+        for (k, &a) in absorb.iter().enumerate() {
+            let t = measure_fixed_incidence(&sand(a, 0.0), &h, from_40_degrees(), own, &Limits::default());
+            for j in 0..h.n_patches() {
+                assert_agree((e[j * w + k], s[j * w + k], l[0]), (t.counts[j], t.launched), &format!("×{a}, out {j}"));
+            }
+        }
+    }
+
+    #[test]
+    fn fixed_incidence_sums_must_have_one_incoming_patch() {
+        let h = CollectorHemisphere::new(3, 4).unwrap();
+        let g = HeroGroup::new(vec![sand(1.0, 0.0), sand(2.0, 0.0)], Memory::None).unwrap();
+        // Sums sized for uniform incidence (r incoming patches).
+        let mut arrays = zeroed(h.n_patches(), h.n_patches(), g.len());
+        let rays = Rays { seed: 7, stream: 1, first: 0, n: 10 };
+        let err = measure_fixed_incidence_shared(
+            &g,
+            &h,
+            from_40_degrees(),
+            rays,
+            &Limits::default(),
+            &mut as_sums(&mut arrays),
+        );
+        assert!(matches!(err, Err(SandlightError::Parameter { ref name, .. }) if name == "escaped"), "{err:?}");
+        assert!(arrays[3].iter().all(|&l| l == 0));
     }
 
     #[test]

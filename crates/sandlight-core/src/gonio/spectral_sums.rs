@@ -12,7 +12,9 @@
 //!
 //! The caller owns the arrays (the Python package keeps them across batches and checkpoints),
 //! so a run keeps one set whatever the number of threads: 16 bytes per (incoming patch,
-//! outgoing patch, wavelength), 13 MB per wavelength at the paper's 901 patches.
+//! outgoing patch, wavelength), 13 MB per wavelength at the paper's 901 patches. Uniform
+//! incidence has as many incoming patches as outgoing ones; the classic (fixed-incidence)
+//! instrument has one, its incident direction.
 
 use crate::error::SandlightError;
 use crate::hero::FIXED_ONE;
@@ -32,8 +34,9 @@ pub enum Outcome {
     Capped,
 }
 
-/// The sums of a shared run over r patches and w wavelengths, borrowed from their owner
-/// (row-major; [`SpectralBrdfSums::check`] tests the sizes).
+/// The sums of a shared run over n incoming patches, r outgoing patches and w wavelengths,
+/// borrowed from their owner (row-major; n = r for uniform incidence, 1 for a fixed incident
+/// direction; [`SpectralBrdfSums::check`] tests the sizes).
 #[derive(Debug)]
 pub struct SpectralBrdfSums<'a> {
     /// Σ round(F_k · 2³²) over trials of incoming patch i escaped into patch j, at (i r + j) w + k.
@@ -49,25 +52,26 @@ pub struct SpectralBrdfSums<'a> {
 }
 
 impl SpectralBrdfSums<'_> {
-    /// Ok if the arrays are sized for `n_patches` patches and `n_wavelengths` wavelengths.
+    /// Ok if the arrays are sized for `n_incoming` incoming patches, `n_patches` outgoing
+    /// patches and `n_wavelengths` wavelengths.
     ///
     /// # Errors
     /// `SandlightError::Parameter` naming the first array of the wrong length.
-    pub fn check(&self, n_patches: usize, n_wavelengths: usize) -> Result<(), SandlightError> {
-        let (r, w) = (n_patches, n_wavelengths);
+    pub fn check(&self, n_incoming: usize, n_patches: usize, n_wavelengths: usize) -> Result<(), SandlightError> {
+        let (n, r, w) = (n_incoming, n_patches, n_wavelengths);
         let cells = "incoming × outgoing × wavelength";
         for (name, got, want, layout) in [
-            ("escaped", self.escaped.len(), r * r * w, cells),
-            ("squares", self.squares.len(), r * r * w, cells),
-            ("transmitted", self.transmitted.len(), r * w, "incoming × wavelength"),
-            ("launched", self.launched.len(), r, "one per incoming patch"),
-            ("capped", self.capped.len(), r, "one per incoming patch"),
+            ("escaped", self.escaped.len(), n * r * w, cells),
+            ("squares", self.squares.len(), n * r * w, cells),
+            ("transmitted", self.transmitted.len(), n * w, "incoming × wavelength"),
+            ("launched", self.launched.len(), n, "one per incoming patch"),
+            ("capped", self.capped.len(), n, "one per incoming patch"),
         ] {
             if got != want {
                 return Err(SandlightError::parameter(
                     name,
                     format!("{got} entries"),
-                    &format!("{want} entries ({layout}; {r} patches, {w} wavelengths)"),
+                    &format!("{want} entries ({layout}; {n} incoming, {r} outgoing patches, {w} wavelengths)"),
                 ));
             }
         }
@@ -83,10 +87,11 @@ impl SpectralBrdfSums<'_> {
     /// nothing is added then.
     ///
     /// # Panics
-    /// If a patch index is ≥ r (a caller bug).
+    /// If a patch index is out of range (≥ n incoming, ≥ r outgoing: a caller bug).
     pub fn record(&mut self, i_in: usize, outcome: Outcome, q: &[u64]) -> Result<(), SandlightError> {
-        let (r, w) = (self.launched.len(), q.len());
-        assert!(i_in < r, "incoming patch {i_in} out of range 0..{r}");
+        let (n, w) = (self.launched.len(), q.len());
+        assert!(i_in < n, "incoming patch {i_in} out of range 0..{n}");
+        let r = self.escaped.len().checked_div(n * w).unwrap_or(0);
         match outcome {
             Outcome::Escaped(j) => {
                 assert!(j < r, "outgoing patch {j} out of range 0..{r}");
@@ -171,7 +176,7 @@ mod tests {
         let mut a = Arrays::new(r, w);
         let half = (0.5 * FIXED_ONE) as u64;
         let mut s = a.sums();
-        s.check(r, w).unwrap();
+        s.check(r, r, w).unwrap();
         s.record(1, Outcome::Escaped(2), &[half, 3 * half]).unwrap();
         s.record(1, Outcome::Escaped(2), &[half, 0]).unwrap();
         s.record(0, Outcome::Transmitted, &[2 * half, half]).unwrap();
@@ -190,10 +195,13 @@ mod tests {
     fn wrong_lengths_and_overflow_are_errors_naming_the_array() {
         let mut a = Arrays::new(2, 2);
         for (r, w) in [(2, 3), (3, 2)] {
-            let err = a.sums().check(r, w).unwrap_err();
+            let err = a.sums().check(r, r, w).unwrap_err();
             assert!(matches!(err, SandlightError::Parameter { ref name, .. } if name == "escaped"), "{err:?}");
         }
-        a.sums().check(2, 2).unwrap();
+        // One incoming patch (fixed incidence) wants 2 × 2 escaped sums and one launched.
+        let err = a.sums().check(1, 4, 2).unwrap_err();
+        assert!(matches!(err, SandlightError::Parameter { ref name, .. } if name == "transmitted"), "{err:?}");
+        a.sums().check(2, 2, 2).unwrap();
         a.escaped[0] = u64::MAX - 1;
         let mut s = a.sums();
         let err = s.record(0, Outcome::Escaped(0), &[2, 2]).unwrap_err();
