@@ -10,9 +10,11 @@ noise estimated from the residuals. The same settings for all seven fractions:
   lives. Below 600 nm hematite absorbs so strongly that the model's reflectance is the grains'
   first-surface reflection, the same for every size (0.05); beyond 1000 nm the shipped k is at
   its 10⁻⁵ floor and the model is 0.5–0.96 for every size against the measured 0.12–0.46.
-- two variants: ``diameter``: diameter alone; ``diameter+scale``: diameter and a
-  multiplicative scale on the model spectrum (0.25–4), the nuisance for the model's known error
-  in absolute level.
+- three variants (``--variants``, default the first two): ``diameter``: diameter alone;
+  ``diameter+scale``: diameter and a multiplicative scale on the model spectrum (0.25–4), the
+  nuisance for the model's known error in absolute level; ``diameter+scattering``: diameter and
+  the scattering inside the grains (0–1000 mm⁻¹, the fractures of these "anhedrally fractured"
+  crystals; docs/model.md §2.4 item 9).
 
 ``--parts recovery``: the synthetic check of the intervals: hematite powders of 5, 20 and 80 µm,
 eight each, truth traced at 40000 rays (seeds 200 …), Gaussian noise σ = 0.005 added, fitted
@@ -34,6 +36,7 @@ Usage::
 
     nice -n 10 python3 scripts/studies/retrieval_powder.py [--rays 8000] [--out docs/data]
         [--figures docs/figures] [--parts gds69 recovery correlation]
+        [--variants diameter diameter+scale diameter+scattering]
 """
 
 from __future__ import annotations
@@ -58,7 +61,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from retrieval_measured import GDS69  # noqa: E402
 
 WINDOW_NM = np.arange(600.0, 1001.0, 25.0)
-VARIANTS = {"diameter": ["diameter_um"], "diameter+scale": ["diameter_um", "scale"]}
+VARIANTS = {
+    "diameter": ["diameter_um"],
+    "diameter+scale": ["diameter_um", "scale"],
+    "diameter+scattering": ["diameter_um", "scattering_per_mm"],
+}
 
 
 def swapped_pairs(letters: list[str], fitted: list[float]) -> list[str]:
@@ -178,7 +185,7 @@ def plot(rows: list[dict], path: Path, memory: str = "none") -> None:
     import matplotlib.pyplot as plt
 
     fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5), dpi=110)
-    for k, variant in enumerate(VARIANTS):
+    for k, variant in enumerate(dict.fromkeys(r["variant"] for r in rows)):
         sel = [r for r in rows if r["variant"] == variant]
         mid = np.array([r["sieve_midpoint_um"] for r in sel])
         d = np.array([r["diameter_um"] for r in sel])
@@ -224,6 +231,9 @@ def main(argv=None) -> None:
     parser.add_argument(
         "--parts", nargs="+", choices=("gds69", "recovery", "correlation"), default=["gds69", "recovery", "correlation"]
     )
+    parser.add_argument(
+        "--variants", nargs="+", choices=tuple(VARIANTS), default=["diameter", "diameter+scale"], help="GDS69 fits"
+    )
     args = parser.parse_args(argv)
     t0 = time.perf_counter()
     if "correlation" in args.parts:
@@ -232,9 +242,10 @@ def main(argv=None) -> None:
         recovery()
     if "gds69" not in args.parts:
         return
-    rows = [r for variant in VARIANTS for r in fit_series(variant, args.rays, args.fractions, args.memory)]
+    rows = [r for variant in args.variants for r in fit_series(variant, args.rays, args.fractions, args.memory)]
     print(f"({time.perf_counter() - t0:.0f} s)")
     stem = "retrieval_powder" + ("" if args.memory == "none" else f"_{args.memory}")
+    stem += "" if "diameter+scattering" not in args.variants else "_scattering"
     plot(rows, args.figures / f"{stem}.png", args.memory)
     keys = [k for k in rows[0] if k not in ("fitted", "measured")]
 

@@ -62,6 +62,7 @@ def test_the_diameter_is_fitted_in_log_and_the_scale_multiplies():
         ({"free": ["grain_size"]}, "free"),
         ({"free": ["diameter_um", "diameter_um"]}, "free"),
         ({"fixed": {"iron_oxide": 0.02}}, "fixed"),
+        ({"fixed": {"scattering_per_mm": -1.0}}, "scattering_per_mm"),
         ({"fixed": {"scale": 2.0}, "free": ["diameter_um", "scale"]}, "fixed"),
         ({"method": "bank"}, "method"),
         ({"forward": "dust"}, "forward"),
@@ -90,3 +91,13 @@ def test_the_powder_is_traced_with_the_memory_asked_for():
     x = np.array([2.0])
     assert classic.sample(x).memory == "none" and packed.sample(x).memory == "packed"
     assert "memory 'packed'" in PowderForward(packed, WINDOW, rays=RAYS, seed=3, threads=1).describe()
+
+
+def test_the_grains_scattering_is_a_powder_parameter():
+    # Clear grains unless fixed or fitted (docs/model.md §2.4 item 9); linear in mm⁻¹.
+    assert PowderSpace.build(["diameter_um"], None, "hematite").sample(np.array([2.0])).scattering_per_mm == 0.0
+    fixed = PowderSpace.build(["diameter_um"], {"scattering_per_mm": 30.0}, "hematite")
+    assert fixed.sample(np.array([2.0])).scattering_per_mm == 30.0
+    free = PowderSpace.build(["diameter_um", "scattering_per_mm"], None, "hematite")
+    np.testing.assert_allclose(free.high, [3.0, 1000.0])
+    assert free.sample(np.array([2.0, 250.0])).scattering_per_mm == 250.0

@@ -48,17 +48,25 @@ __all__ = ["PowderSpace", "PowderForward", "POWDER_FREEABLE", "POWDER_BOUNDS", "
 #: sieved powders and sands (below 1 µm the particles are smaller than the wavelength and the
 #: engine's particle optics, docs/model.md, are outside their domain). Porosity: 0.3–0.8,
 #: packed to loose powders. Aspect ratio: the engine's prolate spheroids, 1–20. Scale: a
-#: factor of 4 either way on the model spectrum.
+#: factor of 4 either way on the model spectrum. Scattering inside the grains (inclusions and
+#: fractures, mm⁻¹, docs/model.md §2.4 item 9): clear grains to a free path of 1 µm.
 POWDER_BOUNDS: dict[str, tuple[float, float]] = {
     "diameter_um": (1.0, 1000.0),
     "porosity": (0.3, 0.8),
     "aspect_ratio": (1.0, 20.0),
     "scale": (0.25, 4.0),
+    "scattering_per_mm": (0.0, 1000.0),
 }
 #: Parameters a powder fit can vary (every one of `POWDER_BOUNDS`).
 POWDER_FREEABLE: tuple[str, ...] = tuple(POWDER_BOUNDS)
 #: Values of the parameters that are neither free nor fixed.
-POWDER_DEFAULTS: dict[str, float] = {"diameter_um": 10.0, "porosity": 0.45, "aspect_ratio": 1.0, "scale": 1.0}
+POWDER_DEFAULTS: dict[str, float] = {
+    "diameter_um": 10.0,
+    "porosity": 0.45,
+    "aspect_ratio": 1.0,
+    "scale": 1.0,
+    "scattering_per_mm": 0.0,
+}
 #: Default wavelengths of a powder fit (nm): 400–1000 nm every 25 nm.
 POWDER_WAVELENGTHS_NM = np.arange(400.0, 1001.0, 25.0)
 _LOG = ("diameter_um",)
@@ -140,7 +148,12 @@ class PowderSpace:
         """The Powder at fit coordinates ``x`` (``scale`` is not part of it)."""
         p = self.parameters(x)
         return Powder(
-            self.material, p["diameter_um"], porosity=p["porosity"], aspect_ratio=p["aspect_ratio"], memory=self.memory
+            self.material,
+            p["diameter_um"],
+            porosity=p["porosity"],
+            aspect_ratio=p["aspect_ratio"],
+            memory=self.memory,
+            scattering_per_mm=p["scattering_per_mm"],
         )
 
     def scale(self, x: np.ndarray) -> np.ndarray:
