@@ -44,6 +44,7 @@ Needs the native engine and the shared USGS library (shared/data/measured/usgs_s
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import os
 import sys
@@ -148,6 +149,19 @@ def parse_args(argv):
         help="scattering coefficient (mm⁻¹) of inclusions and internal fractures in the powders' grains "
         "(default 0: clear grains)",
     )
+    parser.add_argument(
+        "--shipped-prior",
+        action="store_true",
+        help="a weak prior on log10 k at the shipped table's k (σ --prior-sigma), for a mineral without a "
+        "literature prior: it decides k only where no end-member does (e.g. hematite's opaque visible)",
+    )
+    parser.add_argument(
+        "--min-size-um",
+        type=float,
+        default=0.0,
+        help="leave out end-members whose grains are all at most this size (µm): the wave-optics "
+        "powders outside the geometric-optics engine (default 0: none)",
+    )
     parser.add_argument("--threads", type=int, default=1, help="engine threads (RAYON_NUM_THREADS, default 1)")
     parser.add_argument(
         "--cache", type=Path, default=None, help="folder of the restartable table cache (default: none)"
@@ -159,6 +173,10 @@ def parse_args(argv):
     args = parser.parse_args(argv)
     if not (0.0 < args.scale <= 1.0):
         parser.error(f"--scale = {args.scale!r} is not allowed: a number in (0, 1]")
+    if args.shipped_prior and SETUPS[args.mineral].prior:
+        parser.error(f"--shipped-prior is not allowed for {args.mineral}: it has its literature prior")
+    if not (args.min_size_um >= 0.0 and math.isfinite(args.min_size_um)):
+        parser.error(f"--min-size-um = {args.min_size_um!r} is not allowed: a finite number >= 0")
     if not (args.grain_scattering >= 0.0 and math.isfinite(args.grain_scattering)):
         parser.error(f"--grain-scattering = {args.grain_scattering!r} is not allowed: a finite number >= 0")
     if args.threads < 1:
@@ -181,12 +199,14 @@ def canonical_command(args) -> str:
     """The command with every option that decides the fitted k, in a fixed order and without
     paths or thread counts (which do not change the values): what the k csv records."""
     prior = f" --prior-sigma {args.prior_sigma:g}" if SETUPS[args.mineral].prior else ""
+    prior = f" --shipped-prior --prior-sigma {args.prior_sigma:g}" if args.shipped_prior else prior
     return (
         f"{SCRIPT} --mineral {args.mineral} --scale {args.scale:g} --smoothing {args.smoothing:g} "
         f"--model-sigma {args.model_sigma if args.model_sigma == 'auto' else format(args.model_sigma, 'g')}"
         f"{prior} --seed {args.seed}"
         + (f" --memory {args.memory}" if args.memory != "none" else "")
         + (f" --grain-scattering {args.grain_scattering:g}" if args.grain_scattering > 0 else "")
+        + (f" --min-size-um {args.min_size_um:g}" if args.min_size_um > 0 else "")
     )
 
 
@@ -212,9 +232,19 @@ def main(argv=None) -> int:
     wl, log10_k, rays = grids(args.scale, setup.log10_k_range)
     members = cal.end_members(args.mineral, fit_only=True)
     excluded = [m for m in cal.end_members(args.mineral) if not m.use_in_fit]
+    if args.min_size_um > 0:
+        # Grains below the size the wavelength allows geometric optics for (docs/optical-constants.md,
+        # "What limits it", item 3) are left out of the fit, not of the report.
+        small = [m for m in members if m.size_um[1] <= args.min_size_um]
+        members = tuple(m for m in members if m.size_um[1] > args.min_size_um)
+        reason = f"grains all ≤ {args.min_size_um:g} µm (--min-size-um)"
+        excluded += [dataclasses.replace(m, use_in_fit=False, excluded_because=reason) for m in small]
     forward = cal.EnginePowder(rays=rays, seed=args.seed, memory=args.memory, scattering_per_mm=args.grain_scattering)
     command = canonical_command(args)
     prior_log10_k = np.log10(cal.literature_k(args.mineral, wl)) if setup.prior else None
+    if args.shipped_prior:
+        shipped = table(args.mineral)
+        prior_log10_k = np.interp(wl, shipped["wavelength"].values, np.log10(shipped["k"].values))
     if args.mineral in cal.LITERATURE_MINERALS:
         reference = (wl, cal.literature_k(args.mineral, wl))
         reference_label = "literature prior" if setup.prior else "literature k"
@@ -270,7 +300,8 @@ def main(argv=None) -> int:
     holdout_fit = None
     if setup.test:
         ids = [t.member_id for t in tables]
-        chosen = [ids.index(i) for i in setup.train + setup.test]
+        train = tuple(i for i in setup.train if i in ids)
+        chosen = [ids.index(i) for i in train + setup.test]
         holdout_fit, _ = cal.holdout(
             kfit(cal, args, prior_log10_k),
             [tables[j] for j in chosen],
@@ -287,7 +318,8 @@ def main(argv=None) -> int:
         f"the measurement and Monte Carlo errors; model error σ_model = {fit.model_sigma_:.4f}"
         f"{'' if fit.result_.success else '; NOT CONVERGED: ' + fit.result_.message}). "
         + (
-            f"**Predicted** rows: fit on {', '.join(setup.train)} only, then predicted (cross-validation)."
+            f"**Predicted** rows: fit on {', '.join(i for i in setup.train if i in ids)} only, then predicted "
+            "(cross-validation)."
             if setup.test
             else ""
         )
