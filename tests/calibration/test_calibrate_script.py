@@ -17,13 +17,21 @@ def run(*args):
 def test_help_documents_the_options_and_the_size():
     result = run("--help")
     assert result.returncode == 0
-    for option in ("--mineral", "--scale", "--cache", "--out", "--round-trip", "--threads", "--model-sigma"):
+    options = ("--mineral", "--scale", "--cache", "--out", "--round-trip", "--threads", "--model-sigma")
+    for option in (*options, "--grain-scattering", "--min-size-um", "--shipped-prior"):
         assert option in result.stdout
     assert "rays per engine run: 20000 s" in result.stdout
 
 
 def test_bad_options_give_a_message_not_a_traceback():
-    for args, name in ((("--scale", "2"), "--scale"), (("--model-sigma", "x"), "--model-sigma")):
+    cases = (
+        (("--scale", "2"), "--scale"),
+        (("--model-sigma", "x"), "--model-sigma"),
+        (("--grain-scattering", "-1"), "--grain-scattering"),
+        (("--min-size-um", "nan"), "--min-size-um"),
+        (("--mineral", "goethite", "--shipped-prior"), "--shipped-prior"),
+    )
+    for args, name in cases:
         result = run(*args)
         assert result.returncode == 2
         assert name in result.stderr and "not allowed" in result.stderr
@@ -46,3 +54,13 @@ def test_tiny_hematite_calibration_end_to_end(tmp_path):
     # A second run finds every table in the cache.
     again = run("--scale", "0.01", "--cache", str(tmp_path / "cache"), "--out", str(out))
     assert "k column" not in again.stderr
+    # Without the wave-optics powders (from the same tables): GDS27 and GDS69.g are reported as
+    # left out, the cross-validation trains on a, c, e, and the shipped k is the prior.
+    coarse = tmp_path / "coarse"
+    result = run("--scale", "0.01", "--cache", str(tmp_path / "cache"), "--out", str(coarse), "--min-size-um", "10",
+                 "--shipped-prior")  # fmt: skip
+    assert result.returncode == 0, result.stderr
+    report = (coarse / "report.md").read_text()
+    assert "fit on GDS69.a, GDS69.c, GDS69.e only" in report
+    assert report.count("no: grains all ≤ 10 µm (--min-size-um)") == 2
+    assert "--shipped-prior --prior-sigma 1" in report and "--min-size-um 10" in report
