@@ -1,5 +1,6 @@
 """The engine's commands: reflectance, demo, brdf; errors; Ctrl-C."""
 
+import json
 import os
 import signal
 import subprocess
@@ -45,6 +46,23 @@ def test_reflectance_shares_paths_unless_told_not_to(tmp_path):
         assert res.exit_code == 0, res.output
         ds = xr.open_dataset(nc, engine="h5netcdf")
         assert ds.attrs["spectral_sharing"] == shared and ds["covariance"].shape == (2, 2)
+
+
+def test_reflectance_dispersion_tolerance_cuts_the_groups(tmp_path):
+    # Quartz's index spans 0.017 over 400–700 nm: one group at the default 0.02, several at 0.005.
+    groups = {}
+    for tolerance in ("0.02", "0.005"):
+        nc = tmp_path / f"r{tolerance}.nc"
+        args = ["reflectance", "--preset", "ottawa-quartz", "-w", "400:700:100", "-n", "500", "-o", str(nc)]
+        res = runner.invoke(app, [*args, "--dispersion-tolerance", tolerance])
+        assert res.exit_code == 0, res.output
+        ds = xr.open_dataset(nc, engine="h5netcdf")
+        assert ds.attrs["dispersion_tolerance"] == float(tolerance)
+        groups[tolerance] = len(json.loads(ds.attrs["spectral_groups"]))
+    assert groups["0.02"] == 1 and groups["0.005"] > 1
+    bad = ["reflectance", "--preset", "red-dune", "-w", "550", "-n", "10", "--dispersion-tolerance", "2"]
+    res = runner.invoke(app, bad)
+    assert res.exit_code == 2 and "--dispersion-tolerance" in res.output, res.output
 
 
 def test_reflectance_with_path_memory_and_explicit_geometry(tmp_path):

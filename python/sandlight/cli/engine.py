@@ -14,6 +14,7 @@ from sandlight.cli._common import (
     DEFAULT_PRESET,
     ENGINE_OPTIONS,
     WAVELENGTHS_HELP,
+    DispersionToleranceOption,
     GeometryOption,
     MemoryOption,
     PresetOption,
@@ -26,6 +27,7 @@ from sandlight.cli._common import (
 )
 from sandlight.cli._output import echo, table
 from sandlight.io import check_output_directory, check_output_file
+from sandlight.physics.spectral_groups import DISPERSION_TOLERANCE
 
 if TYPE_CHECKING:
     from sandlight.engine import ReflectanceResult
@@ -57,6 +59,7 @@ def reflectance(
     memory: MemoryOption = None,
     geometry: GeometryOption = "on-the-fly",
     share: ShareOption = True,
+    dispersion_tolerance: DispersionToleranceOption = DISPERSION_TOLERANCE,
 ) -> None:
     """Monte Carlo directional-hemispherical reflectance of a sand sample."""
     from sandlight.engine import reflectance as run
@@ -77,6 +80,7 @@ def reflectance(
             memory=memory,
             geometry=geometry,
             share=share,
+            dispersion_tolerance=dispersion_tolerance,
         )
     _report(result, output, plot, title=str(sample_file or preset or DEFAULT_PRESET))
 
