@@ -19,7 +19,9 @@ For goethite the fit has a weak literature prior on log10 k (sandlight.calibrati
 quartz powders see k at every wavelength, so quartz has none (with the model error as large as it
 is, a prior would pull an identified k); its reports, like goethite's, compare the fit with the
 literature k. Hematite has neither (its shipped k stays Querry/Longtin: docs/optical-constants.md
-says why).
+says why); --shipped-prior gives it, or any mineral without a literature prior, a prior at the
+shipped k. --grain-scattering puts inclusions in the powders' grains and --min-size-um leaves the
+wave-optics powders out of the fit (docs/optical-constants.md, "Inclusions and fractures").
 
 Nothing shipped is changed: the derived table (<mineral>-k.csv, in the format of
 sandlight/data/optical/), the figures and report.md go to --out. The csv records the canonical
@@ -133,7 +135,8 @@ def parse_args(argv):
         "--prior-sigma",
         type=float,
         default=1.0,
-        help="σ of the literature prior on log10 k, decades (KFit.prior_sigma_log10_k, default 1; goethite only)",
+        help="σ of the prior on log10 k, decades (KFit.prior_sigma_log10_k, default 1): goethite's literature "
+        "prior, or the shipped k with --shipped-prior",
     )
     parser.add_argument("--seed", type=int, default=0, help="master seed of the engine (default 0)")
     parser.add_argument(

@@ -50,6 +50,9 @@ SAND_RANGE_MM = (0.05, 2.0)
 SILT_RANGE_MM = (0.002, 0.05)
 #: The populations of the ``particles`` form: separate hematite and goethite particles.
 IRON_OXIDE_PARTICLES = ("hematite particles", "goethite particles")
+#: The material of the host grains (sand and silt cores): what ``host_absorption`` scales and
+#: ``host_scattering`` fills.
+HOST_MATERIAL = "quartz"
 CLAY_RANGE_MM = (0.0002, 0.002)
 
 
@@ -237,7 +240,7 @@ def compose(sample: SandSample, films: str = DEFAULT_FILMS) -> Composition:
     ) -> None:
         if volume > 0:
             # The host's inclusions in proportion to its share of the core (item 9 of §2.4).
-            sigma = sample.host_scattering * core.get("quartz", 0.0)
+            sigma = sample.host_scattering * core.get(HOST_MATERIAL, 0.0)
             pops.append(population(name, volume, sizes, aspect, core, coat, t, sigma))
 
     add("quartz sand", v_sand, sand_sizes, eps, quartz_core, coating, t_coat)

@@ -30,7 +30,7 @@ import numpy as np
 from sandlight import _native
 from sandlight.checks import check_choice
 from sandlight.optics import complex_index
-from sandlight.physics.composition import IRON_OXIDE_PARTICLES, Composition, Population
+from sandlight.physics.composition import HOST_MATERIAL, IRON_OXIDE_PARTICLES, Composition, Population
 from sandlight.physics.fine_particles import (
     DEFAULT_PARTICLE_OPTICS,
     PARTICLE_OPTICS,
@@ -51,9 +51,6 @@ __all__ = [
     "absorption_per_mm",
     "with_host_absorption",
 ]
-
-#: The material of the host grains (sand and silt cores) that ``host_absorption`` scales.
-HOST_MATERIAL = "quartz"
 
 #: How a coating's iron oxide acts: 'uniform' (absorbing, non-scattering slab with the volume
 #: mean of the bulk constants; the default: 'mie' costs about 3x the time and changed the
