@@ -55,10 +55,15 @@ def bench_model(model, batch: int) -> None:
 
     domain = model.domain_
     X, codes = domain.draw_arrays(batch, seed=7, design="random")
+    regression = (
+        f"network {model.ensemble} × {model.hidden_layers} × {model.hidden_units} "
+        f"({model.network_.n_parameters} weights)"
+        if model.regressor == "network"
+        else f"({model.forms}), degree {model.degree}, {model.powers_.shape[0]} monomials"
+    )
     print(
-        f"model {model.name_}: {len(model.parameter_names_)} parameters, forms {model.forms_} "
-        f"({model.forms}), degree {model.degree}, k = {model.n_components_}, "
-        f"{model.powers_.shape[0]} monomials, {model.wavelengths_.size} wavelengths"
+        f"model {model.name_}: {len(model.parameter_names_)} parameters, forms {model.forms_} {regression}, "
+        f"k = {model.n_components_}, {model.wavelengths_.size} wavelengths"
     )
     batched = best_time(lambda: model.predict(X, codes), 1, rounds=3)
     one_form = best_time(lambda: model.predict(X, np.zeros_like(codes)), 1, rounds=3)

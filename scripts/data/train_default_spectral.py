@@ -47,6 +47,12 @@ PACKAGE_DIR = ROOT / "python" / "sandlight" / "data" / "models"
 #: generated over S ∈ [0, 0.15] and fitted from S = FILM_FROM.
 WATER = {"dry": None, "film": (0.0, 0.15), "wet": (0.15, 1.0)}
 FILM_FROM = 0.001
+#: The water regimes of the broad models, apart for the jump at saturation 0 that no smooth
+#: regressor follows: dry (saturation 0, where film_saturation does nothing and is fixed). Wet
+#: samples still fall to "broad" (a wet network, saturation 0.001-1 with film_saturation varied,
+#: is the next model: docs/spectral-predictor.md, "Broad models").
+BROAD_WATER = {"dry": {"saturation": 0.0, "film_saturation": 0.15}}
+BROAD_WATER_TEXT = {"dry": "dry (saturation 0)"}
 WATER_TEXT = {
     "dry": "dry (saturation 0)",
     "film": "saturation 0.001-0.15 (water films)",
@@ -72,9 +78,12 @@ class BankEntry:
     water: str | None = None
     base: str | None = None
     iron_range: tuple[float, float] = (0.001, 0.05)
+    broad: bool = False
 
     @property
     def description(self) -> str:
+        if self.broad:
+            return f"every SandSample parameter over its range, {BROAD_WATER_TEXT[self.water]}"
         if self.water is None:
             return "every SandSample parameter over its range (coverage; error about ten times the target)"
         lo, hi = self.iron_range
@@ -92,6 +101,8 @@ class BankEntry:
         from sandlight.predictor.domain import REFERENCE_SAND
         from sandlight.sample import SandSample
 
+        if self.broad:
+            return Domain.default().restrict(**BROAD_WATER[self.water])
         if self.water is None:
             return Domain.default()
         # The paper's Figure 6/7 parameters vary, iron oxide on a log scale.
@@ -140,6 +151,9 @@ def _preset_range(name: str, factor: float = 3.0):
     return (round(c / factor, 6), round(min(c * factor, 0.10), 6))
 
 
+#: The regression of the broad models (docs/spectral-predictor.md, "Broad models").
+BROAD_NETWORK = {"regressor": "network", "n_components": 8, "hidden_units": 128, "hidden_layers": 2, "ensemble": 4}
+
 #: The presets with narrow models of their own (the shipped scenes use yellow-dune and
 #: wet-beach; red-dune is the README's example).
 PRESETS = ("red-dune", "yellow-dune", "wet-beach")
@@ -150,6 +164,19 @@ BANK = (
     *(_narrow(f"{p}-{w}", w, base=p, iron_range=_preset_range(p), forms=1) for p in PRESETS for w in WATER),
     BankEntry(
         "broad", samples=3000, holdout=300, rays=500, holdout_rays=1_000, model_params={"degree": 3, "n_components": 6}
+    ),
+    # The broad dry model: a network where the cubic is too stiff, trained on many samples at few
+    # rays (a network averages the noise of its neighbours; the cubic's error, not the noise,
+    # limited "broad": docs/spectral-predictor.md, "Broad models").
+    BankEntry(
+        "broad-dry",
+        samples=10_000,
+        holdout=500,
+        rays=1_000,
+        holdout_rays=8_000,
+        model_params=BROAD_NETWORK,
+        water="dry",
+        broad=True,
     ),
 )
 
@@ -242,18 +269,25 @@ def train_one(entry: BankEntry, args: argparse.Namespace, executor: Executor | s
             + ", ".join(f"{r:.5%}" for r in signal[:k])
             + f"  -> {signal[:k].sum():.4%}"
         )
-    print(
-        f"monomials: {model.powers_.shape[0]} per form; training RMS error "
-        f"{model.training_rms_:.5f} (PCA truncation floor {model.reconstruction_rms_:.5f})"
-    )
-    # Training noise carried into the predictions: least squares with m coefficients fitted to
-    # n noisy samples passes on about σ·√(m/n) at an average point (σ the training noise).
     sigma_train = float(np.sqrt(np.mean(run_noise(run.training.dataset_path) ** 2)))
-    n_form = entry.samples / len(domain.forms)
-    print(
-        f"training noise {sigma_train:.5f} per sample; carried into predictions ≈ "
-        f"{sigma_train * np.sqrt(model.powers_.shape[0] / n_form):.5f}"
-    )
+    if model.regressor == "network":
+        print(
+            f"network: {model.ensemble} × {model.hidden_layers} tanh layers of {model.hidden_units} units, "
+            f"{model.network_.n_parameters} weights; training RMS error {model.training_rms_:.5f} "
+            f"(PCA truncation floor {model.reconstruction_rms_:.5f}); training noise {sigma_train:.5f} per sample"
+        )
+    else:
+        print(
+            f"monomials: {model.powers_.shape[0]} per form; training RMS error "
+            f"{model.training_rms_:.5f} (PCA truncation floor {model.reconstruction_rms_:.5f})"
+        )
+        # Training noise carried into the predictions: least squares with m coefficients fitted
+        # to n noisy samples passes on about σ·√(m/n) at an average point (σ the training noise).
+        n_form = entry.samples / len(domain.forms)
+        print(
+            f"training noise {sigma_train:.5f} per sample; carried into predictions ≈ "
+            f"{sigma_train * np.sqrt(model.powers_.shape[0] / n_form):.5f}"
+        )
     print(report.table())
     print(
         f"wall time of this run: {total_s:.0f} s (generation {run.generation_s:.0f} s, fit "

@@ -106,3 +106,10 @@ def test_counts_written_like_1e2_are_accepted_everywhere(tmp_path, args):
 def test_reflectance_without_a_sample_says_which_it_uses():
     res = runner.invoke(app, ["reflectance", "-w", "550", "-n", "100"])
     assert res.exit_code == 0 and "no sample given: using the red-dune preset" in res.output, res.output
+
+
+def test_train_spectral_names_a_bad_regressor_before_any_run(tmp_path):
+    out = tmp_path / "run"
+    res = runner.invoke(app, ["train-spectral", "--regressor", "forest", "-w", "550", "-o", str(out), "--no-progress"])
+    assert res.exit_code == 2 and "--regressor = 'forest' is not allowed" in res.output, res.output
+    assert not (out / "training").exists()

@@ -85,6 +85,23 @@ class TestOutsideEveryDomain:
         assert list(used) == ["broad"]
         np.testing.assert_array_equal(r, models[0].predict([sample], extrapolate=True))
 
+    def test_extrapolation_takes_the_model_of_the_samples_water_regime(self):
+        # Broad models split by water (as shipped): a dry sample out of range in grain size is
+        # extrapolated by the dry model, not by the wet one that has more parameters.
+        dry = fitted(SMALL.restrict(saturation=0.0), "dry", 0.01, seed=3)
+        wet = fitted(SMALL.restrict(saturation=(0.001, 1.0)), "wet", 0.02, seed=4)
+        two = ModelBank([dry, wet])
+        assert two.fallback is wet  # the most parameters
+        base = samples_of(SMALL, 1, seed=8)[0]
+        samples = [{**base, "grain_size": 3.0, "saturation": s} for s in (0.0, 0.5)]
+        r, used = two.predict(samples, extrapolate=True, return_models=True)
+        assert list(used) == ["dry", "wet"]
+        np.testing.assert_array_equal(r[0], dry.predict(samples[:1], extrapolate=True)[0])
+        np.testing.assert_array_equal(r[1], wet.predict(samples[1:], extrapolate=True)[0])
+        # Refused naming the parameter really out of range, not the water of the other regime.
+        with pytest.raises(ParameterError, match=r"grain_size = 3\.0.*'dry', the nearest"):
+            two.predict(samples[:1])
+
     def test_form_of_no_model(self, bank):
         sample = {**samples_of(NARROW, 1, seed=9)[0], "iron_oxide_form": "mixed"}
         with pytest.raises(ParameterError, match="mixed"):

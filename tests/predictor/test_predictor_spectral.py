@@ -229,6 +229,12 @@ class TestEstimatorConventions:
             "degree": 9,
             "ridge": -1,
             "forms": "separate",
+            "regressor": "monomials",
+            "hidden_units": 128,
+            "hidden_layers": 2,
+            "network_alpha": 1e-6,
+            "ensemble": 1,
+            "random_state": 0,
         }
         train, R, _, _ = exact_cubic_problem(SMALL, 100, seed=3)
         for bad in [

@@ -37,6 +37,10 @@ _TRAINING_OPTIONS = {
     "ridge": "--ridge",
     "degree": "--degree",
     "forms": "--forms",
+    "regressor": "--regressor",
+    "hidden_units": "--hidden-units",
+    "hidden_layers": "--hidden-layers",
+    "ensemble": "--ensemble",
 }
 
 
@@ -78,6 +82,14 @@ def train_spectral_command(
         "--forms",
         help="The iron-oxide form: 'separate' (one regression per form) or 'onehot' (indicator inputs).",
     ),
+    regressor: str = typer.Option(
+        "monomials",
+        "--regressor",
+        help="'monomials' (the paper's, --degree) or 'network' (a tanh network, for many parameters).",
+    ),
+    hidden_units: int = typer.Option(128, "--hidden-units", help="Units per hidden layer of a network, 1-1024."),
+    hidden_layers: int = typer.Option(2, "--hidden-layers", help="Hidden layers of a network, 1-4."),
+    ensemble: int = typer.Option(1, "--ensemble", help="Networks fitted from successive seeds and averaged, 1-16."),
     progress: bool = typer.Option(True, "--progress/--no-progress", help="Show a progress bar with an ETA."),
     memory: MemoryOption = None,
 ) -> None:
@@ -109,6 +121,10 @@ def train_spectral_command(
                 "ridge": ridge,
                 "forms": forms,
                 "degree": degree,
+                "regressor": regressor,
+                "hidden_units": hidden_units,
+                "hidden_layers": hidden_layers,
+                "ensemble": ensemble,
             },
         )
     model, report = run.model, run.report

@@ -57,8 +57,11 @@ class ModelBank:
     wavelengths_ : ndarray (n_wl,)
         Wavelengths of every model, nm.
     fallback : SpectralModel
-        The model with the most input parameters (the broadest domain): it predicts the samples
-        no model covers when ``extrapolate=True``, and names the offending parameter otherwise.
+        The model with the most input parameters (the broadest domain). A sample no model
+        covers is predicted, when ``extrapolate=True``, by the model whose domain it is nearest
+        to (fewest conditions failed, :meth:`Domain.violations`; ties: more parameters, then
+        rank), which names the offending parameter otherwise: with broad models per water
+        regime a dry sample extrapolates with the dry one.
 
     Examples
     --------
@@ -204,31 +207,47 @@ class ModelBank:
         choice = self._select(columns, names, index)
         out = np.empty((index.shape[0], self.wavelengths_.size))
         uncovered = np.flatnonzero(choice < 0)
+        used = choice.copy()
         if uncovered.size:
             row = {k: np.asarray(v)[uncovered] for k, v in columns.items()}
+            nearest = self._nearest(row, names[index[uncovered]])
             if not extrapolate:
-                self._raise_uncovered(row)
-            out[uncovered] = self.fallback.predict(row, extrapolate=True)
+                self._raise_uncovered(row, self.models[nearest[0]])
+            used[uncovered] = nearest
         for rank, m in enumerate(self.models):
-            rows = np.flatnonzero(choice == rank)
-            if rows.size:
-                values = np.column_stack([np.asarray(columns[n], dtype=float)[rows] for n in m.parameter_names_])
-                out[rows] = m.predict(values, forms=self._codes(m, names, index)[rows])
+            rows = np.flatnonzero(used == rank)
+            if not rows.size:
+                continue
+            inside, outside = rows[choice[rows] >= 0], rows[choice[rows] < 0]
+            if inside.size:
+                values = np.column_stack([np.asarray(columns[n], dtype=float)[inside] for n in m.parameter_names_])
+                out[inside] = m.predict(values, forms=self._codes(m, names, index)[inside])
+            if outside.size:  # the named columns: the fixed parameters are ignored, not taken as inputs
+                out[outside] = m.predict({k: np.asarray(v)[outside] for k, v in columns.items()}, extrapolate=True)
         if not return_models:
             return out
-        names = np.array([m.name_ for m in self.models] + [self.fallback.name_])
-        return out, names[np.where(choice < 0, len(self.models), choice)]
+        return out, np.array([m.name_ for m in self.models])[used]
 
-    def _raise_uncovered(self, row: dict) -> None:
+    def _nearest(self, columns: dict, forms: np.ndarray) -> np.ndarray:
+        """For each sample, the rank of the model whose domain it fails fewest conditions of
+        (ties: more parameters, then the better rank)."""
+        failed = np.array([m.domain_.violations(columns, forms) for m in self.models])
+        breadth = np.array([len(m.parameter_names_) for m in self.models])
+        # Lexicographic: fewest failures, then most parameters, then rank (argmin takes the first).
+        key = failed * (breadth.max() + 1) - breadth[:, None]
+        return np.argmin(key, axis=0)
+
+    def _raise_uncovered(self, row: dict, nearest: SpectralModel) -> None:
         """Raise a ParameterError naming why the first of ``row``'s samples is not covered."""
         names = [m.name_ for m in self.models]
         hint = (
             f"no model of the bank {names} covers this sample (pass extrapolate=True to use "
-            f"{self.fallback.name_!r} outside its domain)"
+            f"{nearest.name_!r}, the nearest, outside its domain)"
         )
+        first = {k: np.asarray(v)[:1] for k, v in row.items()}
         try:
-            # The broadest model names the parameter out of its range (or a missing one, NaN).
-            self.fallback.predict(row)
+            # The nearest model names the parameter out of its range (or a missing one, NaN).
+            nearest.predict(first)
         except ParameterError as exc:
             raise ParameterError(exc.name, exc.value, f"{exc.allowed}; {hint}") from None
         raise ParameterError("sample", {k: _scalar(v[0]) for k, v in row.items()}, hint)

@@ -570,20 +570,29 @@ class Domain:
             bound), every fixed parameter equals its value and the form is one of ``forms``.
             NaN is outside.
         """
+        return self.violations(columns, forms) == 0
+
+    def violations(self, columns: Mapping, forms: ArrayLike | None = None) -> np.ndarray:
+        """How many of the conditions of :meth:`contains` each sample fails (0: inside): a
+        form not covered, each fixed parameter at another value, each dimension out of its range
+        and the texture beyond the class bound count one each. A bank extrapolates with the
+        model a sample is nearest to by this count."""
         n = len(next(iter(columns.values()))) if columns else len(forms)
-        inside = np.ones(n, dtype=bool) if forms is None else np.isin(np.asarray(forms).astype(str), self.forms)
+        count = np.zeros(n, dtype=np.intp)
+        if forms is not None:
+            count += ~np.isin(np.asarray(forms).astype(str), self.forms)
         if self.fixed:
             # All fixed parameters in one comparison: a bank tests a sample against many domains.
             target = np.array(list(self.fixed.values()), dtype=float)
             column = np.column_stack([np.asarray(columns[k], dtype=float) for k in self.fixed])
-            inside &= at_fixed_value(column, target).all(axis=1)
-        if self.dimensions and inside.any():
+            count += (~at_fixed_value(column, target)).sum(axis=1)
+        if self.dimensions:
             values = np.column_stack([np.asarray(columns[n], dtype=float) for n in self.names])
             for j, dim in enumerate(self.dimensions):
-                inside &= _inside(dim, values[:, j])
+                count += ~_inside(dim, values[:, j])
             if self._texture_drawn:
-                inside &= self._texture_load(values) <= self.texture_limit * (1 + 1e-9)
-        return inside
+                count += self._texture_load(values) > self.texture_limit * (1 + 1e-9)
+        return count
 
     def scaled(self, values: np.ndarray) -> np.ndarray:
         """Regression coordinates: each column's transformed value mapped to [−1, 1]."""

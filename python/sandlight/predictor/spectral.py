@@ -22,6 +22,10 @@ The iron-oxide form (categorical) is handled either by one regression per form
 (``forms="separate"``, the default: W has one slice per form, the PCA basis is shared) or by
 one-hot indicator inputs (``forms="onehot"``: one W, the indicators enter the monomials).
 
+Where the cubic is too stiff (every parameter at once: the broad models), ``regressor="network"``
+replaces φ and W by a small neural network of the scaled parameters and one-hot form indicators
+(:mod:`sandlight.predictor.network`): r(x) ≈ r̄ + U_k s·f(x), s one scale of the scores.
+
 References
 ----------
 "Simulating the Appearance of Sandy Landscapes", §3.1 (the paper sandlight implements); the
@@ -48,6 +52,7 @@ from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
 from sandlight.predictor.estimator import Estimator
 from sandlight.predictor.model_file import ModelFileFormat, jsonable
 from sandlight.predictor.monomials import BLOCK_SAMPLES, monomial_plan, monomials
+from sandlight.predictor.network import Network, fit_network
 from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
 from sandlight.predictor.samples import sample_columns
 
@@ -61,12 +66,16 @@ _ARRAYS = (
     "explained_variance_ratio",
     "scale_center",
     "scale_halfwidth",
-    "powers",
-    "W",
 )
+#: The regression's arrays: the monomials' exponents and coefficients, or the network's.
+_MONOMIAL_ARRAYS = ("powers", "W")
+_NETWORK_ARRAYS = ("network_parameters", "network_shapes", "network_output_scale")
 #: Version 2: log scales take an offset (Dimension.offset); models carry a name and a
-#: description. Format-1 files (sqrt-scaled concentrations, no name) still load.
-MODEL_FILE = ModelFileFormat("sandlight-spectral-model", 2, "spectral model", _ARRAYS)
+#: description. Version 3: the regression is monomials (powers, W) or a network. Format-1 files
+#: (sqrt-scaled concentrations, no name) still load.
+MODEL_FILE = ModelFileFormat(
+    "sandlight-spectral-model", 3, "spectral model", _ARRAYS, optional=_MONOMIAL_ARRAYS + _NETWORK_ARRAYS
+)
 MODEL_FORMAT, MODEL_FORMAT_VERSION = MODEL_FILE.name, MODEL_FILE.version
 
 
@@ -120,6 +129,19 @@ class SpectralModel(Estimator):
         Parameters are scaled to [−1, 1], so λ is comparable across parameters.
     forms : {"separate", "onehot"}
         How the iron-oxide form enters: one regression per form, or one-hot inputs.
+    regressor : {"monomials", "network"}
+        The regression of the scores: the paper's monomials φ(x) and W (``degree``, ``ridge``,
+        ``forms`` apply), or a neural network of the scaled parameters and one-hot form
+        indicators (``hidden_units``, ``hidden_layers``, ``network_alpha``, ``ensemble``,
+        ``random_state`` apply; :mod:`sandlight.predictor.network`).
+    hidden_units, hidden_layers : int
+        Width (1–1024) and number (1–4) of the network's tanh hidden layers.
+    network_alpha : float
+        L2 penalty ≥ 0 of the network's weights (scikit-learn's ``alpha``).
+    ensemble : int
+        Networks fitted from successive seeds and averaged (1–16).
+    random_state : int
+        Seed of the first network (≥ 0): a fit is reproducible.
 
     Attributes
     ----------
@@ -148,9 +170,15 @@ class SpectralModel(Estimator):
         Feature scaling: x_scaled = (t(x) − center)/halfwidth, t the dimension's scale.
     powers_ : ndarray (m, n_inputs)
         Exponents of the monomials φ (PolynomialFeatures order; for one-hot, the last inputs
-        are the indicators of forms_[1:]).
+        are the indicators of forms_[1:]). Monomials only.
     W_ : ndarray (n_groups, m, k)
         Regression coefficients: one slice per form (separate) or a single one (one-hot).
+        Monomials only.
+    network_ : Network
+        The network (ensemble) f; its outputs times ``network_output_scale_`` are the scores.
+        Network only.
+    network_output_scale_ : float
+        s: the standard deviation of the training scores (the network fits scores / s).
     training_rms_ : float
         RMS of (prediction − training reflectance) over the training set.
     reconstruction_rms_ : float
@@ -182,6 +210,12 @@ class SpectralModel(Estimator):
         "degree": [Interval(Integral, 1, 4)],
         "ridge": [Interval(Real, 0, None)],
         "forms": [StrOptions(("separate", "onehot"))],
+        "regressor": [StrOptions(("monomials", "network"))],
+        "hidden_units": [Interval(Integral, 1, 1024)],
+        "hidden_layers": [Interval(Integral, 1, 4)],
+        "network_alpha": [Interval(Real, 0, None)],
+        "ensemble": [Interval(Integral, 1, 16)],
+        "random_state": [Interval(Integral, 0, None)],
     }
     _model_file = MODEL_FILE
 
@@ -192,12 +226,24 @@ class SpectralModel(Estimator):
         degree: int = 3,
         ridge: float = 0.0,
         forms: str = "separate",
+        regressor: str = "monomials",
+        hidden_units: int = 128,
+        hidden_layers: int = 2,
+        network_alpha: float = 1e-6,
+        ensemble: int = 1,
+        random_state: int = 0,
     ) -> None:
         self.n_components = n_components
         self.variance_threshold = variance_threshold
         self.degree = degree
         self.ridge = ridge
         self.forms = forms
+        self.regressor = regressor
+        self.hidden_units = hidden_units
+        self.hidden_layers = hidden_layers
+        self.network_alpha = network_alpha
+        self.ensemble = ensemble
+        self.random_state = random_state
 
     # -- inputs -------------------------------------------------------------------------------
     def _inputs(
@@ -234,10 +280,12 @@ class SpectralModel(Estimator):
         return values, codes
 
     def _design(self, values: np.ndarray, codes: np.ndarray, domain: Domain, n_forms: int) -> np.ndarray:
-        """Inputs of the monomials: scaled parameters, plus form indicators for one-hot."""
+        """Inputs of the regression: scaled parameters, plus form indicators for one-hot
+        monomials (forms 1.. : form 0 is the constant) or a network (every form)."""
         Xs = domain.scaled(values)
-        if self.forms == "onehot" and n_forms > 1:
-            indicators = (codes[:, None] == np.arange(1, n_forms)[None, :]).astype(float)
+        if n_forms > 1 and (self.regressor == "network" or self.forms == "onehot"):
+            first = 0 if self.regressor == "network" else 1
+            indicators = (codes[:, None] == np.arange(first, n_forms)[None, :]).astype(float)
             Xs = np.hstack([Xs, indicators])
         return Xs
 
@@ -287,8 +335,25 @@ class SpectralModel(Estimator):
         mean, components, ratio, signal_ratio = self._principal_components(data.R, data.stderr)
         scores = (data.R - mean) @ components.T  # principal components r̃ of each sample (eq. 2)
         Xs = self._design(data.values, data.codes, data.domain, len(data.domain.forms))
-        Phi, powers = self._monomial_features(Xs)
-        W = self._solve(Phi, scores, data.codes, data.domain.forms)
+        if self.regressor == "network":
+            # One scale for every score keeps the squared error that of the reflectance
+            # (orthonormal components) while giving the optimiser targets of order 1.
+            scale = float(scores.std()) or 1.0
+            self.network_ = fit_network(
+                Xs,
+                scores / scale,
+                hidden_units=self.hidden_units,
+                hidden_layers=self.hidden_layers,
+                alpha=self.network_alpha,
+                ensemble=self.ensemble,
+                random_state=self.random_state,
+            )
+            self.network_output_scale_ = scale
+        else:
+            Phi, powers = self._monomial_features(Xs)
+            self.powers_ = powers
+            self.W_ = self._solve(Phi, scores, data.codes, data.domain.forms)
+            self._plan = monomial_plan(self.powers_)
 
         self.wavelengths_ = data.wavelengths
         self.domain_ = data.domain
@@ -301,12 +366,9 @@ class SpectralModel(Estimator):
         self.explained_variance_ratio_ = ratio
         self.signal_variance_ratio_ = signal_ratio
         self.scale_center_, self.scale_halfwidth_ = data.domain.scaling()
-        self.powers_ = powers
-        self.W_ = W
         self.training_set_ = {**data.info, **dict(training_set or {})}
         self.holdout_scores_ = None
         self.name_, self.description_ = str(name), str(description)
-        self._plan = monomial_plan(self.powers_)
         self.training_rms_, self.reconstruction_rms_ = self._training_errors(Xs, data.codes, data.R, scores)
         return self
 
@@ -453,7 +515,16 @@ class SpectralModel(Estimator):
         return self._evaluate(self._design(values, codes, self.domain_, len(self.forms_)), codes)
 
     def _evaluate(self, Xs: np.ndarray, codes: np.ndarray) -> np.ndarray:
-        """r̄ + U_k Wᵀ φ(x) for scaled inputs, blockwise (see :mod:`sandlight.predictor.monomials`)."""
+        """r̄ + U_k Wᵀ φ(x) for scaled inputs, blockwise (see :mod:`sandlight.predictor.monomials`),
+        or r̄ + U_k s·f(x) for a network."""
+        if self.regressor == "network":
+            out = np.empty((Xs.shape[0], len(self.wavelengths_)))
+            for start in range(0, Xs.shape[0], BLOCK_SAMPLES):
+                block = out[start : start + BLOCK_SAMPLES]
+                scores = self.network_(Xs[start : start + BLOCK_SAMPLES]) * self.network_output_scale_
+                np.matmul(scores, self.components_, out=block)
+                block += self.mean_
+            return out
         n = Xs.shape[0]
         m, k = self.W_.shape[1:]
         out = np.empty((n, len(self.wavelengths_)))
@@ -505,66 +576,96 @@ class SpectralModel(Estimator):
         }
 
     def _arrays(self) -> dict[str, np.ndarray]:
-        return {
+        arrays = {
             "wavelengths_nm": self.wavelengths_,
             "mean": self.mean_,
             "components": self.components_,
             "explained_variance_ratio": self.explained_variance_ratio_,
             "scale_center": self.scale_center_,
             "scale_halfwidth": self.scale_halfwidth_,
-            "powers": self.powers_,
-            "W": self.W_,
         }
+        if self.regressor == "network":
+            parameters, shapes = self.network_.to_arrays()
+            arrays.update(
+                network_parameters=parameters,
+                network_shapes=shapes,
+                network_output_scale=np.array([self.network_output_scale_]),
+            )
+        else:
+            arrays.update(powers=self.powers_, W=self.W_)
+        return arrays
 
     @classmethod
     def _from_parts(cls, meta: Mapping, data: Mapping[str, np.ndarray], path: Path) -> SpectralModel:
         model = cls(**meta["params"])
         model.validate_params()
         domain = Domain.from_dict(meta["domain"])
-        wl, mean, comps, ratio = (data[a] for a in _ARRAYS[:4])
-        center, halfwidth, powers, W = (data[a] for a in _ARRAYS[4:])
-        n_wl, d, k = wl.shape[0], len(domain.names), int(meta["n_components"])
+        regression = _NETWORK_ARRAYS if model.regressor == "network" else _MONOMIAL_ARRAYS
+        wrong = sorted(set(_MONOMIAL_ARRAYS + _NETWORK_ARRAYS) - set(regression) & set(data))
+        missing = [a for a in regression if a not in data]
+        if wrong or missing:
+            raise ValueError(
+                f"a {model.regressor} model needs the arrays {list(regression)}: {missing} missing, {wrong} foreign"
+            )
+        n_wl, d, k = data["wavelengths_nm"].shape[0], len(domain.names), int(meta["n_components"])
         n_forms = len(meta["forms"])
-        n_inputs = d + (n_forms - 1 if model.forms == "onehot" and n_forms > 1 else 0)
-        n_groups = n_forms if model.forms == "separate" else 1
         expected = {
             "wavelengths_nm": (n_wl,),
             "mean": (n_wl,),
             "components": (k, n_wl),
             "scale_center": (d,),
             "scale_halfwidth": (d,),
-            "powers": (powers.shape[0], n_inputs),
-            "W": (n_groups, powers.shape[0], k),
         }
+        integers = ("powers", "network_shapes")
+        if model.regressor == "network":
+            network = Network.from_arrays(data["network_parameters"], data["network_shapes"])
+            n_inputs = d + (n_forms if n_forms > 1 else 0)
+            if (network.n_inputs, network.n_outputs) != (n_inputs, k):
+                raise ValueError(
+                    f"the network maps {network.n_inputs} inputs to {network.n_outputs} outputs, "
+                    f"expected {n_inputs} to {k}"
+                )
+            expected["network_output_scale"] = (1,)
+        else:
+            n_inputs = d + (n_forms - 1 if model.forms == "onehot" and n_forms > 1 else 0)
+            n_groups = n_forms if model.forms == "separate" else 1
+            m = data["powers"].shape[0]
+            expected.update(powers=(m, n_inputs), W=(n_groups, m, k))
         for name, shape in expected.items():
             if data[name].shape != shape:
                 raise ValueError(f"array {name!r} has shape {data[name].shape}, expected {shape}")
-        for name in _ARRAYS:
-            if data[name].dtype.kind not in ("i" if name == "powers" else "f"):
+        for name in (*_ARRAYS, *regression):
+            if data[name].dtype.kind not in ("i" if name in integers else "f"):
                 raise ValueError(f"array {name!r} has dtype {data[name].dtype}")
             if not np.isfinite(data[name]).all():
                 raise ValueError(f"array {name!r} holds NaN or inf")
         if list(meta["parameter_names"]) != list(domain.names):
             raise ValueError("parameter_names differ from the domain's dimensions")
+        center, halfwidth = data["scale_center"], data["scale_halfwidth"]
         c, h = domain.scaling()
         if not (np.allclose(center, c, rtol=1e-12) and np.allclose(halfwidth, h, rtol=1e-12)):
             raise ValueError("the feature scaling does not match the domain")
-        model.wavelengths_ = wl
+        model.wavelengths_ = data["wavelengths_nm"]
         model.domain_ = domain
         model.parameter_names_ = domain.names
         model.forms_ = tuple(meta["forms"])
         model.n_features_in_ = d
         model.n_components_ = k
-        model.mean_, model.components_, model.explained_variance_ratio_ = mean, comps, ratio
+        model.mean_, model.components_ = data["mean"], data["components"]
+        model.explained_variance_ratio_ = data["explained_variance_ratio"]
         model.scale_center_, model.scale_halfwidth_ = center, halfwidth
-        model.powers_, model.W_ = powers.astype(np.int64), W
+        if model.regressor == "network":
+            model.network_ = network
+            model.network_output_scale_ = float(data["network_output_scale"][0])
+        else:
+            model.powers_, model.W_ = data["powers"].astype(np.int64), data["W"]
+            model._plan = monomial_plan(model.powers_)
         model.training_set_ = meta.get("training_set") or {}
         model.holdout_scores_ = meta.get("holdout_scores")
         model.training_rms_ = meta.get("training_rms")
         model.reconstruction_rms_ = meta.get("reconstruction_rms")
         model.name_ = str(meta.get("name") or path.stem)  # format 1 had no name
         model.description_ = str(meta.get("description", ""))
-        model._plan = monomial_plan(model.powers_)
         return model
 
 

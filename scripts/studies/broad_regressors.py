@@ -1,0 +1,60 @@
+#!/usr/bin/env python3
+"""The broad dry model's regression: the paper's cubic against networks, on the same data.
+
+Fits each regressor on the stored training set of ``broad-dry`` (made by
+``scripts/data/train_default_spectral.py --only broad-dry``) and scores it on that model's
+hold-out set; prints, per regressor, the hold-out RMS error, the model error alone (the hold-out
+set's own Monte Carlo noise removed), the largest error, the mean bias at 400 and 700 nm, the fit
+time and the prediction speed (docs/spectral-predictor.md, "Broad models")::
+
+    python scripts/studies/broad_regressors.py --work-dir build/train-default-spectral
+    python scripts/studies/broad_regressors.py --work-dir DIR --ensembles 1 4 --no-cubic
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--work-dir", type=Path, default=ROOT / "build" / "train-default-spectral")
+    p.add_argument("--ensembles", type=int, nargs="*", default=[1, 4], help="network ensemble sizes to fit")
+    p.add_argument("--no-cubic", action="store_true", help="skip the cubic")
+    args = p.parse_args()
+
+    from sandlight.predictor import evaluate, fit_training_set
+
+    store = args.work_dir / "broad-dry"
+    candidates = [] if args.no_cubic else [("cubic (degree 3, k = 8)", {"degree": 3, "n_components": 8})]
+    candidates += [
+        (
+            f"network 2 × 128 tanh, ensemble {e} (k = 8)",
+            {"regressor": "network", "n_components": 8, "hidden_units": 128, "hidden_layers": 2, "ensemble": e},
+        )
+        for e in args.ensembles
+    ]
+    print(f"training set {store / 'training'}; hold-out set {store / 'holdout'}")
+    print("| regression | hold-out RMS | model error alone | max | bias 400 / 700 nm | fit |")
+    print("|---|---|---|---|---|---|")
+    for label, params in candidates:
+        start = time.perf_counter()
+        model, _ = fit_training_set(store / "training", None, name="broad-dry", **params)
+        fit_s = time.perf_counter() - start
+        report = evaluate(model, store / "holdout" / "dataset.nc")
+        alone = float(np.sqrt(max(np.mean(report.rms_error**2 - report.mc_noise_rms**2), 0.0)))
+        print(
+            f"| {label} | {report.rms_error_overall:.4f} | {alone:.4f} | {report.max_error_overall:.3f} | "
+            f"{report.mean_error[0]:+.4f} / {report.mean_error[-1]:+.4f} | {fit_s:.0f} s |",
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()

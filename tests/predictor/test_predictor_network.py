@@ -1,0 +1,113 @@
+"""The network regressor of SpectralModel: fits what a cubic cannot, round-trips as arrays."""
+
+import numpy as np
+import pytest
+
+from sandlight.errors import ModelFileError, ParameterError
+from sandlight.predictor import Domain, SpectralModel
+from sandlight.predictor.network import Network, fit_network
+
+WL = np.arange(400.0, 701.0, 20.0)
+#: Two parameters and two forms: small enough to fit in seconds.
+TWO = Domain.default().restrict(
+    forms=["coating", "particles"],
+    magnetite=0.0,
+    coating_iron_share=0.5,
+    iron_oxide_particle_size_um=1.0,
+    saturation=0.0,
+    film_saturation=0.0,
+    porosity=0.4,
+    grain_size=0.25,
+    grain_size_spread=1.5,
+    aspect_ratio=1.5,
+    silt=0.0,
+    clay=0.0,
+)
+SHARP = dict(regressor="network", hidden_units=32, hidden_layers=2, n_components=2, random_state=3)
+
+
+def sharp_spectra(domain, samples):
+    """Spectra with a sigmoid edge in the scaled iron oxide (a cubic leaves ~0.03 of it) whose
+    position depends on the hematite ratio and the form."""
+    X = np.array([[s[n] for n in domain.names] for s in samples])
+    Xs = domain.scaled(X)
+    shift = np.array([0.3 if s["iron_oxide_form"] == "particles" else -0.3 for s in samples])
+    edge = np.tanh(4 * (Xs[:, 0] - 0.5 * Xs[:, 1] - shift))
+    blue, red = np.linspace(1, 0, WL.size), np.linspace(0, 1, WL.size)
+    return 0.4 + 0.2 * edge[:, None] * blue + 0.1 * Xs[:, 1:2] * red
+
+
+@pytest.fixture(scope="module")
+def sharp():
+    train = TWO.draw(600, seed=1)
+    test = TWO.draw(200, seed=2, design="random")
+    R = sharp_spectra(TWO, train)
+    net = SpectralModel(**SHARP).fit(train, R, wavelengths_nm=WL, domain=TWO)
+    cubic = SpectralModel(n_components=2).fit(train, R, wavelengths_nm=WL, domain=TWO)
+    return net, cubic, test, sharp_spectra(TWO, test)
+
+
+def rms(a, b):
+    return float(np.sqrt(np.mean((a - b) ** 2)))
+
+
+def test_the_domain_has_the_two_parameters():
+    assert TWO.names == ("iron_oxide", "hematite_ratio")
+
+
+def test_the_network_follows_an_edge_the_cubic_cannot(sharp):
+    net, cubic, test, truth = sharp
+    cubic_error, net_error = rms(cubic.predict(test), truth), rms(net.predict(test), truth)
+    assert cubic_error > 0.015  # the problem is beyond a cubic ...
+    assert net_error < cubic_error / 3  # ... and within a network's reach
+    assert net.network_.n_inputs == 2 + 2  # the parameters and one indicator per form
+
+
+def test_a_fit_is_reproducible_from_its_seed():
+    train = TWO.draw(200, seed=4)
+    R = sharp_spectra(TWO, train)
+    a, b = (SpectralModel(**{**SHARP, "hidden_units": 8}).fit(train, R, wavelengths_nm=WL, domain=TWO) for _ in "ab")
+    np.testing.assert_array_equal(a.network_.to_arrays()[0], b.network_.to_arrays()[0])
+
+
+def test_saved_and_loaded_models_predict_the_same(sharp, tmp_path):
+    net, _, test, _ = sharp
+    loaded = SpectralModel.load(net.save(tmp_path / "net.npz"))
+    assert loaded.regressor == "network" and loaded.get_params() == net.get_params()
+    np.testing.assert_array_equal(loaded.predict(test), net.predict(test))
+
+
+def test_a_file_with_the_other_regression_is_refused(sharp, tmp_path):
+    net, cubic, _, _ = sharp
+    path = net.save(tmp_path / "net.npz")
+    meta, arrays = SpectralModel._model_file.read(path)
+    # The network's metadata with a cubic's arrays: neither regression is complete.
+    mixed = {**{k: v for k, v in arrays.items() if not k.startswith("network")}, "powers": cubic.powers_, "W": cubic.W_}
+    SpectralModel._model_file.write(tmp_path / "mixed.npz", {k: v for k, v in meta.items() if "format" not in k}, mixed)
+    with pytest.raises(ModelFileError, match="network_parameters"):
+        SpectralModel.load(tmp_path / "mixed.npz")
+
+
+def test_network_arrays_must_chain():
+    rng = np.random.default_rng(0)
+    net = fit_network(rng.random((40, 3)), rng.random((40, 2)), hidden_units=4, hidden_layers=2, alpha=0.0,
+                      ensemble=2, random_state=0)  # fmt: skip
+    parameters, shapes = net.to_arrays()
+    assert shapes.shape == (2, 3, 2) and parameters.size == net.n_parameters
+    again = Network.from_arrays(parameters, shapes)
+    x = rng.random((5, 3))
+    np.testing.assert_array_equal(again(x), net(x))
+    broken = shapes.copy()
+    broken[0, 1, 0] = 5
+    with pytest.raises(ValueError, match="do not chain"):
+        Network.from_arrays(parameters, broken)
+    with pytest.raises(ValueError, match="parameters of shape"):
+        Network.from_arrays(parameters[:-1], shapes)
+
+
+@pytest.mark.parametrize(
+    ("name", "value"), [("hidden_layers", 0), ("hidden_units", 2000), ("ensemble", 0), ("regressor", "forest")]
+)
+def test_bad_hyper_parameters_are_refused_by_name(name, value):
+    with pytest.raises(ParameterError, match=name):
+        SpectralModel(**{name: value}).validate_params()
