@@ -58,6 +58,23 @@ def test_a_traceable_is_traced_as_it_is():
         media.SandMedium(compose(SandSample()), memory="forever")
 
 
+def test_the_remembered_optical_constants_change_no_result():
+    # native_medium and the dispersion groups remember the shipped constants at a wavelength
+    # (shipped_index); the same tables looked up anew at every call (complex_index itself given
+    # as the optical constants) give the same groups and the same numbers, bit for bit.
+    from sandlight.optics import complex_index
+    from sandlight.physics.medium import shipped_index
+
+    sample = SandSample.preset("red-dune")
+    wl = [450.0, 650.0, 1450.0, 2200.0]
+    remembered = sandlight.reflectance(sample, wl, rays=1500, seed=3, progress=False)
+    looked_up = media.SandMedium.from_sample(sample, optical_constants=complex_index)
+    anew = sandlight.reflectance(looked_up, wl, rays=1500, seed=3, progress=False)
+    assert remembered.groups == anew.groups and len(anew.groups) > 1
+    assert np.array_equal(remembered.values, anew.values) and np.array_equal(remembered.stderr, anew.stderr)
+    assert shipped_index("water", 1450.0) == complex(complex_index("water", 1450.0))
+
+
 def test_the_reference_media_describe_themselves():
     assert media.IsotropicScatterers(0.9).describe() == {"reference": "isotropic scatterers", "albedo": 0.9}
     assert media.IsotropicScatterers(0.9, depth=2.0).describe()["depth"] == 2.0

@@ -16,9 +16,11 @@
 //! ratios alike; cells where interpolation could be off by more than `TABLE_TOLERANCE` (near
 //! critical angles, steep grazing features) are evaluated exactly instead. The shared
 //! estimator is exact for these stacks, which differ from the exact ones by < 1e-6 in any
-//! probability (tested below; docs/transport.md).
+//! probability (tested below; docs/transport.md). A cell is built when a decision first falls
+//! in it (`StackTable`).
 
-use std::sync::Arc;
+use std::sync::atomic::{AtomicU64, AtomicU8, Ordering};
+use std::sync::{Arc, OnceLock};
 
 use crate::driver::{for_rays, Rays};
 use crate::error::SandlightError;
@@ -48,11 +50,10 @@ pub const MAX_GROUP: usize = 256;
 pub const FIXED_ONE: f64 = 4_294_967_296.0;
 
 /// The sand media of a group of wavelengths, traced together.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct HeroGroup {
     media: Vec<Particulate>,
-    /// Per particle type and `StackKind` (index `12 t + kind.index()`); empty for stacks that
-    /// never occur (`Stacks::occurs`: bare surface without a partial coating).
+    /// Per particle type and `StackKind` (index `12 t + kind.index()`).
     tables: Vec<StackTable>,
     /// Core absorption coefficients (mm⁻¹) per type, per wavelength; None where all are equal.
     core_alpha: Vec<Option<Vec<f64>>>,
@@ -75,46 +76,66 @@ enum Paths {
     Explicit(ExplicitGeometry),
 }
 
-/// One stack's table over the incidence cosine, every wavelength of the group.
-#[derive(Clone, Debug, Default)]
+/// One stack's table over the incidence cosine, every wavelength of the group, built a cell at
+/// a time when a decision first falls in the cell (`HeroGroup::cell`). Each cell costs its two
+/// nodes and three interior checks at every wavelength of the group, and a short run (a
+/// training sample of 1000 rays) meets a small part of the cells.
+///
+/// A cell depends on the media alone, so when and on which thread it is built changes no
+/// decision: its builder writes the nodes, then publishes the cell's state (release); a reader
+/// that sees the state (acquire) sees the nodes. Two threads that build a cell (or the node two
+/// cells share) at the same time write the same bits. The values are atomics for that, read
+/// with relaxed loads (plain loads on x86-64 and AArch64), in the layout of a table built at
+/// once (nodes in order, the wavelengths of a node side by side).
+#[derive(Debug)]
 struct StackTable {
-    /// [R, R + T] at node μ = i / STACK_CELLS for every wavelength, at `i * n + j`.
-    nodes: Vec<[f64; 2]>,
-    /// The cells evaluated exactly (interpolation not within `TABLE_TOLERANCE`), one bit each.
-    exact: Vec<u64>,
-    /// For a group of one wavelength, per cell: [R, R + T] at its floor node and their
-    /// differences to its ceiling node (computed as the interpolation computes them), in one
-    /// aligned half cache line; empty otherwise.
-    single: Vec<Cell>,
+    /// Whether the stack can be met (`Stacks::occurs`: bare surface only with a partial
+    /// coating); a table of a stack that cannot is never read.
+    occurs: bool,
+    /// Allocated when a decision first reads the table: never for stacks the rays do not meet
+    /// (those of water-filled pores in a dry sand).
+    data: OnceLock<TableData>,
 }
 
-/// A cell of `StackTable::single`.
-#[derive(Clone, Copy, Debug)]
-#[repr(align(32))]
-struct Cell([f64; 4]);
+/// The cells and nodes of a `StackTable`.
+#[derive(Debug)]
+struct TableData {
+    /// Per cell: `UNBUILT`, `INTERPOLATED` or `EXACT`.
+    state: Box<[AtomicU8]>,
+    /// [R, R + T] (bits of the f64) at node μ = i / STACK_CELLS for every wavelength, at
+    /// `i * n + j`; set for the nodes of the interpolated cells built.
+    nodes: Box<[[AtomicU64; 2]]>,
+}
 
-impl StackTable {
-    fn new(nodes: Vec<[f64; 2]>, exact: &[bool], n: usize) -> StackTable {
-        let mut bits = vec![0u64; exact.len().div_ceil(64)];
-        for (i, _) in exact.iter().enumerate().filter(|(_, &e)| e) {
-            bits[i / 64] |= 1 << (i % 64);
+/// A cell's state: not built yet, interpolated, or evaluated exactly (interpolation not within
+/// `TABLE_TOLERANCE` at some wavelength).
+const UNBUILT: u8 = 0;
+const INTERPOLATED: u8 = 1;
+const EXACT: u8 = 2;
+
+impl TableData {
+    fn new(n: usize) -> TableData {
+        TableData {
+            state: (0..STACK_CELLS).map(|_| AtomicU8::new(UNBUILT)).collect(),
+            nodes: (0..(STACK_CELLS + 1) * n).map(|_| [AtomicU64::new(0), AtomicU64::new(0)]).collect(),
         }
-        let single = if n == 1 {
-            nodes.windows(2).map(|w| Cell([w[0][0], w[0][1], w[1][0] - w[0][0], w[1][1] - w[0][1]])).collect()
-        } else {
-            Vec::new()
-        };
-        StackTable { nodes, exact: bits, single }
     }
 
+    /// [R, R + T] at node `k` (index `i * n + j`), as stored.
     #[inline(always)]
-    fn is_exact(&self, cell: usize) -> bool {
-        (self.exact[cell / 64] >> (cell % 64)) & 1 != 0
+    fn node(&self, k: usize) -> [f64; 2] {
+        self.nodes[k].each_ref().map(|v| f64::from_bits(v.load(Ordering::Relaxed)))
     }
+}
 
-    fn exact_cells(&self) -> usize {
-        self.exact.iter().map(|b| b.count_ones() as usize).sum()
-    }
+/// A built cell of a `StackTable` (`HeroGroup::cell`): where its nodes are, and whether it is
+/// evaluated exactly.
+#[derive(Clone, Copy)]
+struct Cell<'a> {
+    data: &'a TableData,
+    /// Index of its floor node at wavelength 0 (`i * n`).
+    floor: usize,
+    exact: bool,
 }
 
 fn varies(v: Vec<f64>) -> Option<Vec<f64>> {
@@ -199,42 +220,13 @@ impl HeroGroup {
 
     /// The group of `media` (checked by `check_geometry`) whose paths `paths` trace.
     fn with_paths(media: Vec<Particulate>, paths: Paths) -> HeroGroup {
-        let first = &media[0];
-        let n = media.len();
-        let types = first.types.len();
-        let mut tables = Vec::with_capacity(StackKind::ALL.len() * types);
-        for t in 0..types {
-            let stacks: Vec<&Stacks> = media.iter().map(|m| m.type_tables(t).1).collect();
-            for kind in StackKind::ALL {
-                if !stacks[0].occurs(kind) {
-                    tables.push(StackTable::default());
-                    continue;
-                }
-                let f = |s: &Stacks, mu: f64| {
-                    let (r, t) = s.rt(kind, mu);
-                    [r, r + t]
-                };
-                let mut tab = Vec::with_capacity((STACK_CELLS + 1) * n);
-                for i in 0..=STACK_CELLS {
-                    let mu = i as f64 / STACK_CELLS as f64;
-                    tab.extend(stacks.iter().map(|s| f(s, mu)));
-                }
-                // Interpolation checked at 3 interior points per cell, every wavelength (7 points
-                // marked the same 19.8 % of the cells for the default sample at 400–700 nm).
-                let cells: Vec<bool> = (0..STACK_CELLS)
-                    .map(|i| {
-                        stacks.iter().enumerate().any(|(j, s)| {
-                            let (a, b) = (tab[i * n + j], tab[(i + 1) * n + j]);
-                            [0.25, 0.5, 0.75].into_iter().any(|frac| {
-                                let v = f(s, (i as f64 + frac) / STACK_CELLS as f64);
-                                (0..2).any(|k| (a[k] + frac * (b[k] - a[k]) - v[k]).abs() > TABLE_TOLERANCE)
-                            })
-                        })
-                    })
-                    .collect();
-                tables.push(StackTable::new(tab, &cells, n));
-            }
-        }
+        let types = media[0].types.len();
+        // Every medium meets the same stacks (`occurs` depends on the coating's coverage, the
+        // same for all: `check_geometry`).
+        let tables = (0..types)
+            .flat_map(|t| StackKind::ALL.map(|kind| (t, kind)))
+            .map(|(t, kind)| StackTable { occurs: media[0].type_tables(t).1.occurs(kind), data: OnceLock::new() })
+            .collect();
         let core_alpha =
             (0..types).map(|t| varies(media.iter().map(|m| m.types[t].optics.core_alpha_per_mm).collect())).collect();
         let water_alpha = varies(media.iter().map(|m| m.pore.water_alpha_per_mm).collect());
@@ -276,30 +268,80 @@ impl HeroGroup {
         self.rt_at(t, kind, cos, cell, x - cell as f64, j)
     }
 
+    /// Cell `i` of the table of stack `kind` of type `t`, built now if no decision fell in it
+    /// before (`StackTable`).
+    #[inline(always)]
+    fn cell(&self, t: usize, kind: StackKind, i: usize) -> Cell<'_> {
+        let tab = &self.tables[StackKind::ALL.len() * t + kind.index()];
+        let data = tab.data.get_or_init(|| TableData::new(self.media.len()));
+        let mut state = data.state[i].load(Ordering::Acquire);
+        if state == UNBUILT {
+            state = self.build_cell(data, t, kind, i);
+        }
+        Cell { data, floor: i * self.media.len(), exact: state == EXACT }
+    }
+
+    /// Builds cell `i` of `data`, the table of stack `kind` of type `t` (see `cell`), and
+    /// returns its state. The interpolation is checked at 3 interior points, every wavelength
+    /// (7 points marked the same 19.8 % of the cells for the default sample at 400–700 nm); an
+    /// exact cell needs no nodes, so the first wavelength that fails ends the build.
+    #[cold]
+    #[inline(never)]
+    fn build_cell(&self, data: &TableData, t: usize, kind: StackKind, i: usize) -> u8 {
+        // [R, R + T] of medium `m` at μ = x / STACK_CELLS: node x = i and i + 1, interior
+        // points x = i + frac.
+        let at = |m: &Particulate, x: f64| {
+            let (r, t) = m.type_tables(t).1.rt(kind, x / STACK_CELLS as f64);
+            [r, r + t]
+        };
+        let n = self.media.len();
+        let mut state = INTERPOLATED;
+        for (j, m) in self.media.iter().enumerate() {
+            let (a, b) = (at(m, i as f64), at(m, (i + 1) as f64));
+            let off = [0.25, 0.5, 0.75].into_iter().any(|frac| {
+                let v = at(m, i as f64 + frac);
+                (0..2).any(|k| (a[k] + frac * (b[k] - a[k]) - v[k]).abs() > TABLE_TOLERANCE)
+            });
+            if off {
+                state = EXACT;
+                break;
+            }
+            for (node, v) in [(i * n + j, a), ((i + 1) * n + j, b)] {
+                data.nodes[node].iter().zip(v).for_each(|(x, v)| x.store(v.to_bits(), Ordering::Relaxed));
+            }
+        }
+        data.state[i].store(state, Ordering::Release);
+        state
+    }
+
     /// [R, R + T] of stack `kind` of type `t` for wavelength `j` at cosine `cos` (in [0, 1]),
-    /// interpolated in `cell` at `frac`, or exact where the cell is marked so.
+    /// interpolated in cell `i` at `frac`, or exact where the cell is marked so.
     // Always inlined: a call per stack decision cost ~10 % of a one-wavelength run (valgrind).
     #[inline(always)]
-    fn rt_at(&self, t: usize, kind: StackKind, cos: f64, cell: usize, frac: f64, j: usize) -> [f64; 2] {
-        let tab = &self.tables[StackKind::ALL.len() * t + kind.index()];
-        if tab.is_exact(cell) {
+    fn rt_at(&self, t: usize, kind: StackKind, cos: f64, i: usize, frac: f64, j: usize) -> [f64; 2] {
+        self.rt_in(self.cell(t, kind, i), t, kind, cos, frac, j)
+    }
+
+    /// `rt_at` with the cell already looked up (`cell`).
+    #[inline(always)]
+    fn rt_in(&self, cell: Cell<'_>, t: usize, kind: StackKind, cos: f64, frac: f64, j: usize) -> [f64; 2] {
+        if cell.exact {
             let (r, t) = self.media[j].type_tables(t).1.rt(kind, cos);
             return [r, r + t];
         }
-        if let Some(&Cell([r, rt, dr, drt])) = tab.single.get(cell) {
-            // One wavelength (j = 0): the same interpolation, its differences read, not taken.
-            return [r + frac * dr, rt + frac * drt];
-        }
-        let n = self.media.len();
-        let (a, b) = (tab.nodes[cell * n + j], tab.nodes[(cell + 1) * n + j]);
+        let (a, b) = (cell.data.node(cell.floor + j), cell.data.node(cell.floor + self.media.len() + j));
         [a[0] + frac * (b[0] - a[0]), a[1] + frac * (b[1] - a[1])]
     }
 
-    /// Fraction of table cells evaluated exactly (over all types and stacks).
+    /// Fraction of table cells evaluated exactly (over all types and stacks), every cell built.
     pub fn exact_fraction(&self) -> f64 {
-        let cells: usize = self.tables.iter().map(StackTable::exact_cells).sum();
-        let tables = self.tables.iter().filter(|e| !e.exact.is_empty()).count();
-        cells as f64 / (tables * STACK_CELLS) as f64
+        let (mut exact, mut cells) = (0, 0);
+        for (k, _) in self.tables.iter().enumerate().filter(|(_, tab)| tab.occurs) {
+            let (t, kind) = (k / StackKind::ALL.len(), StackKind::ALL[k % StackKind::ALL.len()]);
+            cells += STACK_CELLS;
+            exact += (0..STACK_CELLS).filter(|&i| self.cell(t, kind, i).exact).count();
+        }
+        exact as f64 / cells as f64
     }
 
     /// Traces one ray: the hero drawn from the ray's generator, then the path with the
@@ -341,12 +383,13 @@ impl HeroGroup {
     /// `cos` (clamped to [0, 1]), with the clamped cosine, the table cell and the fraction of
     /// it, and the hero's [R, R + T] there.
     #[inline(always)]
-    fn hero_fate(&self, t: usize, kind: StackKind, cos: f64, u: f64, hero: usize) -> HeroFate {
+    fn hero_fate(&self, t: usize, kind: StackKind, cos: f64, u: f64, hero: usize) -> HeroFate<'_> {
         let cos = cos.clamp(0.0, 1.0);
         let x = cos * STACK_CELLS as f64;
-        let cell = (x as usize).min(STACK_CELLS - 1);
-        let frac = x - cell as f64;
-        let rt = self.rt_at(t, kind, cos, cell, frac, hero);
+        let i = (x as usize).min(STACK_CELLS - 1);
+        let frac = x - i as f64;
+        let cell = self.cell(t, kind, i);
+        let rt = self.rt_in(cell, t, kind, cos, frac, hero);
         let fate = if u < rt[0] {
             StackFate::Reflect
         } else if u >= rt[1] {
@@ -358,11 +401,12 @@ impl HeroGroup {
     }
 }
 
-/// A stack decision of the hero and where it was read (`HeroGroup::hero_fate`).
-struct HeroFate {
+/// A stack decision of the hero and where it was read (`HeroGroup::hero_fate`): the table cell
+/// (`HeroGroup::cell`) and the fraction of it.
+struct HeroFate<'a> {
     fate: StackFate,
     cos: f64,
-    cell: usize,
+    cell: Cell<'a>,
     frac: f64,
     rt: [f64; 2],
 }
@@ -413,7 +457,7 @@ impl PathChoices for Companions<'_> {
         let p_hero = p([r, rt]);
         match g.incident_indices(t, kind) {
             None => {
-                self.weights.scale(|j| if j == hero { 1.0 } else { p(g.rt_at(t, kind, cos, cell, frac, j)) / p_hero })
+                self.weights.scale(|j| if j == hero { 1.0 } else { p(g.rt_in(cell, t, kind, cos, frac, j)) / p_hero })
             }
             Some(n) => {
                 // Dispersion: wavelength j meets the interface with the hero's tangential
@@ -796,6 +840,41 @@ mod tests {
         }
         assert!(worst < 1e-6, "worst interpolation error {worst}");
         assert!(g.exact_fraction() < 0.3, "{}", g.exact_fraction());
+    }
+
+    /// A digest of every sum of `c` (equal only if every sum is).
+    fn digest(c: &SpectralCounts) -> u128 {
+        let sums = [c.launched, c.capped, c.events].map(u128::from);
+        sums.iter()
+            .chain(&c.escaped)
+            .chain(&c.transmitted)
+            .chain(&c.products)
+            .fold(0, |h, &v| h.wrapping_mul(0x0000_0000_0100_0000_0000_0000_0000_013b).wrapping_add(v))
+    }
+
+    #[test]
+    fn shared_tallies_are_those_recorded_before() {
+        // Recorded from the build of commit ad8b41e (every stack table built with its group):
+        // 24 wavelengths (absorption ×0.2–3.65, indices +0–0.0115: the companions' own cosines)
+        // classic and packed, and one wavelength (`Single`), 2000 rays each. The cells are built
+        // as the rays meet them, or every one before the first ray (`exact_fraction`): the same.
+        let recorded = [
+            (Memory::None, 24, 12640, 251813085416347861666106311106190493714),
+            (Memory::Packed, 24, 12615, 109891111923202867562303561234114083356),
+            (Memory::None, 1, 41807, 67089939280058249064918315105650415261),
+        ];
+        let dir = incident_direction(0.6);
+        let rays = Rays { seed: 12, stream: 1, first: 0, n: 2000 };
+        for (memory, n, events, sums) in recorded {
+            let media: Vec<_> = (0..n).map(|j| packed_sand(0.2 + 0.15 * j as f64, 0.0005 * j as f64)).collect();
+            let (lazy, built) =
+                (HeroGroup::new(media.clone(), memory).unwrap(), HeroGroup::new(media, memory).unwrap());
+            built.exact_fraction();
+            for g in [lazy, built] {
+                let c = spectral_directional_hemispherical(&g, dir, rays, &Limits::default());
+                assert_eq!((c.events, digest(&c)), (events, sums), "{memory:?}, {n} wavelengths");
+            }
+        }
     }
 
     #[test]

@@ -5,6 +5,8 @@
 //! choices made through `PathChoices` (one wavelength, or a spectral group's hero with its
 //! companions, `hero`).
 
+use std::sync::OnceLock;
+
 use crate::math::Vec3;
 use crate::medium::Particulate;
 use crate::pair_correlation::PairCorrelation;
@@ -46,20 +48,27 @@ pub enum Memory {
 pub struct WithMemory {
     pub medium: Particulate,
     pub memory: Memory,
-    /// What the memory tracer keeps beside the medium; None for `Memory::None`.
-    paths: Option<PathMemory>,
+    /// What the memory tracer keeps beside the medium (None for `Memory::None`), built by the
+    /// first ray traced: a medium given to a spectral group is never traced on its own (the
+    /// group builds one `PathMemory` for all its media), so it never pays for one. It depends
+    /// on the medium alone, so when and on which thread it is built changes no path.
+    paths: OnceLock<Option<PathMemory>>,
 }
 
 impl WithMemory {
     pub fn new(medium: Particulate, memory: Memory) -> WithMemory {
-        let paths = PathMemory::new(&medium, memory);
-        WithMemory { medium, memory, paths }
+        WithMemory { medium, memory, paths: OnceLock::new() }
+    }
+
+    /// The path memory of the medium (None for `Memory::None`), built on first use.
+    fn paths(&self) -> Option<&PathMemory> {
+        self.paths.get_or_init(|| PathMemory::new(&self.medium, self.memory)).as_ref()
     }
 }
 
 impl Medium for WithMemory {
     fn trace(&self, dir_in: Vec3, rng: &mut Rng, limits: &Limits) -> RayOutcome {
-        match &self.paths {
+        match self.paths() {
             None => self.medium.trace(dir_in, rng, limits),
             Some(paths) => trace_with_memory(paths, &self.medium, dir_in, rng, limits, &mut Mono),
         }
@@ -588,7 +597,7 @@ mod tests {
         // leaves by the top or the bottom, also through the water surface and the cut layer.
         for memory in [Memory::Channel, Memory::Cut, Memory::Packed] {
             let wm = WithMemory::new(clear_sand(1.0), memory);
-            let paths = wm.paths.as_ref().unwrap();
+            let paths = wm.paths().unwrap();
             assert_eq!(paths.surface.is_some(), memory != Memory::Channel);
             assert_eq!(paths.neighbours.is_some(), memory == Memory::Packed);
             let d = Vec3::new(0.3, 0.4, -(0.75f64).sqrt());

@@ -10,6 +10,8 @@
 //! their side. A coating may cover only part of the surface (`Coating::coverage`): each surface
 //! point a ray meets carries it with that probability, independently of the other points.
 
+use std::sync::OnceLock;
+
 use crate::layers::{stack_rt, Slab, MAX_MEDIA};
 use crate::math::{refract, Vec3};
 use crate::rng::Rng;
@@ -165,7 +167,13 @@ pub enum Interaction {
 /// (`film`) facing an air pore. With the scattering of each medium (the coating's; none
 /// elsewhere).
 fn entry_media(p: &ParticleOptics, pore: &PoreOptics, water: bool, film: bool) -> (Stack, [Turbidity; MAX_MEDIA]) {
-    let mut out = Stack { media: [Slab::semi_infinite(1.0); MAX_MEDIA], len: 0, brackets: None, scattering: None };
+    let mut out = Stack {
+        media: [Slab::semi_infinite(1.0); MAX_MEDIA],
+        len: 0,
+        tabulated: false,
+        brackets: OnceLock::new(),
+        scattering: None,
+    };
     let mut turbidity = [Turbidity::NONE; MAX_MEDIA];
     let mut push = |s: Slab, tb: Turbidity| {
         out.media[out.len] = s;
@@ -230,14 +238,22 @@ const BRACKET_CELLS: usize = 256;
 /// bounds lo ≤ f(μ) ≤ hi per cell of μ usually decides without evaluating the stack: only when
 /// u falls inside a cell's bracket (a fraction ≈ |f′|/256 + 2·margin of the draws) is the stack
 /// evaluated. The decisions are therefore those of the exact evaluation wherever the bounds
-/// hold; `with_brackets` says how they are built and checked, and the tests compare table and
+/// hold; `bracket_table` says how they are built and checked, and the tests compare table and
 /// exact decisions for many media, including u within 5e-10 of R and R + T.
-#[derive(Clone, Debug, PartialEq)]
+///
+/// The table is built on the first decision that reads it, not with the stack: the media of a
+/// spectral group never read theirs (the group decides from its own tables, `hero`), and a
+/// stack the rays of a short run never meet need not pay for one. It is a pure function of the
+/// media, so when and on which thread it is built changes no decision.
+#[derive(Clone, Debug)]
 struct Stack {
     media: [Slab; MAX_MEDIA],
     len: usize,
-    /// Per cell [R_lo, R_hi, (R+T)_lo, (R+T)_hi]; None: always evaluate.
-    brackets: Option<Box<[[f64; 4]]>>,
+    /// Whether decisions read a bracket table (`Stacks::tabulated`, for the stacks that occur);
+    /// false: always evaluate.
+    tabulated: bool,
+    /// Per cell [R_lo, R_hi, (R+T)_lo, (R+T)_hi], once built (`tabulated` only).
+    brackets: OnceLock<Box<[[f64; 4]]>>,
     /// Where the coating scatters: the stack with its diffuse parts (R and T are then the
     /// totals, specular plus diffuse).
     scattering: Option<Box<ScatteringStack>>,
@@ -271,7 +287,8 @@ impl Stack {
     /// The same decision as `fate_exact`, from the bracket table when it suffices.
     #[inline]
     fn fate(&self, cos_0: f64, u: f64) -> StackFate {
-        if let Some(b) = &self.brackets {
+        if self.tabulated {
+            let b = self.brackets.get_or_init(|| self.bracket_table());
             let j = ((cos_0 * BRACKET_CELLS as f64) as usize).min(BRACKET_CELLS - 1);
             let [r_lo, r_hi, rt_lo, rt_hi] = b[j];
             if u < r_lo {
@@ -300,7 +317,7 @@ impl Stack {
     /// τ = exp(−αt/cos θᵢ) a feature of width ~(αt)² in μ, far narrower than a cell for thin
     /// films. The cells from one below to four above each critical cosine are therefore left
     /// without bounds; beyond them the scale of variation is the distance to μ_c ≥ 3 cells.
-    fn with_brackets(mut self) -> Stack {
+    fn bracket_table(&self) -> Box<[[f64; 4]]> {
         let n = BRACKET_CELLS;
         let n0 = self.media[0].n;
         let mut undecided = vec![false; n];
@@ -319,7 +336,7 @@ impl Stack {
             let j = j.clamp(1, n - 1);
             (nodes[j + 1][k] - 2.0 * nodes[j][k] + nodes[j - 1][k]).abs()
         };
-        let cells = (0..n)
+        (0..n)
             .map(|j| {
                 let mut cell = [0.0; 4];
                 for k in 0..2 {
@@ -339,9 +356,7 @@ impl Stack {
                     [-1.0, 2.0, -1.0, 2.0]
                 }
             })
-            .collect();
-        self.brackets = Some(cells);
-        self
+            .collect()
     }
 }
 
@@ -349,8 +364,8 @@ impl Stack {
 /// each for a dry point facing an air-filled pore, a wetted one (film) and a water-filled pore,
 /// and each on the coated surface and on the bare one (outside a partial coating's patches).
 /// They depend only on the optics, so a medium builds them once (`Particulate::new`, with
-/// bracket tables) rather than at every interaction.
-#[derive(Clone, Debug, PartialEq)]
+/// bracket tables built on first use) rather than at every interaction.
+#[derive(Clone, Debug)]
 pub struct Stacks {
     /// Indexed by `bare as usize` and `StackKind::side`.
     entry: [[Stack; 3]; 2],
@@ -474,8 +489,9 @@ impl Stacks {
         }
     }
 
-    /// The stacks with bracket tables for the pore states that occur (a few ms to build; the
-    /// decisions are the same, mostly without evaluating Fresnel and layer formulas).
+    /// The stacks with bracket tables for the pore states that occur (the decisions are the
+    /// same, mostly without evaluating Fresnel and layer formulas). Each table is built when a
+    /// decision first reads it, so building these costs what `new` does.
     pub fn tabulated(p: &ParticleOptics, pore: &PoreOptics) -> Stacks {
         let s = Stacks::new(p, pore);
         let water_used = pore.water_filled_probability > 0.0;
@@ -485,7 +501,7 @@ impl Stacks {
         let bare_occurs = s.bare_occurs;
         // Coverage 0 (bare everywhere) never meets the coated stacks.
         let coated_occurs = p.coating.is_none_or(|c| c.coverage > 0.0);
-        let tab = |st: Stack, used: bool| if used { st.with_brackets() } else { st };
+        let tab = |st: Stack, tabulated: bool| Stack { tabulated, ..st };
         let sides = |[d, f, w]: [Stack; 3], exit: bool, surface_used: bool| {
             let air = !exit || air_used;
             [
@@ -725,7 +741,7 @@ mod tests {
     /// plus geometric steps towards each critical cosine, with u uniform and within 5e-10 of
     /// R and R + T.
     fn assert_bracketed_decisions_exact(tab: &Stacks, n_mu: usize, rng: &mut Rng) {
-        for st in tab.entry.iter().chain(tab.exit.iter()).flatten().filter(|st| st.brackets.is_some()) {
+        for st in tab.entry.iter().chain(tab.exit.iter()).flatten().filter(|st| st.tabulated) {
             let n0 = st.media[0].n;
             let mut mus: Vec<f64> = (0..=n_mu).map(|i| i as f64 / n_mu as f64).collect();
             for m in st.media[1..st.len].iter().filter(|m| m.n < n0) {
@@ -777,7 +793,7 @@ mod tests {
                 wets: true,
             };
             let tab = Stacks::tabulated(&p, &pore);
-            assert!(StackKind::ALL.iter().all(|&k| tab.of(k).brackets.is_some() == tab.occurs(k)));
+            assert!(StackKind::ALL.iter().all(|&k| tab.of(k).tabulated == tab.occurs(k)));
             assert_bracketed_decisions_exact(&tab, 20_000, &mut rng);
         }
     }

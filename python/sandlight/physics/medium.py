@@ -22,6 +22,7 @@ particles of the ``particles`` form are Lorenz–Mie volume scatterers in the po
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import Protocol, runtime_checkable
 
@@ -41,6 +42,7 @@ from sandlight.physics.fine_particles import (
 )
 from sandlight.physics.pigment import PIGMENT_DIAMETER_UM
 from sandlight.physics.pigment import coating_optics as pigmented_coating
+from sandlight.physics.sizes import SizeDistribution
 
 __all__ = [
     "Traceable",
@@ -50,6 +52,7 @@ __all__ = [
     "mie_majorants",
     "absorption_per_mm",
     "with_host_absorption",
+    "shipped_index",
 ]
 
 #: How a coating's iron oxide acts: 'uniform' (absorbing, non-scattering slab with the volume
@@ -84,6 +87,22 @@ class Traceable(Protocol):
         ...
 
 
+@functools.lru_cache(maxsize=8192)
+def shipped_index(material: str, wavelength_nm: float) -> complex:
+    """:func:`sandlight.optics.complex_index` of ``material`` at one wavelength, as a complex,
+    remembered: the media of a spectrum ask for the same few materials at every wavelength, and
+    every training sample for the same wavelengths again (a table look-up costs tens of µs)."""
+    return complex(complex_index(material, wavelength_nm))
+
+
+@functools.lru_cache(maxsize=1024)
+def _encounter_quantiles(sizes: SizeDistribution) -> tuple[float, ...]:
+    """The size table the engine samples (:meth:`SizeDistribution.encounter_quantiles`), the same
+    at every wavelength: computed once per distribution (a frozen dataclass, the key) rather than
+    once per native medium."""
+    return tuple(sizes.encounter_quantiles().tolist())
+
+
 def absorption_per_mm(k: float, wavelength_nm: float) -> float:
     """α = 4πk/λ in mm⁻¹ (λ in nm)."""
     return 4.0 * np.pi * k / (wavelength_nm * 1e-6)
@@ -108,7 +127,7 @@ def with_host_absorption(index: OpticalConstants, factor: float) -> OpticalConst
 
 def _optical_index(comp: Composition, optical_constants: OpticalConstants | None) -> OpticalConstants:
     # The shipped (or given) constants with the composition's host absorption, for every material.
-    return with_host_absorption(complex_index if optical_constants is None else optical_constants, comp.host_absorption)
+    return with_host_absorption(shipped_index if optical_constants is None else optical_constants, comp.host_absorption)
 
 
 def _pore_indices(comp: Composition, index: OpticalConstants) -> list[Callable[[float], float]]:
@@ -190,7 +209,7 @@ def native_medium(
     coat_s, coat_g, coat_f, core_s = [], [], [], []
     for p in comp.populations:
         core = _mix(p.core, wavelength_nm, index)
-        quantiles.append(p.sizes.encounter_quantiles().tolist())
+        quantiles.append(_encounter_quantiles(p.sizes))
         aspect.append(p.aspect_ratio)
         core_n.append(core.real)
         core_k.append(core.imag)

@@ -16,7 +16,7 @@ import numpy as np
 
 from sandlight.optics import complex_index
 from sandlight.physics.composition import Composition
-from sandlight.physics.medium import OpticalConstants
+from sandlight.physics.medium import OpticalConstants, shipped_index
 
 __all__ = ["DISPERSION_TOLERANCE", "MAX_GROUP", "direction_indices", "spectral_groups"]
 
@@ -48,7 +48,7 @@ def spectral_groups(
     index of :func:`direction_indices`, max n − min n over the group stays ≤ ``tolerance`` and the group has fewer than
     :data:`MAX_GROUP` members. ``tolerance`` 0 puts wavelengths of different index apart.
     """
-    index = complex_index if optical_constants is None else optical_constants
+    index = shipped_index if optical_constants is None else optical_constants
     wl = np.asarray(wavelengths_nm, dtype=float)
     order = np.argsort(wl, kind="stable")
     n = np.array([direction_indices(comp, float(lam), index) for lam in wl[order]])
