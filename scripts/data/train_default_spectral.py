@@ -48,11 +48,11 @@ PACKAGE_DIR = ROOT / "python" / "sandlight" / "data" / "models"
 WATER = {"dry": None, "film": (0.0, 0.15), "wet": (0.15, 1.0)}
 FILM_FROM = 0.001
 #: The water regimes of the broad models, apart for the jump at saturation 0 that no smooth
-#: regressor follows: dry (saturation 0, where film_saturation does nothing and is fixed). Wet
-#: samples still fall to "broad" (a wet network, saturation 0.001-1 with film_saturation varied,
-#: is the next model: docs/spectral-predictor.md, "Broad models").
-BROAD_WATER = {"dry": {"saturation": 0.0, "film_saturation": 0.15}}
-BROAD_WATER_TEXT = {"dry": "dry (saturation 0)"}
+#: regressor follows: dry (saturation 0, where film_saturation does nothing and is fixed) and
+#: wet (saturation 0.001-1 and film_saturation varied: films, filled pores and the kink between).
+BROAD_WATER = {"dry": {"saturation": 0.0, "film_saturation": 0.15}, "wet": {"saturation": (FILM_FROM, 1.0)}}
+BROAD_WATER_TEXT = {"dry": "dry (saturation 0)", "wet": "wet (saturation 0.001-1, any film saturation)"}
+WATER_TEXT = {"dry": "dry (saturation 0)"}
 WATER_TEXT = {
     "dry": "dry (saturation 0)",
     "film": "saturation 0.001-0.15 (water films)",
@@ -165,18 +165,21 @@ BANK = (
     BankEntry(
         "broad", samples=3000, holdout=300, rays=500, holdout_rays=1_000, model_params={"degree": 3, "n_components": 6}
     ),
-    # The broad dry model: a network where the cubic is too stiff, trained on many samples at few
-    # rays (a network averages the noise of its neighbours; the cubic's error, not the noise,
-    # limited "broad": docs/spectral-predictor.md, "Broad models").
-    BankEntry(
-        "broad-dry",
-        samples=10_000,
-        holdout=500,
-        rays=1_000,
-        holdout_rays=8_000,
-        model_params=BROAD_NETWORK,
-        water="dry",
-        broad=True,
+    # The broad models per water regime: a network where the cubic is too stiff, trained on many
+    # samples at few rays (a network averages the noise of its neighbours; the cubic's error, not
+    # the noise, limited "broad": docs/spectral-predictor.md, "Broad models").
+    *(
+        BankEntry(
+            f"broad-{w}",
+            samples=n,
+            holdout=h,
+            rays=1_000,
+            holdout_rays=8_000,
+            model_params=BROAD_NETWORK,
+            water=w,
+            broad=True,
+        )
+        for w, n, h in (("dry", 10_000, 500), ("wet", 8_000, 400))
     ),
 )
 

@@ -59,9 +59,9 @@ class ModelBank:
     fallback : SpectralModel
         The model with the most input parameters (the broadest domain). A sample no model
         covers is predicted, when ``extrapolate=True``, by the model whose domain it is nearest
-        to (fewest conditions failed, :meth:`Domain.violations`; ties: more parameters, then
-        rank), which names the offending parameter otherwise: with broad models per water
-        regime a dry sample extrapolates with the dry one.
+        to (fewest conditions failed, :meth:`Domain.violations`; ties: the most accurate),
+        which names the offending parameter otherwise: with broad models per water regime a dry
+        sample extrapolates with the dry one.
 
     Examples
     --------
@@ -230,12 +230,9 @@ class ModelBank:
 
     def _nearest(self, columns: dict, forms: np.ndarray) -> np.ndarray:
         """For each sample, the rank of the model whose domain it fails fewest conditions of
-        (ties: more parameters, then the better rank)."""
+        (ties: the better rank, i.e. the more accurate model)."""
         failed = np.array([m.domain_.violations(columns, forms) for m in self.models])
-        breadth = np.array([len(m.parameter_names_) for m in self.models])
-        # Lexicographic: fewest failures, then most parameters, then rank (argmin takes the first).
-        key = failed * (breadth.max() + 1) - breadth[:, None]
-        return np.argmin(key, axis=0)
+        return np.argmin(failed, axis=0)  # the first of the minima: the best rank
 
     def _raise_uncovered(self, row: dict, nearest: SpectralModel) -> None:
         """Raise a ParameterError naming why the first of ``row``'s samples is not covered."""

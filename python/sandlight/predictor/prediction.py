@@ -49,7 +49,7 @@ def predict(
         Vacuum wavelengths in nm within the models' range (400–700 nm for the shipped bank);
         None: the models' own wavelengths. Between those, PCHIP interpolation (module docstring).
     extrapolate : bool
-        Let the broad model answer samples that no model covers, outside its domain, instead of
+        Let the model nearest to a sample no model covers answer it outside its domain, instead of
         raising (``extrapolated`` then says so).
     bank : ModelBank, optional
         The models (default: the shipped bank, :func:`~sandlight.predictor.bank.default_model`).
@@ -99,7 +99,7 @@ def predict(
             "extrapolated": (
                 ("sample",),
                 outside,
-                {"long_name": "no model covers the sample: the broad model answered outside its domain"},
+                {"long_name": "no model covers the sample: the nearest model answered outside its domain"},
             ),
         },
         coords={"wavelength": ("wavelength", wl, _attrs("vacuum wavelength", "nm"))},
