@@ -8,8 +8,10 @@ noise: 0.033 RMS on 3500 dry samples of every parameter, where a network of two 
 The networks are fitted by scikit-learn's ``MLPRegressor`` (Adam, squared error with an L2
 penalty, early stopping on a held-back tenth) and kept as their weights and biases only, so that
 a model file holds plain arrays (never a pickle) and prediction is numpy: tanh hidden layers and
-a linear output, h ← tanh(h W + b). An ensemble of networks fitted from different seeds is
-averaged (its spread is the part of the error that depends on the seed).
+a linear output, h ← tanh(h W + b), in single precision (4× the speed of double on one core;
+the outputs differ by < 10⁻⁵, a thousandth of the models' errors). An ensemble of networks
+fitted from different seeds is averaged (its spread is the part of the error that depends on the
+seed).
 
 Public objects
 --------------
@@ -41,6 +43,10 @@ class Network:
 
     layers: tuple[tuple[tuple[np.ndarray, np.ndarray], ...], ...]
 
+    def __post_init__(self) -> None:
+        single = tuple(tuple((w.astype(np.float32), b.astype(np.float32)) for w, b in net) for net in self.layers)
+        object.__setattr__(self, "_single", single)
+
     @property
     def n_inputs(self) -> int:
         return self.layers[0][0][0].shape[0]
@@ -54,15 +60,19 @@ class Network:
         return sum(w.size + b.size for net in self.layers for w, b in net)
 
     def __call__(self, X: np.ndarray) -> np.ndarray:
-        """The ensemble's mean output for inputs ``X`` (n, n_inputs): (n, n_outputs)."""
-        out = np.zeros((X.shape[0], self.n_outputs))
-        for net in self.layers:
+        """The ensemble's mean output for inputs ``X`` (n, n_inputs): (n, n_outputs), evaluated
+        in single precision."""
+        X = np.asarray(X, dtype=np.float32)
+        out = np.zeros((X.shape[0], self.n_outputs), dtype=np.float32)
+        for net in self._single:
             h = X
             for w, b in net[:-1]:
-                h = np.tanh(h @ w + b)
+                h = h @ w
+                h += b
+                np.tanh(h, out=h)
             w, b = net[-1]
             out += h @ w + b
-        return out / len(self.layers)
+        return out.astype(float) / len(self._single)
 
     def to_arrays(self) -> tuple[np.ndarray, np.ndarray]:
         """(parameters, shapes): every weight matrix and bias flattened in order into one float
