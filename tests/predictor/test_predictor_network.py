@@ -4,24 +4,13 @@ import numpy as np
 import pytest
 
 from sandlight.errors import ModelFileError, ParameterError
-from sandlight.predictor import Domain, SpectralModel
+from sandlight.predictor import Dimension, Domain, SpectralModel
 from sandlight.predictor.network import Network, fit_network
 
 WL = np.arange(400.0, 701.0, 20.0)
-#: Two parameters and two forms: small enough to fit in seconds.
-TWO = Domain.default().restrict(
-    forms=["coating", "particles"],
-    magnetite=0.0,
-    coating_iron_share=0.5,
-    iron_oxide_particle_size_um=1.0,
-    saturation=0.0,
-    film_saturation=0.0,
-    porosity=0.4,
-    grain_size=0.25,
-    grain_size_spread=1.5,
-    aspect_ratio=1.5,
-    silt=0.0,
-    clay=0.0,
+#: Two parameters and two forms around the reference sand: small enough to fit in seconds.
+TWO = Domain.reference(
+    [Dimension("iron_oxide", 0.001, 0.05, "log"), Dimension("hematite_ratio", 0.0, 1.0)], forms=("coating", "particles")
 )
 SHARP = dict(regressor="network", hidden_units=32, hidden_layers=2, n_components=2, random_state=3)
 
