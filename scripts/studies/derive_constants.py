@@ -66,20 +66,21 @@ ACCEPT_NM = (450.0, 600.0)
 @contextlib.contextmanager
 def hematite_k(k: float):
     """Runs the engine with hematite's k set to ``k`` (n unchanged), as the validation variants
-    do: the name the medium builder looks up is replaced for the duration only."""
+    do: the name the medium builder looks up (``shipped_index``, which remembers the shipped
+    constants) is replaced for the duration only."""
     from sandlight.physics import medium
 
-    original = medium.complex_index
+    original = medium.shipped_index
 
     def replaced(material, wavelength_nm):
-        m = complex(original(material, wavelength_nm))
+        m = original(material, wavelength_nm)
         return complex(m.real, k) if material == "hematite" else m
 
-    medium.complex_index = replaced
+    medium.shipped_index = replaced
     try:
         yield
     finally:
-        medium.complex_index = original
+        medium.shipped_index = original
 
 
 def model_grid(wavelength_nm: float, rays: int, seed: int) -> np.ndarray:

@@ -91,7 +91,10 @@ class Traceable(Protocol):
 def shipped_index(material: str, wavelength_nm: float) -> complex:
     """:func:`sandlight.optics.complex_index` of ``material`` at one wavelength, as a complex,
     remembered: the media of a spectrum ask for the same few materials at every wavelength, and
-    every training sample for the same wavelengths again (a table look-up costs tens of µs)."""
+    every training sample for the same wavelengths again (a table look-up costs tens of µs).
+    Other constants are given as ``optical_constants`` (or this name replaced, as
+    scripts/studies/derive_constants.py does): replacing ``complex_index`` would meet the
+    remembered values."""
     return complex(complex_index(material, wavelength_nm))
 
 
