@@ -47,17 +47,16 @@ PACKAGE_DIR = ROOT / "python" / "sandlight" / "data" / "models"
 #: generated over S ∈ [0, 0.15] and fitted from S = FILM_FROM.
 WATER = {"dry": None, "film": (0.0, 0.15), "wet": (0.15, 1.0)}
 FILM_FROM = 0.001
-#: The water regimes of the broad models, apart for the jump at saturation 0 that no smooth
-#: regressor follows: dry (saturation 0, where film_saturation does nothing and is fixed) and
-#: wet (saturation 0.001-1 and film_saturation varied: films, filled pores and the kink between).
-BROAD_WATER = {"dry": {"saturation": 0.0, "film_saturation": 0.15}, "wet": {"saturation": (FILM_FROM, 1.0)}}
-BROAD_WATER_TEXT = {"dry": "dry (saturation 0)", "wet": "wet (saturation 0.001-1, any film saturation)"}
-WATER_TEXT = {"dry": "dry (saturation 0)"}
 WATER_TEXT = {
     "dry": "dry (saturation 0)",
     "film": "saturation 0.001-0.15 (water films)",
     "wet": "saturation 0.15-1 (filled pores)",
 }
+#: The water regimes of the broad models, apart for the jump at saturation 0 that no smooth
+#: regressor follows: dry (saturation 0, where film_saturation does nothing and is fixed) and
+#: wet (saturation 0.001-1 and film_saturation varied: films, filled pores and the kink between).
+BROAD_WATER = {"dry": {"saturation": 0.0, "film_saturation": 0.15}, "wet": {"saturation": (FILM_FROM, 1.0)}}
+BROAD_WATER_TEXT = {"dry": WATER_TEXT["dry"], "wet": "wet (saturation 0.001-1, any film saturation)"}
 
 
 @dataclass(frozen=True)

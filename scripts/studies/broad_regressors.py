@@ -4,8 +4,8 @@
 Fits each regressor on the stored training set of ``broad-dry`` (made by
 ``scripts/data/train_default_spectral.py --only broad-dry``) and scores it on that model's
 hold-out set; prints, per regressor, the hold-out RMS error, the model error alone (the hold-out
-set's own Monte Carlo noise removed), the largest error, the mean bias at 400 and 700 nm, the fit
-time and the prediction speed (docs/spectral-predictor.md, "Broad models")::
+set's own Monte Carlo noise removed), the largest error, the mean bias at 400 and 700 nm and the
+fit time (docs/spectral-predictor.md, "Broad models"; prediction speed: benchmarks/predict.py)::
 
     python scripts/studies/broad_regressors.py --work-dir build/train-default-spectral
     python scripts/studies/broad_regressors.py --work-dir DIR --ensembles 1 4 --no-cubic

@@ -187,7 +187,7 @@ def predict(
             "--wavelengths" if exc.name == "wavelengths_nm" else exc.name, exc.value, exc.allowed
         ) from None
     reflectance, model = ds["reflectance"].values, bank.model(str(ds["model"].values))
-    outside = bool(ds["extrapolated"])  # no model covers it: the fallback extrapolated
+    outside = bool(ds["extrapolated"])  # no model covers it: the nearest one extrapolated
     echo(
         f"model {bank.describe(model.name_)}" + (" [extrapolated: the sample is outside its domain]" if outside else "")
     )

@@ -2,14 +2,15 @@
 
 The paper's regression (§3.1.2) is a cubic in the sample parameters. Over a few parameters it
 is accurate; over all of them (the broad models) its error is the cubic's, not Monte Carlo
-noise: 0.033 RMS on 3500 dry samples of every parameter, where a network of two tanh layers of
-128 units reached 0.016 on the same split (docs/spectral-predictor.md, "Broad models").
+noise: on the 10 000 dry samples of every parameter of ``broad-dry`` the cubic leaves 0.030 RMS
+on the hold-out set, one network of two tanh layers of 128 units 0.014, four averaged 0.012
+(scripts/studies/broad_regressors.py; docs/spectral-predictor.md, "Broad models").
 
 The networks are fitted by scikit-learn's ``MLPRegressor`` (Adam, squared error with an L2
 penalty, early stopping on a held-back tenth) and kept as their weights and biases only, so that
 a model file holds plain arrays (never a pickle) and prediction is numpy: tanh hidden layers and
-a linear output, h ← tanh(h W + b), in single precision (4× the speed of double on one core;
-the outputs differ by < 10⁻⁵, a thousandth of the models' errors). An ensemble of networks
+a linear output, h ← tanh(h W + b), in single precision (twice the batched speed of double in
+benchmarks/predict.py; the outputs differ by < 10⁻⁵, a thousandth of the models' errors). An ensemble of networks
 fitted from different seeds is averaged (its spread is the part of the error that depends on the
 seed).
 

@@ -601,7 +601,7 @@ class SpectralModel(Estimator):
         model.validate_params()
         domain = Domain.from_dict(meta["domain"])
         regression = _NETWORK_ARRAYS if model.regressor == "network" else _MONOMIAL_ARRAYS
-        wrong = sorted(set(_MONOMIAL_ARRAYS + _NETWORK_ARRAYS) - set(regression) & set(data))
+        wrong = sorted((set(_MONOMIAL_ARRAYS + _NETWORK_ARRAYS) - set(regression)) & set(data))
         missing = [a for a in regression if a not in data]
         if wrong or missing:
             raise ValueError(
