@@ -68,5 +68,13 @@ def test_predict_answers_the_wavelengths_asked_for(tmp_path):
     assert res.exit_code == 0, res.output
     table = pd.read_csv(out, comment="#")
     assert table["wavelength_nm"].tolist() == list(range(400, 701, 5))
-    res = runner.invoke(app, ["predict", "--preset", "red-dune", "-w", "350:700:10"])
-    assert res.exit_code == 2 and "--wavelengths = 350.0 is not allowed" in res.output, res.output
+    res = runner.invoke(app, ["predict", "--preset", "red-dune", "-w", "340:700:10"])
+    assert res.exit_code == 2 and "--wavelengths = 340.0 is not allowed" in res.output, res.output
+    # Beyond 700 nm the full-range models answer; with --mode paper the paper's refuse.
+    res = runner.invoke(app, ["predict", "--preset", "red-dune", "-w", "350:2500:10", "-o", str(out)])
+    assert res.exit_code == 0 and "model full-dry" in res.output, res.output
+    assert pd.read_csv(out, comment="#")["wavelength_nm"].tolist() == list(range(350, 2501, 10))
+    res = runner.invoke(app, ["predict", "--preset", "red-dune", "-w", "900", "--mode", "paper"])
+    assert res.exit_code == 2 and "--wavelengths = 900.0 is not allowed" in res.output, res.output
+    res = runner.invoke(app, ["predict", "--preset", "red-dune", "--mode", "infrared"])
+    assert res.exit_code == 2 and "--mode = 'infrared' is not allowed" in res.output, res.output

@@ -332,7 +332,7 @@ def test_format_1_file_still_loads(tmp_path):
 class TestDefaultModel:
     def test_absent_default_model_is_a_clear_error(self, monkeypatch, tmp_path):
         monkeypatch.setattr(bank, "default_model_dir", lambda: tmp_path)
-        default_model.cache_clear()
+        bank.shipped_banks.cache_clear()
         with pytest.raises(SandlightError, match="no spectral model is installed"):
             default_model()
 
@@ -341,7 +341,7 @@ class TestDefaultModel:
         models.mkdir()
         saved.rename(models / "spectral-small.npz")
         monkeypatch.setattr(bank, "default_model_dir", lambda: models)
-        default_model.cache_clear()
+        bank.shipped_banks.cache_clear()
         try:
             first = default_model()
             assert default_model() is first
@@ -349,4 +349,43 @@ class TestDefaultModel:
             samples = SMALL.draw(3, seed=2)
             np.testing.assert_array_equal(first.predict(samples), model.predict(samples))
         finally:
-            default_model.cache_clear()
+            bank.shipped_banks.cache_clear()
+
+    def test_models_on_other_grids_form_their_own_bank(self, monkeypatch, saved, tmp_path):
+        # The paper's bank and the full-range bank ship side by side: one bank per grid, the
+        # paper's found by its 400-700 nm span, the full range by the widest span.
+        models = tmp_path / "models"
+        models.mkdir()
+        saved.rename(models / "spectral-small.npz")
+        _wide_model().save(models / "spectral-wide.npz")
+        monkeypatch.setattr(bank, "default_model_dir", lambda: models)
+        bank.shipped_banks.cache_clear()
+        try:
+            assert [b.wavelengths_.size for b in bank.shipped_banks()] == [WL.size, WIDE_WL.size]
+            assert [m.name_ for m in default_model().models] == ["small"]
+            assert [m.name_ for m in bank.full_range_model().models] == ["wide"]
+        finally:
+            bank.shipped_banks.cache_clear()
+
+    def test_no_shipped_model_on_the_papers_grid_is_a_clear_error(self, monkeypatch, tmp_path):
+        models = tmp_path / "models"
+        models.mkdir()
+        _wide_model().save(models / "spectral-wide.npz")
+        monkeypatch.setattr(bank, "default_model_dir", lambda: models)
+        bank.shipped_banks.cache_clear()
+        try:
+            with pytest.raises(ModelFileError, match="no shipped spectral model spans 400–700 nm"):
+                default_model()
+        finally:
+            bank.shipped_banks.cache_clear()
+
+
+WIDE_WL = np.arange(350.0, 2501.0, 50.0)
+
+
+def _wide_model():
+    """A model on a grid other than the paper's (only its grid matters here)."""
+    train = SMALL.draw(60, seed=5)
+    scale = np.random.default_rng(5).uniform(0.8, 1.0, (len(train), 1))
+    values = scale * np.linspace(0.2, 0.8, WIDE_WL.size)
+    return SpectralModel(ridge=1e-9).fit(train, values, wavelengths_nm=WIDE_WL, domain=SMALL, name="wide")

@@ -18,7 +18,8 @@ def bank():
 
 
 def test_every_shipped_model_is_scored_and_compact(bank):
-    for model in bank.models:
+    grids = {"paper": np.arange(400.0, 701.0, 20.0), "full range": np.arange(350.0, 2501.0, 25.0)}
+    for model in (m for b in bank_module.shipped_banks() for m in b.models):
         scores = model.holdout_scores_
         # 100+ hold-out samples for the reference and broad models, 40-50 (of one form) for the
         # preset models: 640+ values per RMS either way.
@@ -33,7 +34,8 @@ def test_every_shipped_model_is_scored_and_compact(bank):
         explained = model.explained_variance_ratio_[:k].sum()
         noise = float(np.sqrt(0.25 / model.training_set_["rays"] * (n_wl - k) / n_wl))
         assert explained >= 0.999 or model.reconstruction_rms_ < noise, (model.name_, explained, noise)
-        np.testing.assert_allclose(model.wavelengths_, np.arange(400.0, 701.0, 20.0))
+        wl = model.wavelengths_
+        assert any(wl.shape == g.shape and np.allclose(wl, g) for g in grids.values()), model.name_
 
 
 def test_dry_sand_is_not_predicted_as_filmed_sand(bank):
@@ -171,3 +173,36 @@ def test_shipped_models_refuse_a_coating_coverage_they_were_not_trained_at(bank)
     errors = pytest.importorskip("sandlight.errors")
     with pytest.raises(errors.ParameterError, match="coating_coverage"):
         bank.predict([sample_module.SandSample(coating_coverage=0.5)])
+
+
+@pytest.fixture(scope="module")
+def full_range(bank):
+    return bank_module.full_range_model()
+
+
+def test_the_full_range_model_meets_its_target_and_the_package_stays_small(full_range):
+    # issue 23: 350-2500 nm (nodes every 25 nm, both ends on the grid), broad hold-out RMS
+    # <= 0.015 over the range; every shipped model together <= 30 MB.
+    assert full_range.wavelengths_[0] == 350.0 and full_range.wavelengths_[-1] == 2500.0
+    assert [m.name_ for m in full_range.models] == ["full-dry"]
+    scores = full_range.model("full-dry").holdout_scores_
+    assert scores["n_samples"] >= 160 and scores["rms_error_overall"] <= 0.015
+    shipped = bank_module.default_model_dir()
+    assert sum(p.stat().st_size for p in shipped.glob("*.npz")) <= 30e6
+
+
+@pytest.mark.slow
+def test_full_range_prediction_agrees_with_the_default_engine(full_range):
+    # As test_prediction_agrees_with_the_default_engine, over 350-2500 nm: a dry preset inside
+    # the broad domain (yellow-dune; docs/spectral-predictor.md, "Full range", prints every dry
+    # preset and 20 random samples against fresh Monte Carlo).
+    sandlight = pytest.importorskip("sandlight")
+    sample = pytest.importorskip("sandlight.sample").SandSample.preset("yellow-dune")
+    predicted, used = full_range.predict([sample], return_models=True)
+    assert used[0] == "full-dry"
+    model = full_range.model("full-dry")
+    mc = sandlight.reflectance(sample, model.wavelengths_, rays=8000, seed=5, incidence_deg=0, threads=1)
+    assert mc.memory == model.memory_
+    rms = float(np.sqrt(np.mean((predicted[0] - mc.values) ** 2)))
+    noise = float(np.sqrt(np.mean(mc.stderr**2)))
+    assert rms <= float(np.hypot(2 * documented_model_error(model), 3 * noise)), (rms, noise)

@@ -7,7 +7,7 @@ from pathlib import Path
 
 import typer
 
-from sandlight.checks import check_count, parse_range
+from sandlight.checks import check_choice, check_count, parse_range
 from sandlight.cli._app import app
 from sandlight.cli._common import (
     COUNT_FORM,
@@ -158,16 +158,24 @@ def predict(
         None,
         "--wavelengths",
         "-w",
-        help="Wavelengths in nm within the model's range, start:stop:step or a list (default: the model's own; "
-        "between them PCHIP interpolation, docs/spectral-predictor.md).",
+        help="Wavelengths in nm within the models' range (350-2500), start:stop:step or a list (default: the "
+        "models' own; between them PCHIP interpolation, docs/spectral-predictor.md).",
+    ),
+    mode: str = typer.Option(
+        "auto",
+        "--mode",
+        help="Which shipped models answer: auto (the paper's 400-700 nm models when --wavelengths lie there, "
+        "else the full-range ones), paper or full-range.",
     ),
 ) -> None:
     """Predict the spectral reflectance of a sand sample in microseconds.
 
     Without --model, the most accurate shipped model whose training domain contains the sample
-    answers; the command says which one and its hold-out error.
+    answers (--mode says which wavelength range's models); the command says which one and its
+    hold-out error.
     """
-    from sandlight.predictor.bank import ModelBank, default_model
+    from sandlight.predictor.bank import ModelBank
+    from sandlight.predictor.prediction import PREDICT_MODES
     from sandlight.predictor.prediction import predict as predict_spectrum
     from sandlight.predictor.spectral import SpectralModel
 
@@ -178,14 +186,16 @@ def predict(
     sample = load_sample(sample_file, preset, default=None)
     label = preset if sample_file is None else sample_file.stem
     wl = None if wavelengths is None else parse_range("--wavelengths", wavelengths)
-    bank = default_model() if model_path is None else ModelBank([SpectralModel.load(model_path)])
+    check_choice("--mode", mode, PREDICT_MODES)
+    given = None if model_path is None else ModelBank([SpectralModel.load(model_path)])
     try:
-        ds = predict_spectrum(sample, wl, extrapolate=extrapolate, bank=bank)
+        ds = predict_spectrum(sample, wl, extrapolate=extrapolate, bank=given, mode=mode)
     except ParameterError as exc:
         # The option's name on the command line, not the Python argument's.
         raise ParameterError(
             "--wavelengths" if exc.name == "wavelengths_nm" else exc.name, exc.value, exc.allowed
         ) from None
+    bank = given or _answering_bank(str(ds["model"].values))
     reflectance, model = ds["reflectance"].values, bank.model(str(ds["model"].values))
     outside = bool(ds["extrapolated"])  # no model covers it: the nearest one extrapolated
     echo(
@@ -222,3 +232,10 @@ def predict(
         fig.tight_layout()
         write_atomically(plot, lambda tmp: fig.savefig(tmp, format=plot.suffix[1:].lower()))
         plt.close(fig)
+
+
+def _answering_bank(name: str):
+    """The shipped bank holding the model called ``name``."""
+    from sandlight.predictor.bank import shipped_banks
+
+    return next(b for b in shipped_banks() if name in {m.name_ for m in b.models})

@@ -4,9 +4,9 @@ Public objects
 --------------
 SpectralModel, evaluate, HoldoutReport
     The spectral predictor r(x) ≈ r̄ + U_k Wᵀ φ(x) (:mod:`sandlight.predictor.spectral`).
-ModelBank, default_model
+ModelBank, default_model, full_range_model
     Several models, each sample predicted by the most accurate one covering it; the shipped
-    bank (:mod:`sandlight.predictor.bank`).
+    banks, the paper's 400–700 nm and the full range 350–2500 nm (:mod:`sandlight.predictor.bank`).
 predict
     ``sandlight.predict``: the bank at any wavelength it spans, with the answering model and its
     hold-out error, as an xarray Dataset (:mod:`sandlight.predictor.prediction`).
@@ -25,7 +25,7 @@ fitted state, save/load: :mod:`sandlight.predictor.estimator`), the model-file f
 (:mod:`sandlight.predictor.samples`).
 """
 
-from sandlight.predictor.bank import ModelBank, default_model
+from sandlight.predictor.bank import ModelBank, default_model, full_range_model
 from sandlight.predictor.domain import Dimension, Domain
 from sandlight.predictor.model_file import ModelVersionWarning
 from sandlight.predictor.prediction import predict
@@ -39,6 +39,7 @@ __all__ = [
     "ModelVersionWarning",
     "ModelBank",
     "default_model",
+    "full_range_model",
     "predict",
     "Domain",
     "Dimension",

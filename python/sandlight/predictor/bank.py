@@ -12,8 +12,11 @@ Public objects
 --------------
 ModelBank
     The bank: ``predict``, ``select``, ``models``, ``wavelengths_``.
-default_model, default_model_dir
-    The bank of the models shipped in ``sandlight/data/models/spectral-*.npz``.
+banks_by_grid
+    One bank per wavelength grid of some models.
+default_model, full_range_model, shipped_banks, default_model_dir
+    The models shipped in ``sandlight/data/models/spectral-*.npz``, one bank per wavelength grid:
+    the paper's 16 wavelengths (400–700 nm) and the full range (350–2500 nm).
 """
 
 from __future__ import annotations
@@ -261,9 +264,14 @@ def default_model_dir() -> Path:
     return Path(str(files("sandlight") / "data" / "models"))
 
 
+#: The wavelength range of the paper's bank (its 16 wavelengths, every 20 nm), nm.
+PAPER_RANGE_NM = (400.0, 700.0)
+
+
 @functools.lru_cache(maxsize=1)
-def default_model() -> ModelBank:
-    """The bank of spectral models shipped with sandlight (loaded once, then cached).
+def shipped_banks() -> tuple[ModelBank, ...]:
+    """The spectral models shipped with sandlight, one bank per wavelength grid, narrowest range
+    first (loaded once, then cached).
 
     Raises
     ------
@@ -280,8 +288,49 @@ def default_model() -> ModelBank:
             f"(sandlight predict --model PATH)"
         )
     try:
-        return ModelBank.load(paths)
+        return banks_by_grid(SpectralModel.load(p) for p in paths)
     except SandlightError as exc:
         if isinstance(exc, ModelFileError):
             raise
         raise ModelFileError(f"the shipped spectral models do not form a bank: {exc}") from exc
+
+
+def banks_by_grid(models: Iterable[SpectralModel]) -> tuple[ModelBank, ...]:
+    """One :class:`ModelBank` per wavelength grid of ``models``, the narrowest range first."""
+    grids: dict[tuple[float, ...], list[SpectralModel]] = {}
+    for m in models:
+        grids.setdefault(tuple(np.round(m.wavelengths_, 6)), []).append(m)
+    banks = [ModelBank(group) for group in grids.values()]
+    return tuple(sorted(banks, key=lambda b: (float(b.wavelengths_[-1] - b.wavelengths_[0]), b.wavelengths_.size)))
+
+
+def _shipped_bank(low: float, high: float, what: str) -> ModelBank:
+    for bank in shipped_banks():
+        if np.isclose(bank.wavelengths_[0], low) and np.isclose(bank.wavelengths_[-1], high):
+            return bank
+    spans = [f"{b.wavelengths_[0]:g}–{b.wavelengths_[-1]:g} nm" for b in shipped_banks()]
+    raise ModelFileError(f"no shipped spectral model spans {low:g}–{high:g} nm ({what}); the shipped ones span {spans}")
+
+
+def default_model() -> ModelBank:
+    """The paper's bank: the shipped models at its 16 wavelengths, 400–700 nm every 20 nm
+    (narrow models around the reference sand and the presets, broad models for the rest).
+
+    Raises
+    ------
+    ModelFileError
+        As :func:`shipped_banks`, or no shipped model spans 400–700 nm.
+    """
+    return _shipped_bank(*PAPER_RANGE_NM, "the paper's wavelengths")
+
+
+def full_range_model() -> ModelBank:
+    """The bank of the shipped full-range models: the widest span of wavelengths shipped
+    (350–2500 nm, docs/spectral-predictor.md, "Full range").
+
+    Raises
+    ------
+    ModelFileError
+        As :func:`shipped_banks`.
+    """
+    return shipped_banks()[-1]

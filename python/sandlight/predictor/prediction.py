@@ -1,14 +1,20 @@
 """``sandlight.predict``: the shipped spectral models' reflectance at any wavelength they span,
 with the answering model and its hold-out error, as an xarray Dataset.
 
-The models answer at their own wavelengths (the paper's 16, 400–700 nm every 20 nm). Between
-them the spectrum is interpolated with a monotone piecewise-cubic Hermite interpolant (PCHIP,
-Fritsch & Carlson 1980, ``scipy.interpolate.PchipInterpolator``): it never overshoots, so a
-reflectance stays within the range of its neighbouring nodes, and it follows a steep absorption
-edge better than straight lines. Its error, measured on measured USGS spectra sub-sampled at the
-models' 20 nm and interpolated back to 1 nm over 400–700 nm
-(``scripts/studies/spectral_interpolation.py``), is at most 0.001 RMS and 0.004 at any
-wavelength, far below the models' own hold-out errors (docs/spectral-predictor.md,
+Two banks are shipped (:func:`~sandlight.predictor.bank.shipped_banks`): the paper's, at its 16
+wavelengths (400–700 nm every 20 nm; narrow models around the reference sand and the presets,
+broad ones for the rest), and the full range, 350–2500 nm every 20 nm (dry sand for now). A call
+takes the paper's bank when every wavelength asked for lies in 400–700 nm (its narrow models are
+the more accurate), the full range otherwise (``mode`` chooses one).
+
+The models answer at their own wavelengths. Between them the spectrum is interpolated with a
+monotone piecewise-cubic Hermite interpolant (PCHIP, Fritsch & Carlson 1980,
+``scipy.interpolate.PchipInterpolator``): it never overshoots, so a reflectance stays within the
+range of its neighbouring nodes, and it follows a steep absorption edge better than straight
+lines. Its error, measured on measured USGS spectra sub-sampled at the models' 20 nm and
+interpolated back to 1 nm (``scripts/studies/spectral_interpolation.py``), is at most 0.0011
+RMS and 0.004 at any wavelength over 400–700 nm, 0.009 over 350–2500 nm (at measurement
+artefacts), far below the models' own hold-out errors (docs/spectral-predictor.md,
 "Any wavelength"). The hold-out error of a model between its nodes is interpolated linearly.
 """
 
@@ -21,12 +27,17 @@ import xarray as xr
 from numpy.typing import ArrayLike
 from scipy.interpolate import PchipInterpolator
 
+from sandlight.checks import check_choice
 from sandlight.errors import ParameterError
 from sandlight.io import cf_attributes
-from sandlight.predictor.bank import ModelBank, default_model
+from sandlight.predictor.bank import ModelBank, default_model, full_range_model
 from sandlight.sample import SandSample
 
-__all__ = ["predict", "interpolate_spectra"]
+__all__ = ["predict", "interpolate_spectra", "PREDICT_MODES"]
+
+#: Which shipped bank answers: "auto" (the paper's when the wavelengths allow, module docstring),
+#: "paper" (400–700 nm only) or "full-range" (350–2500 nm, also inside 400–700 nm).
+PREDICT_MODES = ("auto", "paper", "full-range")
 
 
 def predict(
@@ -35,6 +46,7 @@ def predict(
     *,
     extrapolate: bool = False,
     bank: ModelBank | None = None,
+    mode: str = "auto",
 ) -> xr.Dataset:
     """Predicted directional-hemispherical reflectance at normal incidence, from the spectral
     models, in microseconds a sample.
@@ -46,13 +58,20 @@ def predict(
         a batch: a list of such samples, or columns as :meth:`ModelBank.predict` takes them (a
         dict of columns, a structured array, a DataFrame, an xarray.Dataset).
     wavelengths_nm : array_like, optional
-        Vacuum wavelengths in nm within the models' range (400–700 nm for the shipped bank);
-        None: the models' own wavelengths. Between those, PCHIP interpolation (module docstring).
+        Vacuum wavelengths in nm within the models' range (350–2500 nm for the shipped models);
+        None: the answering bank's own wavelengths. Between those, PCHIP interpolation (module
+        docstring).
     extrapolate : bool
         Let the model nearest to a sample no model covers answer it outside its domain, instead of
         raising (``extrapolated`` then says so).
     bank : ModelBank, optional
-        The models (default: the shipped bank, :func:`~sandlight.predictor.bank.default_model`).
+        The models (default: a shipped bank, as ``mode`` says).
+    mode : {"auto", "paper", "full-range"}
+        Which shipped bank answers when ``bank`` is not given: "auto" the paper's bank
+        (:func:`~sandlight.predictor.bank.default_model`) if ``wavelengths_nm`` is None or
+        within 400–700 nm, else the full-range bank
+        (:func:`~sandlight.predictor.bank.full_range_model`); "paper" and "full-range" that
+        bank always; ignored when ``bank`` is given.
 
     Returns
     -------
@@ -66,9 +85,12 @@ def predict(
     ------
     ParameterError
         A wavelength outside the models' range or not finite (naming ``wavelengths_nm``), a
-        sample that no model covers (unless ``extrapolate``), or a malformed sample.
+        sample that no model covers (unless ``extrapolate``; the full-range bank has dry models
+        only, so a wet sample there names ``saturation``), an unknown ``mode``, or a malformed
+        sample.
     """
-    bank = default_model() if bank is None else bank
+    mode = check_choice("mode", mode, PREDICT_MODES)
+    bank = _bank_for(wavelengths_nm, mode) if bank is None else bank
     single = isinstance(samples, (SandSample, str, dict)) and not _is_columns(samples)
     if single:
         batch = [_as_sample(samples)]
@@ -127,6 +149,24 @@ def _is_columns(samples: Any) -> bool:
 
 def _as_sample(sample: Any) -> Any:
     return SandSample.preset(sample) if isinstance(sample, str) else sample
+
+
+def _bank_for(wavelengths_nm: ArrayLike | None, mode: str) -> ModelBank:
+    """The shipped bank that answers ``wavelengths_nm`` in ``mode`` (module docstring)."""
+    if mode == "paper":
+        return default_model()
+    if mode == "full-range":
+        return full_range_model()
+    paper = default_model()
+    if wavelengths_nm is None:
+        return paper
+    try:
+        wl = np.asarray(wavelengths_nm, dtype=float)
+    except (TypeError, ValueError):
+        return paper  # refused by name by _check_within
+    low, high = paper.wavelengths_[0], paper.wavelengths_[-1]
+    inside = wl.size > 0 and bool(np.all((wl >= low) & (wl <= high)))
+    return paper if inside or not np.all(np.isfinite(wl)) else full_range_model()
 
 
 def _check_within(wavelengths_nm: ArrayLike, nodes: np.ndarray) -> np.ndarray:
