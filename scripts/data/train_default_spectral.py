@@ -256,18 +256,19 @@ def train_one(entry: BankEntry, args: argparse.Namespace, executor: Executor | s
     from sandlight.predictor.training import engine_simulate, wavelength_grid
 
     domain = entry.domain()
+    grid = entry.wavelengths or args.wavelengths
     print(f"\n=== {entry.name}: {entry.description}")
     print(
         f"dimensions {domain.names}, forms {domain.forms}; {entry.samples} training samples at "
         f"{entry.rays} rays, {entry.holdout} hold-out samples at {entry.holdout_rays} rays; "
-        f"wavelengths {entry.wavelengths or args.wavelengths} nm; model {entry.model_params}"
+        f"wavelengths {grid} nm; model {entry.model_params}"
     )
     start = time.perf_counter()
     run = train_spectral(
         args.work_dir / entry.name,
         entry.samples,
         entry.rays,
-        entry.wavelengths or args.wavelengths,
+        grid,
         args.seed,
         n_holdout=entry.holdout,
         holdout_rays=entry.holdout_rays,
@@ -321,7 +322,7 @@ def train_one(entry: BankEntry, args: argparse.Namespace, executor: Executor | s
     # error ε needs rays·(σ/ε)² rays, σ the noise at `rays`, and its cost scales with the rays.
     # ε is the hold-out RMS error against Monte Carlo, an upper bound of the model's error
     # (it includes the reference's noise): the speed-up printed is a lower bound.
-    wl = wavelength_grid(entry.wavelengths or args.wavelengths)
+    wl = wavelength_grid(grid)
     samples = (entry.fit_domain() or domain).draw(3, seed=args.seed + 1, design="random")
     mc_s = time_per_call(
         lambda: [engine_simulate(s, wl, rays=entry.rays, seed=1, memory=args.memory) for s in samples], 1

@@ -2,7 +2,7 @@
 
 Each measured USGS spectrum below (sands, the GDS76 mixture, pure iron-oxide powders: the
 steepest edges a sand spectrum has) is sampled at the models' wavelengths (``--grid``: the
-paper's bank, 400–700 nm every 20 nm, by default; the full-range bank's is 350:2500:20),
+paper's bank, 400–700 nm every 20 nm, by default; the full-range bank's is 350:2500:25),
 interpolated back to every nm of that range by
 :func:`sandlight.predictor.prediction.interpolate_spectra` (what ``sandlight.predict`` does), and
 compared with the measurement itself (linearly brought to the same 1 nm grid from its own 1–2 nm

@@ -175,7 +175,7 @@ def predict(
     hold-out error.
     """
     from sandlight.predictor.bank import ModelBank
-    from sandlight.predictor.prediction import PREDICT_MODES
+    from sandlight.predictor.prediction import PREDICT_MODES, answering_bank
     from sandlight.predictor.prediction import predict as predict_spectrum
     from sandlight.predictor.spectral import SpectralModel
 
@@ -187,15 +187,14 @@ def predict(
     label = preset if sample_file is None else sample_file.stem
     wl = None if wavelengths is None else parse_range("--wavelengths", wavelengths)
     check_choice("--mode", mode, PREDICT_MODES)
-    given = None if model_path is None else ModelBank([SpectralModel.load(model_path)])
+    bank = answering_bank(wl, mode) if model_path is None else ModelBank([SpectralModel.load(model_path)])
     try:
-        ds = predict_spectrum(sample, wl, extrapolate=extrapolate, bank=given, mode=mode)
+        ds = predict_spectrum(sample, wl, extrapolate=extrapolate, bank=bank)
     except ParameterError as exc:
         # The option's name on the command line, not the Python argument's.
         raise ParameterError(
             "--wavelengths" if exc.name == "wavelengths_nm" else exc.name, exc.value, exc.allowed
         ) from None
-    bank = given or _answering_bank(str(ds["model"].values))
     reflectance, model = ds["reflectance"].values, bank.model(str(ds["model"].values))
     outside = bool(ds["extrapolated"])  # no model covers it: the nearest one extrapolated
     echo(
@@ -232,10 +231,3 @@ def predict(
         fig.tight_layout()
         write_atomically(plot, lambda tmp: fig.savefig(tmp, format=plot.suffix[1:].lower()))
         plt.close(fig)
-
-
-def _answering_bank(name: str):
-    """The shipped bank holding the model called ``name``."""
-    from sandlight.predictor.bank import shipped_banks
-
-    return next(b for b in shipped_banks() if name in {m.name_ for m in b.models})

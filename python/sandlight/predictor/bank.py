@@ -304,14 +304,6 @@ def banks_by_grid(models: Iterable[SpectralModel]) -> tuple[ModelBank, ...]:
     return tuple(sorted(banks, key=lambda b: (float(b.wavelengths_[-1] - b.wavelengths_[0]), b.wavelengths_.size)))
 
 
-def _shipped_bank(low: float, high: float, what: str) -> ModelBank:
-    for bank in shipped_banks():
-        if np.isclose(bank.wavelengths_[0], low) and np.isclose(bank.wavelengths_[-1], high):
-            return bank
-    spans = [f"{b.wavelengths_[0]:g}–{b.wavelengths_[-1]:g} nm" for b in shipped_banks()]
-    raise ModelFileError(f"no shipped spectral model spans {low:g}–{high:g} nm ({what}); the shipped ones span {spans}")
-
-
 def default_model() -> ModelBank:
     """The paper's bank: the shipped models at its 16 wavelengths, 400–700 nm every 20 nm
     (narrow models around the reference sand and the presets, broad models for the rest).
@@ -321,7 +313,15 @@ def default_model() -> ModelBank:
     ModelFileError
         As :func:`shipped_banks`, or no shipped model spans 400–700 nm.
     """
-    return _shipped_bank(*PAPER_RANGE_NM, "the paper's wavelengths")
+    low, high = PAPER_RANGE_NM
+    banks = shipped_banks()
+    for bank in banks:
+        if np.isclose(bank.wavelengths_[0], low) and np.isclose(bank.wavelengths_[-1], high):
+            return bank
+    spans = [f"{b.wavelengths_[0]:g}–{b.wavelengths_[-1]:g} nm" for b in banks]
+    raise ModelFileError(
+        f"no shipped spectral model spans {low:g}–{high:g} nm (the paper's wavelengths); the shipped ones span {spans}"
+    )
 
 
 def full_range_model() -> ModelBank:
