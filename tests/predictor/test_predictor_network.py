@@ -100,3 +100,21 @@ def test_network_arrays_must_chain():
 def test_bad_hyper_parameters_are_refused_by_name(name, value):
     with pytest.raises(ParameterError, match=name):
         SpectralModel(**{name: value}).validate_params()
+
+
+def test_double_precision_differentiates_where_single_cannot(sharp):
+    """A fit's Jacobian is a difference quotient over a step of ~10⁻⁸: in double precision it
+    equals the slope over a hundred times that step; both precisions give the same values."""
+    net = sharp[0]
+    x = np.array([[0.01, 0.4]])
+    step = np.array([[1e-8, 0.0]])
+
+    def double(x):
+        return net.predict(x, ["coating"], precision="double")
+
+    fine = (double(x + step) - double(x)) / 1e-8
+    coarse = (double(x + 1e2 * step) - double(x)) / 1e-6
+    np.testing.assert_allclose(fine, coarse, rtol=1e-3, atol=1e-3 * np.abs(coarse).max())
+    np.testing.assert_allclose(net.predict(x, ["coating"]), double(x), atol=1e-5)
+    with pytest.raises(ParameterError, match="precision"):
+        net.predict(x, ["coating"], precision="half")

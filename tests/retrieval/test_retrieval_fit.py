@@ -7,7 +7,7 @@ import pytest
 
 import sandlight
 from sandlight.errors import ParameterError
-from sandlight.predictor import ModelBank
+from sandlight.predictor import ModelBank, full_range_model
 from sandlight.retrieval import NotIdentifiableError
 from sandlight.sample import SandSample
 
@@ -30,6 +30,36 @@ def test_three_parameters_recovered_in_the_wet_range(bank):
     assert "reference-wet" in result.model
     for name in result.free:
         assert result.estimate[name] == pytest.approx(getattr(truth, name), rel=1e-3)
+
+
+def test_a_spectrum_beyond_700_nm_is_fitted_by_the_full_range_bank():
+    """A dry spectrum over 350–2500 nm is answered by the full-range model (which sees its near
+    infrared) and recovered exactly: the network is evaluated in double precision, so the
+    optimiser's finite-difference Jacobian is a derivative, not rounding noise."""
+    full = full_range_model()
+    truth = SandSample(iron_oxide=0.012, hematite_ratio=1.0, iron_oxide_form="particles", grain_size=0.3)
+    spectrum = (full.wavelengths_, full.predict([truth])[0])
+    free = ["iron_oxide", "grain_size"]
+    fixed = {"hematite_ratio": 1.0, "iron_oxide_form": "particles"}
+    result = sandlight.fit(spectrum, free, fixed, noise=0.002, check_rays=0)
+    assert "full-dry" in result.model
+    for name in free:
+        assert result.estimate[name] == pytest.approx(getattr(truth, name), rel=1e-3)
+    # the Laplace interval comes from that Jacobian: it must hold the truth and have a width
+    lo, hi = result.interval("grain_size")
+    assert lo < truth.grain_size < hi and hi - lo > 1e-3
+
+
+def test_the_paper_bank_answers_inside_400_700_nm_and_for_wet_sand(dry_spectrum):
+    wl = np.arange(350.0, 2501.0, 25.0)
+    reflectance = full_range_model().predict([SandSample()])[0]
+    dry = sandlight.fit((wl, reflectance), FREE, {"saturation": 0.0}, noise=0.01, check_rays=0)
+    assert "full-dry" in dry.model
+    visible = sandlight.fit(dry_spectrum, FREE, {"saturation": 0.0}, noise=0.01, check_rays=0)
+    assert "full-dry" not in visible.model
+    # the full-range models are dry: with saturation free the paper's bank answers 400–700 nm
+    wet = sandlight.fit((wl, reflectance), [*FREE, "saturation"], noise=0.01, check_rays=0)
+    assert "full-dry" not in wet.model and wet.observation.centres_nm.max() <= 700.0
 
 
 def width(result, name):

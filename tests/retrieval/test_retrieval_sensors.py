@@ -68,6 +68,7 @@ def test_fit_in_band_space_recovers_the_predictor_sample(bank, dry_truth):
         sensor="sentinel2-msi",
         noise=0.002,
         check_rays=0,
+        bank=bank,  # the bank that made the spectrum (by default 380-800 nm goes to the full range)
     )
     assert result.observation.labels == ("B1", "B2", "B3", "B4")
     assert result.estimate["iron_oxide"] == pytest.approx(dry_truth.iron_oxide, rel=0.01)

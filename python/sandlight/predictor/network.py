@@ -60,12 +60,15 @@ class Network:
     def n_parameters(self) -> int:
         return sum(w.size + b.size for net in self.layers for w, b in net)
 
-    def __call__(self, X: np.ndarray) -> np.ndarray:
+    def __call__(self, X: np.ndarray, precision: str = "single") -> np.ndarray:
         """The ensemble's mean output for inputs ``X`` (n, n_inputs): (n, n_outputs), evaluated
-        in single precision."""
-        X = np.asarray(X, dtype=np.float32)
-        out = np.zeros((X.shape[0], self.n_outputs), dtype=np.float32)
-        for net in self._single:
+        in ``precision`` ('single' or 'double'). Finite differences need 'double': in single
+        precision the outputs move in steps of ~10⁻⁷, so a difference quotient over a small
+        step is rounding noise."""
+        dtype, nets = (np.float64, self.layers) if precision == "double" else (np.float32, self._single)
+        X = np.asarray(X, dtype=dtype)
+        out = np.zeros((X.shape[0], self.n_outputs), dtype=dtype)
+        for net in nets:
             h = X
             for w, b in net[:-1]:
                 h = h @ w

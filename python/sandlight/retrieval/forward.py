@@ -76,7 +76,8 @@ class BankForward:
         x = np.atleast_2d(np.asarray(x, dtype=float))
         rows = np.tile(self._base_row, (x.shape[0], 1))
         rows[:, self._columns] = np.clip(x, self.space.low, self.space.high)
-        return self.model.predict(rows, forms=np.full(x.shape[0], self._form), extrapolate=False)
+        # Double precision: the optimiser's Jacobian is a finite difference over a step of ~10⁻⁸.
+        return self.model.predict(rows, forms=np.full(x.shape[0], self._form), extrapolate=False, precision="double")
 
     def budget(self) -> ErrorBudget:
         return ErrorBudget(self.model_rms, np.zeros_like(self.grid))

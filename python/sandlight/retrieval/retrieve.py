@@ -39,7 +39,7 @@ if TYPE_CHECKING:
     from sandlight.predictor import ModelBank
     from sandlight.sample import SandSample
 
-__all__ = ["fit", "METHODS", "POSTERIORS", "FORWARDS"]
+__all__ = ["fit", "shipped_bank_for", "METHODS", "POSTERIORS", "FORWARDS"]
 
 METHODS = ("bank", "engine")
 #: Forward models: the sand model (SandSample, bank or engine) or a pure-mineral powder (engine).
@@ -149,7 +149,10 @@ def fit(
     posterior : {'laplace', 'emcee'}
         Laplace approximation at the optimum, or MCMC samples (emcee).
     bank : ModelBank, optional
-        Predictor bank (default the shipped one).
+        Predictor bank. Default: the shipped full-range bank (350–2500 nm) when the
+        measurement (after the mask; or the sensor's bands) reaches outside 400–700 nm and one
+        of its models can answer the fit (today: dry sand), else the paper's 400–700 nm bank
+        (:func:`shipped_bank_for`). ``FitResult.model`` names the model that answered.
     rays, seed, threads :
         Engine settings of ``method='engine'``.
     check_rays : int
@@ -211,9 +214,7 @@ def fit(
     mask = BandMask.parse(mask)
     needed = space.size + 1 + int(noise is None)
     if bank is None and (method == "bank" or wavelengths is None):
-        from sandlight.predictor import default_model
-
-        bank = default_model()
+        bank = shipped_bank_for(spectrum, space, mask=mask, sensor=sensor)
 
     candidates = []
     if method == "bank":
@@ -269,6 +270,35 @@ def fit(
         assumed = float(np.sqrt(np.mean((obs.operator @ model.model_rms) ** 2)))
         check = check_with_engine(engine, obs, optimum.x, optimum.model, assumed, rays=check_rays, seed=seed + 1)
     return _result(best, obs, method, posterior, seed, tried, check)
+
+
+def shipped_bank_for(
+    spectrum: Any,
+    space: ParameterSpace,
+    *,
+    mask: BandMask | None = None,
+    sensor: str | os.PathLike | SpectralResponse | None = None,
+) -> ModelBank:
+    """The shipped bank a sand fit asks when none is given: the full-range bank (350–2500 nm)
+    when the measurement has channels outside the paper's 400–700 nm that it would observe and
+    one of its models can answer the fit (dry sand today); the paper's bank otherwise.
+
+    The paper's models are the more accurate inside 400–700 nm (docs/spectral-predictor.md),
+    but a spectrum's near infrared holds what the visible cannot tell apart (grain size, the
+    860 nm hematite band), so the bank that sees more of the measurement answers.
+    """
+    from sandlight.predictor import default_model, full_range_model
+
+    paper, full = default_model(), full_range_model()
+    if full is paper:
+        return paper
+    low, high = paper.wavelengths_[0], paper.wavelengths_[-1]
+    try:
+        candidates = bank_candidates(full, space)
+        centres = observe(spectrum, candidates[0].grid, mask=mask, sensor=sensor).centres_nm
+    except ParameterError:
+        return paper  # full range cannot answer (e.g. wet sand) or observes nothing
+    return full if np.any((centres < low) | (centres > high)) else paper
 
 
 def _fit_powder(
