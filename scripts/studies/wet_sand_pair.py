@@ -7,8 +7,9 @@ of the same beach at the Bird's Foot delta of the Mississippi (Kokaly et al. 201
 1. fits the dry sample to the dry spectrum by least squares (``scipy.optimize.least_squares``,
    common random numbers: one seed for every evaluation) over four parameters: ``iron_oxide``,
    ``hematite_ratio`` and a grey absorption of the quartz host, k_host(λ) = k₁ (1000 nm/λ)^p
-   (k₁, p), passed as optical constants (the sample has no host-absorption parameter yet; this
-   dark delta sand, r ≈ 0.07–0.28, cannot be reached with magnetite ≤ 5 % alone); every
+   (k₁, p), passed as optical constants (the sample's ``host_absorption`` reaches only 10× the
+   natural quartz k, and this dark delta sand, r ≈ 0.07–0.28, cannot be reached with it or with
+   magnetite ≤ 5 %); every
    other parameter keeps its default;
 2. predicts the wet sample from the fitted dry one at one saturation, with both path-memory
    models ('none' and 'packed'). The field description gives no water content, so the
@@ -20,6 +21,12 @@ of the same beach at the Bird's Foot delta of the Mississippi (Kokaly et al. 201
    runs share their seed, so the ratio's error is propagated as if independent: an upper
    bound) and the largest miss in 450–1300 nm, and saves a figure to
    ``docs/figures/wet_sand_pair.png``.
+
+``--dark-grains FORM`` fits the dark sand as what a geologist would expect of a dark beach sand,
+clear quartz grains (``host_absorption`` free, 0–10) mixed with opaque sand-sized grains (the
+engine's magnetite grains, mass fraction 0–0.9: beyond the sample domain's 5 %, a what-if built
+from the composition directly), with iron oxide in FORM ('coating' or 'mixed'); the best of three
+starts. It writes no figure.
 
 ``--uniform-films`` replaces the pendular rings by the film of the same water on every
 particle surface (``film_coverage`` 1), the model before issue 17, for comparison.
@@ -35,13 +42,16 @@ sample makes the ratio depend on wavelength.
 Usage::
 
     python scripts/studies/wet_sand_pair.py [--rays 3000] [--fit-rays 1500] [--saturation S]
-        [--seed 17] [--memories none packed] [--uniform-films] [--diagnose] [--default-sample] [--no-figure]
+        [--seed 17] [--memories none packed] [--uniform-films] [--dark-grains coating|mixed] [--diagnose]
+        [--default-sample] [--no-figure]
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import time
+import types
 from pathlib import Path
 
 import numpy as np
@@ -50,6 +60,7 @@ from scipy.optimize import least_squares
 import sandlight
 from sandlight.measured import read_usgs, usgs_library
 from sandlight.optics import complex_index
+from sandlight.physics.composition import compose
 from sandlight.physics.media import SandMedium
 
 DRY = "Sand_DWO-3-DEL2c"
@@ -71,6 +82,8 @@ FIGURE = Path(__file__).resolve().parents[2] / "docs" / "figures" / "wet_sand_pa
 SEED = 17
 #: Set by ``--uniform-films``: films on every surface instead of pendular rings.
 UNIFORM_FILMS = False
+#: Set by ``--dark-grains FORM``: the dark sand as clear quartz grains plus opaque grains.
+DARK_GRAINS = None
 
 
 def measured(stem: str, wl: np.ndarray) -> np.ndarray:
@@ -99,9 +112,35 @@ def sand_medium(sample, memory: str, uniform_films: bool, optical_constants=None
 
 
 def medium(x: np.ndarray, saturation: float, memory: str) -> SandMedium:
-    """The sample of fit vector x = (iron_oxide, hematite_ratio, log10 k₁, p)."""
-    sample = sandlight.SandSample(iron_oxide=x[0], hematite_ratio=x[1], saturation=saturation)
-    return sand_medium(sample, memory, UNIFORM_FILMS, host_constants(10.0 ** x[2], x[3]))
+    """The sample of fit vector x: (iron_oxide, hematite_ratio, log10 k₁, p) with a grey host,
+    or with ``--dark-grains`` (dark, iron_oxide, hematite_ratio, host_absorption)."""
+    if DARK_GRAINS is None:
+        sample = sandlight.SandSample(iron_oxide=x[0], hematite_ratio=x[1], saturation=saturation)
+        return sand_medium(sample, memory, UNIFORM_FILMS, host_constants(10.0 ** x[2], x[3]))
+    sample = sandlight.SandSample(
+        iron_oxide=x[1], hematite_ratio=x[2], host_absorption=x[3], saturation=saturation, iron_oxide_form=DARK_GRAINS
+    )
+    # Opaque sand-sized grains (the engine's magnetite grains) beyond the sample domain's 5 %: a
+    # what-if outside SandSample, so the composition is built from its fields directly.
+    fields = {f.name: getattr(sample, f.name) for f in dataclasses.fields(sample)} | {"magnetite": float(x[0])}
+    films = "uniform" if UNIFORM_FILMS else "pendular"
+    return SandMedium(compose(types.SimpleNamespace(**fields), films), memory, fields, films=films)
+
+
+def without_iron(x: np.ndarray) -> np.ndarray:
+    """``x`` with the iron oxide removed (the other parameters kept)."""
+    out = np.array(x, dtype=float)
+    out[0 if DARK_GRAINS is None else 1] = 0.0
+    return out
+
+
+def describe(x: np.ndarray) -> str:
+    if DARK_GRAINS is None:
+        return f"iron_oxide={x[0]:.4f} hematite_ratio={x[1]:.3f} k_host(1000 nm)={10 ** x[2]:.2e} p={x[3]:.2f}"
+    return (
+        f"dark grains {x[0]:.3f} (mass fraction, as magnetite) iron_oxide={x[1]:.4f} ({DARK_GRAINS}) "
+        f"hematite_ratio={x[2]:.3f} host_absorption={x[3]:.2f}"
+    )
 
 
 def run(x, saturation, memory, wl, rays):
@@ -117,15 +156,20 @@ def fit_dry(memory: str, rays: int) -> tuple[np.ndarray, float]:
     def residual(x):
         return run(x, 0.0, memory, FIT_WAVELENGTHS, rays).values - target
 
-    x0 = np.array([0.003, 0.3, -4.0, 1.0])
-    fit = least_squares(
-        residual,
-        x0,
-        bounds=([0.0, 0.0, -6.5, -2.0], [0.05, 1.0, -2.0, 4.0]),
-        diff_step=[0.2, 0.2, 0.02, 0.1],
-        x_scale=[0.003, 0.2, 0.3, 0.5],
-        max_nfev=60,
-    )
+    if DARK_GRAINS is None:
+        starts = [[0.003, 0.3, -4.0, 1.0]]
+        options = dict(
+            bounds=([0.0, 0.0, -6.5, -2.0], [0.05, 1.0, -2.0, 4.0]),
+            diff_step=[0.2, 0.2, 0.02, 0.1],
+            x_scale=[0.003, 0.2, 0.3, 0.5],
+            max_nfev=60,
+        )
+    else:  # three starts: the dark fraction and the iron oxide trade off
+        starts = [[0.5, 0.003, 0.5, 3.0], [0.3, 0.01, 0.2, 8.0], [0.7, 0.001, 0.8, 1.0]]
+        options = dict(
+            bounds=([0.0, 0.0, 0.0, 0.0], [0.9, 0.05, 1.0, 10.0]), diff_step=[0.05, 0.2, 0.2, 0.1], max_nfev=40
+        )
+    fit = min((least_squares(residual, np.array(x0), **options) for x0 in starts), key=lambda f: f.cost)
     return fit.x, float(np.sqrt(np.mean(fit.fun**2)))
 
 
@@ -150,7 +194,7 @@ def ratio_with_error(dry, wet):
 
 
 def main() -> None:
-    global UNIFORM_FILMS, SEED
+    global UNIFORM_FILMS, SEED, DARK_GRAINS
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rays", type=int, default=3000, help="rays per wavelength of the predictions")
     ap.add_argument("--fit-rays", type=int, default=1500, help="rays per wavelength in the dry fit")
@@ -158,11 +202,17 @@ def main() -> None:
     ap.add_argument("--memories", nargs="+", default=["none", "packed"])
     ap.add_argument("--seed", type=int, default=SEED, help="seed of every run (fit and predictions)")
     ap.add_argument("--uniform-films", action="store_true", help="films on every surface (before issue 17)")
+    ap.add_argument(
+        "--dark-grains",
+        choices=["coating", "mixed"],
+        default=None,
+        help="fit the dry sand as quartz plus opaque grains (iron oxide in this form) instead of a grey host",
+    )
     ap.add_argument("--diagnose", action="store_true")
     ap.add_argument("--default-sample", action="store_true", help="the default sample's ratio, both film models")
     ap.add_argument("--no-figure", action="store_true")
     args = ap.parse_args()
-    UNIFORM_FILMS, SEED = args.uniform_films, args.seed
+    UNIFORM_FILMS, SEED, DARK_GRAINS = args.uniform_films, args.seed, args.dark_grains
 
     meas_dry, meas_wet = measured(DRY, WAVELENGTHS), measured(WET, WAVELENGTHS)
     meas_ratio = meas_wet / meas_dry
@@ -179,10 +229,7 @@ def main() -> None:
         worst = int(np.argmax(np.where(band, np.abs(miss), -1.0)))
         results[memory] = (dry, wet, ratio, err, saturation)
         print(f"\n== memory={memory!r}  ({time.perf_counter() - t0:.0f} s)")
-        print(
-            f"dry fit: iron_oxide={x[0]:.4f} hematite_ratio={x[1]:.3f} k_host(1000 nm)={10 ** x[2]:.2e} "
-            f"p={x[3]:.2f}; RMS {rms:.4f} over {len(FIT_WAVELENGTHS)} wavelengths"
-        )
+        print(f"dry fit: {describe(x)}; RMS {rms:.4f} over {len(FIT_WAVELENGTHS)} wavelengths")
         how = "set" if args.saturation is not None else f"from the {BAND_NM:.0f} nm band depth"
         print(f"wet: saturation {saturation:.3f} ({how})")
         print(" λ nm   dry meas  dry model   wet meas  wet model   ratio meas  ratio model ± se   miss")
@@ -200,14 +247,14 @@ def main() -> None:
             diagnose(x, memory, args.rays)
     if args.default_sample:
         default_sample(args.memories, args.rays)
-    if not args.no_figure and not args.uniform_films:
+    if not args.no_figure and not args.uniform_films and args.dark_grains is None:
         figure(results)
 
 
 def diagnose(x, memory, rays) -> None:
     """Ratio against saturation at a few wavelengths, with and without the iron-oxide coating."""
     wl = np.array([450.0, 600.0, 900.0, 1300.0, 1450.0, 2200.0])
-    for label, xx in (("fitted", x), ("iron_oxide 0", np.array([0.0, *x[1:]]))):
+    for label, xx in (("fitted", x), ("iron_oxide 0", without_iron(x))):
         dry = run(xx, 0.0, memory, wl, rays)
         print(f"  {label}: dry", "  ".join(f"{v:.3f}" for v in dry.values), "at", ", ".join(f"{w:.0f}" for w in wl))
         for s in (0.1, 0.2, 0.3, 0.4, 0.6, 1.0):
