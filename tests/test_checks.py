@@ -114,3 +114,11 @@ def test_allocation_within_the_limit_passes_and_beyond_it_is_refused_with_both_f
         check_allocation("size", 10, 3 << 30)
     with pytest.raises(ParameterError, match="limit of 0.5 GiB"):
         check_allocation("size", 10, 1 << 30, limit_bytes=1 << 29)
+
+
+def test_names_admit_distinct_known_names_only():
+    names = checks.Names(("iron_oxide", "grain_size"))
+    assert names.admits(()) and names.admits(["grain_size"]) and names.admits(("iron_oxide", "grain_size"))
+    assert not names.admits(("iron_oxide", "iron_oxide"))  # repeated
+    assert not names.admits(("colour",)) and not names.admits("iron_oxide") and not names.admits(None)
+    assert "iron_oxide" in str(names)

@@ -394,6 +394,23 @@ class Interval:
 
 
 @dataclass(frozen=True)
+class Names:
+    """A sequence (tuple or list) of distinct strings, each one of ``options``."""
+
+    options: tuple[str, ...]
+
+    def admits(self, value: Any) -> bool:
+        return (
+            isinstance(value, (tuple, list))
+            and all(isinstance(v, str) and v in self.options for v in value)
+            and len(set(value)) == len(value)
+        )
+
+    def __str__(self) -> str:
+        return f"a sequence of distinct names from {self.options}"
+
+
+@dataclass(frozen=True)
 class StrOptions:
     """One of a few strings."""
 

@@ -1,14 +1,23 @@
 #!/usr/bin/env python3
-"""Train the spatial model shipped with sandlight, and print the figures for the docs.
+"""Train the spatial models shipped with sandlight, and print the figures for the docs.
 
-This is the documented command behind ``python/sandlight/data/models/spatial-beach.npz`` (see
-docs/spatial-predictor.md): the paper's beach-scene mesh (§4.2.2), 16 degrees of saturation
-evenly spaced over [0, 1] at the default mineralogy (``SandSample()``), each measured with the
-virtual goniophotometer (31 × 30 patches, uniform incidence) at 550 nm, plus a held-out
-measurement at saturation 0.5 (between the nodes 7/15 and 8/15). It needs the native engine::
+This is the documented command behind ``python/sandlight/data/models/spatial-*.npz`` (see
+docs/spatial-predictor.md, "Shipped models"), one family of sand per run (``--family``):
+
+- ``beach`` (``spatial-beach.npz``, the default): the paper's beach-scene mesh (§4.2.2), 16
+  degrees of saturation evenly spaced over [0, 1] at the default mineralogy (``SandSample()``),
+  held out at saturation 0.5;
+- ``dune`` (``spatial-dune.npz``): dry dune sand around the ``yellow-dune`` preset, iron oxide
+  0.002, 0.01, 0.05 × hematite ratio 0, 1 × grain size 0.1, 0.25, 0.6 mm, held out at
+  (0.005, 0.4, 0.16 mm);
+- ``wet`` (``spatial-wet.npz``): the beach mesh extended over iron oxide, saturation 0, 1/15, …, 1
+  × iron oxide 0, 0.01, 0.03, 0.1 at the default mineralogy, held out at (0.5, 0.006).
+
+Every node is measured with the virtual goniophotometer (31 × 30 patches, uniform incidence) at
+550 nm, the held-out point separately with more trials. It needs the native engine::
 
     python scripts/data/train_default_spatial.py                  # in-process, engine threads = CPUs
-    python scripts/data/train_default_spatial.py --rays 1e8 --dask-local 8 --threads 1
+    python scripts/data/train_default_spatial.py --family dune --rays 1e7 --holdout-rays 8e7 --workers 2 --threads 1
 
 Resumable: interrupted, the same command continues from the stored nodes (and from each
 running node's checkpoint) in ``--work-dir``. At the end it copies the model into the package
@@ -27,7 +36,25 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
-PACKAGE_MODEL = ROOT / "python" / "sandlight" / "data" / "models" / "spatial-beach.npz"
+MODELS = ROOT / "python" / "sandlight" / "data" / "models"
+#: Per family: the base sample (a preset name or None for SandSample()), the mesh axes (beach:
+#: --nodes saturations over [0, 1]), the held-out point and the interpolation coordinates
+#: (SpatialModel's absorbers and log_parameters; docs/spatial-predictor.md).
+FAMILIES = {
+    "beach": (None, None, {"saturation": 0.5}, {}),
+    "dune": (
+        "yellow-dune",
+        {"iron_oxide": [0.002, 0.01, 0.05], "hematite_ratio": [0.0, 1.0], "grain_size": [0.1, 0.25, 0.6]},
+        {"iron_oxide": 0.005, "hematite_ratio": 0.4, "grain_size": 0.16},
+        {"absorbers": ("iron_oxide", "hematite_ratio"), "log_parameters": ("grain_size",)},
+    ),
+    "wet": (
+        None,
+        {"saturation": [k / 15 for k in range(16)], "iron_oxide": [0.0, 0.01, 0.03, 0.1]},
+        {"saturation": 0.5, "iron_oxide": 0.006},
+        {"absorbers": ("iron_oxide",)},
+    ),
+}
 
 
 def count(text: str) -> int:
@@ -39,10 +66,10 @@ def count(text: str) -> int:
 
 def parse_args(argv=None):
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--nodes", type=int, default=16, help="saturation levels over [0, 1] (paper: 16)")
+    p.add_argument("--family", choices=sorted(FAMILIES), default="beach", help="which shipped model (module docstring)")
+    p.add_argument("--nodes", type=int, default=16, help="beach: saturation levels over [0, 1] (paper: 16)")
     p.add_argument("--rays", type=count, default=50_000_000, help="goniophotometer trials per node")
     p.add_argument("--holdout-rays", type=count, default=400_000_000, help="trials of the held-out measurement")
-    p.add_argument("--holdout", type=float, default=0.5, help="saturation of the held-out point")
     p.add_argument("--wavelength", type=float, default=550.0, help="nm")
     p.add_argument(
         "--method",
@@ -62,8 +89,8 @@ def parse_args(argv=None):
     p.add_argument(
         "--work-dir",
         type=Path,
-        default=ROOT / "build" / "train-default-spatial",
-        help="job stores and intermediate files (resumable)",
+        default=None,
+        help="job stores and intermediate files (resumable; default build/train-default-spatial[-FAMILY])",
     )
     p.add_argument(
         "--threads",
@@ -80,18 +107,27 @@ def parse_args(argv=None):
     ex.add_argument("--dask-local", type=int, help="start a Dask LocalCluster of N workers")
     ex.add_argument("--scheduler", help="Dask scheduler address tcp://HOST:PORT (no checkpoints)")
     p.add_argument(
-        "--no-install", action="store_true", help=f"do not copy the model to {PACKAGE_MODEL.relative_to(ROOT)}"
+        "--no-install",
+        action="store_true",
+        help=f"do not copy the model to {MODELS.relative_to(ROOT)}/spatial-FAMILY.npz",
     )
     p.add_argument(
         "--figure",
         type=Path,
-        default=ROOT / "docs" / "img" / "spatial-holdout.png",
-        help="principal-plane plot of the held-out prediction against the measurement ('' for none)",
+        default=None,
+        help="principal-plane plot of the held-out prediction against the measurement "
+        "(default docs/img/spatial-holdout[-FAMILY].png; '' for none)",
     )
-    return p.parse_args(argv)
+    args = p.parse_args(argv)
+    suffix = "" if args.family == "beach" else f"-{args.family}"
+    if args.work_dir is None:
+        args.work_dir = ROOT / "build" / f"train-default-spatial{suffix}"
+    if args.figure is None:
+        args.figure = ROOT / "docs" / "img" / f"spatial-holdout{suffix}.png"
+    return args
 
 
-def leave_one_out(nodes_dataset, mesh, method: str) -> dict:
+def leave_one_out(nodes_dataset, mesh, method: str, coordinates: dict) -> dict:
     """Mean leave-one-out scores of the interior nodes for each scaling and ℓ (choosing them).
 
     The node measurements have fewer trials than the held-out one, so values are scored when
@@ -107,10 +143,13 @@ def leave_one_out(nodes_dataset, mesh, method: str) -> dict:
             results = [
                 r
                 for _, r in cross_validate(
-                    brdfs, mesh, {"n_components": ell, "scaling": scaling}, max_relative_stderr=0.05
+                    brdfs, mesh, {"n_components": ell, "scaling": scaling, **coordinates}, max_relative_stderr=0.05
                 )
             ]
+            if not results:  # no interior node that can be scored
+                continue
             table[f"{scaling} l={ell}"] = {
+                "nodes_scored": len(results),
                 "relative_rms": round(float(np.mean([r.relative_rms for r in results])), 5),
                 "noise_rms": round(float(np.mean([r.noise_rms for r in results])), 5),
                 "model_error": round(float(np.mean([r.model_error for r in results])), 5),
@@ -170,7 +209,12 @@ def plot_holdout(model, holdout_dataset, method: str, path: Path) -> None:
         xlabel="outgoing zenith angle in the plane of incidence (°; positive: the light's side)",
         ylabel="normalised BRDF (sr⁻¹)",
         yscale="log",
-        title=f"held-out saturation {measured.sample['saturation']:g}: prediction (lines) vs measurement",
+    )
+    ax.set_title(
+        "held out at "
+        + ", ".join(f"{k} {measured.sample[k]:g}" for k in model.mesh_.parameters)
+        + ": prediction (lines) vs measurement",
+        fontsize=9,
     )
     ax.legend(fontsize=7, ncol=2)
     ax.grid(alpha=0.3)
@@ -188,14 +232,16 @@ def main(argv=None) -> int:
     from sandlight.machine import describe as describe_machine
     from sandlight.spatial import Mesh, train_spatial
 
-    mesh = Mesh.beach(args.nodes)
+    base, axes, holdout, coordinates = FAMILIES[args.family]
+    mesh = Mesh.beach(args.nodes) if axes is None else Mesh.grid(base, **axes)
+    package_model = MODELS / f"spatial-{args.family}.npz"
     pooled = any(v is not None for v in (args.workers, args.dask_local, args.scheduler))
     executor = make_executor(args.workers, args.dask_local, args.scheduler) if pooled else make_executor(workers=1)
     threads = args.threads or (1 if pooled else os.cpu_count() or 1)
     print(f"sandlight {sandlight.__version__} on {describe_machine()}")
     print(
-        f"mesh: {mesh}; base: default SandSample(); {args.wavelength:g} nm; 31 x 30 patches; "
-        f"{args.rays:,} trials per node; held-out saturation {args.holdout:g} with {args.holdout_rays:,} trials; "
+        f"mesh: {mesh}; base: {base or 'default SandSample()'}; {args.wavelength:g} nm; 31 x 30 patches; "
+        f"{args.rays:,} trials per node; held out at {holdout} with {args.holdout_rays:,} trials; "
         f"reduction {args.method}; {threads} engine thread(s) per node"
     )
     cpu0, start = time.process_time(), time.perf_counter()
@@ -206,7 +252,7 @@ def main(argv=None) -> int:
             args.rays,
             args.wavelength,
             args.seed,
-            holdout=[[args.holdout]],
+            holdout=[[holdout[k] for k in mesh.parameters]],
             holdout_rays=args.holdout_rays,
             method=args.method,
             executor=executor,
@@ -216,6 +262,7 @@ def main(argv=None) -> int:
                 "n_components": args.components,
                 "variance_threshold": args.variance,
                 "scaling": args.scaling,
+                **coordinates,
             },
         )
     except Cancelled as exc:
@@ -232,6 +279,7 @@ def main(argv=None) -> int:
     ratio, signal = model.explained_variance_ratio_, model.signal_variance_ratio_
     ell = model.n_components_
     summary = {
+        "family": args.family,
         "nodes": mesh.n_nodes,
         "rays_per_node": args.rays,
         "holdout_rays": args.holdout_rays,
@@ -251,7 +299,8 @@ def main(argv=None) -> int:
         "node_noise_rms_sr-1": model.node_noise_rms_,
         "node_normal_reflectance": [round(float(x), 5) for x in model.node_normal_reflectance_],
         "holdout": [r.to_dict() for r in run.reports],
-        "leave_one_out": leave_one_out(run.nodes.dataset_path, mesh, args.method),
+        "interpolation": coordinates or "mesh parameters (the paper)",
+        "leave_one_out": leave_one_out(run.nodes.dataset_path, mesh, args.method, coordinates),
     }
     print(json.dumps(summary, indent=1))
     for r in run.reports:
@@ -263,8 +312,8 @@ def main(argv=None) -> int:
     if not args.no_install:
         from sandlight.io import write_atomically
 
-        write_atomically(PACKAGE_MODEL, lambda tmp: shutil.copyfile(run.model_path, tmp))
-        print(f"installed {PACKAGE_MODEL} ({PACKAGE_MODEL.stat().st_size / 1e6:.2f} MB)")
+        write_atomically(package_model, lambda tmp: shutil.copyfile(run.model_path, tmp))
+        print(f"installed {package_model} ({package_model.stat().st_size / 1e6:.2f} MB)")
     return 0
 
 

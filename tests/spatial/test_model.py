@@ -258,3 +258,73 @@ def test_unknown_member_is_refused(beach_model, tmp_path):
         out.writestr("extra.npy", bytes(10**7))
     with pytest.raises(ModelFileError, match=r"members \['extra.npy'\] that a spatial model file does not have"):
         SpatialModel.load(bad)
+
+
+# ---- interpolation in the log normal reflectance (absorbers) ---------------------------------
+@pytest.fixture(scope="module")
+def albedo_mesh():
+    """Iron oxide × saturation: in the fakes the shape depends on the albedo alone."""
+    return Mesh.grid(iron_oxide=[0.0, 0.05, 0.1], saturation=[0.0, 0.5, 1.0])
+
+
+@pytest.fixture(scope="module")
+def albedo_nodes(albedo_mesh):
+    return spatial_fakes.measured_nodes(albedo_mesh, RAYS, stacks=STACKS, slices=SLICES, seed=11)
+
+
+def test_absorbers_interpolate_in_log_normal_reflectance(albedo_mesh, albedo_nodes):
+    model = SpatialModel(n_components=3, absorbers=("iron_oxide",)).fit(albedo_nodes, albedo_mesh)
+    r = model.node_normal_reflectance_
+    # the interpolation coordinates: log r0, then the other mesh parameters
+    np.testing.assert_allclose(model.interpolation_.nodes[:, 0], np.log(r))
+    np.testing.assert_allclose(model.interpolation_.nodes[:, 1], albedo_mesh.nodes[:, 1])
+    # at a node with its own r0 the prediction is that node's (exact, as eq. 7 is at nodes)
+    for k in (0, 4, 8):
+        node = albedo_mesh.sample_dict(albedo_mesh.nodes[k])
+        np.testing.assert_allclose(
+            model.scores(node, normal_reflectance=r[k]), model.node_scores_[k : k + 1], rtol=1e-12, atol=1e-12
+        )
+    # the iron oxide acts only through r0: two samples with one r0 and saturation share their shape
+    a = model.predict({**albedo_mesh.base, "iron_oxide": 0.02, "saturation": 0.3}, normal_reflectance=0.4)
+    b = model.predict({**albedo_mesh.base, "iron_oxide": 0.07, "saturation": 0.3}, normal_reflectance=0.4)
+    np.testing.assert_array_equal(a, b)
+
+
+def test_an_r0_beyond_the_nodes_takes_the_shape_at_the_hull(albedo_mesh, albedo_nodes):
+    model = SpatialModel(n_components=3, absorbers=("iron_oxide",)).fit(albedo_nodes, albedo_mesh)
+    sample = {**albedo_mesh.base, "iron_oxide": 0.05, "saturation": 0.5}
+    far, further = (model.predict(sample, normal_reflectance=r) for r in (0.999, 1.0))
+    np.testing.assert_allclose(far, further, rtol=1e-9)  # both moved onto the hull, at one point
+    assert np.isfinite(far).all()
+    with pytest.raises(ParameterError, match="normal_reflectance"):
+        model.predict(sample, normal_reflectance=0.0)
+
+
+def test_r0_defaults_to_the_spectral_predictor(albedo_mesh, albedo_nodes):
+    from sandlight.predictor.prediction import predict
+
+    model = SpatialModel(n_components=3, absorbers=("iron_oxide",)).fit(albedo_nodes, albedo_mesh)
+    sample = SandSample(iron_oxide=0.03, saturation=0.4)
+    r0 = float(predict([sample], [550.0])["reflectance"].values.ravel()[0])
+    np.testing.assert_array_equal(model.predict(sample), model.predict(sample, normal_reflectance=r0))
+
+
+def test_interpolation_coordinates_survive_a_file(albedo_mesh, albedo_nodes, tmp_path):
+    model = SpatialModel(n_components=3, absorbers=["iron_oxide"], log_parameters=[]).fit(albedo_nodes, albedo_mesh)
+    back = SpatialModel.load(model.save(tmp_path / "albedo.npz"))
+    assert back.absorbers == ("iron_oxide",) and back.log_parameters == ()
+    sample = {**albedo_mesh.base, "iron_oxide": 0.02, "saturation": 0.3}
+    np.testing.assert_array_equal(
+        back.predict(sample, normal_reflectance=0.3), model.predict(sample, normal_reflectance=0.3)
+    )
+
+
+def test_bad_interpolation_coordinates_are_named(albedo_mesh, albedo_nodes):
+    with pytest.raises(ParameterError, match="absorbers.*grain_size"):
+        SpatialModel(absorbers=("grain_size",)).fit(albedo_nodes, albedo_mesh)
+    with pytest.raises(ParameterError, match="log_parameters.*iron_oxide"):
+        SpatialModel(absorbers=("iron_oxide",), log_parameters=("iron_oxide",)).fit(albedo_nodes, albedo_mesh)
+    with pytest.raises(ParameterError, match="log_parameters.*saturation"):  # saturation 0 at a node
+        SpatialModel(log_parameters=("saturation",)).fit(albedo_nodes, albedo_mesh)
+    with pytest.raises(ParameterError, match="absorbers"):
+        SpatialModel(absorbers=("colour",)).fit(albedo_nodes, albedo_mesh)

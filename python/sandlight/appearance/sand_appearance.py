@@ -77,8 +77,9 @@ class SandAppearance:
         shipped model (`sandlight.predictor.default_model`); a callable
         ``sample -> (wavelengths_nm, reflectance)`` is accepted.
     spatial_model : SpatialModel, path or None
-        Source of the normalised BRDF. None: the shipped beach-scene model
-        (`sandlight.spatial.default_model`).
+        Source of the normalised BRDF. None: the shipped model that covers the sample
+        (`sandlight.spatial.model_for`: the family whose mesh holds it and whose base it differs
+        from least; the paper's beach-scene model for the default mineralogy).
     combination : {'energy', 'product'}
         How r(λ) and f̂ combine (`sandlight.appearance.combination`); 'product' is the paper's
         formula.
@@ -128,7 +129,7 @@ class SandAppearance:
         wl, r, self.spectral_source, self.spectral_memory = resolve_spectral(spectral_model, self.sand_sample)
         self.wavelengths_nm = wl
         self.normal_reflectance = np.clip(r, 0.0, 1.0)
-        model = resolve_spatial(spatial_model)
+        model = resolve_spatial(spatial_model, self.sand_sample)
         if self.spectral_memory is not None and self.spectral_memory != model.memory_:
             warnings.warn(
                 f"the spectral model was trained with engine memory {self.spectral_memory!r}, the spatial "
@@ -138,7 +139,9 @@ class SandAppearance:
                 stacklevel=2,
             )
         self.spatial_model = model
-        self.spatial = model.brdf(self.sand_sample, fixed=fixed)
+        # A model that interpolates in log r₀ takes the sample's r₀ from this spectral source.
+        r0 = float(np.interp(model.wavelength_nm_ or 550.0, wl, self.normal_reflectance))
+        self.spatial = model.brdf(self.sand_sample, fixed=fixed, normal_reflectance=max(r0, 1e-6))
         self.band_grid = BandGrid.from_spatial(self.spatial)
         self.n_negative_nodes = self.band_grid.n_negative_nodes
         self._combination = Combination.build(combination, self.band_grid, measured_reflectance(model, self.spatial))
@@ -408,5 +411,6 @@ class SandAppearance:
     def __repr__(self) -> str:
         return (
             f"SandAppearance({len(self.wavelengths_nm)} wavelengths {self.wavelengths_nm[0]:g}–"
-            f"{self.wavelengths_nm[-1]:g} nm, combination={self.combination!r}, r_0={self.reference_reflectance:.4f})"
+            f"{self.wavelengths_nm[-1]:g} nm, combination={self.combination!r}, r_0={self.reference_reflectance:.4f}, "
+            f"spatial mesh over {', '.join(self.spatial_model.mesh_.parameters)})"
         )

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -111,8 +111,10 @@ def resolve_spectral(
     return wl, r, source, getattr(model, "memory_", None)
 
 
-def resolve_spatial(model: SpatialModel | str | Path | None) -> SpatialModel:
-    """The spatial ``model`` itself, loaded from a file, or the shipped one (None).
+def resolve_spatial(model: SpatialModel | str | Path | None, sample: Any = None) -> SpatialModel:
+    """The spatial ``model`` itself, loaded from a file, or (None) the shipped model that covers
+    ``sample`` (one sample or a sequence sharing one model; `sandlight.spatial.model_for`), the
+    default beach model when no sample is given.
 
     Raises
     ------
@@ -120,9 +122,10 @@ def resolve_spatial(model: SpatialModel | str | Path | None) -> SpatialModel:
         ``model`` is none of these.
     """
     from sandlight.spatial.model import SpatialModel, default_model
+    from sandlight.spatial.shipped import model_for
 
     if model is None:
-        return default_model()
+        return default_model() if sample is None else model_for(sample)
     if isinstance(model, (str, Path)):
         return SpatialModel.load(model)
     if isinstance(model, SpatialModel):

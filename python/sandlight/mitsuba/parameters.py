@@ -37,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from sandlight.appearance import COMBINATIONS, SandAppearance
+from sandlight.appearance.sources import resolve_spatial
 from sandlight.errors import ParameterError
 from sandlight.sample import PARAMETERS, SandSample
 
@@ -182,7 +183,8 @@ class SandSpec:
 
 @functools.lru_cache(maxsize=32)
 def appearance_levels(spec: SandSpec) -> tuple[SandAppearance, ...]:
-    """`SandAppearance` of every level of ``spec`` (cached: equal specs share them)."""
-    return tuple(
-        SandAppearance(s, spec.spectral_model, spec.spatial_model, combination=spec.combination) for s in spec.samples()
-    )
+    """`SandAppearance` of every level of ``spec`` (cached: equal specs share them), all with one
+    spatial model (by default the shipped one that covers every level)."""
+    samples = spec.samples()
+    spatial = resolve_spatial(spec.spatial_model, samples)
+    return tuple(SandAppearance(s, spec.spectral_model, spatial, combination=spec.combination) for s in samples)

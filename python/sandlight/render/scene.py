@@ -629,12 +629,13 @@ def _parse_texture(t: Table, base_dir: Path) -> dict | None:
 
 
 def _appearance_table(sample: SandSample, vary: str | None, levels: np.ndarray, wavelength_nm: np.ndarray) -> BrdfTable:
-    """`SandAppearance` of the sample (of each level's sample when ``vary`` is set), tabulated
-    exactly on its own nodes (`BrdfTable.from_appearance`) and stacked."""
+    """`SandAppearance` of the sample (of each level's sample when ``vary`` is set, all with the
+    one shipped spatial model that covers every level), tabulated exactly on its own nodes
+    (`BrdfTable.from_appearance`) and stacked."""
     from sandlight.appearance import SandAppearance
+    from sandlight.spatial import model_for
 
-    tables = []
-    for v in levels:
-        s = sample if vary is None else sample.replace(**{vary: float(v)})
-        tables.append(BrdfTable.from_appearance(SandAppearance(s), wavelength_nm))
+    samples = [sample if vary is None else sample.replace(**{vary: float(v)}) for v in levels]
+    spatial = model_for(samples)  # one spatial model for every level: no jump between them
+    tables = [BrdfTable.from_appearance(SandAppearance(s, spatial_model=spatial), wavelength_nm) for s in samples]
     return BrdfTable.stack(tables, levels if vary else [0.0], vary or "level")

@@ -7,6 +7,8 @@ mesh
 model
     `SpatialModel`: PCA of the node BRDFs, interpolation of the scores, reconstruction
     (eqs. 5, 7); `default_model()` is the shipped beach-scene model.
+shipped
+    The shipped models (one per family of sand) and `model_for`, the one that covers a sample.
 training
     Node measurement as a restartable job, `train_spatial`, held-out `evaluate`.
 
@@ -21,6 +23,7 @@ from sandlight.spatial.model import (
     default_model,
     default_model_path,
 )
+from sandlight.spatial.shipped import model_for, shipped_model_paths, shipped_models
 from sandlight.spatial.training import (
     HoldoutReport,
     cross_validate,
@@ -38,6 +41,9 @@ __all__ = [
     "SpatialApproximationWarning",
     "default_model",
     "default_model_path",
+    "model_for",
+    "shipped_models",
+    "shipped_model_paths",
     "HoldoutReport",
     "evaluate",
     "cross_validate",

@@ -10,14 +10,8 @@ Mesh
 
 Simplices
 ---------
-- **1-D** (one mesh parameter, e.g. the 16 saturations of the paper's beach scene): the nodes
-  sorted along the axis; the simplices are the segments between neighbours and the weights are
-  those of linear interpolation.
-- **N-D**: the Delaunay triangulation (scipy.spatial.Delaunay, Qhull) of the nodes, scattered or
-  on a grid, after mapping each parameter's node range linearly onto [0, 1] so that units do not
-  distort the triangulation. An affine map does not change barycentric weights, so the weights
-  satisfy eq. 6 in the parameters' own units. On a regular grid Delaunay is not unique (four
-  co-circular points per square); Qhull's deterministic choice is used.
+Segments in 1-D, the Delaunay triangulation of the nodes in N-D, each parameter's node range
+mapped onto [0, 1] (`sandlight.spatial.simplices`).
 
 Properties (tested): the weights are non-negative and sum to 1 inside the mesh; at a node the
 weight is exactly 1 on that node (the node is detected and snapped, not left to rounding); a point
@@ -37,15 +31,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from sandlight.errors import ParameterError
+from sandlight.spatial.simplices import Simplices
 
 if TYPE_CHECKING:
     from sandlight.sample import SandSample
 
 __all__ = ["Mesh"]
-
-#: Distance (in the unit-box coordinates) within which a point counts as a node or as on the
-#: hull: rounding of parameter values read back from files, not a modelling tolerance.
-_NODE_TOLERANCE = 1e-12
 
 
 def _float_parameters() -> dict:
@@ -136,8 +127,7 @@ class Mesh:
         object.__setattr__(self, "nodes", nodes)
         base = _base_dict(self.base)
         object.__setattr__(self, "base", base)
-        if d >= 2:
-            self._delaunay  # noqa: B018 - build now: a degenerate node set is refused at construction
+        self._simplices  # noqa: B018 - build now: a degenerate node set is refused at construction
         self.samples()  # every node must be a valid SandSample
 
     # ---- construction ----------------------------------------------------------------------
@@ -257,22 +247,15 @@ class Mesh:
         return out
 
     # ---- barycentric location --------------------------------------------------------------
-    def _unit(self, x: np.ndarray) -> np.ndarray:
-        return (x - self.lower) / (self.upper - self.lower)
-
     @functools.cached_property
-    def _delaunay(self):
-        from scipy.spatial import Delaunay, QhullError
+    def _simplices(self) -> Simplices:
+        return Simplices(self.nodes)
 
-        try:
-            return Delaunay(self._unit(self.nodes))
-        except QhullError as exc:
-            raise ParameterError(
-                "nodes",
-                f"{self.n_nodes} nodes in {self.dimension}-D",
-                f"nodes spanning all {self.dimension} dimensions (not all in one hyperplane): "
-                f"{str(exc).splitlines()[0]}",
-            ) from None
+    def contains(self, points: SandSample | Mapping | Sequence | ArrayLike) -> np.ndarray:
+        """Whether each point (samples or coordinates, see `coordinates`) lies in the mesh: in
+        its range (1-D) or in the convex hull of its nodes, within `locate`'s tolerance.
+        Returns a boolean array (k,); NaN coordinates are outside."""
+        return self._simplices.inside(self.coordinates(points))
 
     def locate(self, points: SandSample | Mapping | Sequence | ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Simplex vertices and barycentric weights of points inside the mesh (paper eq. 6).
@@ -296,21 +279,10 @@ class Mesh:
         x = self.coordinates(points)
         if not np.isfinite(x).all():
             raise ParameterError(",".join(self.parameters), x[~np.isfinite(x).all(axis=1)][0].tolist(), "finite values")
-        if self.dimension == 1:
-            idx, w = self._locate_1d(x[:, 0])
-        else:
-            idx, w = self._locate_nd(x)
-        # Snap to nodes: a point within rounding of one of its simplex's vertices gets weight 1
-        # there, so that interpolation is exact at the nodes (not merely to 1e-16).
-        u = self._unit(x)
-        vert = self._unit(self.nodes)[idx]  # (k, d + 1, d)
-        hit = np.all(np.abs(vert - u[:, None, :]) <= _NODE_TOLERANCE, axis=2)
-        rows = hit.any(axis=1)
-        if rows.any():
-            first = np.argmax(hit[rows], axis=1)
-            w[rows] = 0.0
-            w[np.flatnonzero(rows), first] = 1.0
-        return idx, w
+        outside = ~self._simplices.inside(x)
+        if outside.any():
+            raise self._outside(x[np.argmax(outside)])
+        return self._simplices.locate(x)
 
     def _outside(self, x_row: ArrayLike) -> ParameterError:
         point = dict(zip(self.parameters, (float(v) for v in x_row)))
@@ -322,36 +294,6 @@ class Mesh:
             f"a point inside the spatial model's mesh ({self._ranges()}"
             f"{'' if self.dimension == 1 else ', within the convex hull of the nodes'})",
         )
-
-    def _locate_1d(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        order = np.argsort(self.nodes[:, 0])
-        xs = self.nodes[order, 0]
-        lo, hi = xs[0], xs[-1]
-        tol = _NODE_TOLERANCE * (hi - lo)
-        bad = (x < lo - tol) | (x > hi + tol)
-        if bad.any():
-            raise self._outside([x[np.argmax(bad)]])
-        xc = np.clip(x, lo, hi)
-        j = np.clip(np.searchsorted(xs, xc, side="right") - 1, 0, len(xs) - 2)
-        t = (xc - xs[j]) / (xs[j + 1] - xs[j])
-        idx = np.stack([order[j], order[j + 1]], axis=1).astype(np.int64)
-        w = np.stack([1.0 - t, t], axis=1)
-        return idx, w
-
-    def _locate_nd(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        tri = self._delaunay
-        u = self._unit(x)
-        simplex = tri.find_simplex(u, tol=_NODE_TOLERANCE)
-        if (simplex < 0).any():
-            raise self._outside(x[np.argmax(simplex < 0)])
-        d = self.dimension
-        T = tri.transform[simplex]  # (k, d + 1, d): inverse affine map and offset
-        b = np.einsum("kij,kj->ki", T[:, :d, :], u - T[:, d, :])
-        w = np.concatenate([b, 1.0 - b.sum(axis=1, keepdims=True)], axis=1)
-        # Points on a face give weights of -1e-16 by rounding: clip and renormalise.
-        w = np.clip(w, 0.0, None)
-        w /= w.sum(axis=1, keepdims=True)
-        return tri.simplices[simplex].astype(np.int64), w
 
     # ---- (de)serialisation -----------------------------------------------------------------
     def to_dict(self) -> dict:

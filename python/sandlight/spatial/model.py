@@ -21,7 +21,11 @@ isotropy and reciprocity, paper §3.2.1):
    f̃_i = V_ℓ ((f_i − f̄)/s).
 2. **Interpolation (§3.2.3, eqs. 6–7).** A new sample's mesh coordinates x are written as an
    affine combination x = Σ α_i x_i of the vertices of the simplex holding it (`Mesh.locate`)
-   and its scores are f̃ = Σ α_i f̃_i. Exact at the nodes.
+   and its scores are f̃ = Σ α_i f̃_i. Exact at the nodes. With ``absorbers`` the location runs
+   in other coordinates (sandlight's departure, docs/spatial-predictor.md, "Interpolation
+   coordinates"): those parameters are replaced by log r₀, the sample's normal-incidence
+   reflectance at the model's wavelength, since the BRDF's shape follows the albedo, which is far
+   from linear in them; ``log_parameters`` are located in their logarithm.
 3. **Reconstruction (§3.2.2 eq. 5, §3.2.4).** f = f̄ + s ⊙ (V_ℓᵀ f̃) (the paper's eq. 5 leaves the
    mean implicit), expanded to the r × r patch pairs and interpolated continuously over the
    hemisphere by the goniophotometer's interpolant (`sandlight.gonio.brdf.band_grid_f`).
@@ -56,7 +60,7 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from sandlight.checks import Interval, StrOptions
+from sandlight.checks import Interval, Names, StrOptions
 from sandlight.errors import ModelFileError, ParameterError
 from sandlight.gonio.brdf import MeasuredBRDF, band_grid, band_grid_f
 from sandlight.gonio.hemisphere import CollectorHemisphere
@@ -64,7 +68,9 @@ from sandlight.gonio.symmetry import EquivalenceClasses, PatchClasses
 from sandlight.predictor.estimator import Estimator
 from sandlight.predictor.model_file import ModelFileFormat, jsonable
 from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
+from sandlight.sample import PARAMETERS
 from sandlight.spatial.mesh import Mesh
+from sandlight.spatial.simplices import Simplices
 
 __all__ = [
     "SpatialModel",
@@ -91,6 +97,8 @@ MODEL_FILE = ModelFileFormat(
 MODEL_FORMAT, MODEL_FORMAT_VERSION = MODEL_FILE.name, MODEL_FILE.version
 FIXED_POLICIES = ("warn", "ignore", "error")
 SCALINGS = ("relative", "none", "noise")
+#: Names a mesh may vary (float parameters of SandSample).
+_FLOAT_PARAMETERS = tuple(p.name for p in PARAMETERS if p.kind == "float")
 
 
 class SpatialApproximationWarning(UserWarning):
@@ -159,11 +167,25 @@ class SpatialModel(Estimator):
         What each unique value is divided by before the PCA: the mean node BRDF (relative
         deviations; default), nothing (the paper), or its RMS standard error over the nodes
         (noise-whitened). See the module docstring.
+    absorbers : sequence of str
+        Mesh parameters that change the BRDF's shape through the sample's albedo alone (e.g.
+        iron_oxide, hematite_ratio). The interpolation (eq. 6) then runs in other coordinates:
+        these parameters are replaced by one, log r₀, the logarithm of the sample's reflectance
+        at normal incidence at the model's wavelength (a node's from its measurement; a new
+        sample's as given, else from the shipped spectral predictor). Empty (default): the
+        paper's interpolation in the mesh parameters. docs/spatial-predictor.md, "Interpolation
+        coordinates".
+    log_parameters : sequence of str
+        Mesh parameters (not absorbers) interpolated in their logarithm (e.g. grain_size, whose
+        effects scale with ln d); positive at every node.
 
     Attributes
     ----------
     mesh_ : Mesh
         Nodes, mesh parameters and the base sample.
+    interpolation_ : Simplices or None
+        The nodes in the interpolation coordinates when they are not the mesh's (``absorbers``
+        or ``log_parameters`` given), else None.
     stacks_, slices_ : int
         Collector hemisphere of the measurements (m unique values).
     wavelength_nm_ : float or None
@@ -206,15 +228,54 @@ class SpatialModel(Estimator):
         "n_components": [None, Interval(Integral, 1, None)],
         "variance_threshold": [Interval(Real, 0, 1, closed="right")],
         "scaling": [StrOptions(SCALINGS)],
+        "absorbers": [Names(_FLOAT_PARAMETERS)],
+        "log_parameters": [Names(_FLOAT_PARAMETERS)],
     }
     _model_file = MODEL_FILE
 
     def __init__(
-        self, n_components: int | None = None, variance_threshold: float = 0.999, scaling: str = "relative"
+        self,
+        n_components: int | None = None,
+        variance_threshold: float = 0.999,
+        scaling: str = "relative",
+        absorbers: Sequence[str] = (),
+        log_parameters: Sequence[str] = (),
     ) -> None:
         self.n_components = n_components
         self.variance_threshold = variance_threshold
         self.scaling = scaling
+        self.absorbers = absorbers
+        self.log_parameters = log_parameters
+
+    # ---- interpolation coordinates -----------------------------------------------------------
+    def _interpolation_simplices(self, mesh: Mesh, node_reflectance: np.ndarray) -> Simplices | None:
+        """The nodes in the interpolation coordinates (None: the mesh's own), checked."""
+        if not self.absorbers and not self.log_parameters:
+            return None
+        for name, values in (("absorbers", self.absorbers), ("log_parameters", self.log_parameters)):
+            alien = [p for p in values if p not in mesh.parameters]
+            if alien:
+                raise ParameterError(name, alien[0], f"a parameter the mesh varies: {mesh.parameters}")
+        both = set(self.absorbers) & set(self.log_parameters)
+        if both:
+            raise ParameterError("log_parameters", sorted(both)[0], "a mesh parameter that is not an absorber")
+        if self.absorbers and not (np.isfinite(node_reflectance).all() and (node_reflectance > 0).all()):
+            raise ParameterError("absorbers", tuple(self.absorbers), "nodes with a positive normal reflectance")
+        for p in self.log_parameters:
+            if (mesh.nodes[:, mesh.parameters.index(p)] <= 0).any():
+                raise ParameterError("log_parameters", p, "a parameter positive at every node")
+        return Simplices(self._interpolation_coordinates(mesh.parameters, mesh.nodes, node_reflectance))
+
+    def _interpolation_coordinates(
+        self, parameters: Sequence[str], x: np.ndarray, reflectance: np.ndarray | None
+    ) -> np.ndarray:
+        """Mesh coordinates (k, d) of ``parameters`` and normal reflectances (k,) → the
+        interpolation coordinates (k, d'): log r₀ first when there are absorbers."""
+        columns = [np.log(reflectance)] if self.absorbers else []
+        for j, p in enumerate(parameters):
+            if p not in self.absorbers:
+                columns.append(np.log(x[:, j]) if p in self.log_parameters else x[:, j])
+        return np.stack(columns, axis=1)
 
     def _scale(self, mean: np.ndarray, stderr: np.ndarray | None) -> np.ndarray:
         """Per-value scale of the PCA (module docstring), floored at 10⁻³ of its median."""
@@ -306,6 +367,7 @@ class SpatialModel(Estimator):
         self.signal_variance_ratio_ = signal_ratio
         self.node_scores_ = scores
         self.node_normal_reflectance_ = np.array([b.normal_reflectance for b in brdfs])
+        self.interpolation_ = self._interpolation_simplices(mesh, self.node_normal_reflectance_)
         self.scale_ = scale
         self.reconstruction_rms_ = float(np.sqrt(np.mean(((recon - X) / scale) ** 2)))
         self.node_noise_rms_ = None if stderr is None else float(np.sqrt(np.mean((stderr / scale) ** 2)))
@@ -314,7 +376,9 @@ class SpatialModel(Estimator):
         return self
 
     # ---- prediction --------------------------------------------------------------------------
-    def _locate(self, samples: Any, fixed: str) -> tuple[np.ndarray, np.ndarray, np.ndarray, list | None]:
+    def _locate(
+        self, samples: Any, fixed: str, normal_reflectance: ArrayLike | None = None
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, list | None]:
         if fixed not in FIXED_POLICIES:
             raise ParameterError("fixed", fixed, f"one of {FIXED_POLICIES}")
         from sandlight.sample import SandSample
@@ -353,9 +417,48 @@ class SpatialModel(Estimator):
                     )
         x = self.mesh_.coordinates(samples)
         idx, w = self.mesh_.locate(x)
+        if self.interpolation_ is not None:
+            r0 = self._normal_reflectance(many, x, normal_reflectance) if self.absorbers else None
+            z = self._into_hull(self._interpolation_coordinates(self.mesh_.parameters, x, r0))
+            idx, w = self.interpolation_.locate(z)
         return x, idx, w, many
 
-    def scores(self, samples: Any, *, fixed: str = "warn") -> np.ndarray:
+    def _normal_reflectance(self, many: list | None, x: np.ndarray, given: ArrayLike | None) -> np.ndarray:
+        """r₀ of each sample at the model's wavelength: ``given``, else the shipped spectral
+        predictor's for the samples themselves (or, for bare coordinates, for the mesh's sample
+        there)."""
+        if given is not None:
+            r0 = np.broadcast_to(np.asarray(given, dtype=float), (x.shape[0],))
+            if not (np.isfinite(r0).all() and (r0 > 0).all() and (r0 <= 1).all()):
+                raise ParameterError("normal_reflectance", given, "reflectances in (0, 1], one per sample")
+            return r0
+        from sandlight.predictor.prediction import predict
+
+        samples = many if many is not None else [self.mesh_.sample_dict(row) for row in x]
+        wavelength = 550.0 if self.wavelength_nm_ is None else self.wavelength_nm_
+        r0 = predict(samples, [wavelength])["reflectance"].values.reshape(len(samples))
+        return np.clip(r0, 1e-6, 1.0)
+
+    def _into_hull(self, z: np.ndarray) -> np.ndarray:
+        """Points outside the interpolation nodes' hull moved onto it, along the line to the
+        nodes' centroid (bisection): a sample inside the mesh whose predicted r₀ lies a little
+        beyond the nodes' takes the shape at the nearest r₀ the nodes span."""
+        outside = ~self.interpolation_.inside(z)
+        if not outside.any():
+            return z
+        z = z.copy()
+        centre = self.interpolation_.nodes.mean(axis=0)
+        for i in np.flatnonzero(outside):
+            lo, hi = 0.0, 1.0  # fraction of the way from the centre to z: lo inside, hi outside
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                lo, hi = (
+                    (mid, hi) if self.interpolation_.inside((centre + mid * (z[i] - centre))[None])[0] else (lo, mid)
+                )
+            z[i] = centre + lo * (z[i] - centre)
+        return z
+
+    def scores(self, samples: Any, *, fixed: str = "warn", normal_reflectance: ArrayLike | None = None) -> np.ndarray:
         """Principal components f̃ = Σ α_i f̃_i of samples (paper eqs. 6–7).
 
         Parameters
@@ -365,6 +468,9 @@ class SpatialModel(Estimator):
         fixed : {'warn', 'ignore', 'error'}
             What to do when a sample differs from the mesh's base sample in a parameter the mesh
             does not vary (`SpatialApproximationWarning`, nothing, or `ParameterError`).
+        normal_reflectance : float or array_like (k,), optional
+            r₀ of the samples at the model's wavelength, for a model with ``absorbers`` (None:
+            the shipped spectral predictor's); ignored otherwise.
 
         Returns
         -------
@@ -376,21 +482,22 @@ class SpatialModel(Estimator):
             A sample outside the mesh.
         """
         self.check_is_fitted()
-        _, idx, w, _ = self._locate(samples, fixed)
+        _, idx, w, _ = self._locate(samples, fixed, normal_reflectance)
         return np.einsum("kv,kvl->kl", w, self.node_scores_[idx])
 
-    def predict(self, samples: Any, *, fixed: str = "warn") -> np.ndarray:
+    def predict(self, samples: Any, *, fixed: str = "warn", normal_reflectance: ArrayLike | None = None) -> np.ndarray:
         """Normalised BRDFs f = f̄ + s ⊙ V_ℓᵀ f̃ as unique values (paper eq. 5), shape (k, m), sr⁻¹.
 
         Parameters are those of `scores`.
         """
-        scores = self.scores(samples, fixed=fixed)
+        scores = self.scores(samples, fixed=fixed, normal_reflectance=normal_reflectance)
         return self.mean_ + scores @ self.components_
 
-    def brdf(self, sample: Any, *, fixed: str = "warn") -> SpatialBRDF:
-        """The predicted BRDF of one sample (or one point of mesh coordinates) as a `SpatialBRDF`."""
+    def brdf(self, sample: Any, *, fixed: str = "warn", normal_reflectance: float | None = None) -> SpatialBRDF:
+        """The predicted BRDF of one sample (or one point of mesh coordinates) as a `SpatialBRDF`
+        (``normal_reflectance`` as in `scores`)."""
         self.check_is_fitted()
-        x, idx, w, many = self._locate(sample, fixed)
+        x, idx, w, many = self._locate(sample, fixed, normal_reflectance)
         if x.shape[0] != 1:
             raise ParameterError("sample", f"{x.shape[0]} samples", "one sample (use predict for many)")
         unique = self.mean_ + np.einsum("v,vl->l", w[0], self.node_scores_[idx[0]]) @ self.components_
@@ -443,7 +550,10 @@ class SpatialModel(Estimator):
 
     @classmethod
     def _from_parts(cls, meta: Mapping, data: Mapping[str, np.ndarray], path: Path) -> SpatialModel:
-        model = cls(**meta["params"])
+        params = dict(meta["params"])
+        for name in ("absorbers", "log_parameters"):  # JSON lists; absent in files before them
+            params[name] = tuple(params.get(name, ()))
+        model = cls(**params)
         model.validate_params()
         stacks, slices = int(meta["stacks"]), int(meta["slices"])
         m = EquivalenceClasses(CollectorHemisphere(stacks, slices)).n_classes
@@ -479,6 +589,7 @@ class SpatialModel(Estimator):
         model.signal_variance_ratio_ = data.get("signal_variance_ratio")
         model.node_scores_ = data["node_scores"]
         model.node_normal_reflectance_ = data["node_normal_reflectance"]
+        model.interpolation_ = model._interpolation_simplices(mesh, model.node_normal_reflectance_)
         model.reconstruction_rms_ = meta.get("reconstruction_rms")
         model.node_noise_rms_ = meta.get("node_noise_rms")
         model.training_set_ = meta.get("training_set") or {}

@@ -509,7 +509,8 @@ def cross_validate(
     """Leave-one-out check: each node inside the others' mesh is predicted by a model fitted
     without it and scored against its own measurement (`evaluate`).
 
-    Nodes on the mesh's hull (whose removal would leave them outside) are skipped. The gap
+    Nodes on the mesh's hull (whose removal would leave them outside), and nodes with no value
+    measured to better than ``max_relative_stderr`` (nothing to score), are skipped. The gap
     around a removed node is twice the mesh spacing, so this is a pessimistic estimate of the
     error between nodes.
 
@@ -527,7 +528,10 @@ def cross_validate(
         except ParameterError:  # degenerate without node k, or node k on the hull
             continue
         model = SpatialModel(**dict(model_params or {})).fit([brdfs[i] for i in others], sub)
-        out.append((k, evaluate(model, brdfs[k], max_relative_stderr=max_relative_stderr)))
+        try:
+            out.append((k, evaluate(model, brdfs[k], max_relative_stderr=max_relative_stderr)))
+        except ParameterError:  # node k has no value measured well enough to score
+            continue
     return out
 
 
