@@ -121,3 +121,22 @@ def test_appearance_command_writes_a_table(tmp_path):
         ],
     )
     assert missing.exit_code == 2 and "does not exist" in " ".join(missing.output.split())
+
+
+def test_appearance_over_the_full_range(tmp_path):
+    """--mode full-range: r(λ) from the shipped 350-2500 nm models (dry sand), shape from the
+    shipped model that covers the sample (yellow-dune: the dune family, nothing borrowed)."""
+    out = tmp_path / "dune.nc"
+    args = ["appearance", "--preset", "yellow-dune", "--mode", "full-range", "--table", str(out)]
+    result = runner.invoke(app, [*args, "--n-mu", "4", "--n-dphi", "3"])
+    assert result.exit_code == 0, result.output
+    assert "87 wavelengths 350–2500 nm" in result.output and "warning:" not in result.output
+    with xr.open_dataset(out, engine="h5netcdf") as ds:
+        wl = ds["wavelength"].values
+        assert ds["f"].shape[0] == 87 and wl[0] == 350.0 and wl[-1] == 2500.0
+    wet = runner.invoke(app, ["appearance", "--preset", "wet-beach", "--mode", "full-range"])
+    assert wet.exit_code == 2 and "saturation" in wet.output
+    both = runner.invoke(
+        app, ["appearance", "--preset", "red-dune", "--mode", "full-range", "--spectral-model", "x.npz"]
+    )
+    assert both.exit_code == 2 and "--mode" in both.output

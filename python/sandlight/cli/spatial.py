@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import typer
 
-from sandlight.checks import check_count
+from sandlight.checks import check_choice, check_count
 from sandlight.cli._app import app
 from sandlight.cli._common import (
     COUNT_FORM,
@@ -212,10 +212,16 @@ def appearance(
     n_mu: int = typer.Option(32, "--n-mu", help="Table points in cos θ_i and cos θ_o, 2–4096 (uniform on [0, 1])."),
     n_dphi: int = typer.Option(32, "--n-dphi", help="Table points in Δφ, 2–4096 (uniform on [0, π] radians)."),
     spectral_model: Path | None = typer.Option(
-        None, "--spectral-model", help="Spectral model file (default: the shipped one)."
+        None, "--spectral-model", help="Spectral model file (default: the shipped ones, as --mode says)."
+    ),
+    mode: str = typer.Option(
+        "paper",
+        "--mode",
+        help="Which shipped spectral models give r(λ): paper (400-700 nm every 20 nm) or full-range "
+        "(350-2500 nm every 25 nm; dry sand).",
     ),
     spatial_model: Path | None = typer.Option(
-        None, "--spatial-model", help="Spatial model file (default: the shipped beach model)."
+        None, "--spatial-model", help="Spatial model file (default: the shipped model that covers the sample)."
     ),
     combination: str = typer.Option(
         "energy", "--combination", help="energy (default) or product (the paper's formula, may exceed unit albedo)."
@@ -225,14 +231,20 @@ def appearance(
     import warnings
 
     from sandlight.appearance import SandAppearance
+    from sandlight.errors import ParameterError
+    from sandlight.predictor.prediction import answering_bank
     from sandlight.spatial import SpatialApproximationWarning
 
     if table is not None:
         check_output_file(table, "--output", (".nc",), make_dirs=True)
+    check_choice("--mode", mode, ("paper", "full-range"))
+    if spectral_model is not None and mode != "paper":
+        raise ParameterError("--mode", mode, "paper (the default) with --spectral-model, which gives r(λ) itself")
     sample = load_sample(sample_file, preset)
+    spectral = spectral_model if spectral_model is not None else answering_bank(None, mode)
     with warnings.catch_warnings():
         warnings.simplefilter("always", SpatialApproximationWarning)  # shown on every run, as one line
-        app_ = SandAppearance(sample, spectral_model, spatial_model, combination=combination)
+        app_ = SandAppearance(sample, spectral, spatial_model, combination=combination)
     angles = np.array([0.0, 30.0, 60.0, 80.0, 89.0])
     t = np.radians(angles)
     albedo = app_.albedo(np.stack([np.sin(t), 0 * t, np.cos(t)], axis=1))
