@@ -40,3 +40,17 @@ def test_an_estimated_noise_widens_the_interval_by_students_t(noisy_dry):
     )
     lo_n, hi_n = normal.interval(0, 0.95)
     assert hi - lo > 1.05 * (hi_n - lo_n)
+
+
+def test_a_parameter_the_spectrum_does_not_move_gets_its_whole_range():
+    """A zero Jacobian column (no information at the optimum) must not give a zero-width
+    interval, which would claim certainty; its interval is the whole range."""
+    from sandlight.retrieval.posterior import LaplacePosterior
+    from sandlight.retrieval.space import ParameterSpace
+
+    space = ParameterSpace.build(["iron_oxide", "grain_size"], {}, None)
+    jacobian = np.array([[300.0, 0.0], [100.0, 0.0], [-200.0, 0.0]])  # whitened, per unit of each
+    post = LaplacePosterior.at(np.array([0.01, 0.3]), jacobian, space, None)
+    assert post.interval(1, 0.95) == (space.low[1], space.high[1])
+    lo, hi = post.interval(0, 0.95)
+    assert lo < 0.01 < hi and hi - lo < 0.5 * (space.high[0] - space.low[0])  # the informed one stays narrow

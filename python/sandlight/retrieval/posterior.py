@@ -54,6 +54,11 @@ class LaplacePosterior:
     def at(cls, x: np.ndarray, jacobian: np.ndarray, space: ParameterSpace, dof: int | None) -> LaplacePosterior:
         fisher = jacobian.T @ jacobian
         cov = np.linalg.pinv(fisher, rcond=1e-12, hermitian=True)
+        # A parameter the spectrum does not move at the optimum carries no information there:
+        # pinv would give it zero variance (a zero-width interval); it gets an infinite one.
+        blind = ~np.any(jacobian != 0, axis=0)
+        cov[blind, :] = cov[:, blind] = 0.0
+        cov[blind, blind] = np.inf
         return cls(np.asarray(x, float), cov, space.low, space.high, dof)
 
     @property
@@ -70,8 +75,8 @@ class LaplacePosterior:
         if self.dof is not None:
             sd = sd * stats.t.ppf(p, self.dof) / stats.norm.ppf(p)
         lo, hi, x = self.low[i], self.high[i], self.x[i]
-        if not np.isfinite(sd) or sd <= 0:
-            return (float(x), float(x))
+        if not np.isfinite(sd) or sd <= 0:  # no information at the optimum: the whole range
+            return (float(lo), float(hi))
         dist = stats.truncnorm((lo - x) / sd, (hi - x) / sd, loc=x, scale=sd)
         return (float(dist.ppf((1 - level) / 2)), float(dist.ppf(p)))
 
