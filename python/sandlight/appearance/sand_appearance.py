@@ -140,7 +140,7 @@ class SandAppearance:
             )
         self.spatial_model = model
         # A model that interpolates in log r₀ takes the sample's r₀ from this spectral source.
-        r0 = float(np.interp(model.wavelength_nm_ or 550.0, wl, self.normal_reflectance))
+        r0 = float(np.interp(model.r0_wavelength_nm, wl, self.normal_reflectance))
         self.spatial = model.brdf(self.sand_sample, fixed=fixed, normal_reflectance=max(r0, 1e-6))
         self.band_grid = BandGrid.from_spatial(self.spatial)
         self.n_negative_nodes = self.band_grid.n_negative_nodes

@@ -435,8 +435,7 @@ class SpatialModel(Estimator):
         from sandlight.predictor.prediction import predict
 
         samples = many if many is not None else [self.mesh_.sample_dict(row) for row in x]
-        wavelength = 550.0 if self.wavelength_nm_ is None else self.wavelength_nm_
-        r0 = predict(samples, [wavelength])["reflectance"].values.reshape(len(samples))
+        r0 = predict(samples, [self.r0_wavelength_nm])["reflectance"].values.reshape(len(samples))
         return np.clip(r0, 1e-6, 1.0)
 
     def _into_hull(self, z: np.ndarray) -> np.ndarray:
@@ -507,6 +506,12 @@ class SpatialModel(Estimator):
             s = many[0]
             sample_dict = s.to_dict() if hasattr(s, "to_dict") else dict(s)
         return SpatialBRDF(self.stacks_, self.slices_, unique, x[0], idx[0], w[0], sample_dict)
+
+    @property
+    def r0_wavelength_nm(self) -> float:
+        """Wavelength (nm) of the r₀ coordinate: the measurements' (550 nm, the paper's, for a
+        model file that does not record it)."""
+        return 550.0 if self.wavelength_nm_ is None else self.wavelength_nm_
 
     # ---- persistence -------------------------------------------------------------------------
     @property
