@@ -11,7 +11,8 @@ docs/spatial-predictor.md, "Shipped models"), one family of sand per run (``--fa
   0.002, 0.01, 0.05 × hematite ratio 0, 1 × grain size 0.1, 0.25, 0.6 mm, held out at
   (0.005, 0.4, 0.16 mm);
 - ``wet`` (``spatial-wet.npz``): the beach mesh extended over iron oxide, saturation 0, 1/15, …, 1
-  × iron oxide 0, 0.01, 0.03, 0.1 at the default mineralogy, held out at (0.5, 0.006).
+  × iron oxide 0, 0.002, 0.005, 0.01, 0.03, 0.1 at the default mineralogy, held out at
+  (0.5, 0.006) and (0.5, 0.0035).
 
 Every node is measured with the virtual goniophotometer (31 × 30 patches, uniform incidence) at
 550 nm, the held-out point separately with more trials. It needs the native engine::
@@ -38,20 +39,22 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 MODELS = ROOT / "python" / "sandlight" / "data" / "models"
 #: Per family: the base sample (a preset name or None for SandSample()), the mesh axes (beach:
-#: --nodes saturations over [0, 1]), the held-out point and the interpolation coordinates
+#: --nodes saturations over [0, 1]), the held-out points and the interpolation coordinates
 #: (SpatialModel's absorbers and log_parameters; docs/spatial-predictor.md).
 FAMILIES = {
-    "beach": (None, None, {"saturation": 0.5}, {}),
+    "beach": (None, None, [{"saturation": 0.5}], {}),
     "dune": (
         "yellow-dune",
         {"iron_oxide": [0.002, 0.01, 0.05], "hematite_ratio": [0.0, 1.0], "grain_size": [0.1, 0.25, 0.6]},
-        {"iron_oxide": 0.005, "hematite_ratio": 0.4, "grain_size": 0.16},
+        [{"iron_oxide": 0.005, "hematite_ratio": 0.4, "grain_size": 0.16}],
         {"absorbers": ("iron_oxide", "hematite_ratio"), "log_parameters": ("grain_size",)},
     ),
     "wet": (
         None,
-        {"saturation": [k / 15 for k in range(16)], "iron_oxide": [0.0, 0.01, 0.03, 0.1]},
-        {"saturation": 0.5, "iron_oxide": 0.006},
+        # iron oxide in roughly geometric steps: the shape changes fastest near 0 (r0 at saturation
+        # 0.5 falls from 0.69 to 0.06 between 0 and 0.01 iron oxide)
+        {"saturation": [k / 15 for k in range(16)], "iron_oxide": [0.0, 0.002, 0.005, 0.01, 0.03, 0.1]},
+        [{"saturation": 0.5, "iron_oxide": 0.006}, {"saturation": 0.5, "iron_oxide": 0.0035}],
         {},  # in log r0 for iron oxide: 9.0 % held out against 6.1 % (docs/spatial-predictor.md)
     ),
 }
@@ -237,7 +240,7 @@ def main(argv=None) -> int:
     from sandlight.machine import describe as describe_machine
     from sandlight.spatial import Mesh, train_spatial
 
-    base, axes, holdout, coordinates = FAMILIES[args.family]
+    base, axes, holdouts, coordinates = FAMILIES[args.family]
     mesh = Mesh.beach(args.nodes) if axes is None else Mesh.grid(base, **axes)
     package_model = MODELS / f"spatial-{args.family}.npz"
     pooled = any(v is not None for v in (args.workers, args.dask_local, args.scheduler))
@@ -246,7 +249,7 @@ def main(argv=None) -> int:
     print(f"sandlight {sandlight.__version__} on {describe_machine()}")
     print(
         f"mesh: {mesh}; base: {base or 'default SandSample()'}; {args.wavelength:g} nm; 31 x 30 patches; "
-        f"{args.rays:,} trials per node; held out at {holdout} with {args.holdout_rays:,} trials; "
+        f"{args.rays:,} trials per node; held out at {holdouts} with {args.holdout_rays:,} trials each; "
         f"reduction {args.method}; {threads} engine thread(s) per node"
     )
     cpu0, start = time.process_time(), time.perf_counter()
@@ -257,7 +260,7 @@ def main(argv=None) -> int:
             args.rays,
             args.wavelength,
             args.seed,
-            holdout=[[holdout[k] for k in mesh.parameters]],
+            holdout=[[h[k] for k in mesh.parameters] for h in holdouts],
             holdout_rays=args.holdout_rays,
             method=args.method,
             executor=executor,

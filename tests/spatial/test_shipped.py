@@ -79,16 +79,17 @@ def test_the_shipped_models_start_with_the_paper_beach():
 
 
 @pytest.mark.skipif(not default_model_path().is_file(), reason="shipped spatial models not trained yet")
-@pytest.mark.parametrize(("family", "bound"), [("dune", 0.05), ("wet", 0.065)])
-def test_each_shipped_family_meets_its_held_out_check(family, bound):
-    """Issue 23's target is 5 % relative RMS at a held-out point: met by the dune family (4.3 %);
-    the wet family measures 6.1 % (docs/spatial-predictor.md: missed), guarded here at 6.5 %."""
+@pytest.mark.parametrize(("family", "n_points"), [("dune", 1), ("wet", 2)])
+def test_each_shipped_family_meets_its_held_out_check(family, n_points):
+    """Issue 23's target is 5 % relative RMS at a held-out point: the dune family measures 4.3 %,
+    the wet family 3.1 % and 3.3 % at its two points (docs/spatial-predictor.md)."""
     path = default_model_path().with_name(f"spatial-{family}.npz")
     if not path.is_file():
         pytest.skip(f"spatial-{family}.npz not shipped")
     model = next(m for p, m in zip(shipped_model_paths(), shipped_models()) if p == path)
-    score = model.holdout_scores_[0]
-    assert score["relative_rms"] <= bound and score["n_values"] >= 100
-    # its held-out sample takes its shape from it, with nothing borrowed
-    point = SandSample.from_dict({**model.mesh_.base, **score["point"]})
-    assert model_for(point) is model and not model.mesh_.differing_parameters(point)
+    assert len(model.holdout_scores_) == n_points
+    for score in model.holdout_scores_:
+        assert score["relative_rms"] <= 0.05 and score["n_values"] >= 100, score["point"]
+        # its held-out sample takes its shape from it, with nothing borrowed
+        point = SandSample.from_dict({**model.mesh_.base, **score["point"]})
+        assert model_for(point) is model and not model.mesh_.differing_parameters(point)
