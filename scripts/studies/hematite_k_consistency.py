@@ -36,17 +36,6 @@ WAVELENGTHS_NM = (560.0, 580.0, 600.0, 620.0, 650.0, 700.0, 750.0, 860.0, 1000.0
 LOG10_K = np.arange(-5.0, 0.01, 0.25)
 
 
-def with_k(k: float):
-    """The shipped optical constants with hematite's k replaced by ``k``."""
-    from sandlight.optics import complex_index
-
-    def index(material: str, wavelength_nm: float) -> complex:
-        m = complex(complex_index(material, wavelength_nm))
-        return complex(m.real, k) if material == "hematite" else m
-
-    return index
-
-
 def k_at(rho: np.ndarray, measured: float) -> float:
     """The k at which the tabulated ρ(k) (over LOG10_K) equals ``measured``: log k interpolated
     linearly in ρ between the bracketing grid points; NaN where the measurement lies outside the
@@ -67,7 +56,7 @@ def main(argv=None) -> int:
         parser.error(f"--rays = {args.rays!r} is not allowed: an integer >= 1")
 
     from sandlight import SandSample
-    from sandlight.calibration.end_members import end_members, measured_reflectance
+    from sandlight.calibration import end_members, measured_reflectance, with_trial_k
     from sandlight.engine import reflectance
     from sandlight.optics import complex_index
     from sandlight.physics.media import DEFAULT_MEMORY, SandMedium
@@ -86,7 +75,7 @@ def main(argv=None) -> int:
     powder = np.empty((LOG10_K.size, wl.size))
     mixture = np.empty((LOG10_K.size, wl.size))
     for i, lk in enumerate(LOG10_K):
-        index = with_k(10.0**lk)
+        index = with_trial_k("hematite", 10.0**lk)
         traced = Powder("hematite", gds27.size_um, 0.45, 1.0, index, memory=DEFAULT_MEMORY)
         powder[i] = reflectance(traced, wl, rays=args.rays, seed=args.seed, progress=False, share=False).values
         traced = SandMedium.from_sample(sample, optical_constants=index)

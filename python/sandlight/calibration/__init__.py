@@ -5,9 +5,9 @@ Public objects
 EndMember, end_members, measured_reflectance, MEASUREMENT_SIGMA
     The inventory of pure powders (``sandlight/data/calibration/end_members.toml``) and their
     measured USGS spectra (:mod:`sandlight.calibration.end_members`).
-EnginePowder
-    The forward model: the engine's powder of one mineral with a trial k
-    (:mod:`sandlight.calibration.forward`).
+EnginePowder, with_trial_k
+    The forward model: the engine's powder of one mineral with a trial k, and the optical
+    constants it uses (:mod:`sandlight.calibration.forward`).
 ReflectanceTable, tabulate
     ρ(λᵢ, kⱼ) per end-member on a log-spaced k grid, restartable (:mod:`.tables`).
 KFit, holdout
@@ -30,7 +30,7 @@ from sandlight.calibration import report
 from sandlight.calibration.constants import with_calibrated_k
 from sandlight.calibration.end_members import MEASUREMENT_SIGMA, EndMember, end_members, measured_reflectance
 from sandlight.calibration.fit import KFit, holdout
-from sandlight.calibration.forward import EnginePowder
+from sandlight.calibration.forward import EnginePowder, with_trial_k
 from sandlight.calibration.priors import LITERATURE_MINERALS, goethite_literature_k, literature_k, quartz_literature_k
 from sandlight.calibration.report import *  # noqa: F403 - the names of report.__all__, listed there once
 from sandlight.calibration.synthetic import edge_and_band_log10_k, synthetic_spectra
@@ -42,6 +42,7 @@ __all__ = [
     "measured_reflectance",
     "MEASUREMENT_SIGMA",
     "EnginePowder",
+    "with_trial_k",
     "ReflectanceTable",
     "tabulate",
     "KFit",

@@ -5,6 +5,8 @@ Public objects
 EnginePowder
     sandlight's engine for a dry powder of the end-member's mineral, with k set to a trial value
     at every wavelength and n from the shipped table.
+with_trial_k
+    The shipped optical constants with one material's k set to one value at every wavelength.
 
 A forward model (:class:`ForwardModel`) is any object with
 
@@ -42,7 +44,7 @@ from sandlight.physics.medium import OpticalConstants
 if TYPE_CHECKING:
     from sandlight.calibration.end_members import EndMember
 
-__all__ = ["EnginePowder", "ForwardModel"]
+__all__ = ["EnginePowder", "ForwardModel", "with_trial_k"]
 
 
 class ForwardModel(Protocol):
@@ -57,7 +59,7 @@ class ForwardModel(Protocol):
         ...
 
 
-def _trial_k(material: str, k: float) -> OpticalConstants:
+def with_trial_k(material: str, k: float) -> OpticalConstants:
     """The shipped optical constants with ``material``'s k replaced by ``k`` (n unchanged)."""
     from sandlight.optics import complex_index
 
@@ -159,7 +161,7 @@ class EnginePowder:
             member.size_um,
             self.porosity,
             self.aspect_ratio,
-            _trial_k(member.mineral, float(k)),
+            with_trial_k(member.mineral, float(k)),
             memory=self.memory,
             scattering_per_mm=self.scattering_per_mm,
         )

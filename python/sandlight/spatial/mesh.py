@@ -276,13 +276,23 @@ class Mesh:
         ParameterError
             A point outside the mesh (its convex hull), or NaN.
         """
+        return self._simplices.locate(self.checked_coordinates(points))
+
+    def checked_coordinates(self, points: SandSample | Mapping | Sequence | ArrayLike) -> np.ndarray:
+        """`coordinates` of points that must lie in the mesh, shape (k, d).
+
+        Raises
+        ------
+        ParameterError
+            A point outside the mesh (its convex hull), or NaN.
+        """
         x = self.coordinates(points)
         if not np.isfinite(x).all():
             raise ParameterError(",".join(self.parameters), x[~np.isfinite(x).all(axis=1)][0].tolist(), "finite values")
         outside = ~self._simplices.inside(x)
         if outside.any():
             raise self._outside(x[np.argmax(outside)])
-        return self._simplices.locate(x)
+        return x
 
     def _outside(self, x_row: ArrayLike) -> ParameterError:
         point = dict(zip(self.parameters, (float(v) for v in x_row)))

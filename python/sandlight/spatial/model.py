@@ -415,9 +415,11 @@ class SpatialModel(Estimator):
                         SpatialApproximationWarning,
                         stacklevel=3,
                     )
-        x = self.mesh_.coordinates(samples)
-        idx, w = self.mesh_.locate(x)
-        if self.interpolation_ is not None:
+        if self.interpolation_ is None:
+            x = self.mesh_.coordinates(samples)
+            idx, w = self.mesh_.locate(x)
+        else:  # inside the mesh, then located among the nodes in the interpolation coordinates
+            x = self.mesh_.checked_coordinates(samples)
             r0 = self._normal_reflectance(many, x, normal_reflectance) if self.absorbers else None
             z = self._into_hull(self._interpolation_coordinates(self.mesh_.parameters, x, r0))
             idx, w = self.interpolation_.locate(z)

@@ -624,7 +624,7 @@ def train_spatial(
                 points.append(h.to_dict() if isinstance(h, SandSample) else SandSample.from_dict(h).to_dict())
             else:
                 points.append(mesh.sample_dict(mesh.coordinates(h)[0]))
-        mesh.locate(mesh.coordinates(points))  # refuse held-out points outside the mesh before measuring
+        mesh.checked_coordinates(points)  # refuse held-out points outside the mesh before measuring
         jobs.append(
             node_job(
                 out / "holdout",
