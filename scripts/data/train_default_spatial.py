@@ -52,10 +52,10 @@ FAMILIES = {
     "wet": (
         None,
         # iron oxide in roughly geometric steps: the shape changes fastest near 0 (r0 at saturation
-        # 0.5 falls from 0.69 to 0.06 between 0 and 0.01 iron oxide)
+        # 0.5 falls from 0.68 to 0.06 between 0 and 0.01 iron oxide)
         {"saturation": [k / 15 for k in range(16)], "iron_oxide": [0.0, 0.002, 0.005, 0.01, 0.03, 0.1]},
         [{"saturation": 0.5, "iron_oxide": 0.006}, {"saturation": 0.5, "iron_oxide": 0.0035}],
-        {},  # in log r0 for iron oxide: 9.0 % held out against 6.1 % (docs/spatial-predictor.md)
+        {},  # the 64-node mesh before: 9.0 % held out in log r0 against 6.1 % (docs/spatial-predictor.md)
     ),
 }
 
