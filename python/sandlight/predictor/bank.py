@@ -59,12 +59,6 @@ class ModelBank:
         The models, most accurate first.
     wavelengths_ : ndarray (n_wl,)
         Wavelengths of every model, nm.
-    fallback : SpectralModel
-        The model with the most input parameters (the broadest domain). A sample no model
-        covers is predicted, when ``extrapolate=True``, by the model whose domain it is nearest
-        to (fewest conditions failed, :meth:`Domain.violations`; ties: the most accurate),
-        which names the offending parameter otherwise: with broad models per water regime a dry
-        sample extrapolates with the dry one.
 
     Examples
     --------
@@ -102,7 +96,6 @@ class ModelBank:
         self.memory_ = models[0].memory_
         self.models = tuple(sorted(models, key=lambda m: (holdout_rms(m), len(m.parameter_names_))))
         self.wavelengths_ = wl
-        self.fallback = max(self.models, key=lambda m: len(m.parameter_names_))
 
     def __repr__(self) -> str:
         return f"ModelBank({', '.join(m.name_ for m in self.models)})"
@@ -190,8 +183,11 @@ class ModelBank:
             Samples with named parameters (:func:`sandlight.predictor.samples.sample_columns`:
             scalars hold for every sample, parameters not given take SandSample's defaults).
         extrapolate : bool
-            Predict samples that no model covers with ``fallback`` (its polynomial is then
-            evaluated outside its domain) instead of raising.
+            Predict a sample that no model covers, instead of raising, with the model whose
+            domain it is nearest to (fewest conditions failed, :meth:`Domain.violations`; ties:
+            the most accurate), evaluated outside its domain: with broad models per water regime
+            a dry sample extrapolates with the dry one. Without it the error names the
+            parameter out of that model's range.
         return_models : bool
             Also return the name of the model used for each sample.
 
