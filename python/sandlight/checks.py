@@ -83,6 +83,7 @@ __all__ = [
     "check_incidence",
     "parse_range",
     "Interval",
+    "Numbers",
     "StrOptions",
     "Table",
 ]
@@ -408,6 +409,25 @@ class Names:
 
     def __str__(self) -> str:
         return f"a sequence of distinct names from {self.options}"
+
+
+@dataclass(frozen=True)
+class Numbers:
+    """A sequence (tuple or list) of ``min_len`` to ``max_len`` numbers, each admitted by ``each``."""
+
+    each: Interval
+    min_len: int
+    max_len: int
+
+    def admits(self, value: Any) -> bool:
+        return (
+            isinstance(value, (tuple, list))
+            and self.min_len <= len(value) <= self.max_len
+            and all(self.each.admits(v) for v in value)
+        )
+
+    def __str__(self) -> str:
+        return f"a sequence of {self.min_len} to {self.max_len} values, each {self.each}"
 
 
 @dataclass(frozen=True)

@@ -1,19 +1,26 @@
 #!/usr/bin/env python3
-"""The broad dry model's regression: the paper's cubic against networks, on the same data.
+"""The broad models' regression: the paper's cubic against networks, on the same data.
 
-Fits each regressor on the stored training set of ``broad-dry`` (made by
-``scripts/data/train_default_spectral.py --only broad-dry``) and scores it on that model's
-hold-out set; prints, per regressor, the hold-out RMS error, the model error alone (the hold-out
-set's own Monte Carlo noise removed), the largest error, the mean bias at 400 and 700 nm and the
-fit time (docs/spectral-predictor.md, "Broad models"; prediction speed: benchmarks/predict.py)::
+Fits each regressor on the stored training set of a broad or full-range model (``--model``,
+default ``broad-dry``; made by ``scripts/data/train_default_spectral.py --only NAME``) and scores
+it on that model's hold-out set; prints, per regressor, the hold-out RMS error, the model error
+alone (the hold-out set's own Monte Carlo noise removed), the largest error, the mean bias at the
+first and last wavelength and the fit time (docs/spectral-predictor.md, "Broad models" and "Full
+range"; prediction speed: benchmarks/predict.py)::
 
     python scripts/studies/broad_regressors.py --work-dir build/train-default-spectral
     python scripts/studies/broad_regressors.py --work-dir DIR --ensembles 1 4 --no-cubic
     python scripts/studies/broad_regressors.py --work-dir DIR --ensembles 1 --no-cubic --samples 2500 5000
     python scripts/studies/broad_regressors.py --work-dir DIR --ensembles 1 4 --no-cubic --layers 3
+    python scripts/studies/broad_regressors.py --work-dir DIR --model full-wet --ensembles 4 --no-cubic \
+        --layers 3 --components 8 12 16 --rates 1e-3 1e-4 1e-5 --truncation
 
 ``--samples`` fits on the first N training samples only (how the error falls with the set's size);
-``--layers`` and ``--units`` set the networks' depth and width (default 2 × 128, the shipped ones).
+``--layers`` and ``--units`` set the networks' depth and width (default 2 × 128, the shipped broad
+ones); ``--components`` the numbers k of principal components to try (default 8); ``--rates``
+Adam's learning rate per stage (default one stage at 10⁻³); ``--truncation`` also prints the RMS
+that keeping k components alone leaves on the hold-out spectra, with the part of it the Monte
+Carlo noise explains removed.
 """
 
 from __future__ import annotations
@@ -35,6 +42,10 @@ def main() -> None:
     p.add_argument("--layers", type=int, default=2, help="hidden layers of the networks (default 2)")
     p.add_argument("--units", type=int, default=128, help="units per hidden layer (default 128)")
     p.add_argument("--samples", type=int, nargs="*", default=[], help="also fit on the first N training samples")
+    p.add_argument("--model", default="broad-dry", help="the stored model whose sets to use (default broad-dry)")
+    p.add_argument("--components", type=int, nargs="+", default=[8], help="numbers k of components (default 8)")
+    p.add_argument("--rates", type=float, nargs="+", default=[1e-3], help="Adam's rate per stage (default 1e-3)")
+    p.add_argument("--truncation", action="store_true", help="print the PCA truncation error per k first")
     args = p.parse_args()
     for name in ("layers", "units"):
         if getattr(args, name) < 1:
@@ -46,24 +57,42 @@ def main() -> None:
 
     from sandlight.predictor import SpectralModel, evaluate
 
-    store = args.work_dir / "broad-dry"
-    candidates = [] if args.no_cubic else [("cubic (degree 3, k = 8)", {"degree": 3, "n_components": 8})]
-    network = {"regressor": "network", "n_components": 8, "hidden_units": args.units, "hidden_layers": args.layers}
-    candidates += [
-        (f"network {args.layers} × {args.units} tanh, ensemble {e} (k = 8)", {**network, "ensemble": e})
-        for e in args.ensembles
-    ]
+    store = args.work_dir / args.model
+    network = {
+        "regressor": "network",
+        "hidden_units": args.units,
+        "hidden_layers": args.layers,
+        "learning_rates": tuple(args.rates),
+    }
+    rates = "" if len(args.rates) == 1 else f", rates {' → '.join(f'{r:g}' for r in args.rates)}"
+    candidates = []
+    for k in args.components:
+        if not args.no_cubic:
+            candidates.append((f"cubic (degree 3, k = {k})", {"degree": 3, "n_components": k}))
+        candidates += [
+            (
+                f"network {args.layers} × {args.units} tanh, ensemble {e} (k = {k}{rates})",
+                {**network, "ensemble": e, "n_components": k},
+            )
+            for e in args.ensembles
+        ]
     print(f"training set {store / 'training'}; hold-out set {store / 'holdout'}")
-    print("| regression | training samples | hold-out RMS | model error alone | max | bias 400 / 700 nm | fit |")
-    print("|---|---|---|---|---|---|---|")
     with xr.open_dataset(store / "training" / "dataset.nc") as ds:
         training = ds.load()
+    if args.truncation:
+        print_truncation(training, store / "holdout" / "dataset.nc", args.components)
+    wl = training["wavelength"].values
+    print(
+        f"| regression | training samples | hold-out RMS | model error alone | max | bias {wl[0]:g} / {wl[-1]:g} nm "
+        "| fit |"
+    )
+    print("|---|---|---|---|---|---|---|")
     total = training.sizes["sample"]
     sizes = sorted({n for n in args.samples if n < total}) + [total]
     for label, params in candidates:
         for n in sizes:
             start = time.perf_counter()
-            model = SpectralModel(**params).fit(training.isel(sample=slice(0, n)), name="broad-dry")
+            model = SpectralModel(**params).fit(training.isel(sample=slice(0, n)), name=args.model)
             fit_s = time.perf_counter() - start
             report = evaluate(model, store / "holdout" / "dataset.nc")
             alone = float(np.sqrt(max(np.mean(report.rms_error**2 - report.mc_noise_rms**2), 0.0)))
@@ -72,6 +101,27 @@ def main() -> None:
                 f"{report.mean_error[0]:+.4f} / {report.mean_error[-1]:+.4f} | {fit_s:.0f} s |",
                 flush=True,
             )
+
+
+def print_truncation(training, holdout_path: Path, components: list[int]) -> None:
+    """RMS left on the hold-out spectra by their projection on the training set's first k
+    principal directions, and that RMS with the hold-out noise the projection keeps removed:
+    of a noise of variance σ² per value, k of the W dimensions stay, so the part of the
+    residual that is truncated signal is √(RMS² − σ²(1 − k/W))."""
+    import xarray as xr
+
+    R = training["reflectance"].values
+    with xr.open_dataset(holdout_path) as ds:
+        H, noise = ds["reflectance"].values, float(np.mean(ds["stderr"].values ** 2))
+    mean = R.mean(axis=0)
+    directions = np.linalg.svd(R - mean, full_matrices=False)[2]
+    print("| k | RMS left by k components | truncated signal |\n|---|---|---|")
+    for k in sorted({*components, 4, 6, 8, 10, 12, 16, 20}):
+        V = directions[:k]
+        left = float(np.sqrt(np.mean(((H - mean) @ V.T @ V + mean - H) ** 2)))
+        signal = np.sqrt(max(left**2 - noise * (1 - k / H.shape[1]), 0.0))
+        print(f"| {k} | {left:.4f} | {signal:.4f} |")
+    print()
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """``sandlight.predict`` over 350–2500 nm against fresh Monte Carlo (issue 23's proof).
 
-Predicts every dry preset and ``--random`` samples drawn at random from the full-range model's
+Predicts every preset and ``--random`` samples drawn at random from each full-range model's
 own domain (a seed the training never used) with the shipped full-range bank, runs the default
 engine on the same samples at ``--rays`` rays per wavelength at the models' nodes, and prints,
 per sample and per band, the RMS difference next to the Monte Carlo noise of the reference, and
@@ -39,13 +39,12 @@ def main() -> None:
 
     bank = full_range_model()
     wl = bank.wavelengths_
-    presets = {
-        name: sandlight.SandSample.preset(name).to_dict()
-        for name in sandlight.SandSample.presets()
-        if sandlight.SandSample.preset(name).saturation == 0.0
+    presets = {name: sandlight.SandSample.preset(name).to_dict() for name in sandlight.SandSample.presets()}
+    drawn = {
+        f"{model.name_} random {i}": s
+        for model in bank.models
+        for i, s in enumerate(model.domain_.draw(args.random, seed=10_000 + args.seed, design="random"))
     }
-    domain = bank.models[0].domain_
-    drawn = {f"random {i}": s for i, s in enumerate(domain.draw(args.random, seed=10_000 + args.seed, design="random"))}
     print(
         f"full-range bank {[m.name_ for m in bank.models]}, {wl.size} wavelengths {wl[0]:g}–{wl[-1]:g} nm; "
         f"reference {args.rays} rays per wavelength, seed {args.seed}\n"
@@ -75,13 +74,15 @@ def main() -> None:
         rows.append((label, diff, mc.stderr))
         flag = " (extrapolated)" if bool(ds["extrapolated"]) else ""
         print(f"| {label} | {ds['model'].values}{flag} | {' | '.join(cells)} | {_rms(mc.stderr):.4f} |", flush=True)
-    drawn_diff = np.array([d for label, d, _ in rows if label.startswith("random")])
-    drawn_noise = np.array([n for label, _, n in rows if label.startswith("random")])
-    if drawn_diff.size:
-        rms, noise = _rms(drawn_diff), _rms(drawn_noise)
+    for model in bank.models:
+        mine = [(d, n) for label, d, n in rows if label.startswith(f"{model.name_} random")]
+        if not mine:
+            continue
+        rms, noise = _rms(np.array([d for d, _ in mine])), _rms(np.array([n for _, n in mine]))
         print(
-            f"\n{len(drawn_diff)} random samples: RMS {rms:.4f}, reference noise {noise:.4f}, model error alone "
-            f"{np.sqrt(max(rms**2 - noise**2, 0.0)):.4f}; largest |difference| {np.max(np.abs(drawn_diff)):.3f}"
+            f"\n{len(mine)} random samples of {model.name_}: RMS {rms:.4f}, reference noise {noise:.4f}, model "
+            f"error alone {np.sqrt(max(rms**2 - noise**2, 0.0)):.4f}; largest |difference| "
+            f"{max(np.max(np.abs(d)) for d, _ in mine):.3f}"
         )
     print(f"wall time {time.perf_counter() - start:.0f} s")
 

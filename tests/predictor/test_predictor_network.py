@@ -94,8 +94,43 @@ def test_network_arrays_must_chain():
         Network.from_arrays(parameters[:-1], shapes)
 
 
+def test_a_later_stage_keeps_the_weights_unless_it_improves_them():
+    # A second stage at a rate too small to move any weight cannot improve the validation score,
+    # so the staged fit returns the one-stage fit's weights bit for bit; a real second stage moves them.
+    rng = np.random.default_rng(1)
+    X, T = rng.random((120, 3)), rng.random((120, 2))
+    settings = dict(hidden_units=8, hidden_layers=2, alpha=0.0, ensemble=1, random_state=0)
+    one = fit_network(X, T, **settings).to_arrays()[0]
+    frozen = fit_network(X, T, **settings, learning_rates=(1e-3, 1e-30)).to_arrays()[0]
+    stepped = fit_network(X, T, **settings, learning_rates=(1e-3, 1e-4)).to_arrays()[0]
+    np.testing.assert_array_equal(frozen, one)
+    assert not np.array_equal(stepped, one)
+
+
+def test_a_stepped_rate_fits_the_edge_closer(sharp, tmp_path):
+    # What the stages are for (docs/spectral-predictor.md, "Full range"): from the best weights of
+    # one rate, a lower rate settles deeper in the same valley.
+    net, _, test, truth = sharp
+    train = TWO.draw(600, seed=1)
+    stepped = SpectralModel(**SHARP, learning_rates=(1e-3, 1e-4)).fit(
+        train, sharp_spectra(TWO, train), wavelengths_nm=WL, domain=TWO
+    )
+    assert rms(stepped.predict(test), truth) < rms(net.predict(test), truth)
+    loaded = SpectralModel.load(stepped.save(tmp_path / "stepped.npz"))
+    assert loaded.get_params() == stepped.get_params() and loaded.learning_rates == (1e-3, 1e-4)
+
+
 @pytest.mark.parametrize(
-    ("name", "value"), [("hidden_layers", 0), ("hidden_units", 2000), ("ensemble", 0), ("regressor", "forest")]
+    ("name", "value"),
+    [
+        ("hidden_layers", 0),
+        ("hidden_units", 2000),
+        ("ensemble", 0),
+        ("regressor", "forest"),
+        ("learning_rates", ()),
+        ("learning_rates", (1e-3, 0.0)),
+        ("learning_rates", 1e-3),
+    ],
 )
 def test_bad_hyper_parameters_are_refused_by_name(name, value):
     with pytest.raises(ParameterError, match=name):

@@ -95,9 +95,17 @@ def test_in_the_visible_the_full_range_and_the_papers_models_agree_within_their_
     assert np.all(np.abs(paper["reflectance"].values - full["reflectance"].values) < 4 * both)
 
 
-def test_the_full_range_models_are_dry_so_a_wet_sample_is_refused_by_name():
-    with pytest.raises(ParameterError, match="saturation"):
-        sandlight.predict("wet-beach", [500.0, 1500.0])
+def test_wet_sand_over_the_full_range_is_darker_and_shows_the_water_bands():
+    # wet-beach (saturation 0.8) from full-wet, the same sand dry from full-dry: darker at every
+    # wavelength, and darkest relative to dry in water's absorption bands at 1450 and 1940 nm.
+    wl = np.array([500.0, 1000.0, 1300.0, 1450.0, 1650.0, 1940.0, 2200.0])
+    wet = sandlight.predict("wet-beach", wl)
+    dry = sandlight.predict(sandlight.SandSample.preset("wet-beach").replace(saturation=0.0), wl)
+    assert str(wet["model"].values) == "full-wet" and str(dry["model"].values) == "full-dry"
+    ratio = wet["reflectance"].values / dry["reflectance"].values
+    assert np.all(ratio < 1.0)
+    band = dict(zip(wl, ratio))
+    assert band[1450.0] < min(band[1300.0], band[1650.0]) and band[1940.0] < min(band[1650.0], band[2200.0])
 
 
 def test_a_sample_no_model_covers_is_refused_unless_extrapolated(tmp_path):

@@ -234,6 +234,7 @@ class TestEstimatorConventions:
             "hidden_layers": 2,
             "network_alpha": 1e-6,
             "ensemble": 1,
+            "learning_rates": (1e-3,),
             "random_state": 0,
         }
         train, R, _, _ = exact_cubic_problem(SMALL, 100, seed=3)

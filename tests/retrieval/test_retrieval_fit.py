@@ -50,16 +50,16 @@ def test_a_spectrum_beyond_700_nm_is_fitted_by_the_full_range_bank():
     assert lo < truth.grain_size < hi and hi - lo > 1e-3
 
 
-def test_the_paper_bank_answers_inside_400_700_nm_and_for_wet_sand(dry_spectrum):
+def test_the_paper_bank_answers_inside_400_700_nm_and_the_full_range_bank_beyond(dry_spectrum):
     wl = np.arange(350.0, 2501.0, 25.0)
     reflectance = full_range_model().predict([SandSample()])[0]
     dry = sandlight.fit((wl, reflectance), FREE, {"saturation": 0.0}, noise=0.01, check_rays=0)
     assert "full-dry" in dry.model
     visible = sandlight.fit(dry_spectrum, FREE, {"saturation": 0.0}, noise=0.01, check_rays=0)
     assert "full-dry" not in visible.model
-    # the full-range models are dry: with saturation free the paper's bank answers 400–700 nm
+    # with saturation free the wet full-range model answers, over the whole measurement
     wet = sandlight.fit((wl, reflectance), [*FREE, "saturation"], noise=0.01, check_rays=0)
-    assert "full-dry" not in wet.model and wet.observation.centres_nm.max() <= 700.0
+    assert "full-wet" in wet.model and wet.observation.centres_nm.max() > 700.0
 
 
 def width(result, name):

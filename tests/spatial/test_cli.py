@@ -124,8 +124,9 @@ def test_appearance_command_writes_a_table(tmp_path):
 
 
 def test_appearance_over_the_full_range(tmp_path):
-    """--mode full-range: r(λ) from the shipped 350-2500 nm models (dry sand), shape from the
-    shipped model that covers the sample (yellow-dune: the dune family, nothing borrowed)."""
+    """--mode full-range: r(λ) from the shipped 350-2500 nm models, shape from the shipped model
+    that covers the sample (yellow-dune: the dune family, nothing borrowed; wet-beach: the wet
+    family's mesh, at its base's other parameters)."""
     out = tmp_path / "dune.nc"
     args = ["appearance", "--preset", "yellow-dune", "--mode", "full-range", "--table", str(out)]
     result = runner.invoke(app, [*args, "--n-mu", "4", "--n-dphi", "3"])
@@ -135,7 +136,8 @@ def test_appearance_over_the_full_range(tmp_path):
         wl = ds["wavelength"].values
         assert ds["f"].shape[0] == 87 and wl[0] == 350.0 and wl[-1] == 2500.0
     wet = runner.invoke(app, ["appearance", "--preset", "wet-beach", "--mode", "full-range"])
-    assert wet.exit_code == 2 and "saturation" in wet.output
+    assert wet.exit_code == 0, wet.output
+    assert "87 wavelengths 350–2500 nm" in wet.output and "mesh over saturation, iron_oxide" in wet.output
     both = runner.invoke(
         app, ["appearance", "--preset", "red-dune", "--mode", "full-range", "--spectral-model", "x.npz"]
     )

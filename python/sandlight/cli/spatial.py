@@ -218,7 +218,7 @@ def appearance(
         "paper",
         "--mode",
         help="Which shipped spectral models give r(λ): paper (400-700 nm every 20 nm) or full-range "
-        "(350-2500 nm every 25 nm; dry sand).",
+        "(350-2500 nm every 25 nm).",
     ),
     spatial_model: Path | None = typer.Option(
         None, "--spatial-model", help="Spatial model file (default: the shipped model that covers the sample)."

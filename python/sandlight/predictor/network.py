@@ -7,7 +7,9 @@ on the hold-out set, one network of two tanh layers of 128 units 0.014, four ave
 (scripts/studies/broad_regressors.py; docs/spectral-predictor.md, "Broad models").
 
 The networks are fitted by scikit-learn's ``MLPRegressor`` (Adam, squared error with an L2
-penalty, early stopping on a held-back tenth) and kept as their weights and biases only, so that
+penalty, early stopping on a held-back tenth), optionally in stages of falling learning rate,
+each continuing from the best weights of the one before (a step schedule: Adam at a fixed rate
+stops where its steps are as large as the valley it is in), and kept as their weights and biases only, so that
 a model file holds plain arrays (never a pickle) and prediction is numpy: tanh hidden layers and
 a linear output, h ← tanh(h W + b), in single precision (twice the batched speed of double in
 benchmarks/predict.py; the outputs differ by < 10⁻⁵, a thousandth of the models' errors). An ensemble of networks
@@ -128,6 +130,7 @@ def fit_network(
     alpha: float,
     ensemble: int,
     random_state: int,
+    learning_rates: tuple[float, ...] = (1e-3,),
 ) -> Network:
     """Fit ``ensemble`` networks T ≈ f(X) with scikit-learn's MLPRegressor and keep their arrays.
 
@@ -145,6 +148,11 @@ def fit_network(
         Networks fitted from seeds ``random_state``, ``random_state + 1``, ... and averaged.
     random_state : int
         Seed of the first network's initial weights, batches and validation split.
+    learning_rates : tuple of float
+        Adam's learning rate of each stage (> 0): the first from the initial weights, each later
+        one from the best weights so far, on the same validation split; a stage ends when the
+        validation score has not improved for 60 epochs, and only an improvement replaces the
+        weights kept.
     """
     import warnings
 
@@ -159,17 +167,24 @@ def fit_network(
             solver="adam",
             alpha=alpha,
             batch_size=min(128, max(1, int(0.9 * X.shape[0]))),  # what early stopping leaves to train on
-            learning_rate_init=1e-3,
+            learning_rate_init=learning_rates[0],
             max_iter=2000,
             tol=1e-7,
             early_stopping=True,
             validation_fraction=0.1,
             n_iter_no_change=60,
             random_state=random_state + member,
+            warm_start=True,  # a later stage starts from the weights the one before kept
         )
-        with warnings.catch_warnings():
-            # Stopping at max_iter still leaves the best weights seen; the hold-out set judges them.
-            warnings.simplefilter("ignore", ConvergenceWarning)
-            mlp.fit(X, T if T.shape[1] > 1 else T[:, 0])
+        for stage, rate in enumerate(learning_rates):
+            if stage:
+                # A fresh Adam at the new rate; the patience counter is scikit-learn's private
+                # state, which warm_start carries over (it ended the stage before), so reset it.
+                mlp.set_params(learning_rate_init=rate)
+                mlp._no_improvement_count = 0
+            with warnings.catch_warnings():
+                # Stopping at max_iter still leaves the best weights seen; the hold-out set judges them.
+                warnings.simplefilter("ignore", ConvergenceWarning)
+                mlp.fit(X, T if T.shape[1] > 1 else T[:, 0])
         layers.append(tuple((np.asarray(w, float), np.asarray(b, float)) for w, b in zip(mlp.coefs_, mlp.intercepts_)))
     return Network(tuple(layers))

@@ -86,9 +86,8 @@ def predict(
     ------
     ParameterError
         A wavelength outside the models' range or not finite (naming ``wavelengths_nm``), a
-        sample that no model covers (unless ``extrapolate``; the full-range bank has dry models
-        only, so a wet sample there names ``saturation``), an unknown ``mode``, or a malformed
-        sample.
+        sample that no model covers (unless ``extrapolate``; the message names the parameter
+        out of the nearest model's range), an unknown ``mode``, or a malformed sample.
     """
     mode = check_choice("mode", mode, PREDICT_MODES)
     bank = answering_bank(wavelengths_nm, mode) if bank is None else bank

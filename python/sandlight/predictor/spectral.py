@@ -46,7 +46,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from sandlight.checks import Interval, StrOptions
+from sandlight.checks import Interval, Numbers, StrOptions
 from sandlight.errors import ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
 from sandlight.predictor.estimator import Estimator
@@ -133,13 +133,16 @@ class SpectralModel(Estimator):
         The regression of the scores: the paper's monomials φ(x) and W (``degree``, ``ridge``,
         ``forms`` apply), or a neural network of the scaled parameters and one-hot form
         indicators (``hidden_units``, ``hidden_layers``, ``network_alpha``, ``ensemble``,
-        ``random_state`` apply; :mod:`sandlight.predictor.network`).
+        ``learning_rates``, ``random_state`` apply; :mod:`sandlight.predictor.network`).
     hidden_units, hidden_layers : int
         Width (1–1024) and number (1–4) of the network's tanh hidden layers.
     network_alpha : float
         L2 penalty ≥ 0 of the network's weights (scikit-learn's ``alpha``).
     ensemble : int
         Networks fitted from successive seeds and averaged (1–16).
+    learning_rates : sequence of float
+        Adam's learning rate of each stage of a network's fit, each > 0 (1–4 stages; later
+        stages continue from the best weights of the earlier ones). Default (0.001,): one stage.
     random_state : int
         Seed of the first network (≥ 0): a fit is reproducible.
 
@@ -215,6 +218,7 @@ class SpectralModel(Estimator):
         "hidden_layers": [Interval(Integral, 1, 4)],
         "network_alpha": [Interval(Real, 0, None)],
         "ensemble": [Interval(Integral, 1, 16)],
+        "learning_rates": [Numbers(Interval(Real, 0, None, closed="neither"), 1, 4)],
         "random_state": [Interval(Integral, 0, None)],
     }
     _model_file = MODEL_FILE
@@ -231,6 +235,7 @@ class SpectralModel(Estimator):
         hidden_layers: int = 2,
         network_alpha: float = 1e-6,
         ensemble: int = 1,
+        learning_rates: tuple[float, ...] = (1e-3,),
         random_state: int = 0,
     ) -> None:
         self.n_components = n_components
@@ -243,6 +248,7 @@ class SpectralModel(Estimator):
         self.hidden_layers = hidden_layers
         self.network_alpha = network_alpha
         self.ensemble = ensemble
+        self.learning_rates = learning_rates
         self.random_state = random_state
 
     # -- inputs -------------------------------------------------------------------------------
@@ -347,6 +353,7 @@ class SpectralModel(Estimator):
                 alpha=self.network_alpha,
                 ensemble=self.ensemble,
                 random_state=self.random_state,
+                learning_rates=tuple(self.learning_rates),
             )
             self.network_output_scale_ = scale
         else:
@@ -604,7 +611,10 @@ class SpectralModel(Estimator):
 
     @classmethod
     def _from_parts(cls, meta: Mapping, data: Mapping[str, np.ndarray], path: Path) -> SpectralModel:
-        model = cls(**meta["params"])
+        params = dict(meta["params"])
+        if isinstance(params.get("learning_rates"), list):  # JSON has no tuples
+            params["learning_rates"] = tuple(params["learning_rates"])
+        model = cls(**params)
         model.validate_params()
         domain = Domain.from_dict(meta["domain"])
         regression = _NETWORK_ARRAYS if model.regressor == "network" else _MONOMIAL_ARRAYS

@@ -281,7 +281,7 @@ def shipped_bank_for(
 ) -> ModelBank:
     """The shipped bank a sand fit asks when none is given: the full-range bank (350–2500 nm)
     when the measurement has channels outside the paper's 400–700 nm that it would observe and
-    one of its models can answer the fit (dry sand today); the paper's bank otherwise.
+    one of its models can answer the fit; the paper's bank otherwise.
 
     The paper's models are the more accurate inside 400–700 nm (docs/spectral-predictor.md),
     but a spectrum's near infrared holds what the visible cannot tell apart (grain size, the
@@ -297,7 +297,7 @@ def shipped_bank_for(
         candidates = bank_candidates(full, space)
         centres = observe(spectrum, candidates[0].grid, mask=mask, sensor=sensor).centres_nm
     except ParameterError:
-        return paper  # full range cannot answer (e.g. wet sand) or observes nothing
+        return paper  # no full-range model answers this fit, or it observes nothing
     return full if np.any((centres < low) | (centres > high)) else paper
 
 
