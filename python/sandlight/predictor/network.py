@@ -9,7 +9,8 @@ on the hold-out set, one network of two tanh layers of 128 units 0.014, four ave
 The networks are fitted by scikit-learn's ``MLPRegressor`` (Adam, squared error with an L2
 penalty, early stopping on a held-back tenth), optionally in stages of falling learning rate,
 each continuing from the best weights of the one before (a step schedule: Adam at a fixed rate
-stops where its steps are as large as the valley it is in), and kept as their weights and biases only, so that
+stops where its steps are as large as the valley it is in; the full-range models use three
+stages, docs/spectral-predictor.md, "Full range"), and kept as their weights and biases only, so that
 a model file holds plain arrays (never a pickle) and prediction is numpy: tanh hidden layers and
 a linear output, h ← tanh(h W + b), in single precision (twice the batched speed of double in
 benchmarks/predict.py; the outputs differ by < 10⁻⁵, a thousandth of the models' errors). An ensemble of networks
