@@ -235,7 +235,7 @@ def _measure_one(settings: _Settings, medium: _native.Medium, wl: float, checkpo
 def _zero_sums(n_incoming: int, n_patches: int, n_wavelengths: int) -> dict[str, np.ndarray]:
     """The fixed-point sums ``SpectralGroup.brdf_sums`` fills (``sandlight_core::gonio::
     spectral_sums``), zeroed: per (incoming patch, outgoing patch, wavelength) Σ round(F·2³²)
-    (``escaped``) and Σ round(F²·2¹⁶) (``squares``); per incoming patch and wavelength
+    (``escaped``) and Σ round(F²·2³²) (``squares``); per incoming patch and wavelength
     Σ round(F·2³²) over transmitted trials; per incoming patch the trials and the event-capped
     trials. Uniform incidence has ``n_patches`` incoming patches, a fixed direction one."""
     n, r, w = n_incoming, n_patches, n_wavelengths
@@ -298,7 +298,8 @@ def _measure_shared(
     h = settings.hemisphere
     arrays = _zero_sums(h.n_patches, h.n_patches, wl.size)
     batch = _shared_batch(group, h, arrays, (settings.seed, stream, settings.max_events, settings.threads))
-    key_fields = {"wavelengths_nm": wl.tolist(), "shared_stream": stream}
+    # The squares' scale in the key: a checkpoint summed at another scale is refused.
+    key_fields = {"wavelengths_nm": wl.tolist(), "shared_stream": stream, "square_one": group.square_one}
     _run_unit(settings, key_fields, arrays, batch, label, checkpoint)
     results = []
     for k, lam in enumerate(wl):

@@ -6,9 +6,14 @@
 //! estimate is f_k[i, j] = Σ F_k / (ω_p(j) N_i) over the trials of incoming patch i that escaped
 //! into patch j, and its variance needs Σ F_k² there too (for indicators Σ F² = Σ F, the count).
 //! Both enter as integers (F_k as round(F_k · 2³²), `hero::FIXED_ONE`, as in the reflectance
-//! tallies; F_k² as round(F_k² · 2¹⁶)), so sums are exact and the same for any thread count or
-//! batching. The sums are u64: a cell holds up to 2³² trial weights (4.3·10⁹, far above any
-//! run's trials per cell), and an addition that would overflow is an error, never a wrap.
+//! tallies; F_k² as round(F_k² · 2³²)), so sums are exact and the same for any thread count or
+//! batching. The squares need the weight sums' resolution: a dark companion behind bright heroes
+//! has weights of 10⁻³ and less in the cells only long paths reach, and at the earlier scale 2¹⁶
+//! every weight below 2^−8.5 added 0 to the squares, so those cells' standard errors collapsed
+//! (docs/transport.md); at 2³² weights below 2^−16.5 (1.1·10⁻⁵) still do — exact squares would
+//! need u128 sums. The sums are u64: a cell holds up to 2³² trial weights of F ≤ 1 (4.3·10⁹, far
+//! above any run's trials per cell; 2²⁴ at the largest F of a 16-wavelength group), and an
+//! addition that would overflow is an error, never a wrap.
 //!
 //! The caller owns the arrays (the Python package keeps them across batches and checkpoints),
 //! so a run keeps one set whatever the number of threads: 16 bytes per (incoming patch,
@@ -19,8 +24,8 @@
 use crate::error::SandlightError;
 use crate::hero::FIXED_ONE;
 
-/// Fixed-point scale of the squares: F² ∈ [0, N²] counts as round(F² · 2¹⁶) (≤ 2³² for N ≤ 256).
-pub const SQUARE_ONE: f64 = 65_536.0;
+/// Fixed-point scale of the squares: F² ∈ [0, N²] counts as round(F² · 2³²) (≤ 2⁴⁰ for N ≤ 16).
+pub const SQUARE_ONE: f64 = 4_294_967_296.0;
 
 /// How a trial ended, as the goniophotometer tallies it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -41,7 +46,7 @@ pub enum Outcome {
 pub struct SpectralBrdfSums<'a> {
     /// Σ round(F_k · 2³²) over trials of incoming patch i escaped into patch j, at (i r + j) w + k.
     pub escaped: &'a mut [u64],
-    /// Σ round(F_k² · 2¹⁶), same layout.
+    /// Σ round(F_k² · 2³²), same layout.
     pub squares: &'a mut [u64],
     /// Σ round(F_k · 2³²) over trials of incoming patch i transmitted through the bottom, at i w + k.
     pub transmitted: &'a mut [u64],
