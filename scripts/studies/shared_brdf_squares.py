@@ -4,8 +4,9 @@
 Measures yellow-dune's BRDF at 450 nm twice with 4·10⁶ trials: shared with 550, 700 and 1000 nm
 (one group: 450 nm's weights behind brighter heroes are small) and with trials of its own
 (``share=False``), and prints, for each, how many unique values pass a 10 % relative standard
-error and their smallest and median value, then the five smallest passing shared values with
-their standard errors and the unshared values in the same cells. A shared value far below
+error and their smallest and median value, how many passing shared values lie below a tenth of
+the smallest passing unshared one, then the five smallest passing shared values with their
+standard errors and the unshared values in the same cells. A shared value far below
 anything the unshared run counts, yet "measured" to better than 10 %, is a standard error that
 has collapsed (docs/transport.md, the goniophotometer's sums of squares).
 
@@ -52,6 +53,12 @@ def main(argv=None) -> None:
     v, e = shared.unique_values, shared.unique_stderr
     with np.errstate(all="ignore"):
         keep = np.flatnonzero((v > 0) & (e / v < 0.1))
+    with np.errstate(all="ignore"):
+        own_keep = (own.unique_values > 0) & (own.unique_stderr / own.unique_values < 0.1)
+    floor = own.unique_values[own_keep].min() if own_keep.any() else np.inf
+    print(
+        f"passing shared values below a tenth of the smallest passing own-trial value: {(v[keep] < 0.1 * floor).sum()}"
+    )
     smallest = keep[np.argsort(v[keep])[:5]]
     print("five smallest passing shared values:", np.array2string(v[smallest], precision=3))
     print("their standard errors:             ", np.array2string(e[smallest], precision=3))
