@@ -22,16 +22,9 @@ import argparse
 import numpy as np
 
 
-def count(text: str) -> int:
-    value = float(text)
-    if value < 1 or value != int(value):
-        raise argparse.ArgumentTypeError(f"{text!r} is not a whole number >= 1")
-    return int(value)
-
-
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--rays", type=count, default=4_000_000, help="trials per measurement")
+    parser.add_argument("--rays", type=float, default=4_000_000, help="trials per measurement")
     parser.add_argument("--seed", type=int, default=3, help="goniophotometer seed")
     args = parser.parse_args(argv)
 
