@@ -155,6 +155,18 @@ class Estimator:
         raise NotImplementedError
 
     @classmethod
+    def _params_from_file(cls, params: Mapping) -> Self:
+        """An unfitted estimator with a file's ``params`` metadata, validated. JSON has no
+        tuples: a list is read back as a tuple where ``__init__``'s default is one (so a loaded
+        model's ``get_params`` equals the saved one's); a parameter absent from an older file
+        takes its default."""
+        defaults = {p.name: p.default for p in inspect.signature(cls.__init__).parameters.values()}
+        tuples = {k for k, v in params.items() if isinstance(v, list) and isinstance(defaults.get(k), tuple)}
+        model = cls(**{k: tuple(v) if k in tuples else v for k, v in params.items()})
+        model.validate_params()
+        return model
+
+    @classmethod
     def _from_parts(cls, meta: Mapping, data: Mapping[str, np.ndarray], path: Path) -> Self:
         """The fitted model from a file's metadata and arrays (raise KeyError, TypeError or
         ValueError for anything inconsistent)."""

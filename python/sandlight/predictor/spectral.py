@@ -611,11 +611,7 @@ class SpectralModel(Estimator):
 
     @classmethod
     def _from_parts(cls, meta: Mapping, data: Mapping[str, np.ndarray], path: Path) -> SpectralModel:
-        params = dict(meta["params"])
-        if isinstance(params.get("learning_rates"), list):  # JSON has no tuples
-            params["learning_rates"] = tuple(params["learning_rates"])
-        model = cls(**params)
-        model.validate_params()
+        model = cls._params_from_file(meta["params"])
         domain = Domain.from_dict(meta["domain"])
         regression = _NETWORK_ARRAYS if model.regressor == "network" else _MONOMIAL_ARRAYS
         wrong = sorted((set(_MONOMIAL_ARRAYS + _NETWORK_ARRAYS) - set(regression)) & set(data))

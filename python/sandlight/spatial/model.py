@@ -557,11 +557,7 @@ class SpatialModel(Estimator):
 
     @classmethod
     def _from_parts(cls, meta: Mapping, data: Mapping[str, np.ndarray], path: Path) -> SpatialModel:
-        params = dict(meta["params"])
-        for name in ("absorbers", "log_parameters"):  # JSON lists; absent in files before them
-            params[name] = tuple(params.get(name, ()))
-        model = cls(**params)
-        model.validate_params()
+        model = cls._params_from_file(meta["params"])
         stacks, slices = int(meta["stacks"]), int(meta["slices"])
         m = EquivalenceClasses(CollectorHemisphere(stacks, slices)).n_classes
         mesh = Mesh(tuple(meta["mesh"]["parameters"]), data["node_coordinates"], meta["mesh"]["base"])
