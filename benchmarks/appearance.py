@@ -9,7 +9,10 @@ synthetic stand-in of the same size, which runs the same code):
   (prediction, grid, sampling tables), and a cold start in a fresh interpreter (imports included);
 - BRDF evaluations per second, batched: direction pairs per second at 1 and at 16 wavelengths,
   per core (CPU time of this process) and per wall-clock second, with 1 and 2 threads;
-- sampling and pdf rates of both samplers.
+- sampling and pdf rates of both samplers;
+- the cost of a shape per wavelength (``shape='reflectance'`` against ``'fixed'``, side by side)
+  on the shipped model that covers ``--shape-preset`` (default yellow-dune: the dune family,
+  which interpolates in log r₀): construction and BRDF rate at the spectral model's wavelengths.
 
 "Per core" divides by the process's CPU time, so it is meaningful on a shared machine; the wall
 rate depends on what else runs.
@@ -48,6 +51,7 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--pairs", type=float, default=1e6)
     ap.add_argument("--preset", default="wet-beach")
+    ap.add_argument("--shape-preset", default="yellow-dune")
     args = ap.parse_args()
 
     import sandlight
@@ -116,6 +120,25 @@ def main() -> None:
         print(f"sample ({method}): {m / cpu / 1e6:.2f} M/s per core")
     wall, cpu = best_of(lambda: app.pdf(wi[:m], wo[:m]))
     print(f"pdf (brdf): {m / cpu / 1e6:.2f} M/s per core")
+
+    from sandlight.spatial.shipped import model_for
+
+    covering = model_for(sandlight.SandSample.preset(args.shape_preset))
+    rates = {}
+    for shape in ("fixed", "reflectance"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            build = lambda shape=shape: SandAppearance(args.shape_preset, spectral, covering, shape=shape)  # noqa: E731
+            wall, _ = best_of(build, repeat=3)
+            app = build()
+        _, cpu = best_of(lambda app=app: app.brdf(wi, wo))
+        rates[shape] = n / cpu
+        print(
+            f"{args.shape_preset}, shape={shape!r} ({len(app.shapes.shapes)} shapes): "
+            f"construction {wall * 1e3:.1f} ms, "
+            f"brdf at {len(app.wavelengths_nm)} wavelengths {rates[shape] / 1e6:.1f} M pairs/s per core"
+        )
+    print(f"shape per wavelength costs {rates['fixed'] / rates['reflectance']:.1f}× the time of one shape")
 
 
 if __name__ == "__main__":

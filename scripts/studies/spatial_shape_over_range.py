@@ -11,14 +11,17 @@ goniophotometer at several wavelengths and scores, against each measurement's no
 
 * ``550 nm shape``: the spatial model's shape at the sample (r₀ at 550 nm), as shipped with
   ``combination="product"``;
-* ``energy``: what ``SandAppearance`` (default ``combination="energy"``) gives at that
-  wavelength, divided by its reflectance at normal incidence — the 550 nm shape plus the
-  diffuse term it adds where the sand is brighter than at 550 nm;
+* ``energy, fixed``: what ``SandAppearance(..., shape="fixed")`` (``combination="energy"``)
+  gives at that wavelength, divided by its reflectance at normal incidence — the 550 nm shape
+  plus the diffuse term it adds where the sand is brighter than at 550 nm;
+* ``appearance``: the same for the default ``shape="reflectance"``, which blends the spatial
+  model's shapes at the sand's predicted r(λ) (`sandlight.appearance.shapes`);
 * ``shape at r(λ)``: for a model that interpolates in log r₀ (the dune family), its shape at the
   sand's own reflectance at that wavelength (the measured one), i.e. "a sand as bright as this
   one is at λ"; the question is whether that is a better approximation than one shape.
 
-The measured normal reflectance is used for r(λ) in the last score, so only shapes are compared.
+The measured normal reflectance is used for r(λ) in the last score, so only shapes are compared;
+the two appearance columns use the full-range bank's r(λ), as a user's appearance does.
 Output: a Markdown table for docs/spatial-predictor.md ("Over 350–2500 nm").
 
 Usage::
@@ -82,13 +85,15 @@ def main(argv=None) -> int:
         f"Goniophotometer {args.rays:,.0f} trials per wavelength, seed {args.seed}; spectral part: the shipped "
         f"full-range bank; relative RMS over values measured to better than {MAX_RELATIVE_STDERR:.0%}.\n"
     )
-    print("| sand | mesh | λ (nm) | measured r(λ) | 550 nm shape | energy | shape at r(λ) | noise |")
-    print("|---|---|---|---|---|---|---|---|")
+    print(
+        "| sand | mesh | λ (nm) | measured r(λ) | 550 nm shape | energy, fixed | appearance | shape at r(λ) | noise |"
+    )
+    print("|---|---|---|---|---|---|---|---|---|")
     for label, preset, overrides in (SAMPLES[i] for i in args.samples):
         base = sandlight.SandSample.preset(preset) if preset else sandlight.SandSample()
         sample = base.replace(**overrides)
         model = model_for(sample)
-        app = SandAppearance(sample, full_range_model(), model)
+        apps = [SandAppearance(sample, full_range_model(), model, shape=s) for s in ("fixed", "reflectance")]
         # Each wavelength with trials of its own: with shared paths a dark wavelength's weights
         # behind bright heroes are tiny in cells only long paths reach, which a relative score
         # would weigh like any other.
@@ -110,14 +115,15 @@ def main(argv=None) -> int:
         fixed_shape = model.predict(sample, fixed="ignore", normal_reflectance=r550)[0]
         for lam, m in zip(wl, measured):
             r = m.normal_reflectance
-            energy_full = app.brdf(wi.reshape(-1, 3), wo.reshape(-1, 3), [lam])[:, 0].reshape(wi.shape[:2])
-            energy = classes.mean(energy_full) / float(app.reflectance_at([lam])[0])
             cells = [relative_rms(fixed_shape, m.unique_values, m.unique_stderr, classes.sizes)]
-            cells.append(relative_rms(energy, m.unique_values, m.unique_stderr, classes.sizes))
+            for app in apps:
+                full = app.brdf(wi.reshape(-1, 3), wo.reshape(-1, 3), [lam])[:, 0].reshape(wi.shape[:2])
+                shape = classes.mean(full) / float(app.reflectance_at([lam])[0])
+                cells.append(relative_rms(shape, m.unique_values, m.unique_stderr, classes.sizes))
             if model.absorbers:
                 own = model.predict(sample, fixed="ignore", normal_reflectance=r)[0]
                 cells.append(relative_rms(own, m.unique_values, m.unique_stderr, classes.sizes))
-            text = [f"{100 * c[0]:.1f} %" for c in cells] + ["–"] * (3 - len(cells))
+            text = [f"{100 * c[0]:.1f} %" for c in cells] + ["–"] * (4 - len(cells))
             mesh = ", ".join(model.mesh_.parameters)
             noise = f"{100 * cells[0][1]:.1f} %"
             print(f"| {label} | {mesh} | {lam:.0f} | {r:.3f} | {' | '.join(text)} | {noise} |", flush=True)

@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 from sandlight.appearance import SandAppearance
-from sandlight.mitsuba.tables import PROJECTION_WAVELENGTHS_NM, rgb_projection
+from sandlight.errors import ParameterError
+from sandlight.mitsuba.tables import PROJECTION_WAVELENGTHS_NM, PluginTables, rgb_projection
 from sandlight.sample import SandSample
 
 pytestmark = pytest.mark.filterwarnings("ignore::sandlight.spatial.model.SpatialApproximationWarning")
@@ -24,7 +25,7 @@ N = 3000
 def appearance(sample):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return SandAppearance(sample)
+        return SandAppearance(sample, shape="fixed")  # the plugin applies one shape at every wavelength
 
 
 def directions(rng, n):
@@ -251,3 +252,13 @@ def test_traverse_exposes_the_sample_and_rebuilds_on_change(rgb):
     params["saturation"] = 1.5
     with pytest.raises(ValueError, match=r'\[sand\] parameter "?saturation"?'):
         params.update()
+
+
+def test_tables_refuse_an_appearance_that_blends_shapes_over_wavelength():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        blended = SandAppearance("red-dune")
+    assert len(blended.shapes.shapes) > 1
+    with pytest.raises(ParameterError, match="shape='fixed'"):
+        PluginTables.build([blended])
+    assert PluginTables.build([appearance("red-dune")]).n_levels == 1

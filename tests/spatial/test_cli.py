@@ -1,5 +1,7 @@
 """Commands train-spatial and appearance (tiny real-engine run; synthetic models for the table)."""
 
+import json
+
 import numpy as np
 import spatial_fakes
 import xarray as xr
@@ -135,6 +137,12 @@ def test_appearance_over_the_full_range(tmp_path):
     with xr.open_dataset(out, engine="h5netcdf") as ds:
         wl = ds["wavelength"].values
         assert ds["f"].shape[0] == 87 and wl[0] == 350.0 and wl[-1] == 2500.0
+        # the dune family's shape follows the sand's reflectance over the range
+        assert ds.attrs["shape"] == "reflectance" and len(json.loads(ds.attrs["shape_reflectances"])) > 2
+    fixed = runner.invoke(app, ["appearance", "--preset", "yellow-dune", "--shape", "fixed"])
+    assert fixed.exit_code == 0 and "shape='fixed' (1 shapes)" in fixed.output
+    bad = runner.invoke(app, ["appearance", "--preset", "yellow-dune", "--shape", "wavelength"])
+    assert bad.exit_code == 2 and "--shape = 'wavelength' is not allowed" in " ".join(bad.output.split())
     wet = runner.invoke(app, ["appearance", "--preset", "wet-beach", "--mode", "full-range"])
     assert wet.exit_code == 0, wet.output
     assert "87 wavelengths 350–2500 nm" in wet.output and "mesh over saturation, iron_oxide" in wet.output

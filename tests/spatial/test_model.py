@@ -328,3 +328,32 @@ def test_bad_interpolation_coordinates_are_named(albedo_mesh, albedo_nodes):
         SpatialModel(log_parameters=("saturation",)).fit(albedo_nodes, albedo_mesh)
     with pytest.raises(ParameterError, match="absorbers"):
         SpatialModel(absorbers=("colour",)).fit(albedo_nodes, albedo_mesh)
+
+
+def test_reflectance_anchors_bracket_a_prediction_linear_in_log_r0(albedo_mesh, albedo_nodes, beach_model):
+    model = SpatialModel(n_components=3, absorbers=("iron_oxide",)).fit(albedo_nodes, albedo_mesh)
+    sample = {**albedo_mesh.base, "iron_oxide": 0.03, "saturation": 0.3}
+    nodes = model.node_normal_reflectance_
+    anchors = model.reflectance_anchors(sample, 1e-4, 1.0)
+    # the range is clipped to the nodes' r0, the anchors ascend and include both ends
+    np.testing.assert_allclose(anchors[[0, -1]], [nodes.min(), nodes.max()], rtol=1e-12)
+    assert (np.diff(anchors) > 0).all()
+    # at the ANCHOR_POINTS reflectances of the range, linear interpolation in log r0 between the
+    # bracketing anchors stays within the tolerance
+    x = np.log(anchors)
+    grid = np.linspace(x[0], x[-1], model_module.ANCHOR_POINTS)
+    scores = model.scores([sample] * grid.size, fixed="ignore", normal_reflectance=np.exp(grid))
+    at = model.scores([sample] * x.size, fixed="ignore", normal_reflectance=anchors)
+    j = np.clip(np.searchsorted(x, grid, side="right") - 1, 0, x.size - 2)
+    t = (grid - x[j]) / (x[j + 1] - x[j])
+    between = at[j] + t[:, None] * (at[j + 1] - at[j])
+    error = np.linalg.norm(between - scores, axis=1) / np.sqrt(model.n_classes_)
+    assert error.max() <= model_module.ANCHOR_TOLERANCE * (1 + 1e-9)
+    assert anchors.size > 2 and error.max() > 0  # the prediction bends: anchors were needed
+    # a looser tolerance needs no more anchors; a point range gives one
+    assert model.reflectance_anchors(sample, 1e-4, 1.0, tolerance=0.05).size <= anchors.size
+    np.testing.assert_allclose(model.reflectance_anchors(sample, 0.3, 0.3), [0.3])
+    with pytest.raises(ParameterError, match="low, high"):
+        model.reflectance_anchors(sample, 0.5, 0.2)
+    with pytest.raises(ParameterError, match="absorbers"):
+        beach_model.reflectance_anchors(sample, 0.1, 0.5)

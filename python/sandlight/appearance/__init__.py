@@ -14,6 +14,10 @@ band_grid
 combination
     `Combination`: how r(λ) and f̂ combine ('energy', the default, or the paper's 'product'), the
     reference reflectance r_0 and the diffuse profile.
+shapes
+    `ShapeSeries`: one spatial shape at every wavelength ('fixed', the paper's) or the shape at
+    the sand's reflectance at each wavelength ('reflectance', the default where the spatial model
+    interpolates in log r₀).
 sampling
     `SamplingTables`: the BRDF-following sampler (cells, tables, pdf) and cosine sampling.
 sources
@@ -27,6 +31,7 @@ sand_appearance
 from sandlight.appearance.combination import COMBINATIONS
 from sandlight.appearance.sampling import DEFENSIVE_COSINE_SHARE, SAMPLING_METHODS
 from sandlight.appearance.sand_appearance import SandAppearance
+from sandlight.appearance.shapes import SHAPES
 from sandlight.appearance.table_file import FORMAT_NAME as TABLE_FORMAT
 from sandlight.appearance.table_file import FORMAT_VERSION as TABLE_FORMAT_VERSION
 
@@ -36,5 +41,6 @@ __all__ = [
     "TABLE_FORMAT_VERSION",
     "DEFENSIVE_COSINE_SHARE",
     "COMBINATIONS",
+    "SHAPES",
     "SAMPLING_METHODS",
 ]

@@ -125,13 +125,11 @@ class Combination:
         b = np.where(bright, (r - r0) / (1.0 - r0) if r0 < 1 else 0.0, 0.0)
         return a, b
 
-    def albedo(self, band_grid: BandGrid, mu: np.ndarray, r: np.ndarray) -> np.ndarray:
-        """Albedo (N, W) at incidence cosines μ (N,) for reflectances r (W,), exact for the model.
+    def albedo_parts(self, band_grid: BandGrid, mu: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Albedo per unit weight of the two terms at incidence cosines μ (N,): A(μ) of f̂ and
+        ∫ P(μ)P(μ_o) cos θ_o dω_o, each (N,); the albedo of f is a·A + b·(the second).
 
-        A(μ) and the diffuse term's albedo are linear in the interpolant's μ_i weights, so their
-        node values interpolate exactly. No horizon test: μ ≤ 0 gives the limit μ → 0⁺.
+        Both are linear in the interpolant's μ_i weights, so their node values interpolate
+        exactly. No horizon test: μ ≤ 0 gives the limit μ → 0⁺.
         """
-        spatial = band_grid.at_mu(band_grid.albedo_nodes, mu)
-        diffuse = band_grid.at_mu(self.profile_albedo_nodes, mu)
-        a, b = self.weights(r)
-        return spatial[:, None] * a[None, :] + diffuse[:, None] * b[None, :]
+        return band_grid.at_mu(band_grid.albedo_nodes, mu), band_grid.at_mu(self.profile_albedo_nodes, mu)

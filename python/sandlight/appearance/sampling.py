@@ -116,19 +116,17 @@ class SamplingTables:
     def build(
         cls,
         band_grid: BandGrid,
-        evaluate_mu: Callable[[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]],
-        a_ref: float,
-        b_ref: float,
+        reference: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray],
     ) -> SamplingTables:
-        """Tabulate ∫_cell f cos θ_o dω_o for f = a_ref f̂ + b_ref P P at every μ node.
+        """Tabulate ∫_cell f cos θ_o dω_o for the reference BRDF f at every μ node.
 
         Parameters
         ----------
         band_grid : BandGrid
-        evaluate_mu : callable
-            ``evaluate_mu(mu_i, mu_o, dphi) -> (f̂, P P)`` (the native evaluator's), sr⁻¹.
-        a_ref, b_ref : float
-            Weights of the reference spectrum (`Combination.weights`, averaged over λ).
+            Its μ nodes index the rows, its hemisphere gives the cells.
+        reference : callable
+            ``reference(mu_i, mu_o, dphi) -> f`` in sr⁻¹ (arrays of equal length; Δφ in rad): the
+            BRDF at the reference spectrum, the mean of the per-wavelength weights.
         """
         z0, z1, phi0, phi1 = outgoing_cells(band_grid.hemisphere)
         r = z0.size
@@ -140,8 +138,7 @@ class SamplingTables:
         solid = (z1 - z0) * (phi1 - phi0)
         pmf = np.empty((len(band_grid.nodes), r))
         for b, mu_i in enumerate(band_grid.nodes):
-            g, pp = evaluate_mu(np.full(mu.size, mu_i), mu.ravel(), dphi.ravel())
-            f = (a_ref * g + b_ref * pp).reshape(mu.shape)
+            f = reference(np.full(mu.size, mu_i), mu.ravel(), dphi.ravel()).reshape(mu.shape)
             w = (f * mu).mean(axis=(1, 2)) * solid  # ∫_cell f cos θ_o dω_o (midpoint rule)
             total = w.sum()
             pmf[b] = w / total if total > 0 else solid / solid.sum()  # (cosine-like fallback for a black BRDF)

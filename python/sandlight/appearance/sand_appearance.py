@@ -19,9 +19,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from sandlight.appearance import table_file
-from sandlight.appearance.band_grid import BandGrid, hat_quadrature
-from sandlight.appearance.combination import Combination, check_combination, measured_reflectance
+from sandlight.appearance.band_grid import hat_quadrature
+from sandlight.appearance.combination import Combination, check_combination
 from sandlight.appearance.sampling import SamplingTables, check_sampling_method
+from sandlight.appearance.shapes import Shape, ShapeSeries, check_shape
 from sandlight.appearance.sources import resolve_sample, resolve_spatial, resolve_spectral
 from sandlight.checks import check_allocation
 from sandlight.errors import ParameterError
@@ -83,6 +84,12 @@ class SandAppearance:
     combination : {'energy', 'product'}
         How r(λ) and f̂ combine (`sandlight.appearance.combination`); 'product' is the paper's
         formula.
+    shape : {'reflectance', 'fixed'}
+        'reflectance' (default): at every wavelength the shape the spatial model gives at the
+        sand's reflectance there, for a model that interpolates in log r₀ (the dune family);
+        'fixed': one shape, at the model's measurement wavelength, at every wavelength (the
+        paper's assumption; also what models without absorbers give).
+        `sandlight.appearance.shapes`.
     fixed : {'warn', 'ignore', 'error'}
         What to do when the sample differs from the spatial mesh's base sample in a parameter
         the mesh does not vary (`SpatialModel.scores`).
@@ -95,10 +102,15 @@ class SandAppearance:
         Wavelengths of the spectral model, nm (the default for every method).
     normal_reflectance : ndarray (W,)
         r(λ), clipped to [0, 1].
+    shapes : sandlight.appearance.shapes.ShapeSeries
+        The spatial shapes the BRDF blends per wavelength (one unless ``shape='reflectance'``
+        with a model that interpolates in log r₀).
     reference_reflectance : float
-        r_0 of the spatial measurements at the sample's mesh position.
+        r_0 of the spatial measurements at the sample's mesh position, for the shape at the
+        spatial model's wavelength (this and the next three describe that shape, the one
+        ``shape='fixed'`` applies everywhere).
     n_negative_nodes : int
-        Node values of the spatial grid set to 0.
+        Node values of that spatial grid set to 0.
     spatial : sandlight.spatial.SpatialBRDF
         The spatial model's prediction (before the steps of `sandlight.appearance.band_grid`).
     band_grid : sandlight.appearance.band_grid.BandGrid
@@ -120,11 +132,13 @@ class SandAppearance:
         spatial_model: SpatialModel | str | Path | None = None,
         *,
         combination: str = "energy",
+        shape: str = "reflectance",
         fixed: str = "warn",
     ) -> None:
         from sandlight import _native
 
         self.combination = check_combination(combination)
+        check_shape(shape)
         self.sand_sample = resolve_sample(sample)
         wl, r, self.spectral_source, self.spectral_memory = resolve_spectral(spectral_model, self.sand_sample)
         self.wavelengths_nm = wl
@@ -141,15 +155,28 @@ class SandAppearance:
         self.spatial_model = model
         # A model that interpolates in log r₀ takes the sample's r₀ from this spectral source.
         r0 = float(np.interp(model.r0_wavelength_nm, wl, self.normal_reflectance))
-        self.spatial = model.brdf(self.sand_sample, fixed=fixed, normal_reflectance=max(r0, 1e-6))
-        self.band_grid = BandGrid.from_spatial(self.spatial)
+        at_r0 = Shape.predict(model, self.sand_sample, r0, combination, fixed)
+        self.spatial = at_r0.spatial
+        self.band_grid = at_r0.band_grid
         self.n_negative_nodes = self.band_grid.n_negative_nodes
-        self._combination = Combination.build(combination, self.band_grid, measured_reflectance(model, self.spatial))
+        self._combination = at_r0.combination
         self.reference_reflectance = self._combination.reference_reflectance
-        self._evaluator = _native.BandGridBrdf(self.band_grid.grid, self.band_grid.nodes, self._combination.profile)
+        self.shapes = ShapeSeries.build(shape, model, self.sand_sample, at_r0, self.normal_reflectance, combination)
+        self._evaluators = tuple(
+            _native.BandGridBrdf(s.band_grid.grid, s.band_grid.nodes, s.combination.profile) for s in self.shapes.shapes
+        )
         # The sampling tables follow f at the reference spectrum: the mean of the per-wavelength weights.
-        a_ref, b_ref = (float(np.mean(x)) for x in self._combination.weights(self.normal_reflectance))
-        self._sampling = SamplingTables.build(self.band_grid, self._evaluator.evaluate_mu, a_ref, b_ref)
+        a_ref, b_ref = (x.mean(axis=0) for x in self.shapes.weights(self.normal_reflectance))
+        self._sampling = SamplingTables.build(self.band_grid, lambda *mu: self._evaluate_mu(mu, a_ref, b_ref)[..., 0])
+
+    def _evaluate_mu(self, mu: tuple[np.ndarray, ...], a: np.ndarray, b: np.ndarray) -> np.ndarray:
+        """f (P, W) at points (μ_i, μ_o, Δφ) (each (P,)) for shape weights a, b ((W, K) or (K,))."""
+        a, b = np.atleast_2d(a), np.atleast_2d(b)
+        out = np.zeros((mu[0].size, a.shape[0]))
+        for k, ev in enumerate(self._evaluators):
+            g, pp = ev.evaluate_mu(*mu)
+            out += g[:, None] * a[None, :, k] + pp[:, None] * b[None, :, k]
+        return out
 
     # ---- parts, for renderers that re-implement the evaluation (sandlight.mitsuba) --------------
     @property
@@ -215,14 +242,23 @@ class SandAppearance:
                 wo = np.broadcast_to(wo, wi.shape)
             else:
                 raise ParameterError("wo", f"{wo.shape[0]} rows", f"as many rows as wi ({wi.shape[0]}) or one")
-        a, b = self._combination.weights(self.reflectance_at(wavelengths_nm))
-        return self._evaluator.evaluate(
-            np.ascontiguousarray(wi),
-            np.ascontiguousarray(wo),
-            np.ascontiguousarray(a),
-            np.ascontiguousarray(b),
-            threads,
-        )
+        r = self.reflectance_at(wavelengths_nm)
+        a, b = self.shapes.weights(r)
+        used = self.shapes.blend(r) > 0  # (W, K): the shapes each wavelength blends
+        wi, wo = np.ascontiguousarray(wi), np.ascontiguousarray(wo)
+        out = None
+        for k, ev in enumerate(self._evaluators):
+            cols = np.flatnonzero(used[:, k])
+            if not cols.size:
+                continue
+            part = ev.evaluate(wi, wo, np.ascontiguousarray(a[cols, k]), np.ascontiguousarray(b[cols, k]), threads)
+            if out is None and cols.size == r.size:  # one shape for every wavelength (always so for K = 1)
+                out = part
+                continue
+            if out is None:
+                out = np.zeros((wi.shape[0], r.size))
+            out[:, cols] += part
+        return np.zeros((wi.shape[0], r.size)) if out is None else out
 
     def albedo(self, wi: ArrayLike, wavelengths_nm: ArrayLike | None = None) -> np.ndarray:
         """Directional-hemispherical reflectance ∫ f(ω_i, ω_o, λ) cos θ_o dω_o, exact for the model.
@@ -245,7 +281,7 @@ class SandAppearance:
         return np.where((mu > 0)[:, None], self._albedo_mu(mu, wavelengths_nm), 0.0)
 
     def _albedo_mu(self, mu: np.ndarray, wavelengths_nm: np.ndarray | None) -> np.ndarray:
-        return self._combination.albedo(self.band_grid, mu, self.reflectance_at(wavelengths_nm))
+        return self.shapes.albedo(mu, self.reflectance_at(wavelengths_nm))
 
     # ---- sampling ----------------------------------------------------------------------------
     def pdf(self, wi: ArrayLike, wo: ArrayLike, method: str = "brdf") -> np.ndarray:
@@ -344,20 +380,22 @@ class SandAppearance:
             if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 2 <= v <= 4096:
                 raise ParameterError(name, v, "an integer in [2, 4096]")
         wl = self.wavelengths_nm if wavelengths_nm is None else np.atleast_1d(np.asarray(wavelengths_nm, dtype=float))
-        a, b = self._combination.weights(self.reflectance_at(wl))
+        a, b = self.shapes.weights(self.reflectance_at(wl))
         mu = np.linspace(0.0, 1.0, int(n_mu))
         dphi = np.linspace(0.0, math.pi, int(n_dphi))
         x, W = hat_quadrature(self.band_grid.nodes, mu)  # points (P,), weights (n_mu, P) normalised per node
         # float64 arrays: about 8 over the quadrature points (the meshgrids, g, pp and their
         # temporaries) and 3 over the table (f, its transpose average, the file's copy).
         need = 8 * (8 * x.size**2 * int(n_dphi) + 3 * wl.size * int(n_mu) ** 2 * int(n_dphi))
+        need += 8 * 2 * (len(self._evaluators) - 1) * int(n_mu) ** 2 * int(n_dphi)  # the other shapes' g, pp
         check_allocation("n_mu, n_dphi", (int(n_mu), int(n_dphi)), need)
         XI, XO, DP = np.meshgrid(x, x, dphi, indexing="ij")
-        g, pp = self._evaluator.evaluate_mu(XI.ravel(), XO.ravel(), DP.ravel())
-        shape = XI.shape
-        g = np.einsum("ix,xyk,jy->ijk", W, g.reshape(shape), W, optimize=True)
-        pp = np.einsum("ix,xyk,jy->ijk", W, pp.reshape(shape), W, optimize=True)
-        f = a[:, None, None, None] * g[None] + b[:, None, None, None] * pp[None]
+        f = np.zeros((wl.size, int(n_mu), int(n_mu), int(n_dphi)))
+        for k, ev in enumerate(self._evaluators):
+            g, pp = ev.evaluate_mu(XI.ravel(), XO.ravel(), DP.ravel())
+            g = np.einsum("ix,xyk,jy->ijk", W, g.reshape(XI.shape), W, optimize=True)
+            pp = np.einsum("ix,xyk,jy->ijk", W, pp.reshape(XI.shape), W, optimize=True)
+            f += a[:, k, None, None, None] * g[None] + b[:, k, None, None, None] * pp[None]
         # The model is reciprocal; averaging with the transpose removes the rounding (~1e-16) of the
         # summation order, so that readers may rely on exact symmetry.
         f = 0.5 * (f + f.transpose(0, 2, 1, 3))
@@ -379,6 +417,8 @@ class SandAppearance:
             if self.spatial_model.wavelength_nm_ is None
             else self.spatial_model.wavelength_nm_,
             "reference_reflectance": self.reference_reflectance,
+            "shape": self.shapes.method,
+            "shape_reflectances": json.dumps(self.shapes.reflectances.tolist()),
         }
         return table_file.table_dataset(
             f,
@@ -412,5 +452,6 @@ class SandAppearance:
         return (
             f"SandAppearance({len(self.wavelengths_nm)} wavelengths {self.wavelengths_nm[0]:g}–"
             f"{self.wavelengths_nm[-1]:g} nm, combination={self.combination!r}, r_0={self.reference_reflectance:.4f}, "
+            f"shape={self.shapes.method!r} ({len(self.shapes.shapes)} shapes), "
             f"spatial mesh over {', '.join(self.spatial_model.mesh_.parameters)})"
         )

@@ -226,6 +226,12 @@ def appearance(
     combination: str = typer.Option(
         "energy", "--combination", help="energy (default) or product (the paper's formula, may exceed unit albedo)."
     ),
+    shape: str = typer.Option(
+        "reflectance",
+        "--shape",
+        help="reflectance (default: at each wavelength the BRDF shape at the sand's reflectance there, for "
+        "spatial models that interpolate in it) or fixed (one shape at every wavelength, the paper's).",
+    ),
 ) -> None:
     """The explicit spectral BRDF of a sample (paper §3.3): albedo summary and NetCDF table export."""
     import warnings
@@ -244,7 +250,8 @@ def appearance(
     spectral = spectral_model if spectral_model is not None else answering_bank(None, mode)
     with warnings.catch_warnings():
         warnings.simplefilter("always", SpatialApproximationWarning)  # shown on every run, as one line
-        app_ = SandAppearance(sample, spectral, spatial_model, combination=combination)
+        with option_names({"combination": "--combination", "shape": "--shape"}):
+            app_ = SandAppearance(sample, spectral, spatial_model, combination=combination, shape=shape)
     angles = np.array([0.0, 30.0, 60.0, 80.0, 89.0])
     t = np.radians(angles)
     albedo = app_.albedo(np.stack([np.sin(t), 0 * t, np.cos(t)], axis=1))

@@ -184,7 +184,10 @@ class SandSpec:
 @functools.lru_cache(maxsize=32)
 def appearance_levels(spec: SandSpec) -> tuple[SandAppearance, ...]:
     """`SandAppearance` of every level of ``spec`` (cached: equal specs share them), all with one
-    spatial model (by default the shipped one that covers every level)."""
+    spatial model (by default the shipped one that covers every level) and one shape at every
+    wavelength (``shape='fixed'``: the plugin's tables hold one spatial grid per level)."""
     samples = spec.samples()
     spatial = resolve_spatial(spec.spatial_model, samples)
-    return tuple(SandAppearance(s, spec.spectral_model, spatial, combination=spec.combination) for s in samples)
+    return tuple(
+        SandAppearance(s, spec.spectral_model, spatial, combination=spec.combination, shape="fixed") for s in samples
+    )

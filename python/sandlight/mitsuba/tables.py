@@ -157,10 +157,16 @@ class PluginTables:
         Raises
         ------
         ParameterError
-            The appearances do not share the spatial model's nodes, wavelengths or combination.
+            The appearances do not share the spatial model's nodes, wavelengths or combination, or
+            one blends several shapes over wavelength.
         """
         apps = list(appearances)
         levels = np.zeros(1) if levels is None else np.asarray(levels, dtype=float)
+        for app in apps:
+            if len(app.shapes.shapes) != 1:
+                raise ParameterError(
+                    "appearances", repr(app), "appearances with one spatial shape (SandAppearance(..., shape='fixed'))"
+                )
         first = apps[0]
         nodes = first.band_grid.nodes
         for app in apps[1:]:

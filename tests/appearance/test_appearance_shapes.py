@@ -1,0 +1,84 @@
+"""The BRDF's shape over wavelength (`sandlight.appearance.shapes`): the shape at the sand's own
+reflectance for a model that interpolates in log r₀, one shape otherwise."""
+
+import numpy as np
+import pytest
+from appearance_helpers import directions, from_angles
+
+from sandlight.appearance import SandAppearance
+from sandlight.errors import ParameterError
+from sandlight.sample import SandSample
+from sandlight.spatial.shipped import model_for
+
+WL = np.arange(400.0, 701.0, 20.0)
+
+
+def spectrum(low, high):
+    """A callable spectral source rising log-uniformly from ``low`` to ``high`` over 400–700 nm."""
+    r = np.exp(np.linspace(np.log(low), np.log(high), WL.size))
+    return lambda sample: (WL, r)
+
+
+def flat(r):
+    return lambda sample: (WL, np.full(WL.size, r))
+
+
+@pytest.fixture(scope="module")
+def dune():
+    model = model_for(SandSample.preset("yellow-dune"))
+    assert model.absorbers  # the family that interpolates in log r₀
+    return model
+
+
+def relative_rms(f, g):
+    return float(np.sqrt(np.mean((f - g) ** 2)) / np.sqrt(np.mean(g**2)))
+
+
+@pytest.mark.parametrize("combination", ["energy", "product"])
+def test_each_wavelength_takes_the_shape_at_its_own_reflectance(dune, combination):
+    rising = SandAppearance("yellow-dune", spectrum(0.04, 0.65), dune, combination=combination)
+    fixed = SandAppearance("yellow-dune", spectrum(0.04, 0.65), dune, combination=combination, shape="fixed")
+    assert len(rising.shapes.shapes) > 2 and len(fixed.shapes.shapes) == 1
+    wi, wo = directions(4000, 1, min_z=0.05), directions(4000, 2, min_z=0.05)
+    for j in range(WL.size):
+        r = rising.normal_reflectance[j]
+        # A sand whose reflectance is r at every wavelength has the shape at r at every wavelength;
+        # between anchors the blend departs from it by at most ~0.7 % (ANCHOR_TOLERANCE).
+        own = SandAppearance("yellow-dune", flat(r), dune, combination=combination, shape="fixed")
+        f = rising.brdf(wi, wo, [WL[j]])[:, 0]
+        assert relative_rms(f, own.brdf(wi, wo, [WL[j]])[:, 0]) < 0.01
+        if abs(np.log(r / fixed.reference_reflectance)) > 1.0:  # far from the 550 nm reflectance
+            assert relative_rms(fixed.brdf(wi, wo, [WL[j]])[:, 0], f) > 0.05
+
+
+@pytest.mark.parametrize("low, high", [(0.01, 0.98), (0.05, 0.4)])
+def test_blended_shapes_conserve_energy(dune, low, high):
+    app = SandAppearance("yellow-dune", spectrum(low, high), dune)
+    np.testing.assert_allclose(app.albedo([0, 0, 1])[0], app.normal_reflectance, atol=1e-12)
+    albedo = app.albedo(from_angles(np.linspace(0, 90, 181)))
+    assert (albedo >= 0).all() and (albedo <= 1 + 1e-12).all()
+
+
+def test_blend_is_linear_in_log_reflectance_and_held_beyond_the_anchors(dune):
+    shapes = SandAppearance("yellow-dune", spectrum(0.04, 0.65), dune).shapes
+    r = shapes.reflectances
+    assert (np.diff(r) > 0).all()
+    np.testing.assert_array_equal(shapes.blend(r), np.eye(r.size))
+    mid = np.sqrt(r[:-1] * r[1:])  # half-way in log r
+    w = shapes.blend(mid)
+    np.testing.assert_allclose(w.sum(axis=1), 1.0, rtol=1e-14)
+    np.testing.assert_allclose(w[np.arange(mid.size), np.arange(mid.size)], 0.5, rtol=1e-12)
+    np.testing.assert_array_equal(shapes.blend([r[0] / 2, r[-1] * 1.2]), np.eye(r.size)[[0, -1]])
+
+
+def test_a_model_without_absorbers_has_one_shape(spatial):
+    a = SandAppearance(SandSample(saturation=0.3), spectrum(0.05, 0.6), spatial)
+    b = SandAppearance(SandSample(saturation=0.3), spectrum(0.05, 0.6), spatial, shape="fixed")
+    assert len(a.shapes.shapes) == 1
+    wi, wo = directions(300, 3), directions(300, 4)
+    np.testing.assert_array_equal(a.brdf(wi, wo), b.brdf(wi, wo))
+
+
+def test_unknown_shape_is_refused(spatial):
+    with pytest.raises(ParameterError, match="shape"):
+        SandAppearance(SandSample(), spectrum(0.05, 0.6), spatial, shape="per-wavelength")
