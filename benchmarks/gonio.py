@@ -21,7 +21,7 @@ import time
 import numpy as np
 
 import sandlight
-from sandlight.gonio.measure import MAX_GONIO_GROUP, brdf, fixed_incidence
+from sandlight.gonio.measure import MAX_GONIO_GROUP, _zero_sums, brdf, fixed_incidence
 from sandlight.sample import SandSample
 
 #: Settings of every 16-wavelength run.
@@ -79,7 +79,12 @@ def spectral(instrument: str, measure, n: int, cells: int) -> None:
     ratio = seconds[True] / seconds[False]
     print(f"shared / independent time: {ratio:.2f} (speed-up {1 / ratio:.2f}×)")
     group = min(16, MAX_GONIO_GROUP)
-    print(f"shared sums of a group of {group}: {16 * cells * group / 1e6:.2f} MB (16 bytes per in × out × wavelength)")
+    one = _zero_sums(1, 1, 1)  # the arrays of one (incoming, outgoing, wavelength) cell
+    per_cell = one["escaped"].nbytes + one["squares"].nbytes
+    print(
+        f"shared sums of a group of {group}: {per_cell * cells * group / 1e6:.2f} MB "
+        f"({per_cell} bytes per in × out × wavelength)"
+    )
     print(f"peak resident memory of this process: {resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024:.0f} MB")
 
 

@@ -413,3 +413,18 @@ def test_bad_fixed_incidence_inputs_name_the_parameter():
         fixed_incidence("red-dune", [500.0, 600.0], **{**run, "azimuth_deg": math.nan})
     with pytest.raises(ParameterError, match="incidence_deg"):
         fixed_incidence("red-dune", [500.0, 600.0], **{**run, "incidence_deg": 90.0})
+
+
+def test_shared_squares_are_read_from_their_two_words_exactly():
+    from sandlight.gonio.measure import _weight_sums, _zero_sums
+
+    sums = _zero_sums(1, 2, 1)
+    one = _native.SpectralGroup.fixed_one
+    sums["launched"][:] = 3
+    sums["escaped"][0, :, 0] = [int(1.5 * one), 1]  # Σ F = 1.5 and 2⁻³²
+    # Σ F² = 2.25 (high word 2, low 2⁶²) and the square of the smallest weight, 2⁻⁶⁴ (low word 1),
+    # which a square rounded to any coarser scale would have counted as 0.
+    sums["squares"][0, :, 0] = [[2, 1 << 62], [0, 1]]
+    counts, *_, squares = _weight_sums(sums, 0)
+    np.testing.assert_array_equal(squares[0], [2.25, 2.0**-64])
+    np.testing.assert_array_equal(counts[0], [1.5, 2.0**-32])

@@ -1,7 +1,7 @@
 //! `sandlight._native.SpectralGroup`: the sand media of a group of wavelengths traced together
 //! with spectral path sharing (docs/transport.md, "Spectral path sharing").
 
-use numpy::{PyReadwriteArray1, PyReadwriteArray2, PyReadwriteArray3};
+use numpy::{PyReadwriteArray1, PyReadwriteArray2, PyReadwriteArray3, PyReadwriteArray4};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use sandlight_core::error::SandlightError;
@@ -70,7 +70,8 @@ impl PySpectralGroup {
         FIXED_ONE
     }
 
-    /// Fixed-point scale of the goniophotometer's sums of squares (F² counts as round(F² · scale)).
+    /// Scale of the goniophotometer's sums of squares: F² counts as q² = F² · scale exactly
+    /// (q = round(F · fixed_one)), a u128 held as two uint64 words (high, low).
     #[classattr]
     fn square_one() -> f64 {
         SQUARE_ONE
@@ -111,7 +112,8 @@ impl PySpectralGroup {
 
     /// Goniophotometer trials `first_ray .. first_ray + n_rays` on a `stacks` × `slices`
     /// hemisphere (r patches), with shared paths, added in place to the uint64 sums `escaped`
-    /// and `squares` (n, r, wavelengths), `transmitted` (n, wavelengths), `launched` and
+    /// (n, r, wavelengths) and `squares` (n, r, wavelengths, 2: the high and low words of a
+    /// u128), `transmitted` (n, wavelengths), `launched` and
     /// `capped` (n,) (see `sandlight_core::gonio::spectral_sums`). Uniform incidence (n = r
     /// incoming patches), or with `incidence_deg` = (zenith, azimuth) in degrees the classic
     /// instrument, every trial from that direction (n = 1). The GIL is released.
@@ -130,7 +132,7 @@ impl PySpectralGroup {
         max_events: u64,
         max_internal: u32,
         mut escaped: PyReadwriteArray3<'_, u64>,
-        mut squares: PyReadwriteArray3<'_, u64>,
+        mut squares: PyReadwriteArray4<'_, u64>,
         mut transmitted: PyReadwriteArray2<'_, u64>,
         mut launched: PyReadwriteArray1<'_, u64>,
         mut capped: PyReadwriteArray1<'_, u64>,

@@ -144,9 +144,9 @@ def _save_checkpoint(path: Path, key: str, done: int, arrays: dict[str, np.ndarr
         np.savez(f, key=np.array(key), done=np.array(done), **arrays)
 
 
-#: Most wavelengths measured together (spectral path sharing): a group's sums take 16 bytes per
-#: (incoming patch, outgoing patch, wavelength), 13 MB per wavelength at 901 patches, so a
-#: group of 16 holds 208 MB (docs/performance.md). Larger dispersion groups are split.
+#: Most wavelengths measured together (spectral path sharing): a group's sums take 24 bytes per
+#: (incoming patch, outgoing patch, wavelength), 19.5 MB per wavelength at 901 patches, so a
+#: group of 16 holds 312 MB (docs/performance.md). Larger dispersion groups are split.
 MAX_GONIO_GROUP = 16
 
 
@@ -234,14 +234,15 @@ def _measure_one(settings: _Settings, medium: _native.Medium, wl: float, checkpo
 
 def _zero_sums(n_incoming: int, n_patches: int, n_wavelengths: int) -> dict[str, np.ndarray]:
     """The fixed-point sums ``SpectralGroup.brdf_sums`` fills (``sandlight_core::gonio::
-    spectral_sums``), zeroed: per (incoming patch, outgoing patch, wavelength) Σ round(F·2³²)
-    (``escaped``) and Σ round(F²·2³²) (``squares``); per incoming patch and wavelength
+    spectral_sums``), zeroed: per (incoming patch, outgoing patch, wavelength) Σ q with
+    q = round(F·2³²) (``escaped``) and Σ q² exactly, a u128 as its high and low uint64 words
+    (``squares``, one more axis of 2); per incoming patch and wavelength
     Σ round(F·2³²) over transmitted trials; per incoming patch the trials and the event-capped
     trials. Uniform incidence has ``n_patches`` incoming patches, a fixed direction one."""
     n, r, w = n_incoming, n_patches, n_wavelengths
     return {
         "escaped": np.zeros((n, r, w), np.uint64),
-        "squares": np.zeros((n, r, w), np.uint64),
+        "squares": np.zeros((n, r, w, 2), np.uint64),
         "transmitted": np.zeros((n, w), np.uint64),
         "launched": np.zeros(n, np.uint64),
         "capped": np.zeros(n, np.uint64),
@@ -286,7 +287,9 @@ def _weight_sums(sums: dict[str, np.ndarray], k: int) -> tuple[np.ndarray, ...]:
     launched = sums["launched"].astype(np.int64)
     counts = sums["escaped"][:, :, k] / one
     lost = sums["transmitted"][:, k] / one + sums["capped"]
-    return counts, launched - counts.sum(axis=1) - lost, launched, lost, sums["squares"][:, :, k] / square_one
+    high, low = sums["squares"][:, :, k, 0], sums["squares"][:, :, k, 1]
+    squares = high * (2.0**64 / square_one) + low / square_one  # the u128 (high·2⁶⁴ + low) over its scale
+    return counts, launched - counts.sum(axis=1) - lost, launched, lost, squares
 
 
 def _measure_shared(

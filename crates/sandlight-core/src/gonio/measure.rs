@@ -186,7 +186,12 @@ mod tests {
 
     /// Zeroed arrays for n incoming patches, r outgoing patches and w wavelengths.
     fn zeroed(n: usize, r: usize, w: usize) -> Arrays {
-        [n * r * w, n * r * w, n * w, n, n].map(|n| vec![0u64; n])
+        [n * r * w, 2 * n * r * w, n * w, n, n].map(|n| vec![0u64; n])
+    }
+
+    /// The sum of squares at `cell` as a float (the u128 of its two words over 2⁶⁴).
+    fn square(s: &[u64], cell: usize) -> f64 {
+        (u128::from(s[2 * cell]) << 64 | u128::from(s[2 * cell + 1])) as f64 / SQUARE_ONE
     }
 
     /// The arrays as the sums a measurement adds to.
@@ -240,22 +245,22 @@ mod tests {
     #[test]
     fn a_group_of_one_tallies_counts() {
         // One wavelength: every escaped trial weighs F = 1, so the sums are counts times 2³²
-        // (and 2¹⁶ for the squares).
+        // (and the squares the same counts: F² = 1).
         let h = CollectorHemisphere::new(3, 4).unwrap();
         let g = HeroGroup::new(vec![sand(1.0, 0.0)], Memory::None).unwrap();
         let [e, s, ..] = shared(&g, &h, None, &[(0, 3000)]);
         let one = FIXED_ONE as u64;
-        assert!(e.iter().zip(&s).all(|(&e, &s)| e % one == 0 && e / one == s / SQUARE_ONE as u64));
+        assert!(e.iter().enumerate().all(|(c, &e)| e % one == 0 && (e / one) as f64 == square(&s, c)));
         assert!(e.iter().sum::<u64>() > 0);
     }
 
-    /// Asserts that a shared estimate Σ F / N, with Σ F and Σ F² as fixed-point sums `e` and
-    /// `s` over N trials, and an independent one n / N' agree within 4 standard errors (the
-    /// shared one's Var = (Σ F²/N − (Σ F/N)²)/N; the independent one's binomial).
-    fn assert_agree((e, s, n): (u64, u64, u64), (count, own_n): (u64, u64), what: &str) {
+    /// Asserts that a shared estimate Σ F / N, with Σ F a fixed-point sum `e` and Σ F² = `s`
+    /// over N trials, and an independent one n / N' agree within 4 standard errors (the shared
+    /// one's Var = (Σ F²/N − (Σ F/N)²)/N; the independent one's binomial).
+    fn assert_agree((e, s, n): (u64, f64, u64), (count, own_n): (u64, u64), what: &str) {
         let n = n as f64;
         let rho = e as f64 / FIXED_ONE / n;
-        let var_shared = (s as f64 / SQUARE_ONE / n - rho * rho) / n;
+        let var_shared = (s / n - rho * rho) / n;
         let mono = count as f64 / own_n as f64;
         let se = (var_shared + mono * (1.0 - mono) / own_n as f64).sqrt();
         assert!((rho - mono).abs() < 4.0 * se, "{what}: {rho} vs {mono} ± {se}");
@@ -276,8 +281,9 @@ mod tests {
         for (k, &a) in absorb.iter().enumerate() {
             let t = measure_brdf(&sand(a, 0.0), &h, own, &Limits::default());
             for i in 0..r {
-                let row = |x: &[u64]| (0..r).map(|j| x[(i * r + j) * w + k]).sum::<u64>();
-                assert_agree((row(&e), row(&s), l[i]), (t.escaped(i), t.launched[i]), &format!("×{a}, in {i}"));
+                let e_row = (0..r).map(|j| e[(i * r + j) * w + k]).sum::<u64>();
+                let s_row = (0..r).map(|j| square(&s, (i * r + j) * w + k)).sum::<f64>();
+                assert_agree((e_row, s_row, l[i]), (t.escaped(i), t.launched[i]), &format!("×{a}, in {i}"));
             }
         }
         let h = CollectorHemisphere::new(3, 4).unwrap();
@@ -286,7 +292,8 @@ mod tests {
         for (k, &a) in absorb.iter().enumerate() {
             let t = measure_fixed_incidence(&sand(a, 0.0), &h, from_40_degrees(), own, &Limits::default());
             for j in 0..h.n_patches() {
-                assert_agree((e[j * w + k], s[j * w + k], l[0]), (t.counts[j], t.launched), &format!("×{a}, out {j}"));
+                let (e, s) = (e[j * w + k], square(&s, j * w + k));
+                assert_agree((e, s, l[0]), (t.counts[j], t.launched), &format!("×{a}, out {j}"));
             }
         }
     }
