@@ -82,3 +82,21 @@ def test_a_model_without_absorbers_has_one_shape(spatial):
 def test_unknown_shape_is_refused(spatial):
     with pytest.raises(ParameterError, match="shape"):
         SandAppearance(SandSample(), spectrum(0.05, 0.6), spatial, shape="per-wavelength")
+
+
+def test_the_stacked_evaluator_is_the_weighted_sum_of_its_shapes(dune):
+    from sandlight import _native
+
+    app = SandAppearance("yellow-dune", spectrum(0.02, 0.9), dune)
+    wi, wo = directions(2000, 5), directions(2000, 6)
+    wi[0, 2], wo[1] = -0.1, [np.nan, 0, 1]  # one pair below the horizon, one NaN
+    a, b = app.shapes.weights(app.normal_reflectance)
+    want = np.zeros((wi.shape[0], WL.size))
+    for k, s in enumerate(app.shapes.shapes):
+        one = _native.BandGridBrdf(s.band_grid.grid, s.band_grid.nodes, s.combination.profile)
+        want += one.evaluate(wi, wo, np.ascontiguousarray(a[:, k]), np.ascontiguousarray(b[:, k]))
+    got = app.brdf(wi, wo)
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-15)
+    assert (got[0] == 0).all() and np.isnan(got[1]).all()
+    # a single wavelength evaluates only the (at most two) shapes it blends, with the same result
+    np.testing.assert_allclose(app.brdf(wi, wo, [WL[3]])[:, 0], got[:, 3], rtol=1e-12)

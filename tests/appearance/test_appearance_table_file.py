@@ -67,7 +67,7 @@ def test_table_keeps_a_normal_incidence_peak_energy(spatial):
     from sandlight import _native
 
     peaked.band_grid = dataclasses.replace(peaked.band_grid, grid=grid)
-    peaked._evaluators = (_native.BandGridBrdf(grid, peaked.band_grid.nodes, peaked._combination.profile),)
+    peaked._evaluator = _native.BandGridBrdf(grid, peaked.band_grid.nodes, peaked._combination.profile)
     d, w = hemisphere_quadrature(4000, 8)
     exact = (peaked.brdf([0, 0, 1], d, [550.0])[:, 0] * d[:, 2] * w).sum()
     ds = peaked.table(n_mu=32, n_dphi=9, wavelengths_nm=[550.0])

@@ -1,8 +1,10 @@
 //! Bindings of the fast BRDF evaluator (`sandlight_core::appearance`). `sandlight.appearance`
 //! wraps it; the interpolant's definition is `sandlight.gonio.brdf.interpolate_band_grid`.
 
-use numpy::ndarray::Array2;
-use numpy::{IntoPyArray, PyArray2, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArray3, PyUntypedArrayMethods};
+use numpy::ndarray::{Array2, ArrayD, IxDyn};
+use numpy::{
+    IntoPyArray, PyArray2, PyArrayDyn, PyReadonlyArray1, PyReadonlyArray2, PyReadonlyArrayDyn, PyUntypedArrayMethods,
+};
 use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use rayon::prelude::*;
@@ -18,6 +20,8 @@ const CHUNK: usize = 8192;
 #[pyclass(frozen, name = "BandGridBrdf", module = "sandlight._native")]
 pub struct PyBandGridBrdf {
     grid: BandGrid,
+    /// Built from a stack of layers (4-D grid): weights and `evaluate_mu` carry a layer axis.
+    stacked: bool,
 }
 
 fn check_dirs(name: &str, a: &PyReadonlyArray2<'_, f64>) -> Result<(), SandlightError> {
@@ -33,47 +37,80 @@ fn check_dirs(name: &str, a: &PyReadonlyArray2<'_, f64>) -> Result<(), Sandlight
 
 #[pymethods]
 impl PyBandGridBrdf {
-    /// grid: float64 (stacks, stacks, slices) node values F[b_i, b_o, k]; band_cos_theta: float64
-    /// (stacks,) node μ, decreasing (cap first); profile: float64 (stacks,) P at the nodes.
+    /// grid: float64 (stacks, stacks, slices) node values F[b_i, b_o, k], or (K, stacks, stacks,
+    /// slices) for K layers on the same nodes; band_cos_theta: float64 (stacks,) node μ,
+    /// decreasing (cap first); profile: float64 (stacks,) P at the nodes, or (K, stacks).
     #[new]
     fn new(
         py: Python<'_>,
-        grid: PyReadonlyArray3<'_, f64>,
+        grid: PyReadonlyArrayDyn<'_, f64>,
         band_cos_theta: PyReadonlyArray1<'_, f64>,
-        profile: PyReadonlyArray1<'_, f64>,
+        profile: PyReadonlyArrayDyn<'_, f64>,
     ) -> PyResult<Self> {
         let shape = grid.shape().to_vec();
-        let values: Vec<f64> = grid.as_array().iter().copied().collect();
-        let nodes: Vec<f64> = band_cos_theta.as_array().iter().copied().collect();
-        let profile: Vec<f64> = profile.as_array().iter().copied().collect();
-        if shape[0] != shape[1] {
+        let stacked = shape.len() == 4;
+        let (layers, cube) = if stacked { (shape[0], &shape[1..]) } else { (1, &shape[..]) };
+        let profile_ok = if stacked { profile.shape() == [layers, cube[0]] } else { profile.ndim() == 1 };
+        if !(shape.len() == 3 || stacked) || cube[0] != cube[1] {
             return Err(to_py(
                 py,
                 SandlightError::parameter(
                     "grid",
                     format!("shape {shape:?}"),
-                    "must have shape (stacks, stacks, slices)",
+                    "must have shape (stacks, stacks, slices) or (layers, stacks, stacks, slices)",
                 ),
             ));
         }
-        let grid = BandGrid::new(shape[0], shape[2], &nodes, values, profile).map_err(|e| to_py(py, e))?;
-        Ok(PyBandGridBrdf { grid })
+        if !profile_ok {
+            return Err(to_py(
+                py,
+                SandlightError::parameter(
+                    "profile",
+                    format!("shape {:?}", profile.shape()),
+                    "must have shape (stacks,), or (layers, stacks) for a stacked grid",
+                ),
+            ));
+        }
+        let values: Vec<f64> = grid.as_array().iter().copied().collect();
+        let nodes: Vec<f64> = band_cos_theta.as_array().iter().copied().collect();
+        let profile: Vec<f64> = profile.as_array().iter().copied().collect();
+        let grid = BandGrid::new(cube[0], cube[2], &nodes, values, profile).map_err(|e| to_py(py, e))?;
+        Ok(PyBandGridBrdf { grid, stacked })
     }
 
-    /// Spectral BRDF of N direction pairs: out[p, w] = F(wi_p, wo_p)·a[w] + P(μ_i)P(μ_o)·b[w].
-    /// wi, wo: float64 (N, 3), C-contiguous; a, b: float64 (W,). Returns (N, W). 0 below the
-    /// horizon, NaN for NaN directions; ParameterError for a zero or infinite direction.
-    /// The GIL is released; `threads` > 1 splits the pairs over a rayon pool.
+    /// Spectral BRDF of N direction pairs: out[p, w] = F(wi_p, wo_p)·a[w] + P(μ_i)P(μ_o)·b[w],
+    /// or Σ_l F_l·a[w, l] + P_l P_l·b[w, l] for a stacked grid. wi, wo: float64 (N, 3),
+    /// C-contiguous; a, b: float64 (W,), or (W, layers) C-contiguous for a stacked grid. Returns
+    /// (N, W). 0 below the horizon, NaN for NaN directions; ParameterError for a zero or infinite
+    /// direction. The GIL is released; `threads` > 1 splits the pairs over a rayon pool.
     #[pyo3(signature = (wi, wo, a, b, threads = None))]
     fn evaluate<'py>(
         &self,
         py: Python<'py>,
         wi: PyReadonlyArray2<'py, f64>,
         wo: PyReadonlyArray2<'py, f64>,
-        a: PyReadonlyArray1<'py, f64>,
-        b: PyReadonlyArray1<'py, f64>,
+        a: PyReadonlyArrayDyn<'py, f64>,
+        b: PyReadonlyArrayDyn<'py, f64>,
         threads: Option<usize>,
     ) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let layers = self.grid.layers();
+        let n_wl = a.shape().first().copied().unwrap_or(0);
+        let want: &[usize] = if self.stacked { &[n_wl, layers] } else { &[n_wl] };
+        for (name, x) in [("a", &a), ("b", &b)] {
+            if x.shape() != want {
+                return Err(to_py(
+                    py,
+                    SandlightError::parameter(
+                        name,
+                        format!("shape {:?}", x.shape()),
+                        &format!(
+                            "must have shape {want:?} (wavelengths{})",
+                            if self.stacked { ", layers" } else { "" }
+                        ),
+                    ),
+                ));
+            }
+        }
         check_dirs("wi", &wi).map_err(|e| to_py(py, e))?;
         check_dirs("wo", &wo).map_err(|e| to_py(py, e))?;
         let n = wi.shape()[0];
@@ -89,17 +126,7 @@ impl PyBandGridBrdf {
         }
         let (x, y) = (wi.as_slice()?, wo.as_slice()?);
         let (sa, sb) = (a.as_slice()?, b.as_slice()?);
-        let w = sa.len();
-        if sb.len() != w {
-            return Err(to_py(
-                py,
-                SandlightError::parameter(
-                    "b",
-                    format!("length {}", sb.len()),
-                    &format!("must have the length of a ({w})"),
-                ),
-            ));
-        }
+        let w = sa.len() / layers;
         let mut out = vec![0.0; n * w];
         let grid = &self.grid;
         let result = py.detach(|| -> Result<Result<(), (&'static str, usize)>, String> {
@@ -128,7 +155,8 @@ impl PyBandGridBrdf {
         }
     }
 
-    /// (F, P(μ_i)P(μ_o)) at (μ_i, μ_o, Δφ) for equal-length float64 arrays (no horizon test).
+    /// (F, P(μ_i)P(μ_o)) at (μ_i, μ_o, Δφ) for equal-length float64 arrays (no horizon test):
+    /// each (P,), or (P, layers) for a stacked grid.
     #[allow(clippy::type_complexity)] // the tuple of arrays Python receives
     fn evaluate_mu<'py>(
         &self,
@@ -136,7 +164,7 @@ impl PyBandGridBrdf {
         mu_i: PyReadonlyArray1<'py, f64>,
         mu_o: PyReadonlyArray1<'py, f64>,
         dphi: PyReadonlyArray1<'py, f64>,
-    ) -> PyResult<(Bound<'py, numpy::PyArray1<f64>>, Bound<'py, numpy::PyArray1<f64>>)> {
+    ) -> PyResult<(Bound<'py, PyArrayDyn<f64>>, Bound<'py, PyArrayDyn<f64>>)> {
         let (a, b, c) = (mu_i.as_array(), mu_o.as_array(), dphi.as_array());
         if a.len() != b.len() || a.len() != c.len() {
             return Err(to_py(
@@ -148,8 +176,20 @@ impl PyBandGridBrdf {
                 ),
             ));
         }
-        let (f, p): (Vec<f64>, Vec<f64>) = (0..a.len()).map(|i| self.grid.eval_mu(a[i], b[i], c[i])).unzip();
-        Ok((f.into_pyarray(py), p.into_pyarray(py)))
+        let k = self.grid.layers();
+        let (mut f, mut p) = (Vec::with_capacity(a.len() * k), Vec::with_capacity(a.len() * k));
+        for i in 0..a.len() {
+            let s = self.grid.stencil(a[i], b[i], c[i]);
+            for l in 0..k {
+                let (fl, pl) = self.grid.layer(&s, l);
+                f.push(fl);
+                p.push(pl);
+            }
+        }
+        let dims = if self.stacked { vec![a.len(), k] } else { vec![a.len()] };
+        let shaped =
+            |v: Vec<f64>| ArrayD::from_shape_vec(IxDyn(&dims), v).map_err(|e| PyRuntimeError::new_err(e.to_string()));
+        Ok((shaped(f)?.into_pyarray(py), shaped(p)?.into_pyarray(py)))
     }
 }
 

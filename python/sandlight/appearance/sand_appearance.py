@@ -162,20 +162,30 @@ class SandAppearance:
         self._combination = at_r0.combination
         self.reference_reflectance = self._combination.reference_reflectance
         self.shapes = ShapeSeries.build(shape, model, self.sand_sample, at_r0, self.normal_reflectance, combination)
-        self._evaluators = tuple(
-            _native.BandGridBrdf(s.band_grid.grid, s.band_grid.nodes, s.combination.profile) for s in self.shapes.shapes
+        # One native evaluator: a stacked grid of the K shapes on the same nodes (a plain one for K = 1).
+        shapes = self.shapes.shapes
+        self._stacked = len(shapes) > 1
+        grids = np.stack([s.band_grid.grid for s in shapes])
+        profiles = np.stack([s.combination.profile for s in shapes])
+        self._evaluator = _native.BandGridBrdf(
+            grids if self._stacked else grids[0], self.band_grid.nodes, profiles if self._stacked else profiles[0]
         )
         # The sampling tables follow f at the reference spectrum: the mean of the per-wavelength weights.
         a_ref, b_ref = (x.mean(axis=0) for x in self.shapes.weights(self.normal_reflectance))
         self._sampling = SamplingTables.build(self.band_grid, lambda *mu: self._evaluate_mu(mu, a_ref, b_ref)[..., 0])
 
+    def _layers_mu(self, *mu: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(f̂_k, P_k P_k) of every shape at points (μ_i, μ_o, Δφ) (each (P,)): two (P, K) arrays."""
+        g, pp = self._evaluator.evaluate_mu(*mu)
+        return g.reshape(g.shape[0], -1), pp.reshape(pp.shape[0], -1)
+
     def _evaluate_mu(self, mu: tuple[np.ndarray, ...], a: np.ndarray, b: np.ndarray) -> np.ndarray:
         """f (P, W) at points (μ_i, μ_o, Δφ) (each (P,)) for shape weights a, b ((W, K) or (K,))."""
         a, b = np.atleast_2d(a), np.atleast_2d(b)
+        g, pp = self._layers_mu(*mu)
         out = np.zeros((mu[0].size, a.shape[0]))
-        for k, ev in enumerate(self._evaluators):
-            g, pp = ev.evaluate_mu(*mu)
-            out += g[:, None] * a[None, :, k] + pp[:, None] * b[None, :, k]
+        for k in range(g.shape[1]):
+            out += g[:, k, None] * a[None, :, k] + pp[:, k, None] * b[None, :, k]
         return out
 
     # ---- parts, for renderers that re-implement the evaluation (sandlight.mitsuba) --------------
@@ -242,23 +252,16 @@ class SandAppearance:
                 wo = np.broadcast_to(wo, wi.shape)
             else:
                 raise ParameterError("wo", f"{wo.shape[0]} rows", f"as many rows as wi ({wi.shape[0]}) or one")
-        r = self.reflectance_at(wavelengths_nm)
-        a, b = self.shapes.weights(r)
-        used = self.shapes.blend(r) > 0  # (W, K): the shapes each wavelength blends
-        wi, wo = np.ascontiguousarray(wi), np.ascontiguousarray(wo)
-        out = None
-        for k, ev in enumerate(self._evaluators):
-            cols = np.flatnonzero(used[:, k])
-            if not cols.size:
-                continue
-            part = ev.evaluate(wi, wo, np.ascontiguousarray(a[cols, k]), np.ascontiguousarray(b[cols, k]), threads)
-            if out is None and cols.size == r.size:  # one shape for every wavelength (always so for K = 1)
-                out = part
-                continue
-            if out is None:
-                out = np.zeros((wi.shape[0], r.size))
-            out[:, cols] += part
-        return np.zeros((wi.shape[0], r.size)) if out is None else out
+        a, b = self.shapes.weights(self.reflectance_at(wavelengths_nm))
+        if not self._stacked:
+            a, b = a[:, 0], b[:, 0]
+        return self._evaluator.evaluate(
+            np.ascontiguousarray(wi),
+            np.ascontiguousarray(wo),
+            np.ascontiguousarray(a),
+            np.ascontiguousarray(b),
+            threads,
+        )
 
     def albedo(self, wi: ArrayLike, wavelengths_nm: ArrayLike | None = None) -> np.ndarray:
         """Directional-hemispherical reflectance ∫ f(ω_i, ω_o, λ) cos θ_o dω_o, exact for the model.
@@ -387,14 +390,13 @@ class SandAppearance:
         # float64 arrays: about 8 over the quadrature points (the meshgrids, g, pp and their
         # temporaries) and 3 over the table (f, its transpose average, the file's copy).
         need = 8 * (8 * x.size**2 * int(n_dphi) + 3 * wl.size * int(n_mu) ** 2 * int(n_dphi))
-        need += 8 * 2 * (len(self._evaluators) - 1) * int(n_mu) ** 2 * int(n_dphi)  # the other shapes' g, pp
+        need += 8 * 2 * (len(self.shapes.shapes) - 1) * x.size**2 * int(n_dphi)  # the other shapes' g, pp
         check_allocation("n_mu, n_dphi", (int(n_mu), int(n_dphi)), need)
         XI, XO, DP = np.meshgrid(x, x, dphi, indexing="ij")
         f = np.zeros((wl.size, int(n_mu), int(n_mu), int(n_dphi)))
-        for k, ev in enumerate(self._evaluators):
-            g, pp = ev.evaluate_mu(XI.ravel(), XO.ravel(), DP.ravel())
-            g = np.einsum("ix,xyk,jy->ijk", W, g.reshape(XI.shape), W, optimize=True)
-            pp = np.einsum("ix,xyk,jy->ijk", W, pp.reshape(XI.shape), W, optimize=True)
+        layers = self._layers_mu(XI.ravel(), XO.ravel(), DP.ravel())
+        for k in range(layers[0].shape[1]):
+            g, pp = (np.einsum("ix,xyk,jy->ijk", W, v[:, k].reshape(XI.shape), W, optimize=True) for v in layers)
             f += a[:, k, None, None, None] * g[None] + b[:, k, None, None, None] * pp[None]
         # The model is reciprocal; averaging with the transpose removes the rounding (~1e-16) of the
         # summation order, so that readers may rely on exact symmetry.

@@ -10,19 +10,26 @@
 //! nodes (piecewise linear, held below the lowest node): the paper's §3.3 product is b = 0 and
 //! a = the directional-hemispherical reflectance at normal incidence; `sandlight.appearance`
 //! documents the energy-conserving term b. One spatial evaluation serves every wavelength.
+//!
+//! A grid may hold K *layers* (shapes) on the same nodes, F_l and P_l, blended per wavelength:
+//! f(λ) = Σ_l a_l(λ)·F_l + b_l(λ)·P_l(μ_i)·P_l(μ_o) (`sandlight.appearance.shapes`: the shape at
+//! the sand's reflectance at each wavelength). The interpolation weights of a direction pair are
+//! computed once for all layers.
 
 use crate::error::SandlightError;
 
-/// The continuous BRDF's node values on the band grid, with the node cosines.
+/// The continuous BRDF's node values on the band grid (one or more layers), with the node cosines.
 #[derive(Debug, Clone)]
 pub struct BandGrid {
     stacks: usize,
     slices: usize,
+    /// K, the layers (shapes) on these nodes.
+    layers: usize,
     /// μ of the nodes in ascending order: band stacks − 1 (lowest) first, the cap (μ = 1) last.
     ascending: Vec<f64>,
-    /// F[b_i][b_o][k] row-major, band 0 = cap (the Python layout).
+    /// F[l][b_i][b_o][k] row-major, band 0 = cap (the Python layout).
     values: Vec<f64>,
-    /// P at the nodes, band order (cap first).
+    /// P[l] at the nodes, band order (cap first).
     profile: Vec<f64>,
     /// For each of `LOOKUP` equal cells of μ ∈ [asc[0], 1], the last node ≤ the cell's start:
     /// the bracket search starts there and steps up at most a few nodes (no binary search).
@@ -32,12 +39,40 @@ pub struct BandGrid {
 /// Cells of the bracket lookup table.
 const LOOKUP: usize = 256;
 
+/// The interpolation weights of one direction pair on the grid, shared by its layers.
+#[derive(Debug, Clone, Copy)]
+pub struct Stencil {
+    /// Incoming nodes and weight: (1 − ti)·[i0] + ti·[i1].
+    i0: usize,
+    i1: usize,
+    ti: f64,
+    /// Outgoing nodes and weight.
+    o0: usize,
+    o1: usize,
+    to: f64,
+    /// Azimuth slices and weight.
+    k0: usize,
+    k1: usize,
+    tk: f64,
+}
+
+/// What a direction pair asks of the grid.
+#[derive(Debug, Clone, Copy)]
+pub enum Pair {
+    /// A NaN component: NaN out.
+    Nan,
+    /// On or below the horizon: 0 out.
+    Below,
+    /// Inside: interpolate with these weights.
+    At(Stencil),
+}
 impl BandGrid {
     /// Builds the grid.
     ///
     /// `band_cos_theta` are the μ of the nodes in band order (cap first, decreasing), `values`
-    /// is F[b_i, b_o, k] row-major with shape (stacks, stacks, slices), `profile` P at the nodes
-    /// in band order (zeros for the plain product).
+    /// is F[l, b_i, b_o, k] row-major with shape (K, stacks, stacks, slices), `profile` P[l] at
+    /// the nodes in band order with shape (K, stacks) (zeros for the plain product); K ≥ 1 is
+    /// the profile's length over `stacks`.
     pub fn new(
         stacks: usize,
         slices: usize,
@@ -67,11 +102,19 @@ impl BandGrid {
                 "must be finite and strictly decreasing",
             ));
         }
-        if values.len() != stacks * stacks * slices {
+        if profile.is_empty() || profile.len() % stacks != 0 || profile.iter().any(|v| !v.is_finite()) {
+            return Err(SandlightError::parameter(
+                "profile",
+                format!("{} values", profile.len()),
+                &format!("must hold K ≥ 1 rows of {stacks} finite values, one per node"),
+            ));
+        }
+        let layers = profile.len() / stacks;
+        if values.len() != layers * stacks * stacks * slices {
             return Err(SandlightError::parameter(
                 "grid",
                 format!("{} values", values.len()),
-                &format!("must hold stacks × stacks × slices = {} values", stacks * stacks * slices),
+                &format!("must hold layers × stacks × stacks × slices = {} values", layers * stacks * stacks * slices),
             ));
         }
         if stacks > u16::MAX as usize {
@@ -79,13 +122,6 @@ impl BandGrid {
         }
         if values.iter().any(|v| !v.is_finite()) {
             return Err(SandlightError::parameter("grid", "a non-finite value", "must hold finite values"));
-        }
-        if profile.len() != stacks || profile.iter().any(|v| !v.is_finite()) {
-            return Err(SandlightError::parameter(
-                "profile",
-                format!("{} values", profile.len()),
-                &format!("must hold {stacks} finite values, one per node"),
-            ));
         }
         let ascending: Vec<f64> = band_cos_theta.iter().rev().copied().collect();
         let (lo, hi) = (ascending[0], ascending[stacks - 1]);
@@ -95,7 +131,12 @@ impl BandGrid {
                 (ascending.partition_point(|&a| a <= m).saturating_sub(1).min(stacks - 2)) as u16
             })
             .collect();
-        Ok(BandGrid { stacks, slices, ascending, values, profile, start })
+        Ok(BandGrid { stacks, slices, layers, ascending, values, profile, start })
+    }
+
+    /// K, the layers.
+    pub fn layers(&self) -> usize {
+        self.layers
     }
 
     /// Linear weights of μ on the nodes: (band a, band b, t) with value (1 − t)·F[a] + t·F[b].
@@ -117,38 +158,51 @@ impl BandGrid {
         (n - 1 - j, n - 2 - j, t)
     }
 
-    /// (F, P(μ_i)·P(μ_o)) at (μ_i, μ_o, Δφ), Δφ in radians (any real, periodic). No horizon
-    /// test.
+    /// The interpolation weights at (μ_i, μ_o, Δφ), Δφ in radians (any real, periodic). No
+    /// horizon test.
     #[inline]
-    pub fn eval_mu(&self, mu_i: f64, mu_o: f64, dphi: f64) -> (f64, f64) {
-        let (a0, a1, ta) = self.bracket(mu_i);
-        let (b0, b1, tb) = self.bracket(mu_o);
+    pub fn stencil(&self, mu_i: f64, mu_o: f64, dphi: f64) -> Stencil {
+        let (i0, i1, ti) = self.bracket(mu_i);
+        let (o0, o1, to) = self.bracket(mu_o);
         let l = self.slices;
         let x = (dphi * (l as f64 / std::f64::consts::TAU)).rem_euclid(l as f64);
         let k0f = x.floor();
-        let tk = x - k0f;
         let k0 = (k0f as usize) % l; // x can round up to exactly `slices`
-        let k1 = (k0 + 1) % l;
-        let v = &self.values;
+        Stencil { i0, i1, ti, o0, o1, to, k0, k1: (k0 + 1) % l, tk: x - k0f }
+    }
+
+    /// (F_l, P_l(μ_i)·P_l(μ_o)) of layer `l` with the weights `s`.
+    #[inline]
+    pub fn layer(&self, s: &Stencil, l: usize) -> (f64, f64) {
+        let n = self.stacks;
+        let v = &self.values[l * n * n * self.slices..(l + 1) * n * n * self.slices];
         let at = |bi: usize, bo: usize| -> f64 {
-            let row = (bi * self.stacks + bo) * l;
-            (1.0 - tk) * v[row + k0] + tk * v[row + k1]
+            let row = (bi * n + bo) * self.slices;
+            (1.0 - s.tk) * v[row + s.k0] + s.tk * v[row + s.k1]
         };
-        let f =
-            (1.0 - ta) * ((1.0 - tb) * at(a0, b0) + tb * at(a0, b1)) + ta * ((1.0 - tb) * at(a1, b0) + tb * at(a1, b1));
-        let p = &self.profile;
-        let pi = (1.0 - ta) * p[a0] + ta * p[a1];
-        let po = (1.0 - tb) * p[b0] + tb * p[b1];
+        let (ti, to) = (s.ti, s.to);
+        let f = (1.0 - ti) * ((1.0 - to) * at(s.i0, s.o0) + to * at(s.i0, s.o1))
+            + ti * ((1.0 - to) * at(s.i1, s.o0) + to * at(s.i1, s.o1));
+        let p = &self.profile[l * n..(l + 1) * n];
+        let pi = (1.0 - ti) * p[s.i0] + ti * p[s.i1];
+        let po = (1.0 - to) * p[s.o0] + to * p[s.o1];
         (f, pi * po)
     }
 
-    /// (F, P·P) for directions towards the light `wi` and the viewer `wo` (local frame, z = the
-    /// normal, any positive length): 0 if either is on or below the horizon, NaN if either has a
-    /// NaN component. Err for a zero or infinite vector.
+    /// (F, P(μ_i)·P(μ_o)) of the first layer at (μ_i, μ_o, Δφ), Δφ in radians (any real,
+    /// periodic). No horizon test.
     #[inline]
-    pub fn eval_dirs(&self, wi: [f64; 3], wo: [f64; 3]) -> Result<(f64, f64), &'static str> {
+    pub fn eval_mu(&self, mu_i: f64, mu_o: f64, dphi: f64) -> (f64, f64) {
+        self.layer(&self.stencil(mu_i, mu_o, dphi), 0)
+    }
+
+    /// What the pair of directions towards the light `wi` and the viewer `wo` (local frame,
+    /// z = the normal, any positive length) asks: NaN if either has a NaN component, 0 if either
+    /// is on or below the horizon, else the stencil. Err for a zero or infinite vector.
+    #[inline]
+    pub fn pair(&self, wi: [f64; 3], wo: [f64; 3]) -> Result<Pair, &'static str> {
         if wi.iter().chain(wo.iter()).any(|c| c.is_nan()) {
-            return Ok((f64::NAN, f64::NAN));
+            return Ok(Pair::Nan);
         }
         let ni = (wi[0] * wi[0] + wi[1] * wi[1] + wi[2] * wi[2]).sqrt();
         let no = (wo[0] * wo[0] + wo[1] * wo[1] + wo[2] * wo[2]).sqrt();
@@ -159,16 +213,30 @@ impl BandGrid {
             return Err("wo");
         }
         if !(wi[2] > 0.0 && wo[2] > 0.0) {
-            return Ok((0.0, 0.0));
+            return Ok(Pair::Below);
         }
         // φ_o − φ_i from one atan2: sin and cos of the difference times |wi_xy||wo_xy|.
         let dphi = (wi[0] * wo[1] - wi[1] * wo[0]).atan2(wi[0] * wo[0] + wi[1] * wo[1]);
-        Ok(self.eval_mu(wi[2] / ni, wo[2] / no, dphi))
+        Ok(Pair::At(self.stencil(wi[2] / ni, wo[2] / no, dphi)))
+    }
+
+    /// (F, P·P) of the first layer for directions `wi`, `wo` ([`BandGrid::pair`]): 0 if either is
+    /// on or below the horizon, NaN if either has a NaN component. Err for a zero or infinite
+    /// vector.
+    #[inline]
+    pub fn eval_dirs(&self, wi: [f64; 3], wo: [f64; 3]) -> Result<(f64, f64), &'static str> {
+        Ok(match self.pair(wi, wo)? {
+            Pair::Nan => (f64::NAN, f64::NAN),
+            Pair::Below => (0.0, 0.0),
+            Pair::At(s) => self.layer(&s, 0),
+        })
     }
 }
 
-/// Spectral BRDF of `n` direction pairs: `out[p·W + w] = F(wi_p, wo_p)·a[w] + P(μ_i)P(μ_o)·b[w]`
-/// (W = a.len() = b.len()). `wi`, `wo` are row-major (n, 3).
+/// Spectral BRDF of `n` direction pairs: `out[p·W + w] = Σ_l F_l(wi_p, wo_p)·a[w·K + l] +
+/// P_l(μ_i)P_l(μ_o)·b[w·K + l]` (K the grid's layers, W = a.len()/K = b.len()/K; for K = 1,
+/// F·a[w] + P P·b[w]). `wi`, `wo` are row-major (n, 3). Layers whose weights are all zero are
+/// not evaluated.
 ///
 /// Returns Err((name, row)) for the first zero or infinite direction.
 pub fn spectral_brdf(
@@ -179,12 +247,24 @@ pub fn spectral_brdf(
     b: &[f64],
     out: &mut [f64],
 ) -> Result<(), (&'static str, usize)> {
-    let w = a.len();
-    debug_assert_eq!(b.len(), w);
+    let k = grid.layers;
+    let w = a.len() / k;
+    debug_assert!(a.len() == w * k && b.len() == w * k);
+    let active: Vec<usize> = (0..k).filter(|&l| (0..w).any(|j| a[j * k + l] != 0.0 || b[j * k + l] != 0.0)).collect();
+    let (mut f, mut pp) = (vec![0.0; k], vec![0.0; k]);
     for (p, ((x, y), o)) in wi.chunks_exact(3).zip(wo.chunks_exact(3)).zip(out.chunks_exact_mut(w.max(1))).enumerate() {
-        let (f, pp) = grid.eval_dirs([x[0], x[1], x[2]], [y[0], y[1], y[2]]).map_err(|name| (name, p))?;
-        for ((dst, sa), sb) in o.iter_mut().zip(a).zip(b) {
-            *dst = f * sa + pp * sb;
+        match grid.pair([x[0], x[1], x[2]], [y[0], y[1], y[2]]).map_err(|name| (name, p))? {
+            Pair::Nan => o.fill(f64::NAN),
+            Pair::Below => o.fill(0.0),
+            Pair::At(s) => {
+                for &l in &active {
+                    (f[l], pp[l]) = grid.layer(&s, l);
+                }
+                for (j, dst) in o.iter_mut().enumerate() {
+                    let (aj, bj) = (&a[j * k..(j + 1) * k], &b[j * k..(j + 1) * k]);
+                    *dst = active.iter().fold(0.0, |v, &l| v + (f[l] * aj[l] + pp[l] * bj[l]));
+                }
+            }
         }
     }
     Ok(())
@@ -279,11 +359,44 @@ mod tests {
     }
 
     #[test]
+    fn layers_share_the_stencil_and_blend_per_wavelength() {
+        let (stacks, slices) = (4, 6);
+        let one = grid(stacks, slices);
+        // Layer 1 = 2 × layer 0 + 5, profile halved.
+        let n = stacks * stacks * slices;
+        let values: Vec<f64> = one.values.iter().copied().chain(one.values.iter().map(|v| 2.0 * v + 5.0)).collect();
+        let profile: Vec<f64> = one.profile.iter().copied().chain(one.profile.iter().map(|p| 0.5 * p)).collect();
+        let nodes: Vec<f64> = one.ascending.iter().rev().copied().collect();
+        let two = BandGrid::new(stacks, slices, &nodes, values, profile).unwrap();
+        assert_eq!((two.layers(), two.values.len()), (2, 2 * n));
+        let (wi, wo) = ([0.3, 0.2, 0.5], [-0.1, 0.4, 0.2]);
+        let (f0, p0) = one.eval_dirs(wi, wo).unwrap();
+        // Wavelength 0 takes layer 0 alone, wavelength 1 a blend, wavelength 2 layer 1 alone.
+        let a = [0.7, 0.0, 0.3, 0.3, 0.0, 1.0];
+        let b = [0.1, 0.0, 0.2, 0.2, 0.0, 0.4];
+        let mut out = [0.0; 3];
+        spectral_brdf(&two, &wi, &wo, &a, &b, &mut out).unwrap();
+        let (f1, p1) = (2.0 * f0 + 5.0, 0.25 * p0);
+        let want = [0.7 * f0 + 0.1 * p0, 0.3 * f0 + 0.2 * p0 + 0.3 * f1 + 0.2 * p1, f1 + 0.4 * p1];
+        for (o, w) in out.iter().zip(want) {
+            assert!((o - w).abs() < 1e-12 * w.abs(), "{out:?} vs {want:?}");
+        }
+        // Below the horizon and NaN as for one layer.
+        spectral_brdf(&two, &[0.0, 0.0, 1.0], &[1.0, 0.0, -0.1], &a, &b, &mut out).unwrap();
+        assert_eq!(out, [0.0; 3]);
+        spectral_brdf(&two, &[f64::NAN, 0.0, 1.0], &wo, &a, &b, &mut out).unwrap();
+        assert!(out.iter().all(|v| v.is_nan()));
+    }
+
+    #[test]
     fn rejects_bad_grids() {
         let p = || vec![0.0; 3];
         assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.6], vec![0.0; 36], p()).is_err());
         assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.1], vec![0.0; 35], p()).is_err());
         assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.1], vec![f64::NAN; 36], p()).is_err());
         assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.1], vec![0.0; 36], vec![0.0; 2]).is_err());
+        // Two layers of profile want two layers of values.
+        assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.1], vec![0.0; 36], vec![0.0; 6]).is_err());
+        assert!(BandGrid::new(3, 4, &[1.0, 0.5, 0.1], vec![0.0; 72], vec![0.0; 6]).is_ok());
     }
 }
