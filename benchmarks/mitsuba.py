@@ -15,6 +15,11 @@ loading) is excluded and reported. Noise: on the crop of rows 22–61 of 180 (sc
 height; for beach-drying the wet sand 0.3°–8° below the horizon, as benchmarks/render.py), the
 relative standard deviation of one render's luminance, σ/Y = rms(A − B)/(√2 Ȳ) from two renders
 with independent seeds; efficiency = samples/s ÷ (σ/Y)² (higher is better), relative to sandlight.
+
+Then the cost of the plugin's shapes per wavelength, side by side: ``eval`` + ``pdf`` of 10⁶
+random direction pairs in ``llvm_ad_rgb`` for ``--shape-preset`` (default yellow-dune, the dune
+family's blended shapes) with ``shape="reflectance"`` and ``"fixed"`` (best of 3 after a
+warm-up). ``--shapes-only`` skips the frame.
 """
 
 from __future__ import annotations
@@ -83,6 +88,37 @@ def mitsuba_frame(scene, frame, variant):
     return setup, times[0], min(times[1:]), crop_noise(ys[1], ys[2])
 
 
+def plugin_eval_rates(preset: str, n: int = 1_000_000) -> None:
+    """Pairs per second of the plugin's eval + pdf for ``preset`` with either shape option."""
+    import drjit as dr
+
+    import sandlight.mitsuba as sm
+
+    mi = sm.load_mitsuba("llvm_ad_rgb")
+    rng = np.random.default_rng(1)
+    wi, wo = rng.normal(size=(2, n, 3))
+    wi[:, 2], wo[:, 2] = np.abs(wi[:, 2]) + 1e-3, np.abs(wo[:, 2]) + 1e-3
+    wi /= np.linalg.norm(wi, axis=1, keepdims=True)
+    wo /= np.linalg.norm(wo, axis=1, keepdims=True)
+    si = dr.zeros(mi.SurfaceInteraction3f, n)
+    si.wi = mi.Vector3f(wi.T.astype(np.float32))
+    out, ctx = mi.Vector3f(wo.T.astype(np.float32)), mi.BSDFContext()
+    rates = {}
+    for shape in ("fixed", "reflectance"):
+        bsdf = mi.load_dict({"type": "sand", "preset": preset, "shape": shape})
+        times = []
+        for _ in range(4):  # the first compiles the kernel
+            t0 = time.perf_counter()
+            value, pdf = bsdf.eval_pdf(ctx, si, out)
+            dr.eval(value, pdf)
+            dr.sync_thread()  # the kernels run asynchronously: wait for them
+            times.append(time.perf_counter() - t0)
+        rates[shape] = n / min(times[1:])
+        shapes = sm.bsdf.plugin_tables(bsdf.spec).shapes
+        print(f"plugin eval + pdf, {preset}, shape={shape!r} ({shapes} shapes): {rates[shape] / 1e6:.1f} M pairs/s")
+    print(f"shape per wavelength costs {rates['fixed'] / rates['reflectance']:.1f}× the time of one shape")
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scene", default="beach-drying")
@@ -90,8 +126,13 @@ def main() -> int:
     ap.add_argument("--width", type=int, default=320)
     ap.add_argument("--height", type=int, default=180)
     ap.add_argument("--spp", type=int, default=64)
+    ap.add_argument("--shape-preset", default="yellow-dune")
+    ap.add_argument("--shapes-only", action="store_true")
     args = ap.parse_args()
     warnings.simplefilter("ignore")
+    if args.shapes_only:
+        plugin_eval_rates(args.shape_preset)
+        return 0
     from sandlight.render import Scene
 
     scene = Scene.load(args.scene).with_overrides(width=args.width, height=args.height, spp=args.spp)
@@ -114,6 +155,7 @@ def main() -> int:
             f"crop σ/Y {noise:.4f}, efficiency {rate / noise**2 / base_eff:.2f}× sandlight "
             f"(first render with compilation {first:.1f} s; scene loading {setup:.1f} s)"
         )
+    plugin_eval_rates(args.shape_preset)
     return 0
 
 

@@ -100,3 +100,12 @@ def test_the_stacked_evaluator_is_the_weighted_sum_of_its_shapes(dune):
     assert (got[0] == 0).all() and np.isnan(got[1]).all()
     # a single wavelength evaluates only the (at most two) shapes it blends, with the same result
     np.testing.assert_allclose(app.brdf(wi, wo, [WL[3]])[:, 0], got[:, 3], rtol=1e-12)
+
+
+def test_reference_brdf_is_the_mean_of_the_weights(dune):
+    app = SandAppearance("yellow-dune", spectrum(0.03, 0.7), dune)
+    wi, wo = directions(500, 7), directions(500, 8)
+    # f is linear in the weights, so f at their mean is the mean over wavelengths of f.
+    np.testing.assert_allclose(app.reference_brdf(wi, wo), app.brdf(wi, wo).mean(axis=1), rtol=1e-10)
+    wo[0, 2] = -0.2
+    assert app.reference_brdf(wi, wo)[0] == 0.0

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import numpy as np
@@ -25,7 +26,7 @@ N = 3000
 def appearance(sample):
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        return SandAppearance(sample, shape="fixed")  # the plugin applies one shape at every wavelength
+        return SandAppearance(sample)
 
 
 def directions(rng, n):
@@ -36,19 +37,10 @@ def directions(rng, n):
 
 def reference_pdf(app, wi, wo):
     """f_ref cos θ_o / A_ref (sandlight.mitsuba.tables, "Sampling tables") from SandAppearance:
-    f = a(λ) f̂ + b(λ) PP at two wavelengths gives f̂ and PP, f_ref = ā f̂ + b̄ PP; A_ref is the
-    mean of the albedo over the model's wavelengths."""
-    a, b = app.combination_terms.weights(app.normal_reflectance)
-    i, j = int(np.argmin(app.normal_reflectance)), int(np.argmax(app.normal_reflectance))
-    f = app.brdf(wi, wo, app.wavelengths_nm[[i, j]])
-    m = np.array([[a[i], b[i]], [a[j], b[j]]])
-    if abs(np.linalg.det(m)) > 1e-12:
-        g, pp = np.linalg.solve(m, f.T)
-        f_ref = a.mean() * g + b.mean() * pp
-    else:  # no diffuse term at either wavelength: f = a f̂
-        f_ref = a.mean() / a[i] * f[:, 0]
+    f_ref its BRDF at the reference spectrum, A_ref the mean of its albedo over the model's
+    wavelengths (the albedo is linear in the weights)."""
     albedo = app.albedo(wi).mean(axis=1)
-    return f_ref * np.clip(wo[:, 2], 0, None) / albedo
+    return app.reference_brdf(wi, wo) * np.clip(wo[:, 2], 0, None) / albedo
 
 
 def interaction(mi, wi, wavelengths=None):
@@ -203,6 +195,7 @@ def test_pdf_integrates_to_one(rgb, name, theta_deg):
         ({"preset": "no-such-sand"}, "preset"),
         ({"colour": 0.3}, "colour"),
         ({"combination": "sum"}, "combination"),
+        ({"shape": "wavelength"}, "shape"),
         ({"levels": 8}, "levels"),
         ({"sample_file": "/nonexistent/sand.toml"}, "sample_file"),
         ({"preset": "wet-beach", "sample_file": "/nonexistent/sand.toml"}, "sample_file"),
@@ -254,11 +247,36 @@ def test_traverse_exposes_the_sample_and_rebuilds_on_change(rgb):
         params.update()
 
 
-def test_tables_refuse_an_appearance_that_blends_shapes_over_wavelength():
+def test_tables_hold_every_shape_and_refuse_a_blend_that_needs_the_fallback():
+    blended = appearance("red-dune")
+    n_shapes = len(blended.shapes.shapes)
+    assert n_shapes > 1
+    tables = PluginTables.build([blended])
+    assert tables.shapes == n_shapes and tables.grid.size == n_shapes * blended.band_grid.grid.size
+    # Shapes whose product would reflect more than arrives between two anchors: refused by name.
+    first = blended.shapes.shapes[0]
+    bright = dataclasses.replace(first.band_grid, albedo_nodes=first.band_grid.albedo_nodes * 1e3)
+    shapes = (dataclasses.replace(first, band_grid=bright), *blended.shapes.shapes[1:])
+    blended.shapes = dataclasses.replace(blended.shapes, shapes=shapes)
+    with pytest.raises(ParameterError, match="appearances"):
+        PluginTables.build([blended])
+
+
+def test_fixed_shape_is_the_appearances_too(spectral):
+    mi = spectral
+    bsdf = mi.load_dict({"type": "sand", "preset": "red-dune", "shape": "fixed"})
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        blended = SandAppearance("red-dune")
-    assert len(blended.shapes.shapes) > 1
-    with pytest.raises(ParameterError, match="shape='fixed'"):
-        PluginTables.build([blended])
-    assert PluginTables.build([appearance("red-dune")]).n_levels == 1
+        app = SandAppearance("red-dune", shape="fixed")
+    rng = np.random.default_rng(4)
+    wi, wo = directions(rng, 500), directions(rng, 500)
+    lam = np.array([420.0, 510.5, 640.0, 690.0])
+    value = np.array(bsdf.eval(mi.BSDFContext(), interaction(mi, wi, lam), vec(mi, wo))).T
+    expected = app.brdf(wi, wo, lam) * wo[:, 2:3]
+    np.testing.assert_allclose(value, expected, rtol=2e-5, atol=2e-6 * expected.max())
+    blended = np.array(
+        mi.load_dict({"type": "sand", "preset": "red-dune"}).eval(
+            mi.BSDFContext(), interaction(mi, wi, lam), vec(mi, wo)
+        )
+    ).T
+    assert np.abs(blended - value).max() > 0.01 * value.max()  # the shapes do differ

@@ -171,8 +171,10 @@ class SandAppearance:
             grids if self._stacked else grids[0], self.band_grid.nodes, profiles if self._stacked else profiles[0]
         )
         # The sampling tables follow f at the reference spectrum: the mean of the per-wavelength weights.
-        a_ref, b_ref = (x.mean(axis=0) for x in self.shapes.weights(self.normal_reflectance))
-        self._sampling = SamplingTables.build(self.band_grid, lambda *mu: self._evaluate_mu(mu, a_ref, b_ref)[..., 0])
+        self._reference_weights = tuple(x.mean(axis=0) for x in self.shapes.weights(self.normal_reflectance))
+        self._sampling = SamplingTables.build(
+            self.band_grid, lambda *mu: self._evaluate_mu(mu, *self._reference_weights)[..., 0]
+        )
 
     def _layers_mu(self, *mu: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(f̂_k, P_k P_k) of every shape at points (μ_i, μ_o, Δφ) (each (P,)): two (P, K) arrays."""
@@ -285,6 +287,19 @@ class SandAppearance:
 
     def _albedo_mu(self, mu: np.ndarray, wavelengths_nm: np.ndarray | None) -> np.ndarray:
         return self.shapes.albedo(mu, self.reflectance_at(wavelengths_nm))
+
+    def reference_brdf(self, wi: ArrayLike, wo: ArrayLike) -> np.ndarray:
+        """The BRDF at the reference spectrum, sr⁻¹: f with the mean over the spectral model's
+        wavelengths of the per-wavelength weights, which the ``'brdf'`` sampler's tables follow
+        (`sandlight.appearance.sampling`; renderers that sample in proportion to it, such as the
+        Mitsuba plugin, need it). wi, wo: (N, 3) or (3,) as in `brdf`; returns (N,), 0 where
+        either direction has z ≤ 0."""
+        wi, wo = _unit_pairs(wi, wo)
+        if wi.shape[0] != wo.shape[0]:
+            wi, wo = np.broadcast_arrays(wi, wo)
+        dphi = np.arctan2(wo[:, 1], wo[:, 0]) - np.arctan2(wi[:, 1], wi[:, 0])
+        f = self._evaluate_mu((wi[:, 2].copy(), wo[:, 2].copy(), dphi), *self._reference_weights)[:, 0]
+        return np.where((wi[:, 2] > 0) & (wo[:, 2] > 0), f, 0.0)
 
     # ---- sampling ----------------------------------------------------------------------------
     def pdf(self, wi: ArrayLike, wo: ArrayLike, method: str = "brdf") -> np.ndarray:

@@ -17,8 +17,9 @@ f cos θ_o / pdf = A_ref f / f_ref, as Mitsuba expects. Both sides must be above
 (one-sided, like Mitsuba's ``diffuse``).
 
 The evaluation is `sandlight.gonio.brdf.interpolate_band_grid` (trilinear in μ_i, μ_o, Δφ on
-the band grid, held below the lowest node) plus the combination's diffuse term, blended
-linearly between the levels around the textured parameter's value. Mitsuba computes in float32:
+the band grid, held below the lowest node) plus the combination's diffuse term, for every shape
+of a level blended per wavelength as `sandlight.appearance.shapes` does, and blended linearly
+between the levels around the textured parameter's value. Mitsuba computes in float32:
 the plugin agrees with `SandAppearance` to float32 rounding (tested), except exactly at the cap's
 step (its two nodes 10⁻⁸ apart in μ coincide in float32).
 """
@@ -86,20 +87,22 @@ def bsdf_class(variant: str) -> type:
         # ---- data ------------------------------------------------------------------------
         def _upload(self, t: PluginTables) -> None:
             self.t = t
-            self.n, self.L, self.K = t.n_nodes, t.slices, t.n_levels
+            self.n, self.L, self.K, self.S = t.n_nodes, t.slices, t.n_levels, t.shapes
             self.asc = [float(v) for v in t.nodes_ascending]
             self.asc_array = mi.Float(np.asarray(t.nodes_ascending, dtype=np.float32))
             self.grid = mi.Float(t.grid.astype(np.float32))
             self.profile = mi.Float(t.profile.astype(np.float32))
             self.reflectance = mi.Float(t.reflectance.astype(np.float32))
             self.r0 = mi.Float(t.reference_reflectance.astype(np.float32))
+            self.log_anchor = mi.Float(t.log_anchor.astype(np.float32))
+            self.anchor_range = mi.Float(t.anchor_range.astype(np.float32))
+            self.reference_grid = mi.Float(t.reference_grid.astype(np.float32))
             self.M = t.n_wavelengths
             rgb_a, rgb_b = t.rgb_a, t.rgb_b
             if mi.is_monochromatic:  # mono variants: luminance
                 rgb_a, rgb_b = rgb_a @ np.array(LUMINANCE_WEIGHTS), rgb_b @ np.array(LUMINANCE_WEIGHTS)
             self.colour_a = mi.Float(np.ravel(rgb_a).astype(np.float32))
             self.colour_b = mi.Float(np.ravel(rgb_b).astype(np.float32))
-            self.reference = mi.Float(t.reference_weights.ravel().astype(np.float32))
             self.row_cdf = mi.Float(t.row_cdf.astype(np.float32))
             self.row_albedo = mi.Float(t.row_albedo.astype(np.float32))
             self.last_cell = mi.UInt32(t.last_cell.astype(np.uint32))
@@ -131,54 +134,99 @@ def bsdf_class(variant: str) -> type:
         def _dphi(wi: mi.Vector3f, wo: mi.Vector3f) -> mi.Float:
             return dr.atan2(wo.y, wo.x) - dr.atan2(wi.y, wi.x)
 
-        def _spatial(self, k: mi.UInt32, qi: tuple, qo: tuple, dphi: mi.Float, active: mi.Bool) -> tuple:
-            """(f̂, P(μ_i) P(μ_o)) of level k (`interpolate_band_grid`)."""
-            n, L = self.n, self.L
+        def _azimuth(self, dphi: mi.Float) -> tuple:
+            """(j0, j1, t): the Δφ nodes around Δφ and the weight of j1 (periodic)."""
+            L = self.L
             x = dphi * (L / (2.0 * math.pi))
             x = x - L * dr.floor(x / L)
-            k0 = mi.UInt32(dr.floor(x))
-            tk = x - mi.Float(k0)
-            k0 = dr.select(k0 >= L, k0 - L, k0)  # x can round up to exactly L
-            k1 = dr.select(k0 + 1 >= L, mi.UInt32(0), k0 + 1)
+            j0 = mi.UInt32(dr.floor(x))
+            t = x - mi.Float(j0)
+            j0 = dr.select(j0 >= L, j0 - L, j0)  # x can round up to exactly L
+            return j0, dr.select(j0 + 1 >= L, mi.UInt32(0), j0 + 1), t
+
+        def _interpolate(self, table: mi.Float, layer: mi.UInt32, qi: tuple, qo: tuple, az: tuple, active: mi.Bool):
+            """The trilinear interpolant of ``table``'s n × n × L grid number ``layer``."""
+            n, L = self.n, self.L
+            k0, k1, tk = az
             f = mi.Float(0.0)
             for b_in, w_in in ((qi[0], 1.0 - qi[2]), (qi[1], qi[2])):
                 for b_out, w_out in ((qo[0], 1.0 - qo[2]), (qo[1], qo[2])):
-                    row = ((k * n + b_in) * n + b_out) * L
-                    v0 = dr.gather(mi.Float, self.grid, row + k0, active)
-                    v1 = dr.gather(mi.Float, self.grid, row + k1, active)
+                    row = ((layer * n + b_in) * n + b_out) * L
+                    v0 = dr.gather(mi.Float, table, row + k0, active)
+                    v1 = dr.gather(mi.Float, table, row + k1, active)
                     f += w_in * w_out * ((1.0 - tk) * v0 + tk * v1)
+            return f
+
+        def _spatial(self, layer: mi.UInt32, qi: tuple, qo: tuple, az: tuple, active: mi.Bool) -> tuple:
+            """(f̂, P(μ_i) P(μ_o)) of shape ``layer`` = k·S + s (`interpolate_band_grid`)."""
+            n = self.n
             p = []
             for q0, q1, t in (qi, qo):
-                p0 = dr.gather(mi.Float, self.profile, k * n + q0, active)
-                p1 = dr.gather(mi.Float, self.profile, k * n + q1, active)
+                p0 = dr.gather(mi.Float, self.profile, layer * n + q0, active)
+                p1 = dr.gather(mi.Float, self.profile, layer * n + q1, active)
                 p.append((1.0 - t) * p0 + t * p1)
-            return f, p[0] * p[1]
+            return self._interpolate(self.grid, layer, qi, qo, az, active), p[0] * p[1]
 
-        def _weights(self, k: mi.UInt32, si: mi.SurfaceInteraction3f, active: mi.Bool) -> tuple:
-            """(a, b) of level k as Spectrum: at the sampled wavelengths, or projected (RGB/mono)."""
+        def _weights(self, k: mi.UInt32, si: mi.SurfaceInteraction3f, active: mi.Bool) -> list:
+            """[(a_s, b_s)] of level k's S shapes as Spectrum: at the sampled wavelengths, or
+            projected (RGB/mono)."""
+            S = self.S
             if not mi.is_spectral:
                 c = dr.size_v(mi.Spectrum)
-                a = mi.Spectrum([dr.gather(mi.Float, self.colour_a, k * c + i, active) for i in range(c)])
-                b = mi.Spectrum([dr.gather(mi.Float, self.colour_b, k * c + i, active) for i in range(c)])
-                return a, b
-            r0 = dr.gather(mi.Float, self.r0, k, active)
+                out = []
+                for s in range(S):
+                    base = (k * S + s) * c
+                    a = mi.Spectrum([dr.gather(mi.Float, self.colour_a, base + i, active) for i in range(c)])
+                    b = mi.Spectrum([dr.gather(mi.Float, self.colour_b, base + i, active) for i in range(c)])
+                    out.append((a, b))
+                return out
             base = k * self.M
-            channels = []
+            channels = []  # per channel: [(a_s, b_s)] for s in range(S)
             for c in range(dr.size_v(mi.Spectrum)):
                 x = dr.clip(si.wavelengths[c] - self.t.wavelength0_nm, 0.0, self.M - 1.0)
                 i0 = mi.UInt32(dr.clip(dr.floor(x), 0, self.M - 2))
                 tw = x - mi.Float(i0)
                 r0_c = dr.gather(mi.Float, self.reflectance, base + i0, active)
                 r1_c = dr.gather(mi.Float, self.reflectance, base + i0 + 1, active)
-                channels.append((1.0 - tw) * r0_c + tw * r1_c)
-            r = mi.Spectrum(channels)
-            if self.t.product:
-                return r, mi.Spectrum(0.0)
-            # Combination.weights, 'energy': a = min(r, r0), b = (r − r0)/(1 − r0) where r > r0.
-            bright = r > r0
-            a = dr.select(bright, r0, r)
-            b = dr.select(bright & (r0 < 1.0), (r - r0) / (1.0 - r0), 0.0)
-            return a, b
+                channels.append(self._shape_weights(k, (1.0 - tw) * r0_c + tw * r1_c, active))
+            return [
+                (mi.Spectrum([ch[s][0] for ch in channels]), mi.Spectrum([ch[s][1] for ch in channels]))
+                for s in range(S)
+            ]
+
+        def _shape_weights(self, k: mi.UInt32, r: mi.Float, active: mi.Bool) -> list:
+            """[(a_s, b_s)] of level k's shapes at reflectance r (`ShapeSeries.weights`): linear in
+            log r between the anchors around it, each shape's own combination, and inside the
+            anchors' range the product r f̂."""
+            S = self.S
+            if S == 1:
+                weights = [mi.Float(1.0)]
+                inside = mi.Bool(False)
+            else:
+                lr = dr.log(dr.maximum(r, 1e-30))
+                lo = dr.gather(mi.Float, self.anchor_range, 2 * k, active)
+                hi = dr.gather(mi.Float, self.anchor_range, 2 * k + 1, active)
+                u = dr.clip(lr, lo, hi)
+                j = mi.UInt32(0)
+                for s in range(1, S - 1):  # j: the last anchor ≤ u, in [0, S − 2]
+                    x_s = dr.gather(mi.Float, self.log_anchor, k * S + s, active)
+                    j += dr.select(u >= x_s, mi.UInt32(1), mi.UInt32(0))
+                x0 = dr.gather(mi.Float, self.log_anchor, k * S + j, active)
+                x1 = dr.gather(mi.Float, self.log_anchor, k * S + j + 1, active)
+                t = dr.select(dr.isfinite(x1) & (x1 > x0), (u - x0) / (x1 - x0), 0.0)
+                weights = [dr.select(j == s, 1.0 - t, 0.0) + dr.select(j + 1 == s, t, 0.0) for s in range(S)]
+                inside = (lr > lo) & (lr < hi)
+            out = []
+            for s, w in enumerate(weights):
+                if self.t.product:
+                    a, b = r, mi.Float(0.0)
+                else:  # Combination.weights, 'energy': a = min(r, r0), b = (r − r0)/(1 − r0) where r > r0.
+                    r0 = dr.gather(mi.Float, self.r0, k * S + s, active)
+                    bright = r > r0
+                    a = dr.select(bright, r0, r)
+                    b = dr.select(bright & (r0 < 1.0), (r - r0) / (1.0 - r0), 0.0)
+                out.append((dr.select(inside, w * r, w * a), dr.select(inside, 0.0, w * b)))
+            return out
 
         def _levels(self, si: mi.SurfaceInteraction3f, active: mi.Bool) -> list:
             """[(level, weight)]: the one level, or the two around the texture's value."""
@@ -188,15 +236,13 @@ def bsdf_class(variant: str) -> type:
         def _f(self, si: mi.SurfaceInteraction3f, wo: mi.Vector3f, active: mi.Bool) -> tuple:
             """(f(si.wi, wo, λ), f_ref(si.wi, wo)), sr⁻¹ (no horizon test)."""
             qi, qo = self._bracket(si.wi.z), self._bracket(wo.z)
-            dphi = self._dphi(si.wi, wo)
+            az = self._azimuth(self._dphi(si.wi, wo))
             value, ref = mi.Spectrum(0.0), mi.Float(0.0)
             for k, wk in self._levels(si, active):
-                g, pp = self._spatial(k, qi, qo, dphi, active)
-                a, b = self._weights(k, si, active)
-                value += wk * (a * g + b * pp)
-                a_ref = dr.gather(mi.Float, self.reference, 2 * k, active)
-                b_ref = dr.gather(mi.Float, self.reference, 2 * k + 1, active)
-                ref += wk * (a_ref * g + b_ref * pp)
+                for s, (a, b) in enumerate(self._weights(k, si, active)):
+                    g, pp = self._spatial(k * self.S + s, qi, qo, az, active)
+                    value += wk * (a * g + b * pp)
+                ref += wk * self._interpolate(self.reference_grid, k, qi, qo, az, active)
             return value, ref
 
         def _rows(self, si: mi.SurfaceInteraction3f, active: mi.Bool) -> list:
@@ -217,15 +263,9 @@ def bsdf_class(variant: str) -> type:
             return dr.select(ok, f_ref * wo.z / albedo, 0.0)
 
         def _row_value(self, k: mi.UInt32, q: mi.UInt32, i: mi.UInt32, j: mi.UInt32, active: mi.Bool) -> mi.Float:
-            """h_{k,q} at ascending sampled-side node i and Δφ node j."""
+            """h_{k,q} at ascending sampled-side node i and Δφ node j: the reference grid H_k."""
             n = self.n
-            b = (n - 1) - i
-            f = dr.gather(mi.Float, self.grid, ((k * n + q) * n + b) * self.L + j, active)
-            pq = dr.gather(mi.Float, self.profile, k * n + q, active)
-            pb = dr.gather(mi.Float, self.profile, k * n + b, active)
-            a_ref = dr.gather(mi.Float, self.reference, 2 * k, active)
-            b_ref = dr.gather(mi.Float, self.reference, 2 * k + 1, active)
-            return a_ref * f + b_ref * pq * pb
+            return dr.gather(mi.Float, self.reference_grid, ((k * n + q) * n + (n - 1) - i) * self.L + j, active)
 
         def _enabled(self, ctx: mi.BSDFContext, si: mi.SurfaceInteraction3f, active: mi.Bool) -> mi.Bool:
             return active & (si.wi.z > 0) & ctx.is_enabled(mi.BSDFFlags.GlossyReflection, 0)
@@ -333,6 +373,7 @@ def bsdf_class(variant: str) -> type:
             values.pop(self.spec.varied, None)
             values = {k: v for k, v in values.items() if not (isinstance(v, float) and not math.isfinite(v))}
             values["combination"] = self.spec.combination
+            values["shape"] = self.spec.shape
             for name in ("spectral_model", "spatial_model"):
                 if getattr(self.spec, name) is not None:
                     values[name] = getattr(self.spec, name)
@@ -348,6 +389,6 @@ def bsdf_class(variant: str) -> type:
         def to_string(self) -> str:
             s = self.spec
             varied = f", {s.varied} textured over {len(s.level_values)} levels" if s.varied else ""
-            return f"SandBSDF[{PLUGIN_NAME}: {s.sample!r}, combination={s.combination!r}{varied}]"
+            return f"SandBSDF[{PLUGIN_NAME}: {s.sample!r}, combination={s.combination!r}, shape={s.shape!r}{varied}]"
 
     return SandBSDF

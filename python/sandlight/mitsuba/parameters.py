@@ -23,8 +23,9 @@ Parameters (all optional; ``{"type": "sand"}`` is the default `SandSample()`):
   spaced over [``level_min``, ``level_max``] (default: the parameter's domain), and blends the two
   levels around the texture's value at each point.
 - ``levels`` (integer 2–64, default 16), ``level_min``, ``level_max`` (floats).
-- ``combination`` (``"energy"``, default, or ``"product"``), ``spectral_model``, ``spatial_model``
-  (paths; default the shipped models): as `SandAppearance`.
+- ``combination`` (``"energy"``, default, or ``"product"``), ``shape`` (``"reflectance"``, default,
+  or ``"fixed"``), ``spectral_model``, ``spatial_model`` (paths; default the shipped models): as
+  `SandAppearance`.
 """
 
 from __future__ import annotations
@@ -36,7 +37,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sandlight.appearance import COMBINATIONS, SandAppearance
+from sandlight.appearance import COMBINATIONS, SHAPES, SandAppearance
 from sandlight.appearance.sources import resolve_spatial
 from sandlight.errors import ParameterError
 from sandlight.sample import PARAMETERS, SandSample
@@ -47,7 +48,17 @@ PLUGIN_NAME = "sand"
 MAX_LEVELS = 64
 DEFAULT_LEVELS = 16
 _SAMPLE_PARAMETERS = {p.name: p for p in PARAMETERS}
-_OWN = ("preset", "sample_file", "levels", "level_min", "level_max", "combination", "spectral_model", "spatial_model")
+_OWN = (
+    "preset",
+    "sample_file",
+    "levels",
+    "level_min",
+    "level_max",
+    "combination",
+    "shape",
+    "spectral_model",
+    "spatial_model",
+)
 
 
 class PluginParameterError(ParameterError):
@@ -76,6 +87,8 @@ class SandSpec:
         The parameter a texture sets, if any.
     level_values : tuple of float
         The levels of ``varied`` (empty when nothing is textured).
+    shape : str
+        `SandAppearance`'s ``shape``.
     """
 
     sample: SandSample
@@ -84,6 +97,7 @@ class SandSpec:
     spatial_model: str | None = None
     varied: str | None = None
     level_values: tuple[float, ...] = ()
+    shape: str = "reflectance"
 
     @classmethod
     def parse(cls, values: dict, textured: tuple[str, ...] = ()) -> SandSpec:
@@ -116,6 +130,9 @@ class SandSpec:
         combination = values.get("combination", "energy")
         if combination not in COMBINATIONS:
             raise _refuse("combination", combination, f"one of {COMBINATIONS}")
+        shape = values.get("shape", "reflectance")
+        if shape not in SHAPES:
+            raise _refuse("shape", shape, f"one of {SHAPES}")
         models = {}
         for name in ("spectral_model", "spatial_model"):
             path = values.get(name)
@@ -130,7 +147,9 @@ class SandSpec:
             for name in ("levels", "level_min", "level_max"):
                 if name in values:
                     raise _refuse(name, values[name], "nothing: levels apply only when a parameter is a texture")
-        return cls(sample, combination, models["spectral_model"], models["spatial_model"], varied, level_values)
+        return cls(
+            sample, combination, models["spectral_model"], models["spatial_model"], varied, level_values, shape=shape
+        )
 
     @staticmethod
     def _base_sample(values: dict) -> SandSample:
@@ -184,10 +203,9 @@ class SandSpec:
 @functools.lru_cache(maxsize=32)
 def appearance_levels(spec: SandSpec) -> tuple[SandAppearance, ...]:
     """`SandAppearance` of every level of ``spec`` (cached: equal specs share them), all with one
-    spatial model (by default the shipped one that covers every level) and one shape at every
-    wavelength (``shape='fixed'``: the plugin's tables hold one spatial grid per level)."""
+    spatial model (by default the shipped one that covers every level)."""
     samples = spec.samples()
     spatial = resolve_spatial(spec.spatial_model, samples)
     return tuple(
-        SandAppearance(s, spec.spectral_model, spatial, combination=spec.combination, shape="fixed") for s in samples
+        SandAppearance(s, spec.spectral_model, spatial, combination=spec.combination, shape=spec.shape) for s in samples
     )
