@@ -28,6 +28,16 @@ engine's magnetite grains, mass fraction 0–0.9: beyond the sample domain's 5 %
 from the composition directly), with iron oxide in FORM ('coating' or 'mixed'); the best of three
 starts. It writes no figure.
 
+``--observable field`` takes the wet/dry ratio (and the band depth that sets S) as a field
+spectrometer sees it instead of as the directional-hemispherical reflectance at normal incidence
+(``dhr``, the default): the reflectance factor π f of light from a sun at ``--sun-zenith``
+degrees (default 30) into a nadir cone of half-angle 12.7° (the cap of a 6-stack collector
+hemisphere; the ASD's bare fibre sees 25°), with the classic goniophotometer
+(``sandlight.fixed_incidence``). The measured pair is such a field measurement (ASD, bright sun,
+nadir), while the normal-incidence DHR of a wet sand holds the mirror reflection of its flat
+water surfaces straight back to the source, which a spectrometer looking down under an oblique
+sun does not see. The dry fit stays on the DHR.
+
 ``--uniform-films`` replaces the pendular rings by the film of the same water on every
 particle surface (``film_coverage`` 1), the model before issue 17, for comparison.
 
@@ -43,13 +53,14 @@ Usage::
 
     python scripts/studies/wet_sand_pair.py [--rays 3000] [--fit-rays 1500] [--saturation S]
         [--seed 17] [--memories none packed] [--uniform-films] [--dark-grains coating|mixed] [--diagnose]
-        [--default-sample] [--no-figure]
+        [--default-sample] [--no-figure] [--observable dhr|field] [--sun-zenith 30]
 """
 
 from __future__ import annotations
 
 import argparse
 import dataclasses
+import math
 import time
 import types
 from pathlib import Path
@@ -84,6 +95,11 @@ SEED = 17
 UNIFORM_FILMS = False
 #: Set by ``--dark-grains FORM``: the dark sand as clear quartz grains plus opaque grains.
 DARK_GRAINS = None
+#: Set by ``--observable`` and ``--sun-zenith``: what the ratio is taken of.
+OBSERVABLE, SUN_ZENITH_DEG = "dhr", 30.0
+#: Collector hemisphere of the field observable: its cap, a cone of half-angle 12.7° about the
+#: normal, is the nadir-looking spectrometer's field of view.
+FIELD_STACKS, FIELD_SLICES = 6, 8
 
 
 def measured(stem: str, wl: np.ndarray) -> np.ndarray:
@@ -143,10 +159,28 @@ def describe(x: np.ndarray) -> str:
     )
 
 
-def run(x, saturation, memory, wl, rays):
-    return sandlight.reflectance(
-        medium(x, saturation, memory), wl, rays=rays, seed=SEED, progress=False, threads=2, share=False
+def run(x, saturation, memory, wl, rays, observable: str = "dhr"):
+    """The model's reflectance of fit vector x: the DHR at normal incidence (``values``,
+    ``stderr``), or with ``observable="field"`` the nadir reflectance factor under the sun."""
+    m = medium(x, saturation, memory)
+    if observable == "dhr":
+        return sandlight.reflectance(m, wl, rays=rays, seed=SEED, progress=False, threads=2, share=False)
+    # π f into the cap (patch 0) for light from SUN_ZENITH_DEG: the field spectrometer's view.
+    res = sandlight.fixed_incidence(
+        m,
+        [float(w) for w in wl],
+        incidence_deg=SUN_ZENITH_DEG,
+        rays=rays,
+        stacks=FIELD_STACKS,
+        slices=FIELD_SLICES,
+        seed=SEED,
+        threads=2,
+        progress=False,
     )
+    res = res if isinstance(res, list) else [res]
+    values = np.array([math.pi * r.values[0] for r in res])
+    stderr = np.array([math.pi * r.stderr[0] for r in res])
+    return types.SimpleNamespace(values=values, stderr=stderr)
 
 
 def fit_dry(memory: str, rays: int) -> tuple[np.ndarray, float]:
@@ -181,8 +215,8 @@ def saturation_from_band(x: np.ndarray, memory: str, rays: int) -> float:
     """
     wl = np.array([BAND_NM])
     target = float(measured(WET, wl)[0] / measured(DRY, wl)[0])
-    dry = run(x, 0.0, memory, wl, rays).values[0]
-    ratios = np.array([run(x, s, memory, wl, rays).values[0] / dry for s in SATURATION_GRID])
+    dry = run(x, 0.0, memory, wl, rays, OBSERVABLE).values[0]
+    ratios = np.array([run(x, s, memory, wl, rays, OBSERVABLE).values[0] / dry for s in SATURATION_GRID])
     # np.interp needs increasing abscissae: the ratio decreases with S.
     return float(np.interp(target, ratios[::-1], SATURATION_GRID[::-1]))
 
@@ -194,7 +228,7 @@ def ratio_with_error(dry, wet):
 
 
 def main() -> None:
-    global UNIFORM_FILMS, SEED, DARK_GRAINS
+    global UNIFORM_FILMS, SEED, DARK_GRAINS, OBSERVABLE, SUN_ZENITH_DEG
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rays", type=int, default=3000, help="rays per wavelength of the predictions")
     ap.add_argument("--fit-rays", type=int, default=1500, help="rays per wavelength in the dry fit")
@@ -211,8 +245,16 @@ def main() -> None:
     ap.add_argument("--diagnose", action="store_true")
     ap.add_argument("--default-sample", action="store_true", help="the default sample's ratio, both film models")
     ap.add_argument("--no-figure", action="store_true")
+    ap.add_argument(
+        "--observable",
+        choices=["dhr", "field"],
+        default="dhr",
+        help="ratio of the normal-incidence DHR, or of the nadir reflectance factor under the sun (field)",
+    )
+    ap.add_argument("--sun-zenith", type=float, default=30.0, help="sun zenith angle (degrees) of --observable field")
     args = ap.parse_args()
     UNIFORM_FILMS, SEED, DARK_GRAINS = args.uniform_films, args.seed, args.dark_grains
+    OBSERVABLE, SUN_ZENITH_DEG = args.observable, args.sun_zenith
 
     meas_dry, meas_wet = measured(DRY, WAVELENGTHS), measured(WET, WAVELENGTHS)
     meas_ratio = meas_wet / meas_dry
@@ -222,8 +264,8 @@ def main() -> None:
         t0 = time.perf_counter()
         x, rms = fit_dry(memory, args.fit_rays)
         saturation = saturation_from_band(x, memory, args.rays) if args.saturation is None else args.saturation
-        dry = run(x, 0.0, memory, WAVELENGTHS, args.rays)
-        wet = run(x, saturation, memory, WAVELENGTHS, args.rays)
+        dry = run(x, 0.0, memory, WAVELENGTHS, args.rays, OBSERVABLE)
+        wet = run(x, saturation, memory, WAVELENGTHS, args.rays, OBSERVABLE)
         ratio, err = ratio_with_error(dry, wet)
         miss = ratio - meas_ratio
         worst = int(np.argmax(np.where(band, np.abs(miss), -1.0)))
@@ -232,6 +274,8 @@ def main() -> None:
         print(f"dry fit: {describe(x)}; RMS {rms:.4f} over {len(FIT_WAVELENGTHS)} wavelengths")
         how = "set" if args.saturation is not None else f"from the {BAND_NM:.0f} nm band depth"
         print(f"wet: saturation {saturation:.3f} ({how})")
+        if OBSERVABLE == "field":
+            print(f"observable: nadir reflectance factor (12.7° cone), sun at {SUN_ZENITH_DEG:g}° zenith")
         print(" λ nm   dry meas  dry model   wet meas  wet model   ratio meas  ratio model ± se   miss")
         for i, w in enumerate(WAVELENGTHS):
             print(
@@ -247,7 +291,7 @@ def main() -> None:
             diagnose(x, memory, args.rays)
     if args.default_sample:
         default_sample(args.memories, args.rays)
-    if not args.no_figure and not args.uniform_films and args.dark_grains is None:
+    if not args.no_figure and not args.uniform_films and args.dark_grains is None and OBSERVABLE == "dhr":
         figure(results)
 
 
