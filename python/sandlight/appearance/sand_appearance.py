@@ -22,9 +22,9 @@ from sandlight.appearance import table_file
 from sandlight.appearance.band_grid import hat_quadrature
 from sandlight.appearance.combination import Combination, check_combination
 from sandlight.appearance.sampling import SamplingTables, check_sampling_method
-from sandlight.appearance.shapes import Shape, ShapeSeries, check_shape
+from sandlight.appearance.shapes import SHAPES, Shape, ShapeSeries
 from sandlight.appearance.sources import resolve_sample, resolve_spatial, resolve_spectral
-from sandlight.checks import check_allocation
+from sandlight.checks import check_allocation, check_choice
 from sandlight.errors import ParameterError
 
 if TYPE_CHECKING:
@@ -138,7 +138,7 @@ class SandAppearance:
         from sandlight import _native
 
         self.combination = check_combination(combination)
-        check_shape(shape)
+        check_choice("shape", shape, SHAPES)
         self.sand_sample = resolve_sample(sample)
         wl, r, self.spectral_source, self.spectral_memory = resolve_spectral(spectral_model, self.sand_sample)
         self.wavelengths_nm = wl

@@ -9,8 +9,6 @@ Shape
     and its combination with r(λ).
 ShapeSeries
     The shapes of an appearance and the per-wavelength weights that blend them.
-check_shape
-    Refuse an unknown shape name.
 
 - ``shape="fixed"``: the paper's §4.2.2 assumption ("the spatial distribution of the BRDF did
   not vary with wavelength"): one shape, the spatial model's at the sample's reflectance at the
@@ -49,21 +47,14 @@ import numpy as np
 
 from sandlight.appearance.band_grid import BandGrid
 from sandlight.appearance.combination import Combination, measured_reflectance
-from sandlight.errors import ParameterError
+from sandlight.checks import check_choice
 
 if TYPE_CHECKING:
     from sandlight.spatial.model import SpatialBRDF, SpatialModel
 
-__all__ = ["SHAPES", "Shape", "ShapeSeries", "check_shape"]
+__all__ = ["SHAPES", "Shape", "ShapeSeries"]
 
 SHAPES = ("reflectance", "fixed")
-
-
-def check_shape(shape: str) -> str:
-    """``shape`` if it is one of `SHAPES`, else `ParameterError` naming ``shape``."""
-    if shape not in SHAPES:
-        raise ParameterError("shape", shape, f"one of {SHAPES}")
-    return shape
 
 
 @dataclass(frozen=True, eq=False)
@@ -123,7 +114,7 @@ class ShapeSeries:
     ) -> ShapeSeries:
         """The series for ``sample`` whose spectral source gives the reflectances ``reflectance``
         (W,); ``fixed_shape`` is its shape at the model's wavelength (reused when one suffices)."""
-        check_shape(method)
+        check_choice("shape", method, SHAPES)
         if method == "fixed" or not model.absorbers:
             return cls(method, (fixed_shape,))
         r = np.clip(reflectance, 1e-6, 1.0)
