@@ -36,7 +36,8 @@ hemisphere; the ASD's bare fibre sees 25°), with the classic goniophotometer
 (``sandlight.fixed_incidence``). The measured pair is such a field measurement (ASD, bright sun,
 nadir), while the normal-incidence DHR of a wet sand holds the mirror reflection of its flat
 water surfaces straight back to the source, which a spectrometer looking down under an oblique
-sun does not see. The dry fit stays on the DHR.
+sun does not see. The dry fit is made in the same observable (give it more ``--fit-rays``: the
+nadir cone collects a few per cent of the rays).
 
 ``--uniform-films`` replaces the pendular rings by the film of the same water on every
 particle surface (``film_coverage`` 1), the model before issue 17, for comparison.
@@ -188,7 +189,7 @@ def fit_dry(memory: str, rays: int) -> tuple[np.ndarray, float]:
     target = measured(DRY, FIT_WAVELENGTHS)
 
     def residual(x):
-        return run(x, 0.0, memory, FIT_WAVELENGTHS, rays).values - target
+        return run(x, 0.0, memory, FIT_WAVELENGTHS, rays, OBSERVABLE).values - target
 
     if DARK_GRAINS is None:
         starts = [[0.003, 0.3, -4.0, 1.0]]
