@@ -109,3 +109,25 @@ def test_reference_brdf_is_the_mean_of_the_weights(dune):
     np.testing.assert_allclose(app.reference_brdf(wi, wo), app.brdf(wi, wo).mean(axis=1), rtol=1e-10)
     wo[0, 2] = -0.2
     assert app.reference_brdf(wi, wo)[0] == 0.0
+
+
+def test_the_table_of_blended_shapes_conserves_their_albedo(dune):
+    # The table's values are hat averages of the blended BRDF, per wavelength: integrating its
+    # multilinear interpolant gives the table's albedo, which is the model's (r at normal incidence).
+    app = SandAppearance("yellow-dune", spectrum(0.03, 0.7), dune)
+    ds = app.table(n_mu=17, n_dphi=33, wavelengths_nm=[400.0, 560.0, 700.0])
+    assert ds.attrs["shape"] == "reflectance"
+    f, mu, dphi = ds["f"].values, ds["mu_o"].values, ds["dphi"].values
+    np.testing.assert_array_equal(f, f.transpose(0, 2, 1, 3))
+    h = mu[1] - mu[0]
+    hat_mu = np.array(
+        [
+            (h * (mu[q - 1] + 2 * mu[q]) / 6 if q > 0 else 0)
+            + (h * (2 * mu[q] + mu[q + 1]) / 6 if q < mu.size - 1 else 0)
+            for q in range(mu.size)
+        ]
+    )
+    integral = (2 * np.trapezoid(f, dphi, axis=3)) @ hat_mu
+    np.testing.assert_allclose(integral, ds["albedo"].values, rtol=5e-3)
+    # The last node's albedo averages the model's over μ in [15/16, 1], where it rises from r.
+    np.testing.assert_allclose(ds["albedo"].values[:, -1], app.reflectance_at([400.0, 560.0, 700.0]), rtol=0.03)
