@@ -105,6 +105,10 @@ class SandAppearance:
     shapes : sandlight.appearance.shapes.ShapeSeries
         The spatial shapes the BRDF blends per wavelength (one unless ``shape='reflectance'``
         with a model that interpolates in log r₀).
+    reference_weights : tuple of numpy.ndarray (K,)
+        (ā, b̄): each shape's weights of the reference spectrum, the mean over ``wavelengths_nm``
+        of the per-wavelength weights; the ``'brdf'`` sampler and `reference_brdf` follow f with
+        them.
     reference_reflectance : float
         r_0 of the spatial measurements at the sample's mesh position, for the shape at the
         spatial model's wavelength (this and the next three describe that shape, the one
@@ -171,9 +175,9 @@ class SandAppearance:
             grids if self._stacked else grids[0], self.band_grid.nodes, profiles if self._stacked else profiles[0]
         )
         # The sampling tables follow f at the reference spectrum: the mean of the per-wavelength weights.
-        self._reference_weights = tuple(x.mean(axis=0) for x in self.shapes.weights(self.normal_reflectance))
+        self.reference_weights = tuple(x.mean(axis=0) for x in self.shapes.weights(self.normal_reflectance))
         self._sampling = SamplingTables.build(
-            self.band_grid, lambda *mu: self._evaluate_mu(mu, *self._reference_weights)[..., 0]
+            self.band_grid, lambda *mu: self._evaluate_mu(mu, *self.reference_weights)[..., 0]
         )
 
     def _layers_mu(self, *mu: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -298,7 +302,7 @@ class SandAppearance:
         if wi.shape[0] != wo.shape[0]:
             wi, wo = np.broadcast_arrays(wi, wo)
         dphi = np.arctan2(wo[:, 1], wo[:, 0]) - np.arctan2(wi[:, 1], wi[:, 0])
-        f = self._evaluate_mu((wi[:, 2].copy(), wo[:, 2].copy(), dphi), *self._reference_weights)[:, 0]
+        f = self._evaluate_mu((wi[:, 2].copy(), wo[:, 2].copy(), dphi), *self.reference_weights)[:, 0]
         return np.where((wi[:, 2] > 0) & (wo[:, 2] > 0), f, 0.0)
 
     # ---- sampling ----------------------------------------------------------------------------

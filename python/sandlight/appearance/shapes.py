@@ -157,14 +157,21 @@ class ShapeSeries:
             ak, bk = shape.combination.weights(r)
             a[:, k] = blend[:, k] * ak
             b[:, k] = blend[:, k] * bk
-        if len(self.shapes) > 1:
-            ends = self.reflectances[[0, -1]]
-            albedo_nodes = np.stack([s.band_grid.albedo_nodes for s in self.shapes])  # (K, n)
-            # The blend's albedo is linear in μ between the nodes: its largest value is at a node.
-            product = (r > ends[0]) & (r < ends[1]) & (r * (blend @ albedo_nodes).max(axis=1) <= 1.0)
-            a[product] = blend[product] * r[product, None]
-            b[product] = 0.0
+        product = self.product(r)
+        a[product] = blend[product] * r[product, None]
+        b[product] = 0.0
         return a, b
+
+    def product(self, r: np.ndarray) -> np.ndarray:
+        """Which reflectances r (W,) take the blend as the product r f̂ (bool, W): inside the
+        anchors' range, where its albedo r Σ_k w_k A_k(μ) stays at most 1 (module docstring)."""
+        r = np.asarray(r, dtype=float)
+        if len(self.shapes) == 1:
+            return np.zeros(r.shape, dtype=bool)
+        ends = self.reflectances[[0, -1]]
+        albedo_nodes = np.stack([s.band_grid.albedo_nodes for s in self.shapes])  # (K, n)
+        # The blend's albedo is linear in μ between the nodes: its largest value is at a node.
+        return (r > ends[0]) & (r < ends[1]) & (r * (self.blend(r) @ albedo_nodes).max(axis=1) <= 1.0)
 
     def albedo(self, mu: np.ndarray, r: np.ndarray) -> np.ndarray:
         """Albedo (N, W) at incidence cosines μ (N,) for reflectances r (W,), exact for the model."""

@@ -182,7 +182,7 @@ class PluginTables:
         ------
         ParameterError
             The appearances do not share the spatial model's nodes, wavelengths or combination, or
-            one blends several shapes over wavelength.
+            the shapes of one would need `ShapeSeries.weights`' energy fallback (`_check_product_blend`).
         """
         apps = list(appearances)
         levels = np.zeros(1) if levels is None else np.asarray(levels, dtype=float)
@@ -212,7 +212,7 @@ class PluginTables:
             # a, b on Mitsuba's whole range (r held outside the model's), projected to RGB.
             r_wide = np.interp(PROJECTION_WAVELENGTHS_NM, wl, app.normal_reflectance)
             a_wide, b_wide = app.shapes.weights(r_wide)
-            a_ref, b_ref = (x.mean(axis=0) for x in app.shapes.weights(app.normal_reflectance))
+            a_ref, b_ref = app.reference_weights
             ref = np.zeros_like(first.band_grid.grid)
             for i, shape in enumerate(shapes):
                 p = shape.combination.profile
@@ -265,22 +265,18 @@ def _check_product_blend(app: SandAppearance) -> None:
     """Refuse (`ParameterError` naming ``appearances``) an appearance whose blended shapes would,
     somewhere between two anchors, need `ShapeSeries.weights`' fallback from the product (its
     albedo r Σ w_s A_s(μ) above 1), which the plugin does not implement."""
-    shapes = app.shapes
-    if len(shapes.shapes) < 2:
+    x = np.log(app.shapes.reflectances)
+    if x.size < 2:
         return
-    x = np.log(shapes.reflectances)
-    albedo = np.stack([s.band_grid.albedo_nodes for s in shapes.shapes])  # (S, n)
-    t = np.linspace(0.0, 1.0, PRODUCT_CHECK_POINTS)
-    for j in range(x.size - 1):
-        r = np.exp(x[j] + t * (x[j + 1] - x[j]))
-        blended = (1 - t)[:, None] * albedo[j] + t[:, None] * albedo[j + 1]
-        if (r * blended.max(axis=1) > 1.0).any():
-            raise ParameterError(
-                "appearances",
-                repr(app),
-                "appearances whose shapes blend as a product between their anchors (albedo ≤ 1); "
-                "use SandAppearance(..., shape='fixed') for this sand",
-            )
+    # PRODUCT_CHECK_POINTS per bracket, without the range's two ends (outside the product's rule).
+    r = np.exp(np.concatenate([np.linspace(x[j], x[j + 1], PRODUCT_CHECK_POINTS) for j in range(x.size - 1)]))[1:-1]
+    if not app.shapes.product(r).all():
+        raise ParameterError(
+            "appearances",
+            repr(app),
+            "appearances whose shapes blend as a product between their anchors (albedo ≤ 1); "
+            "use SandAppearance(..., shape='fixed') for this sand",
+        )
 
 
 def _row_cells(reference: np.ndarray, nodes: np.ndarray) -> np.ndarray:

@@ -189,13 +189,6 @@ impl BandGrid {
         (f, pi * po)
     }
 
-    /// (F, P(μ_i)·P(μ_o)) of the first layer at (μ_i, μ_o, Δφ), Δφ in radians (any real,
-    /// periodic). No horizon test.
-    #[inline]
-    pub fn eval_mu(&self, mu_i: f64, mu_o: f64, dphi: f64) -> (f64, f64) {
-        self.layer(&self.stencil(mu_i, mu_o, dphi), 0)
-    }
-
     /// What the pair of directions towards the light `wi` and the viewer `wo` (local frame,
     /// z = the normal, any positive length) asks: NaN if either has a NaN component, 0 if either
     /// is on or below the horizon, else the stencil. Err for a zero or infinite vector.
@@ -218,18 +211,6 @@ impl BandGrid {
         // φ_o − φ_i from one atan2: sin and cos of the difference times |wi_xy||wo_xy|.
         let dphi = (wi[0] * wo[1] - wi[1] * wo[0]).atan2(wi[0] * wo[0] + wi[1] * wo[1]);
         Ok(Pair::At(self.stencil(wi[2] / ni, wo[2] / no, dphi)))
-    }
-
-    /// (F, P·P) of the first layer for directions `wi`, `wo` ([`BandGrid::pair`]): 0 if either is
-    /// on or below the horizon, NaN if either has a NaN component. Err for a zero or infinite
-    /// vector.
-    #[inline]
-    pub fn eval_dirs(&self, wi: [f64; 3], wo: [f64; 3]) -> Result<(f64, f64), &'static str> {
-        Ok(match self.pair(wi, wo)? {
-            Pair::Nan => (f64::NAN, f64::NAN),
-            Pair::Below => (0.0, 0.0),
-            Pair::At(s) => self.layer(&s, 0),
-        })
     }
 }
 
@@ -273,6 +254,25 @@ pub fn spectral_brdf(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One-layer evaluations, for the tests (the evaluator goes through `pair`, `stencil` and
+    /// `layer` for every layer at once).
+    impl BandGrid {
+        /// (F, P(μ_i)·P(μ_o)) of the first layer at (μ_i, μ_o, Δφ). No horizon test.
+        fn eval_mu(&self, mu_i: f64, mu_o: f64, dphi: f64) -> (f64, f64) {
+            self.layer(&self.stencil(mu_i, mu_o, dphi), 0)
+        }
+
+        /// (F, P·P) of the first layer for directions `wi`, `wo`: 0 on or below the horizon,
+        /// NaN for a NaN component, Err for a zero or infinite vector.
+        fn eval_dirs(&self, wi: [f64; 3], wo: [f64; 3]) -> Result<(f64, f64), &'static str> {
+            Ok(match self.pair(wi, wo)? {
+                Pair::Nan => (f64::NAN, f64::NAN),
+                Pair::Below => (0.0, 0.0),
+                Pair::At(s) => self.layer(&s, 0),
+            })
+        }
+    }
 
     /// A small grid with distinct values: F = 1 + b_i + 10 b_o + 100 k (not reciprocal; the
     /// interpolation arithmetic does not need it).
