@@ -157,7 +157,7 @@ class ShapeSeries:
             ak, bk = shape.combination.weights(r)
             a[:, k] = blend[:, k] * ak
             b[:, k] = blend[:, k] * bk
-        product = self.product(r)
+        product = self._product(r, blend)
         a[product] = blend[product] * r[product, None]
         b[product] = 0.0
         return a, b
@@ -166,12 +166,16 @@ class ShapeSeries:
         """Which reflectances r (W,) take the blend as the product r f̂ (bool, W): inside the
         anchors' range, where its albedo r Σ_k w_k A_k(μ) stays at most 1 (module docstring)."""
         r = np.asarray(r, dtype=float)
+        return self._product(r, self.blend(r))
+
+    def _product(self, r: np.ndarray, blend: np.ndarray) -> np.ndarray:
+        """`product` for reflectances r (W,) whose blend weights (W, K) are known."""
         if len(self.shapes) == 1:
             return np.zeros(r.shape, dtype=bool)
         ends = self.reflectances[[0, -1]]
         albedo_nodes = np.stack([s.band_grid.albedo_nodes for s in self.shapes])  # (K, n)
         # The blend's albedo is linear in μ between the nodes: its largest value is at a node.
-        return (r > ends[0]) & (r < ends[1]) & (r * (self.blend(r) @ albedo_nodes).max(axis=1) <= 1.0)
+        return (r > ends[0]) & (r < ends[1]) & (r * (blend @ albedo_nodes).max(axis=1) <= 1.0)
 
     def albedo(self, mu: np.ndarray, r: np.ndarray) -> np.ndarray:
         """Albedo (N, W) at incidence cosines μ (N,) for reflectances r (W,), exact for the model."""
