@@ -18,7 +18,8 @@ range"; prediction speed: benchmarks/predict.py)::
 ``--samples`` fits on the first N training samples only (how the error falls with the set's size);
 ``--layers`` and ``--units`` set the networks' depth and width (default 2 × 128, the shipped broad
 ones); ``--components`` the numbers k of principal components to try (default 8); ``--rates``
-Adam's learning rate per stage (default one stage at 10⁻³); ``--truncation`` also prints the RMS
+Adam's learning rate per stage (default one stage at 10⁻³); ``--validation`` what early stopping
+follows (``r2``, the default, or ``error``; ``SpectralModel.network_validation``); ``--truncation`` also prints the RMS
 that keeping k components alone leaves on the hold-out spectra, with the part of it the Monte
 Carlo noise explains removed.
 """
@@ -45,6 +46,13 @@ def main() -> None:
     p.add_argument("--model", default="broad-dry", help="the stored model whose sets to use (default broad-dry)")
     p.add_argument("--components", type=int, nargs="+", default=[8], help="numbers k of components (default 8)")
     p.add_argument("--rates", type=float, nargs="+", default=[1e-3], help="Adam's rate per stage (default 1e-3)")
+    p.add_argument(
+        "--validation",
+        choices=("r2", "error"),
+        nargs="+",
+        default=["r2"],
+        help="what the networks' early stopping follows (SpectralModel.network_validation; default r2)",
+    )
     p.add_argument("--truncation", action="store_true", help="print the PCA truncation error per k first")
     args = p.parse_args()
     for name in ("layers", "units"):
@@ -71,10 +79,11 @@ def main() -> None:
             candidates.append((f"cubic (degree 3, k = {k})", {"degree": 3, "n_components": k}))
         candidates += [
             (
-                f"network {args.layers} × {args.units} tanh, ensemble {e} (k = {k}{rates})",
-                {**network, "ensemble": e, "n_components": k},
+                f"network {args.layers} × {args.units} tanh, ensemble {e} (k = {k}{rates}, stopping on {v})",
+                {**network, "ensemble": e, "n_components": k, "network_validation": v},
             )
             for e in args.ensembles
+            for v in args.validation
         ]
     print(f"training set {store / 'training'}; hold-out set {store / 'holdout'}")
     with xr.open_dataset(store / "training" / "dataset.nc") as ds:

@@ -120,6 +120,35 @@ def test_a_stepped_rate_fits_the_edge_closer(sharp, tmp_path):
     assert loaded.get_params() == stepped.get_params() and loaded.learning_rates == (1e-3, 1e-4)
 
 
+def test_stopping_on_the_error_is_not_stopped_by_a_noisy_output():
+    # Early stopping on R² averaged with equal weight per output (scikit-learn's) is decided by
+    # an output that is noise (its R² never improves) and ends the fit before the signal is
+    # learnt; stopping on the error of all outputs together follows the signal, which carries
+    # nearly all of the variance (the noisy minor scores of a PCA, docs/spectral-predictor.md).
+    rng = np.random.default_rng(1)
+    X, X_test = rng.uniform(-1, 1, (400, 2)), rng.uniform(-1, 1, (400, 2))
+
+    def f(X):
+        return np.tanh(3 * X[:, 0] * X[:, 1]) + np.sin(3 * X[:, 0])
+
+    T = np.column_stack([f(X), 0.05 * rng.standard_normal(400)])
+    settings = dict(hidden_units=16, hidden_layers=2, alpha=0.0, ensemble=1, random_state=1)
+    error = {
+        v: rms(fit_network(X, T, **settings, validation=v)(X_test, "double")[:, 0], f(X_test)) for v in ("r2", "error")
+    }
+    assert error["error"] < 0.05 < 0.3 < error["r2"]
+
+
+def test_the_stopping_score_is_kept_in_the_model_file(sharp, tmp_path):
+    train = TWO.draw(600, seed=1)
+    model = SpectralModel(**SHARP, network_validation="error").fit(
+        train, sharp_spectra(TWO, train), wavelengths_nm=WL, domain=TWO
+    )
+    loaded = SpectralModel.load(model.save(tmp_path / "error.npz"))
+    assert loaded.network_validation == "error" and loaded.get_params() == model.get_params()
+    np.testing.assert_array_equal(loaded.predict(sharp[2]), model.predict(sharp[2]))
+
+
 @pytest.mark.parametrize(
     ("name", "value"),
     [
@@ -130,6 +159,7 @@ def test_a_stepped_rate_fits_the_edge_closer(sharp, tmp_path):
         ("learning_rates", ()),
         ("learning_rates", (1e-3, 0.0)),
         ("learning_rates", 1e-3),
+        ("network_validation", "mse"),
     ],
 )
 def test_bad_hyper_parameters_are_refused_by_name(name, value):

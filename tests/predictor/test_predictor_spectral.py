@@ -235,6 +235,7 @@ class TestEstimatorConventions:
             "network_alpha": 1e-6,
             "ensemble": 1,
             "learning_rates": (1e-3,),
+            "network_validation": "r2",
             "random_state": 0,
         }
         train, R, _, _ = exact_cubic_problem(SMALL, 100, seed=3)

@@ -3,19 +3,21 @@
 The paper's regression (§3.1.2) is a cubic in the sample parameters. Over a few parameters it
 is accurate; over all of them (the broad models) its error is the cubic's, not Monte Carlo
 noise: on the 10 000 dry samples of every parameter of ``broad-dry`` the cubic leaves 0.030 RMS
-on the hold-out set, one network of two tanh layers of 128 units 0.014, four averaged 0.012
-(scripts/studies/broad_regressors.py; docs/spectral-predictor.md, "Broad models").
+on the hold-out set, one network of two tanh layers of 128 units 0.014, four averaged 0.012,
+four of three layers stopped on the error 0.011 (scripts/studies/broad_regressors.py;
+docs/spectral-predictor.md, "Broad models").
 
 The networks are fitted by scikit-learn's ``MLPRegressor`` (Adam, squared error with an L2
-penalty, early stopping on a held-back tenth), optionally in stages of falling learning rate,
-each continuing from the best weights of the one before (a step schedule: Adam at a fixed rate
-stops where its steps are as large as the valley it is in; the full-range models use three
-stages, docs/spectral-predictor.md, "Full range"), and kept as their weights and biases only, so that
-a model file holds plain arrays (never a pickle) and prediction is numpy: tanh hidden layers and
-a linear output, h ← tanh(h W + b), in single precision (twice the batched speed of double in
-benchmarks/predict.py; the outputs differ by < 10⁻⁵, a thousandth of the models' errors). An ensemble of networks
-fitted from different seeds is averaged (its spread is the part of the error that depends on the
-seed).
+penalty, early stopping on a held-back tenth: on the outputs' mean R² or on their squared error
+together, ``fit_network(validation=...)``), optionally in stages of falling learning rate, each
+continuing from the best weights of the one before (a step schedule: Adam at a fixed rate stops
+where its steps are as large as the valley it is in; the broad and full-range models use three
+stages, docs/spectral-predictor.md, "Broad models" and "Full range"), and kept as their weights
+and biases only, so that a model file holds plain arrays (never a pickle) and prediction is
+numpy: tanh hidden layers and a linear output, h ← tanh(h W + b), in single precision (twice
+the batched speed of double in benchmarks/predict.py; the outputs differ by < 10⁻⁵, a
+thousandth of the models' errors). An ensemble of networks fitted from different seeds is
+averaged (its spread is the part of the error that depends on the seed).
 
 Public objects
 --------------
@@ -132,6 +134,7 @@ def fit_network(
     ensemble: int,
     random_state: int,
     learning_rates: tuple[float, ...] = (1e-3,),
+    validation: str = "r2",
 ) -> Network:
     """Fit ``ensemble`` networks T ≈ f(X) with scikit-learn's MLPRegressor and keep their arrays.
 
@@ -154,15 +157,29 @@ def fit_network(
         one from the best weights so far, on the same validation split; a stage ends when the
         validation score has not improved for 60 epochs, and only an improvement replaces the
         weights kept.
+    validation : {"r2", "error"}
+        The validation score that early stopping follows: "r2", scikit-learn's R² averaged
+        over the outputs with equal weight, or "error", the R² of all outputs together,
+        1 − Σ squared error / Σ variance, which falls as the squared error of T does (for
+        principal-component scores under one scale, the reflectance's: minor, noisy scores,
+        whose R² stays low, then no longer decide when the fit stops).
     """
     import warnings
 
     from sklearn.exceptions import ConvergenceWarning
     from sklearn.neural_network import MLPRegressor
 
+    class ErrorStoppedMLP(MLPRegressor):
+        # Early stopping scores the validation split with `_score` (scikit-learn's private
+        # hook, R² with equal weight per output); variance-weighted R² is 1 − SSE/SST over all
+        # outputs at once.
+        def _score(self, X: np.ndarray, y: np.ndarray, sample_weight: np.ndarray | None = None) -> float:
+            return self._score_with_function(X, y, sample_weight, _variance_weighted_r2)
+
+    regressor = ErrorStoppedMLP if validation == "error" else MLPRegressor
     layers = []
     for member in range(ensemble):
-        mlp = MLPRegressor(
+        mlp = regressor(
             hidden_layer_sizes=(hidden_units,) * hidden_layers,
             activation="tanh",
             solver="adam",
@@ -189,3 +206,10 @@ def fit_network(
                 mlp.fit(X, T if T.shape[1] > 1 else T[:, 0])
         layers.append(tuple((np.asarray(w, float), np.asarray(b, float)) for w, b in zip(mlp.coefs_, mlp.intercepts_)))
     return Network(tuple(layers))
+
+
+def _variance_weighted_r2(y: np.ndarray, prediction: np.ndarray, sample_weight: np.ndarray | None = None) -> float:
+    """1 − Σ squared error / Σ variance over all outputs (scikit-learn's variance-weighted R²)."""
+    from sklearn.metrics import r2_score
+
+    return float(r2_score(y, prediction, sample_weight=sample_weight, multioutput="variance_weighted"))

@@ -133,7 +133,8 @@ class SpectralModel(Estimator):
         The regression of the scores: the paper's monomials φ(x) and W (``degree``, ``ridge``,
         ``forms`` apply), or a neural network of the scaled parameters and one-hot form
         indicators (``hidden_units``, ``hidden_layers``, ``network_alpha``, ``ensemble``,
-        ``learning_rates``, ``random_state`` apply; :mod:`sandlight.predictor.network`).
+        ``learning_rates``, ``network_validation``, ``random_state`` apply;
+        :mod:`sandlight.predictor.network`).
     hidden_units, hidden_layers : int
         Width (1–1024) and number (1–4) of the network's tanh hidden layers.
     network_alpha : float
@@ -143,6 +144,11 @@ class SpectralModel(Estimator):
     learning_rates : sequence of float
         Adam's learning rate of each stage of a network's fit, each > 0 (1–4 stages; later
         stages continue from the best weights of the earlier ones). Default (0.001,): one stage.
+    network_validation : {"r2", "error"}
+        What early stopping follows on the held-back tenth of the training set: "r2" (default),
+        scikit-learn's R² averaged over the k scores with equal weight, or "error", the squared
+        error of all scores together, i.e. of the reflectance (one scale for every score), so
+        that the minor, noisy scores do not decide when a fit stops.
     random_state : int
         Seed of the first network (≥ 0): a fit is reproducible.
 
@@ -219,6 +225,7 @@ class SpectralModel(Estimator):
         "network_alpha": [Interval(Real, 0, None)],
         "ensemble": [Interval(Integral, 1, 16)],
         "learning_rates": [Numbers(Interval(Real, 0, None, closed="neither"), 1, 4)],
+        "network_validation": [StrOptions(("r2", "error"))],
         "random_state": [Interval(Integral, 0, None)],
     }
     _model_file = MODEL_FILE
@@ -236,6 +243,7 @@ class SpectralModel(Estimator):
         network_alpha: float = 1e-6,
         ensemble: int = 1,
         learning_rates: tuple[float, ...] = (1e-3,),
+        network_validation: str = "r2",
         random_state: int = 0,
     ) -> None:
         self.n_components = n_components
@@ -249,6 +257,7 @@ class SpectralModel(Estimator):
         self.network_alpha = network_alpha
         self.ensemble = ensemble
         self.learning_rates = learning_rates
+        self.network_validation = network_validation
         self.random_state = random_state
 
     # -- inputs -------------------------------------------------------------------------------
@@ -354,6 +363,7 @@ class SpectralModel(Estimator):
                 ensemble=self.ensemble,
                 random_state=self.random_state,
                 learning_rates=tuple(self.learning_rates),
+                validation=self.network_validation,
             )
             self.network_output_scale_ = scale
         else:
