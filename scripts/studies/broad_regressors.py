@@ -16,12 +16,13 @@ range"; prediction speed: benchmarks/predict.py)::
         --layers 3 --components 8 12 16 --rates 1e-3 1e-4 1e-5 --truncation
 
 ``--samples`` fits on the first N training samples only (how the error falls with the set's size);
-``--layers`` and ``--units`` set the networks' depth and width (default 2 × 128, the shipped broad
-ones); ``--components`` the numbers k of principal components to try (default 8); ``--rates``
-Adam's learning rate per stage (default one stage at 10⁻³); ``--validation`` what early stopping
-follows (``r2``, the default, or ``error``; ``SpectralModel.network_validation``); ``--truncation`` also prints the RMS
-that keeping k components alone leaves on the hold-out spectra, with the part of it the Monte
-Carlo noise explains removed.
+``--layers`` and ``--units`` set the networks' depth and width (default 2 × 128, the broad models'
+recipe before 2026-12-07; now 3 × 128 with stepped rates, stopping on the error); ``--components``
+the numbers k of principal components to try (default 8); ``--rates`` Adam's learning rate per
+stage (default one stage at 10⁻³); ``--validation`` what early stopping follows (``r2``, the
+default, or ``error``; ``SpectralModel.network_validation``); ``--truncation`` also prints the RMS
+that keeping k components alone leaves on the hold-out spectra, with the part of it the Monte Carlo
+noise explains removed.
 """
 
 from __future__ import annotations
