@@ -137,6 +137,8 @@ def test_stopping_on_the_error_is_not_stopped_by_a_noisy_output():
         v: rms(fit_network(X, T, **settings, validation=v)(X_test, "double")[:, 0], f(X_test)) for v in ("r2", "error")
     }
     assert error["error"] < 0.05 < 0.3 < error["r2"]
+    with pytest.raises(ParameterError, match="validation"):
+        fit_network(X, T, **settings, validation="mse")
 
 
 def test_the_stopping_score_is_kept_in_the_model_file(sharp, tmp_path):

@@ -34,7 +34,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Network", "fit_network"]
+from sandlight.checks import check_choice
+
+__all__ = ["VALIDATIONS", "Network", "fit_network"]
+
+#: What a fit's early stopping can follow (`fit_network`'s ``validation``).
+VALIDATIONS = ("r2", "error")
 
 
 @dataclass(frozen=True)
@@ -166,6 +171,7 @@ def fit_network(
     """
     import warnings
 
+    check_choice("validation", validation, VALIDATIONS)
     from sklearn.exceptions import ConvergenceWarning
     from sklearn.neural_network import MLPRegressor
 

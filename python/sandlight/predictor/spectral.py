@@ -52,7 +52,7 @@ from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
 from sandlight.predictor.estimator import Estimator
 from sandlight.predictor.model_file import ModelFileFormat, jsonable
 from sandlight.predictor.monomials import BLOCK_SAMPLES, monomial_plan, monomials
-from sandlight.predictor.network import Network, fit_network
+from sandlight.predictor.network import VALIDATIONS, Network, fit_network
 from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
 from sandlight.predictor.samples import sample_columns
 
@@ -225,7 +225,7 @@ class SpectralModel(Estimator):
         "network_alpha": [Interval(Real, 0, None)],
         "ensemble": [Interval(Integral, 1, 16)],
         "learning_rates": [Numbers(Interval(Real, 0, None, closed="neither"), 1, 4)],
-        "network_validation": [StrOptions(("r2", "error"))],
+        "network_validation": [StrOptions(VALIDATIONS)],
         "random_state": [Interval(Integral, 0, None)],
     }
     _model_file = MODEL_FILE
