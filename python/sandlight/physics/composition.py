@@ -34,14 +34,19 @@ probability (S − S_f)/(1 − S_f).
 from __future__ import annotations
 
 import dataclasses
+import functools
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
 
 from sandlight.checks import check_choice
 from sandlight.errors import ParameterError
 from sandlight.optics import DENSITY_G_CM3
 from sandlight.physics.pendular import film_coverage
-from sandlight.physics.sizes import SizeDistribution, spheroid_surface_factor
+from sandlight.physics.sizes import SizeDistribution, lognormal_mass_mean_inverse_diameter, spheroid_surface_factor
 
 if TYPE_CHECKING:
     from sandlight.sample import SandSample
@@ -163,6 +168,57 @@ def mean_free_path_mm(populations: tuple | list, porosity: float) -> float:
     return 4.0 * porosity / ((1.0 - porosity) * surface)
 
 
+@dataclass(frozen=True)
+class SolidVolumes:
+    """Volumes per gram of solids (cm³ g⁻¹) by mass balance (module docstring): floats, or
+    arrays for a batch of samples."""
+
+    hematite: float | np.ndarray
+    goethite: float | np.ndarray
+    #: The coating (iron oxide and its kaolinite matrix); 0 without one.
+    coating: float | np.ndarray
+    #: Mass of the host solids (sand, silt, clay) per gram of solids, g g⁻¹.
+    host_mass: float | np.ndarray
+    sand: float | np.ndarray
+    silt: float | np.ndarray
+    clay: float | np.ndarray
+    magnetite: float | np.ndarray
+
+    @property
+    def iron_oxide(self) -> float | np.ndarray:
+        return self.hematite + self.goethite
+
+
+def solid_volumes(
+    iron_oxide: ArrayLike,
+    hematite_ratio: ArrayLike,
+    magnetite: ArrayLike,
+    coated: ArrayLike,
+    coating_iron_share: ArrayLike,
+    sand: ArrayLike,
+    silt: ArrayLike,
+    clay: ArrayLike,
+) -> SolidVolumes:
+    """The mass balance of the module docstring, for floats or arrays (mass fractions; ``coated``
+    1 for the form 'coating', else 0): V_fe = m_fe r/ρ_hem + m_fe (1 − r)/ρ_goe, coating
+    V_c = V_fe/share, host mass 1 − m_fe − m_mag − (V_c − V_fe) ρ_kaol, split by the separates."""
+    rho = DENSITY_G_CM3
+    v_hem = iron_oxide * hematite_ratio / rho["hematite"]
+    v_goe = iron_oxide * (1.0 - hematite_ratio) / rho["goethite"]
+    v_coat = coated * (v_hem + v_goe) / coating_iron_share
+    m_host = 1.0 - iron_oxide - magnetite - (v_coat - coated * (v_hem + v_goe)) * rho["kaolinite"]
+    return SolidVolumes(
+        hematite=v_hem,
+        goethite=v_goe,
+        coating=v_coat,
+        host_mass=m_host,
+        sand=sand * m_host / rho["quartz"],
+        silt=silt * m_host / rho["quartz"],
+        clay=clay * m_host / rho["kaolinite"],
+        magnetite=magnetite / rho["magnetite"],
+    )
+
+
 #: Where the film water sits: 'uniform' (a film on every particle, the model before issue 17)
 #: or 'pendular' (rings at the grain contacts, docs/model.md §2.5, docs/wet-sand.md).
 FILM_MODELS = ("uniform", "pendular")
@@ -174,25 +230,26 @@ def compose(sample: SandSample, films: str = DEFAULT_FILMS) -> Composition:
     """Particle populations of ``sample`` (a :class:`sandlight.SandSample`) by mass balance;
     ``films`` (one of :data:`FILM_MODELS`) says where its film water sits."""
     rho = DENSITY_G_CM3
-    m_fe = sample.iron_oxide
-    m_hem, m_goe = m_fe * sample.hematite_ratio, m_fe * (1.0 - sample.hematite_ratio)
-    v_hem, v_goe = m_hem / rho["hematite"], m_goe / rho["goethite"]
-    v_fe = v_hem + v_goe
-    m_mag = sample.magnetite
     form = sample.iron_oxide_form
-
-    m_coat_kaolinite = 0.0
-    if form == "coating" and v_fe > 0:
-        v_coat = v_fe / sample.coating_iron_share
-        m_coat_kaolinite = (v_coat - v_fe) * rho["kaolinite"]
-    m_host = 1.0 - m_fe - m_mag - m_coat_kaolinite
-    if m_host <= 0.0:
+    vol = solid_volumes(
+        sample.iron_oxide,
+        sample.hematite_ratio,
+        sample.magnetite,
+        float(form == "coating"),
+        sample.coating_iron_share,
+        sample.sand,
+        sample.silt,
+        sample.clay,
+    )
+    v_hem, v_goe, v_fe = vol.hematite, vol.goethite, vol.iron_oxide
+    if vol.host_mass <= 0.0:
+        rest = 1.0 - sample.iron_oxide - sample.magnetite  # the host and the coating's kaolinite
         raise ParameterError(
             "coating_iron_share",
             sample.coating_iron_share,
             f"too small for iron_oxide = {sample.iron_oxide} and magnetite = {sample.magnetite}: the kaolinite "
             f"coating would outweigh the solids; need coating_iron_share > "
-            f"{v_fe * rho['kaolinite'] / (1 - m_fe - m_mag + v_fe * rho['kaolinite']):.4g}",
+            f"{v_fe * rho['kaolinite'] / (rest + v_fe * rho['kaolinite']):.4g}",
         )
 
     eps = sample.aspect_ratio
@@ -202,10 +259,7 @@ def compose(sample: SandSample, films: str = DEFAULT_FILMS) -> Composition:
     silt_sizes = SizeDistribution("loguniform", *SILT_RANGE_MM)
     clay_sizes = SizeDistribution("loguniform", *CLAY_RANGE_MM)
 
-    v_sand = sample.sand * m_host / rho["quartz"]
-    v_silt = sample.silt * m_host / rho["quartz"]
-    v_clay = sample.clay * m_host / rho["kaolinite"]
-    v_magn = m_mag / rho["magnetite"]
+    v_sand, v_silt, v_clay, v_magn = vol.sand, vol.silt, vol.clay, vol.magnetite
 
     quartz_core = {"quartz": 1.0}
     coating, t_coat = {}, 0.0
@@ -216,7 +270,7 @@ def compose(sample: SandSample, films: str = DEFAULT_FILMS) -> Composition:
         total = v_q + v_fe
         quartz_core = {"quartz": v_q / total, "hematite": v_hem / total, "goethite": v_goe / total}
     elif form == "coating" and v_fe > 0:
-        v_coat = v_fe / sample.coating_iron_share
+        v_coat = vol.coating
         # The coating covers every host particle, clay included: the iron oxide of red and yellow
         # sands sits in clay-sized coatings and aggregates, so clean white clay beside stained
         # grains is not what such sands are (docs/transport.md). Volumes are per gram of solids
@@ -274,3 +328,70 @@ def compose(sample: SandSample, films: str = DEFAULT_FILMS) -> Composition:
         host_absorption=sample.host_absorption,
         coating_coverage=sample.coating_coverage,
     )
+
+
+@functools.cache
+def _loguniform_mean_inverse_diameter(d_min_mm: float, d_max_mm: float) -> float:
+    """E_m[1/D] of the silt and clay separates (fixed ranges: computed once)."""
+    return SizeDistribution("loguniform", d_min_mm, d_max_mm).mass_mean_inverse_diameter()
+
+
+def length_scales(columns: Mapping[str, ArrayLike]) -> dict[str, np.ndarray]:
+    """The lengths of :func:`compose` for a batch of samples, as arrays (vectorised).
+
+    ``columns`` holds every SandSample parameter as an array of one length (the layout of
+    :func:`sandlight.predictor.samples.sample_columns`; ``iron_oxide_form`` as names). Returns,
+    in mm unless said:
+
+    * ``mean_free_path_mm``: ℓ of the pore space;
+    * ``coating_thickness_mm``: t_c of the coating on its patches (0 unless form 'coating');
+    * ``film_thickness_mm``: min(S, S_f) ℓ/4, the film if it wet every surface (films='uniform';
+      the pendular film is this over its coverage);
+    * ``water_filled_probability``: (S − S_f)/(1 − S_f), within [0, 1] (fraction);
+    * ``core_iron_path_mm``: iron-oxide volume share of the quartz cores times the sand's Sauter
+      diameter 6/(⟨S⟩/⟨V⟩), the scale of the iron's absorption inside a grain (0 unless 'mixed').
+
+    The same formulas as :func:`compose`; E_m[1/D] of the sand in closed form
+    (:func:`~sandlight.physics.sizes.lognormal_mass_mean_inverse_diameter`), where ``compose``
+    integrates it numerically (they agree to 10⁻⁶, tests/physics/test_composition.py). The
+    predictors take these as inputs (docs/spectral-predictor.md, "Method", step 3).
+    """
+    form = np.asarray(columns["iron_oxide_form"]).astype(str)
+    x = {k: np.asarray(v, dtype=float) for k, v in columns.items() if k != "iron_oxide_form"}
+    eps = x["aspect_ratio"]
+    vol = solid_volumes(
+        x["iron_oxide"],
+        x["hematite_ratio"],
+        x["magnetite"],
+        (form == "coating").astype(float),
+        x["coating_iron_share"],
+        x["sand"],
+        x["silt"],
+        x["clay"],
+    )
+    shape = 6.0 * spheroid_surface_factor(eps)
+    sv_sand = shape * lognormal_mass_mean_inverse_diameter(x["grain_size"], x["grain_size_spread"], *SAND_RANGE_MM)
+    sv_silt = shape * _loguniform_mean_inverse_diameter(*SILT_RANGE_MM)
+    sv_clay = shape * _loguniform_mean_inverse_diameter(*CLAY_RANGE_MM)
+    host_surface = vol.sand * sv_sand + vol.silt * sv_silt + vol.clay * sv_clay
+    # Separate iron-oxide particles (spheres of one size) are solids of their own.
+    particles = np.where(form == "particles", vol.iron_oxide, 0.0)
+    sv_particles = 6.0 / (x["iron_oxide_particle_size_um"] * 1e-3)
+    solids = vol.sand + vol.silt + vol.clay + vol.magnetite + particles
+    surface = (host_surface + vol.magnetite * sv_sand + particles * sv_particles) / solids
+    phi = x["porosity"]
+    ell = 4.0 * phi / ((1.0 - phi) * surface)
+    covered = x["coating_coverage"] * host_surface
+    t_coat = np.where(vol.coating > 0, vol.coating / np.where(covered > 0, covered, 1.0), 0.0)
+    s = x["saturation"]
+    s_film = np.minimum(s, x["film_saturation"])
+    filled = np.where(s_film < 1.0, (s - s_film) / np.where(s_film < 1.0, 1.0 - s_film, 1.0), 0.0)
+    mixed = form == "mixed"
+    share = np.where(mixed, vol.iron_oxide / (vol.sand + vol.silt + vol.iron_oxide), 0.0)
+    return {
+        "mean_free_path_mm": ell,
+        "coating_thickness_mm": t_coat,
+        "film_thickness_mm": s_film * ell / 4.0,
+        "water_filled_probability": np.clip(filled, 0.0, 1.0),
+        "core_iron_path_mm": share * 6.0 / sv_sand,
+    }

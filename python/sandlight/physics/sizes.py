@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 N_QUANTILES = 257
 _GRID = 4097
@@ -66,17 +67,41 @@ class SizeDistribution:
         return np.maximum.accumulate(q)
 
 
-def spheroid_surface_factor(aspect_ratio: float) -> float:
-    """Surface of a prolate spheroid over that of the sphere of equal volume (≥ 1).
+def spheroid_surface_factor(aspect_ratio: ArrayLike) -> float | np.ndarray:
+    """Surface of a prolate spheroid over that of the sphere of equal volume (≥ 1); a float for a
+    float, an array for an array.
 
     S = 2πa²[1 + (c/(a e)) arcsin e], e² = 1 − a²/c², with a = (D/2) ε^(−1/3), c = ε a
     (docs/model.md §2.3).
     """
-    eps = float(aspect_ratio)
-    if eps <= 1.0 + 1e-12:
-        return 1.0
-    a = 0.5 * eps ** (-1.0 / 3.0)
-    c = eps * a
+    eps = np.asarray(aspect_ratio, dtype=float)
+    sphere = eps <= 1.0 + 1e-12
+    eps_ = np.where(sphere, 2.0, eps)  # any ε > 1 where the sphere's 1 is returned
+    a = 0.5 * eps_ ** (-1.0 / 3.0)
+    c = eps_ * a
     e = np.sqrt(1.0 - (a / c) ** 2)
     s = 2.0 * np.pi * a * a * (1.0 + c / (a * e) * np.arcsin(e))
-    return float(s / np.pi)  # sphere of D = 1: S = π
+    factor = np.where(sphere, 1.0, s / np.pi)  # sphere of D = 1: S = π
+    return float(factor) if factor.ndim == 0 else factor
+
+
+def lognormal_mass_mean_inverse_diameter(
+    median_mm: ArrayLike, spread: ArrayLike, d_min_mm: float, d_max_mm: float
+) -> np.ndarray:
+    """E_m[1/D] (mm⁻¹) of log-normal mass distributions truncated to [d_min_mm, d_max_mm], in
+    closed form, for arrays of medians and spreads (σ_g = 1: 1/median).
+
+    With ln D ~ N(μ, s²) by mass, s = ln σ_g, on [ln a, ln b]:
+    E_m[1/D] = e^(−μ + s²/2) [Φ(β + s) − Φ(α + s)] / [Φ(β) − Φ(α)], α = (ln a − μ)/s,
+    β = (ln b − μ)/s (the integrand e^(−x) N(x; μ, s²) is e^(−μ + s²/2) N(x; μ − s², s²)).
+    ``SizeDistribution.mass_mean_inverse_diameter`` integrates the same numerically.
+    """
+    from scipy.special import ndtr
+
+    mu = np.log(np.asarray(median_mm, dtype=float))
+    s = np.log(np.asarray(spread, dtype=float))
+    mono = s <= 1e-9
+    s_ = np.where(mono, 1.0, s)
+    alpha, beta = (np.log(d_min_mm) - mu) / s_, (np.log(d_max_mm) - mu) / s_
+    ratio = (ndtr(beta + s_) - ndtr(alpha + s_)) / (ndtr(beta) - ndtr(alpha))
+    return np.where(mono, np.exp(-mu), np.exp(-mu + 0.5 * s_**2) * ratio)
