@@ -85,7 +85,7 @@ class TestRoundTrip:
         with np.load(saved, allow_pickle=False) as npz:  # no object arrays anywhere
             assert {npz[k].dtype.kind for k in npz.files} <= {"f", "i", "U"}
             meta = json.loads(str(npz["metadata"][()]))
-        assert meta["format"] == "sandlight-spectral-model" and meta["format_version"] == 3
+        assert meta["format"] == "sandlight-spectral-model" and meta["format_version"] == 4
         assert meta["sandlight_version"] == sandlight.__version__
         assert meta["parameter_names"] == list(SMALL.names)
         assert meta["domain"]["fixed"]["depth_mm"] == float("inf")
@@ -151,8 +151,8 @@ class TestRefused:
             SpectralModel.load(path)
 
     def test_newer_format_version(self, saved, tmp_path):
-        path = with_metadata(saved, tmp_path / "x.npz", format_version=4)
-        with pytest.raises(ModelFileError, match="format version 4.*upgrade"):
+        path = with_metadata(saved, tmp_path / "x.npz", format_version=5)
+        with pytest.raises(ModelFileError, match="format version 5.*upgrade"):
             SpectralModel.load(path)
 
     def test_inconsistent_shapes(self, saved, tmp_path):

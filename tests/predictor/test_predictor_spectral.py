@@ -236,6 +236,7 @@ class TestEstimatorConventions:
             "ensemble": 1,
             "learning_rates": (1e-3,),
             "network_validation": "r2",
+            "physical_inputs": (),
             "random_state": 0,
         }
         train, R, _, _ = exact_cubic_problem(SMALL, 100, seed=3)
@@ -292,3 +293,41 @@ class TestEstimatorConventions:
         train, R, _, _ = exact_cubic_problem(SMALL.restrict(forms=["coating"]), 100, seed=3)
         with pytest.raises(SandlightError, match="particles"):
             SpectralModel().fit(train, R, wavelengths_nm=WL, domain=SMALL)
+
+
+class TestIronFreeSamples:
+    """Without iron oxide the engine builds the same bare sand for every form, but its form
+    'coating' jumps at zero (any coating adds its interfaces): an iron-free sample is answered by
+    the forms continuous there ('mixed', 'particles'), whatever form it names."""
+
+    @pytest.fixture(scope="class")
+    def three_forms(self):
+        domain = SMALL.restrict(forms=["coating", "mixed", "particles"])
+        train, R, spectra, _ = exact_cubic_problem(domain, 600, seed=3)
+        return SpectralModel().fit(train, R, wavelengths_nm=WL, domain=domain), spectra
+
+    def test_every_form_gets_the_mean_of_the_continuous_forms(self, three_forms):
+        model, spectra = three_forms
+        free = [dict(SMALL.draw(1, seed=5)[0], iron_oxide=0.0, iron_oxide_form=f) for f in model.forms_]
+        predicted = model.predict(free)
+        np.testing.assert_array_equal(predicted, np.broadcast_to(predicted[0], predicted.shape))
+        # The exact cubic per form is continuous: at 10⁻¹² iron oxide each form answers itself.
+        near = [dict(s, iron_oxide=1e-12) for s in free]
+        own = model.predict(near)
+        np.testing.assert_allclose(own, spectra(near), atol=1e-9)
+        assert np.abs(own[0] - own[1:].mean(axis=0)).max() > 1e-3  # the forms differ here
+        np.testing.assert_allclose(predicted[0], own[1:].mean(axis=0), atol=1e-9)
+
+    def test_a_model_with_one_of_those_forms_answers_with_it(self, fitted):
+        model, spectra, _ = fitted
+        assert model.forms_ == ("coating", "particles")
+        free = [dict(SMALL.draw(1, seed=5)[0], iron_oxide=0.0, iron_oxide_form=f) for f in model.forms_]
+        np.testing.assert_allclose(model.predict(free), np.broadcast_to(model.predict(free[1:]), (2, len(WL))))
+        np.testing.assert_allclose(model.predict(free[1:]), spectra(free[1:]), atol=1e-10)
+
+    def test_a_coating_only_model_answers_as_given(self):
+        domain = SMALL.restrict(forms=["coating"])
+        train, R, spectra, _ = exact_cubic_problem(domain, 200, seed=3)
+        model = SpectralModel().fit(train, R, wavelengths_nm=WL, domain=domain)
+        free = [dict(domain.draw(1, seed=5)[0], iron_oxide=0.0)]
+        np.testing.assert_allclose(model.predict(free), spectra(free), atol=1e-10)

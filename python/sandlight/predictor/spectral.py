@@ -46,7 +46,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from sandlight.checks import Interval, Numbers, StrOptions
+from sandlight.checks import Interval, Names, Numbers, StrOptions
 from sandlight.errors import ParameterError, SandlightError
 from sandlight.predictor.domain import FORM_PARAMETER, Domain, at_fixed_value
 from sandlight.predictor.estimator import Estimator
@@ -54,10 +54,19 @@ from sandlight.predictor.model_file import ModelFileFormat, jsonable
 from sandlight.predictor.monomials import BLOCK_SAMPLES, monomial_plan, monomials
 from sandlight.predictor.network import VALIDATIONS, Network, fit_network
 from sandlight.predictor.pca import n_components_for, principal_directions, signal_variance_ratio, variance_ratio
+from sandlight.predictor.physical_inputs import PHYSICAL_INPUTS, physical_inputs
 from sandlight.predictor.samples import sample_columns
 
 if TYPE_CHECKING:
     import xarray as xr
+
+#: The forms whose reflectance is continuous at zero iron oxide. Without iron oxide every form is
+#: the same bare sand (the engine builds no coating, no pigment and clear cores), but the
+#: engine's reflectance for the form 'coating' jumps there: a coating of any thickness adds its
+#: interfaces to every grain (+0.027 at 400 nm for ottawa-quartz at 10⁻⁹ iron oxide). So a
+#: model's 'coating' near zero answers for that coated skin, and an iron-free sample is answered
+#: by the mean of these forms' predictions instead (docs/spectral-predictor.md, "Broad models").
+IRON_FREE_FORMS = ("mixed", "particles")
 
 _ARRAYS = (
     "wavelengths_nm",
@@ -70,11 +79,19 @@ _ARRAYS = (
 #: The regression's arrays: the monomials' exponents and coefficients, or the network's.
 _MONOMIAL_ARRAYS = ("powers", "W")
 _NETWORK_ARRAYS = ("network_parameters", "network_shapes", "network_output_scale")
+#: The scaling of a network's physical inputs (only with ``physical_inputs``).
+_PHYSICAL_ARRAYS = ("physical_center", "physical_halfwidth")
 #: Version 2: log scales take an offset (Dimension.offset); models carry a name and a
-#: description. Version 3: the regression is monomials (powers, W) or a network. Format-1 files
-#: (sqrt-scaled concentrations, no name) still load.
+#: description. Version 3: the regression is monomials (powers, W) or a network. Version 4: a
+#: network may take physical inputs (params.physical_inputs; physical_center and
+#: physical_halfwidth), which a version-3 reader would not know. Format-1 files (sqrt-scaled
+#: concentrations, no name) still load.
 MODEL_FILE = ModelFileFormat(
-    "sandlight-spectral-model", 3, "spectral model", _ARRAYS, optional=_MONOMIAL_ARRAYS + _NETWORK_ARRAYS
+    "sandlight-spectral-model",
+    4,
+    "spectral model",
+    _ARRAYS,
+    optional=_MONOMIAL_ARRAYS + _NETWORK_ARRAYS + _PHYSICAL_ARRAYS,
 )
 MODEL_FORMAT, MODEL_FORMAT_VERSION = MODEL_FILE.name, MODEL_FILE.version
 
@@ -133,7 +150,7 @@ class SpectralModel(Estimator):
         The regression of the scores: the paper's monomials φ(x) and W (``degree``, ``ridge``,
         ``forms`` apply), or a neural network of the scaled parameters and one-hot form
         indicators (``hidden_units``, ``hidden_layers``, ``network_alpha``, ``ensemble``,
-        ``learning_rates``, ``network_validation``, ``random_state`` apply;
+        ``learning_rates``, ``network_validation``, ``physical_inputs``, ``random_state`` apply;
         :mod:`sandlight.predictor.network`).
     hidden_units, hidden_layers : int
         Width (1–1024) and number (1–4) of the network's tanh hidden layers.
@@ -149,6 +166,11 @@ class SpectralModel(Estimator):
         scikit-learn's R² averaged over the k scores with equal weight, or "error", the squared
         error of all scores together, i.e. of the reflectance (one scale for every score), so
         that the minor, noisy scores do not decide when a fit stops.
+    physical_inputs : sequence of str
+        Lengths of the mass balance the network also takes, scaled like the parameters (names
+        of :data:`~sandlight.predictor.physical_inputs.PHYSICAL_INPUTS`: pore mean free path,
+        coating and film thickness, water-filled share, iron path inside a grain;
+        :mod:`sandlight.predictor.physical_inputs`). Default (): the parameters alone. Network only.
     random_state : int
         Seed of the first network (≥ 0): a fit is reproducible.
 
@@ -188,6 +210,9 @@ class SpectralModel(Estimator):
         Network only.
     network_output_scale_ : float
         s: the standard deviation of the training scores (the network fits scores / s).
+    physical_center_, physical_halfwidth_ : ndarray (len(physical_inputs),)
+        Scaling of the physical inputs to [−1, 1] over the training set. With
+        ``physical_inputs`` only.
     training_rms_ : float
         RMS of (prediction − training reflectance) over the training set.
     reconstruction_rms_ : float
@@ -226,6 +251,7 @@ class SpectralModel(Estimator):
         "ensemble": [Interval(Integral, 1, 16)],
         "learning_rates": [Numbers(Interval(Real, 0, None, closed="neither"), 1, 4)],
         "network_validation": [StrOptions(VALIDATIONS)],
+        "physical_inputs": [Names(PHYSICAL_INPUTS)],
         "random_state": [Interval(Integral, 0, None)],
     }
     _model_file = MODEL_FILE
@@ -244,6 +270,7 @@ class SpectralModel(Estimator):
         ensemble: int = 1,
         learning_rates: tuple[float, ...] = (1e-3,),
         network_validation: str = "r2",
+        physical_inputs: tuple[str, ...] = (),
         random_state: int = 0,
     ) -> None:
         self.n_components = n_components
@@ -258,6 +285,7 @@ class SpectralModel(Estimator):
         self.ensemble = ensemble
         self.learning_rates = learning_rates
         self.network_validation = network_validation
+        self.physical_inputs = physical_inputs
         self.random_state = random_state
 
     # -- inputs -------------------------------------------------------------------------------
@@ -294,14 +322,19 @@ class SpectralModel(Estimator):
         domain.check(values, extrapolate=extrapolate)
         return values, codes
 
-    def _design(self, values: np.ndarray, codes: np.ndarray, domain: Domain, n_forms: int) -> np.ndarray:
+    def _design(self, values: np.ndarray, codes: np.ndarray, domain: Domain) -> np.ndarray:
         """Inputs of the regression: scaled parameters, plus form indicators for one-hot
-        monomials (forms 1.. : form 0 is the constant) or a network (every form)."""
+        monomials (forms 1.. : form 0 is the constant) or a network (every form), plus the
+        scaled physical inputs of a network that takes them."""
         Xs = domain.scaled(values)
+        n_forms = len(domain.forms)
         if n_forms > 1 and (self.regressor == "network" or self.forms == "onehot"):
             first = 0 if self.regressor == "network" else 1
             indicators = (codes[:, None] == np.arange(first, n_forms)[None, :]).astype(float)
             Xs = np.hstack([Xs, indicators])
+        if self.physical_inputs:
+            lengths = physical_inputs(values, codes, domain, tuple(self.physical_inputs))
+            Xs = np.hstack([Xs, (lengths - self.physical_center_) / self.physical_halfwidth_])
         return Xs
 
     # -- fitting ------------------------------------------------------------------------------
@@ -346,10 +379,19 @@ class SpectralModel(Estimator):
         self
         """
         self.validate_params()
+        if self.physical_inputs and self.regressor != "network":
+            raise ParameterError(
+                "physical_inputs", self.physical_inputs, "() unless regressor='network' (monomials take the parameters)"
+            )
         data = self._training_data(X, R, stderr, wavelengths_nm, domain, forms)
         mean, components, ratio, signal_ratio = self._principal_components(data.R, data.stderr)
         scores = (data.R - mean) @ components.T  # principal components r̃ of each sample (eq. 2)
-        Xs = self._design(data.values, data.codes, data.domain, len(data.domain.forms))
+        if self.physical_inputs:
+            lengths = physical_inputs(data.values, data.codes, data.domain, tuple(self.physical_inputs))
+            low, high = lengths.min(axis=0), lengths.max(axis=0)
+            self.physical_center_ = 0.5 * (low + high)
+            self.physical_halfwidth_ = np.where(high > low, 0.5 * (high - low), 1.0)  # 1: constant here (dry)
+        Xs = self._design(data.values, data.codes, data.domain)
         if self.regressor == "network":
             # One scale for every score keeps the squared error that of the reflectance
             # (orthonormal components) while giving the optimiser targets of order 1.
@@ -536,7 +578,22 @@ class SpectralModel(Estimator):
         if precision not in ("single", "double"):
             raise ParameterError("precision", precision, "'single' or 'double'")
         values, codes = self._inputs(samples, forms, self.domain_, self.forms_, extrapolate)
-        return self._evaluate(self._design(values, codes, self.domain_, len(self.forms_)), codes, precision)
+        out = self._evaluate(self._design(values, codes, self.domain_), codes, precision)
+        iron_free = np.flatnonzero(self._iron_oxide(values) == 0.0)
+        continuous = [self.forms_.index(f) for f in IRON_FREE_FORMS if f in self.forms_]
+        if iron_free.size and continuous:
+            rows, answers = values[iron_free], []
+            for code in continuous:
+                form = np.full(rows.shape[0], code)
+                answers.append(self._evaluate(self._design(rows, form, self.domain_), form, precision))
+            out[iron_free] = np.mean(answers, axis=0)
+        return out
+
+    def _iron_oxide(self, values: np.ndarray) -> np.ndarray:
+        """The iron oxide of each row: its column, or the value the domain fixes."""
+        if "iron_oxide" in self.domain_.names:
+            return values[:, self.domain_.names.index("iron_oxide")]
+        return np.full(values.shape[0], float(self.domain_.fixed.get("iron_oxide", np.nan)))
 
     def _evaluate(self, Xs: np.ndarray, codes: np.ndarray, precision: str = "single") -> np.ndarray:
         """r̄ + U_k Wᵀ φ(x) for scaled inputs, blockwise (see :mod:`sandlight.predictor.monomials`),
@@ -615,6 +672,8 @@ class SpectralModel(Estimator):
                 network_shapes=shapes,
                 network_output_scale=np.array([self.network_output_scale_]),
             )
+            if self.physical_inputs:
+                arrays.update(physical_center=self.physical_center_, physical_halfwidth=self.physical_halfwidth_)
         else:
             arrays.update(powers=self.powers_, W=self.W_)
         return arrays
@@ -624,7 +683,11 @@ class SpectralModel(Estimator):
         model = cls._params_from_file(meta["params"])
         domain = Domain.from_dict(meta["domain"])
         regression = _NETWORK_ARRAYS if model.regressor == "network" else _MONOMIAL_ARRAYS
-        wrong = sorted((set(_MONOMIAL_ARRAYS + _NETWORK_ARRAYS) - set(regression)) & set(data))
+        if model.physical_inputs:
+            if model.regressor != "network":
+                raise ValueError("physical_inputs need regressor 'network'")
+            regression += _PHYSICAL_ARRAYS
+        wrong = sorted((set(_MONOMIAL_ARRAYS + _NETWORK_ARRAYS + _PHYSICAL_ARRAYS) - set(regression)) & set(data))
         missing = [a for a in regression if a not in data]
         if wrong or missing:
             raise ValueError(
@@ -642,13 +705,15 @@ class SpectralModel(Estimator):
         integers = ("powers", "network_shapes")
         if model.regressor == "network":
             network = Network.from_arrays(data["network_parameters"], data["network_shapes"])
-            n_inputs = d + (n_forms if n_forms > 1 else 0)
+            n_physical = len(model.physical_inputs)
+            n_inputs = d + (n_forms if n_forms > 1 else 0) + n_physical
             if (network.n_inputs, network.n_outputs) != (n_inputs, k):
                 raise ValueError(
                     f"the network maps {network.n_inputs} inputs to {network.n_outputs} outputs, "
                     f"expected {n_inputs} to {k}"
                 )
             expected["network_output_scale"] = (1,)
+            expected.update(dict.fromkeys(_PHYSICAL_ARRAYS, (n_physical,)) if n_physical else {})
         else:
             n_inputs = d + (n_forms - 1 if model.forms == "onehot" and n_forms > 1 else 0)
             n_groups = n_forms if model.forms == "separate" else 1
@@ -680,6 +745,11 @@ class SpectralModel(Estimator):
         if model.regressor == "network":
             model.network_ = network
             model.network_output_scale_ = float(data["network_output_scale"][0])
+            if model.physical_inputs:
+                if not (data["physical_halfwidth"] > 0).all():
+                    raise ValueError("array 'physical_halfwidth' holds a value <= 0")
+                model.physical_center_ = data["physical_center"]
+                model.physical_halfwidth_ = data["physical_halfwidth"]
         else:
             model.powers_, model.W_ = data["powers"].astype(np.int64), data["W"]
             model._plan = monomial_plan(model.powers_)
