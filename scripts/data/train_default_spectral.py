@@ -28,6 +28,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from sandlight.predictor.physical_inputs import PHYSICAL_INPUTS
+
 if TYPE_CHECKING:
     import numpy as np
 
@@ -157,7 +159,8 @@ FULL_RANGE = "350:2500:25"
 
 #: The regression of the broad models (docs/spectral-predictor.md, "Broad models"): 3 tanh layers
 #: of 128 units, Adam's rate stepped down twice, early stopping on the reflectance's error (the
-#: mean R² of the scores stopped the fits while the leading scores still improved).
+#: mean R² of the scores stopped the fits while the leading scores still improved), the mass
+#: balance's lengths as inputs beside the parameters ("Method", step 3).
 BROAD_NETWORK = {
     "regressor": "network",
     "n_components": 8,
@@ -166,12 +169,13 @@ BROAD_NETWORK = {
     "ensemble": 4,
     "learning_rates": (1e-3, 1e-4, 1e-5),
     "network_validation": "error",
+    "physical_inputs": PHYSICAL_INPUTS,
 }
 #: The full-range models': 12 components (k = 8 truncates 0.006 RMS of the 87-wavelength spectra
-#: of wet sand); as shipped, their early stopping followed the mean R² of the scores (a refit
-#: stopping on the error needs their training sets regenerated; docs/spectral-predictor.md,
-#: "Full range").
-FULL_NETWORK = {**BROAD_NETWORK, "n_components": 12, "network_validation": "r2"}
+#: of wet sand); as shipped, their early stopping followed the mean R² of the scores and they take
+#: the parameters alone (a refit in the broad models' recipe needs their training sets
+#: regenerated; docs/spectral-predictor.md, "Full range").
+FULL_NETWORK = {**BROAD_NETWORK, "n_components": 12, "network_validation": "r2", "physical_inputs": ()}
 
 #: The presets with narrow models of their own (the shipped scenes use yellow-dune and
 #: wet-beach; red-dune is the README's example).

@@ -20,7 +20,8 @@ range"; prediction speed: benchmarks/predict.py)::
 recipe before 2026-12-07; now 3 × 128 with stepped rates, stopping on the error); ``--components``
 the numbers k of principal components to try (default 8); ``--rates`` Adam's learning rate per
 stage (default one stage at 10⁻³); ``--validation`` what early stopping follows (``r2``, the
-default, or ``error``; ``SpectralModel.network_validation``); ``--truncation`` also prints the RMS
+default, or ``error``; ``SpectralModel.network_validation``); ``--physical no yes`` fits the
+networks without and with the physical inputs (``SpectralModel.physical_inputs``); ``--truncation`` also prints the RMS
 that keeping k components alone leaves on the hold-out spectra, with the part of it the Monte Carlo
 noise explains removed.
 """
@@ -54,6 +55,13 @@ def main() -> None:
         default=["r2"],
         help="what the networks' early stopping follows (SpectralModel.network_validation; default r2)",
     )
+    p.add_argument(
+        "--physical",
+        choices=("no", "yes"),
+        nargs="+",
+        default=["no"],
+        help="networks without and/or with the physical inputs (SpectralModel.physical_inputs; default no)",
+    )
     p.add_argument("--truncation", action="store_true", help="print the PCA truncation error per k first")
     args = p.parse_args()
     for name in ("layers", "units"):
@@ -65,6 +73,7 @@ def main() -> None:
     import xarray as xr
 
     from sandlight.predictor import SpectralModel, evaluate
+    from sandlight.predictor.physical_inputs import PHYSICAL_INPUTS
 
     store = args.work_dir / args.model
     network = {
@@ -80,9 +89,17 @@ def main() -> None:
             candidates.append((f"cubic (degree 3, k = {k})", {"degree": 3, "n_components": k}))
         candidates += [
             (
-                f"network {args.layers} × {args.units} tanh, ensemble {e} (k = {k}{rates}, stopping on {v})",
-                {**network, "ensemble": e, "n_components": k, "network_validation": v},
+                f"network {args.layers} × {args.units} tanh{', physical inputs' if f == 'yes' else ''}, "
+                f"ensemble {e} (k = {k}{rates}, stopping on {v})",
+                {
+                    **network,
+                    "ensemble": e,
+                    "n_components": k,
+                    "network_validation": v,
+                    "physical_inputs": PHYSICAL_INPUTS if f == "yes" else (),
+                },
             )
+            for f in args.physical
             for e in args.ensembles
             for v in args.validation
         ]
