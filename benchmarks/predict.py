@@ -6,6 +6,7 @@ single call. Run on one core::
 
     python benchmarks/predict.py                       # every shipped model, and the bank
     python benchmarks/predict.py --model out/spectral-model.npz
+    python benchmarks/predict.py --bank-only --models-dir DIR  # the bank of DIR's spectral-*.npz
     python benchmarks/predict.py --synthetic           # no model needed: a model of the
                                                        # broad model's shape (13 parameters,
                                                        # 3 forms, k = 6, 16 wavelengths)
@@ -21,6 +22,7 @@ for _var in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
 
 import argparse  # noqa: E402
 import time  # noqa: E402
+from pathlib import Path  # noqa: E402
 
 
 def synthetic_model():
@@ -109,16 +111,30 @@ def main(argv=None) -> int:
     source.add_argument("--model", help="model file (default: the shipped models)")
     source.add_argument("--synthetic", action="store_true", help="fit a synthetic model")
     p.add_argument("--batch", type=int, default=1_000_000, help="spectra per batched call")
+    p.add_argument("--bank-only", action="store_true", help="time the bank only, not each of its models")
+    p.add_argument(
+        "--models-dir",
+        type=Path,
+        help="bank the spectral-*.npz files of this directory instead of the shipped ones (e.g. another commit's)",
+    )
     args = p.parse_args(argv)
 
     from sandlight.predictor import SpectralModel, default_model
+    from sandlight.predictor.bank import banks_by_grid
 
     if args.synthetic or args.model:
         bench_model(synthetic_model() if args.synthetic else SpectralModel.load(args.model), args.batch)
         return 0
-    bank = default_model()
-    for model in bank.models:
-        bench_model(model, args.batch)
+    if args.models_dir is None:
+        bank = default_model()
+    else:
+        paths = sorted(args.models_dir.glob("spectral-*.npz"))
+        if not paths:
+            p.error(f"--models-dir = {str(args.models_dir)!r}: no spectral-*.npz file there")
+        bank = banks_by_grid(SpectralModel.load(path) for path in paths)[0]  # the paper's 16 wavelengths
+    if not args.bank_only:
+        for model in bank.models:
+            bench_model(model, args.batch)
     bench_bank(bank, args.batch)
     return 0
 
