@@ -295,16 +295,18 @@ class TestEstimatorConventions:
             SpectralModel().fit(train, R, wavelengths_nm=WL, domain=SMALL)
 
 
+@pytest.fixture(scope="module")
+def three_forms():
+    """An exact cubic problem over the three forms, and its model."""
+    domain = SMALL.restrict(forms=["coating", "mixed", "particles"])
+    train, R, spectra, _ = exact_cubic_problem(domain, 600, seed=3)
+    return SpectralModel().fit(train, R, wavelengths_nm=WL, domain=domain), spectra
+
+
 class TestIronFreeSamples:
     """Without iron oxide the engine builds the same bare sand for every form, but its form
     'coating' jumps at zero (any coating adds its interfaces): an iron-free sample is answered by
     the forms continuous there ('mixed', 'particles'), whatever form it names."""
-
-    @pytest.fixture(scope="class")
-    def three_forms(self):
-        domain = SMALL.restrict(forms=["coating", "mixed", "particles"])
-        train, R, spectra, _ = exact_cubic_problem(domain, 600, seed=3)
-        return SpectralModel().fit(train, R, wavelengths_nm=WL, domain=domain), spectra
 
     def test_every_form_gets_the_mean_of_the_continuous_forms(self, three_forms):
         model, spectra = three_forms
