@@ -449,21 +449,31 @@ class Domain:
             ``iron_oxide_form``, as plain Python floats and str (SandSample keyword arguments).
         """
         values, codes = self.draw_arrays(n, seed, design)
-        silt, clay = (
-            (values[:, self.names.index("silt")], values[:, self.names.index("clay")])
-            if self._texture_drawn
-            else (self.fixed["silt"], self.fixed["clay"])
-        )
-        sand = np.broadcast_to(1.0 - silt - clay, codes.shape)
-        fixed = {k: float(v) for k, v in self.fixed.items()}
-        samples = []
-        for i, row in enumerate(values.tolist()):
-            s = dict(zip(self.names, row))
-            s.update(fixed)
-            s["sand"] = float(sand[i])
-            s[FORM_PARAMETER] = self.forms[codes[i]]
-            samples.append(s)
-        return samples
+        columns = self.columns(values, codes)
+        return [{k: v[i].item() for k, v in columns.items()} for i in range(len(codes))]
+
+    def columns(self, values: np.ndarray, codes: np.ndarray) -> dict[str, np.ndarray]:
+        """The samples of a predictor's inputs as columns of SandSample parameters.
+
+        Parameters
+        ----------
+        values : ndarray (n, n_dimensions)
+            The dimensions' values, in ``names`` order (e.g. from :meth:`draw_arrays`).
+        codes : ndarray (n,)
+            Form codes indexing ``forms``.
+
+        Returns
+        -------
+        dict of str to ndarray (n,)
+            Every dimension, the fixed parameters, ``sand`` (1 − silt − clay) and
+            ``iron_oxide_form`` (names), in that order.
+        """
+        n = len(codes)
+        columns = {name: values[:, j] for j, name in enumerate(self.names)}
+        columns.update({k: np.full(n, float(v)) for k, v in self.fixed.items()})
+        columns["sand"] = 1.0 - columns["silt"] - columns["clay"]
+        columns[FORM_PARAMETER] = np.asarray(self.forms)[codes]
+        return columns
 
     def draw_arrays(self, n: int, seed: int, design: str = "lhs") -> tuple[np.ndarray, np.ndarray]:
         """The draws of :meth:`draw` as arrays: values (n, n_dimensions) in ``names`` order and

@@ -22,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from sandlight.physics.composition import length_scales
-from sandlight.predictor.domain import DERIVED, FORM_PARAMETER, Domain
+from sandlight.predictor.domain import Domain
 from sandlight.sample import PARAMETERS
 
 __all__ = ["PHYSICAL_INPUTS", "physical_inputs"]
@@ -63,15 +63,10 @@ def physical_inputs(values: np.ndarray, codes: np.ndarray, domain: Domain, names
     ndarray (n, len(names))
         log10(length/mm + FLOOR_MM) of the lengths, the water-filled probability as it is.
     """
-    n, varied = values.shape[0], {name: j for j, name in enumerate(domain.names)}
-    columns = {}
-    for p in PARAMETERS:
-        if p.name in varied:
-            columns[p.name] = values[:, varied[p.name]]
-        elif p.name not in DERIVED and p.name != FORM_PARAMETER:
-            columns[p.name] = np.full(n, float(domain.fixed.get(p.name, p.default)))
-    columns["sand"] = 1.0 - columns["silt"] - columns["clay"]
-    columns[FORM_PARAMETER] = np.asarray(domain.forms)[codes]
+    n, columns = values.shape[0], domain.columns(values, codes)
+    for p in PARAMETERS:  # one the domain neither varies nor fixes: SandSample's default
+        if p.kind == "float":
+            columns.setdefault(p.name, np.full(n, float(p.default)))
     lengths = length_scales(columns)
     return np.column_stack([lengths[k] if k in _LINEAR else np.log10(lengths[k] + FLOOR_MM) for k in names]).reshape(
         n, len(names)
