@@ -1,8 +1,10 @@
 //! Thin plane-parallel layers on a particle surface (a water film, an iron-oxide coating),
 //! combined incoherently with the interfaces around them.
 //!
-//! A layer is thin compared with the particle (t ≪ D, docs/model.md §2.4 item 2) but thick
-//! compared with the coherence length of daylight, so it is a plane slab without interference.
+//! A layer is thin compared with the particle (t ≪ D, docs/model.md §2.4 item 2), so locally a
+//! plane slab, traced without interference: coatings are thinner than daylight's coherence
+//! length, but rough on the scale of their thickness (docs/model.md §2.4 item 2, "Coherence",
+//! measures what a smooth coherent film would change).
 //! Across parallel planes the tangential invariant s = n sin θ is conserved (Snell), hence the
 //! ray that finally enters the far medium has the direction Snell's law gives between the two
 //! outer media directly, and a reflected ray leaves along the mirror direction. Only the
