@@ -320,6 +320,14 @@ class TestIronFreeSamples:
         assert np.abs(own[0] - own[1:].mean(axis=0)).max() > 1e-3  # the forms differ here
         np.testing.assert_allclose(predicted[0], own[1:].mean(axis=0), atol=1e-9)
 
+    def test_a_batch_mixing_iron_free_and_other_rows_keeps_each_row(self, three_forms):
+        model, spectra = three_forms
+        draws = SMALL.restrict(forms=model.forms_).draw(6, seed=8)
+        batch = [dict(s, iron_oxide=0.0) if i % 2 else s for i, s in enumerate(draws)]
+        alone = np.vstack([model.predict([s]) for s in batch])
+        np.testing.assert_allclose(model.predict(batch), alone, atol=1e-12)
+        np.testing.assert_allclose(alone[::2], spectra(batch[::2]), atol=1e-9)
+
     def test_a_model_with_one_of_those_forms_answers_with_it(self, fitted):
         model, spectra, _ = fitted
         assert model.forms_ == ("coating", "particles")

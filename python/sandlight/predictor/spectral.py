@@ -578,15 +578,18 @@ class SpectralModel(Estimator):
         if precision not in ("single", "double"):
             raise ParameterError("precision", precision, "'single' or 'double'")
         values, codes = self._inputs(samples, forms, self.domain_, self.forms_, extrapolate)
-        out = self._evaluate(self._design(values, codes, self.domain_), codes, precision)
-        iron_free = np.flatnonzero(self._iron_oxide(values) == 0.0)
+        free = np.flatnonzero(self._iron_oxide(values) == 0.0)
         continuous = [self.forms_.index(f) for f in IRON_FREE_FORMS if f in self.forms_]
-        if iron_free.size and continuous:
-            rows, answers = values[iron_free], []
-            for code in continuous:
-                form = np.full(rows.shape[0], code)
-                answers.append(self._evaluate(self._design(rows, form, self.domain_), form, precision))
-            out[iron_free] = np.mean(answers, axis=0)
+        if not (free.size and continuous):
+            return self._evaluate(self._design(values, codes, self.domain_), codes, precision)
+        # One batch: the other rows with their own forms, the iron-free rows once per continuous form.
+        kept = np.flatnonzero(self._iron_oxide(values) != 0.0)
+        rows = np.concatenate([values[kept], *([values[free]] * len(continuous))])
+        row_forms = np.concatenate([codes[kept], *(np.full(free.size, c, dtype=codes.dtype) for c in continuous)])
+        answers = self._evaluate(self._design(rows, row_forms, self.domain_), row_forms, precision)
+        out = np.empty((values.shape[0], answers.shape[1]), dtype=answers.dtype)
+        out[kept] = answers[: kept.size]
+        out[free] = answers[kept.size :].reshape(len(continuous), free.size, -1).mean(axis=0)
         return out
 
     def _iron_oxide(self, values: np.ndarray) -> np.ndarray:
