@@ -246,6 +246,60 @@ class TestPipeline:
         loaded = SpectralModel.load(run.model_path)
         assert (loaded.name_, loaded.description_) == ("small", "a small domain")
 
+    def test_enrichment_adds_samples_from_a_corner(self, tmp_path):
+        kw = dict(
+            n_samples=N,
+            rays=RAYS,
+            wavelengths_nm=WL,
+            seed=3,
+            n_holdout=40,
+            executor=InProcessExecutor(),
+            domain=SMALL,
+            simulate=predictor_fakes.fake_reflectance,
+            progress=False,
+        )
+        corner = SMALL.restrict(forms=["particles"], iron_oxide=0.0, silt=0.0, clay=0.0)
+        run = train_spectral(tmp_path, enrichment=(30, corner), **kw)
+        with xr.open_dataset(tmp_path / "enrichment" / "dataset.nc") as extra:
+            assert extra.sizes["sample"] == 30 and extra.attrs["rays"] == RAYS
+            assert (extra["iron_oxide"].values == 0).all() and (extra["silt"].values == 0).all()
+            assert set(extra["iron_oxide_form"].values.astype(str)) == {"particles"}
+        ts = run.model.training_set_
+        assert ts["n_samples"] == N + 30 and ts["enrichment"]["n_samples"] == 30
+        assert Domain.from_dict(ts["enrichment"]["domain"]) == corner and len(ts["enrichment"]["sha256"]) == 64
+        assert run.model.domain_ == SMALL and run.report.n_samples == 40  # the hold-out: the domain's draws only
+        # The fit saw the corner: its samples are predicted within the fake engine's noise.
+        with xr.open_dataset(tmp_path / "enrichment" / "dataset.nc") as extra:
+            error = run.model.predict(extra) - extra["reflectance"].values
+            assert np.sqrt(np.mean(error**2)) < 4 * float(extra["stderr"].mean())
+        again = SpectralModel.load(train_spectral(tmp_path, fit_only=True, enrichment=(30, corner), **kw).model_path)
+        assert again.training_set_["enrichment"]["sha256"] == ts["enrichment"]["sha256"]
+
+    def test_enrichment_outside_the_domain_or_malformed_is_refused(self, tmp_path):
+        kw = dict(
+            n_samples=N,
+            rays=RAYS,
+            seed=3,
+            executor=InProcessExecutor(),
+            domain=SMALL,
+            simulate=predictor_fakes.fake_reflectance,
+            progress=False,
+        )
+        wider = Domain.default().restrict(forms=["particles"], iron_oxide=0.0)
+        with pytest.raises(ParameterError, match="enrichment.*sub-domain"):
+            train_spectral(tmp_path, enrichment=(30, wider), **kw)
+        with pytest.raises(ParameterError, match="enrichment"):
+            train_spectral(tmp_path, enrichment=30, **kw)
+        with pytest.raises(ParameterError, match="enrichment samples"):
+            train_spectral(tmp_path, enrichment=(0, SMALL), **kw)
+        assert not (tmp_path / "training").exists()  # refused before any generation
+
+    def test_fit_training_set_refuses_an_enrichment_of_other_rays(self, tmp_path):
+        first = generate(tmp_path / "a", n_samples=60)
+        other = generate(tmp_path / "b", n_samples=20, rays=RAYS // 4, seed=12)
+        with pytest.raises(ParameterError, match="enrichment.*rays"):
+            fit_training_set(first.dataset_path, enrichment=other.dataset_path)
+
     def test_fit_domain_keeps_the_samples_inside_it(self, tmp_path):
         kw = dict(
             n_samples=N,

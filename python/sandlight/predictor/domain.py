@@ -95,6 +95,9 @@ CONCENTRATION_OFFSET = 1e-4
 #: The reference sand of the narrow domains: SandSample's defaults (docs/sample.md), semi-infinite;
 #: every float parameter but the derived ones.
 REFERENCE_SAND = {p.name: p.default for p in PARAMETERS if p.kind == "float" and p.name not in DERIVED}
+#: Clean quartz sand (the ottawa-quartz preset's kind): no absorber, no fines. A corner of the broad
+#: domains that random draws hardly reach (docs/spectral-predictor.md, "Corners of the domain").
+CLEAN_SAND = {"iron_oxide": 0.0, "magnetite": 0.0, "silt": 0.0, "clay": 0.0}
 
 
 @dataclass(frozen=True)

@@ -363,6 +363,7 @@ def fit_training_set(
     name: str = "spectral",
     description: str = "",
     fit_domain: Domain | None = None,
+    enrichment: str | os.PathLike | None = None,
     **model_params: Any,
 ) -> tuple[SpectralModel, HoldoutReport | None]:
     """Fit a SpectralModel on a training-set dataset and score it on a hold-out dataset.
@@ -371,6 +372,10 @@ def fit_training_set(
     ----------
     path : str or Path
         Training dataset (``.nc``) or its job store directory.
+    enrichment : str or Path, optional
+        A second training dataset (or job store) fitted together with the first: samples drawn
+        from a sub-domain where the first has few (see :func:`train_spectral`). Its wavelengths,
+        rays and engine must be the first's; it is recorded beside it in ``training_set_``.
     holdout : str or Path, optional
         Hold-out dataset or job store; its scores are attached to the model.
     name, description : str
@@ -388,6 +393,17 @@ def fit_training_set(
     with xr.open_dataset(path) as ds:
         ds = ds.load()
     reference = {"path": str(path), "sha256": file_sha256(path)}
+    if enrichment is not None:
+        enrichment = _dataset_file(enrichment)
+        with xr.open_dataset(enrichment) as extra:
+            extra = extra.load()
+        ds = _with_enrichment(ds, extra, enrichment)
+        reference["enrichment"] = {
+            "path": str(enrichment),
+            "sha256": file_sha256(enrichment),
+            "n_samples": int(extra.sizes["sample"]),
+            "domain": json.loads(extra.attrs["domain"]),
+        }
     if fit_domain is not None:
         ds = _samples_inside(ds, fit_domain)
         reference["n_used"] = int(ds.sizes["sample"])
@@ -405,6 +421,37 @@ def fit_training_set(
         model.holdout_scores_["path"] = str(holdout)
         model.holdout_scores_["sha256"] = file_sha256(holdout)
     return model, report
+
+
+def _check_enrichment(enrichment: Any, domain: Domain) -> None:
+    """Refuse an enrichment that is not (n ≥ 1, a Domain inside ``domain``) before generating."""
+    if not (isinstance(enrichment, tuple) and len(enrichment) == 2 and isinstance(enrichment[1], Domain)):
+        raise ParameterError("enrichment", enrichment, "a pair (number of samples, Domain)")
+    n, sub = enrichment
+    check_whole_number("enrichment samples", n, 1)
+    values, codes = sub.draw_arrays(min(int(n), 256), seed=0, design="random")
+    columns = sub.columns(values, codes)
+    inside = domain.contains(columns, columns[FORM_PARAMETER])
+    if not inside.all():
+        raise ParameterError("enrichment", sub.to_dict(), "a sub-domain of the training domain")
+
+
+def _with_enrichment(ds: xr.Dataset, extra: xr.Dataset, path: Path) -> xr.Dataset:
+    """``ds`` followed by the samples of ``extra`` (same variables, wavelengths, rays and engine),
+    keeping ``ds``'s attributes (its domain) with the total number of samples."""
+    import xarray as xr
+
+    for key in ("rays", "engine", "simulator"):
+        if str(extra.attrs.get(key)) != str(ds.attrs.get(key)):
+            raise ParameterError(
+                "enrichment", str(path), f"a training set with the first's {key} ({ds.attrs.get(key)})"
+            )
+    if set(extra.data_vars) != set(ds.data_vars) or not np.array_equal(extra["wavelength"], ds["wavelength"]):
+        raise ParameterError("enrichment", str(path), "a training set with the first's variables and wavelengths")
+    extra = extra.assign_coords(sample=extra["sample"].values + ds.sizes["sample"])
+    both = xr.concat([ds, extra], dim="sample", data_vars="all", combine_attrs="override")
+    both.attrs["n_samples"] = int(both.sizes["sample"])
+    return both
 
 
 def _dataset_file(path: str | os.PathLike) -> Path:
@@ -455,12 +502,14 @@ def train_spectral(
     description: str = "",
     fit_domain: Domain | None = None,
     memory: str | None = None,
+    enrichment: tuple[int, Domain] | None = None,
 ) -> TrainingRun:
     """Generate the training and hold-out sets, fit, evaluate and save a spectral model.
 
     Layout of ``out_dir``: ``training/`` and ``holdout/`` (job stores, each with its
-    ``dataset.nc``) and ``spectral-model.npz``. Resumable: the same call again continues the
-    jobs; with ``fit_only`` the existing complete datasets are only refitted.
+    ``dataset.nc``), ``enrichment/`` when asked for, and ``spectral-model.npz``. Resumable: the
+    same call again continues the jobs; with ``fit_only`` the existing complete datasets are only
+    refitted.
 
     Parameters
     ----------
@@ -478,11 +527,18 @@ def train_spectral(
         Stop each job after this many samples (for testing resumption).
     model_params : dict, optional
         SpectralModel hyper-parameters.
+    enrichment : (int, Domain), optional
+        Extra training samples (Latin hypercube, seed ``derive_seed(seed, "enrichment")``, the
+        training set's rays) from a sub-domain of ``domain`` that its random draws hardly reach,
+        e.g. a corner where several parameters are exactly 0; fitted together with the training
+        set (:func:`fit_training_set`). The hold-out set stays drawn from ``domain`` alone.
 
     Other parameters are those of :func:`generate_training_set`.
     """
     out = Path(out_dir)
     SpectralModel(**(model_params or {})).validate_params()  # before hours of generation, not after
+    if enrichment is not None:
+        _check_enrichment(enrichment, Domain.default() if domain is None else domain)
     if n_holdout is not None and not (isinstance(n_holdout, (int, np.integer)) and n_holdout >= 0):
         # -1 silently meant no hold-out set
         raise ParameterError("n_holdout", n_holdout, "an integer >= 0 (0: no hold-out set), or None for the default")
@@ -500,6 +556,20 @@ def train_spectral(
             memory=memory,
         )
     ]
+    if enrichment is not None:
+        jobs.append(
+            training_job(
+                out / "enrichment",
+                enrichment[0],
+                wavelengths_nm,
+                rays,
+                derive_seed(seed, "enrichment"),
+                domain=enrichment[1],
+                design="lhs",
+                simulate=simulate,
+                memory=memory,
+            )
+        )
     if n_holdout > 0:
         jobs.append(
             training_job(
@@ -523,7 +593,8 @@ def train_spectral(
         for job in jobs
     ]
     generation_s = time.perf_counter() - start
-    holdout_status = statuses[1] if len(statuses) > 1 else None
+    enrichment_status = statuses[1] if enrichment is not None else None
+    holdout_status = statuses[-1] if n_holdout > 0 else None
     if not all(s.complete for s in statuses):
         if fit_only:
             incomplete = [f"{s.store} ({s.n_done}/{s.n_total})" for s in statuses if not s.complete]
@@ -540,6 +611,7 @@ def train_spectral(
         name=name,
         description=description,
         fit_domain=fit_domain,
+        enrichment=enrichment_status.dataset_path if enrichment_status else None,
         **(model_params or {}),
     )
     fit_s = time.perf_counter() - start
