@@ -82,6 +82,9 @@ class BankEntry:
     broad: bool = False
     #: nm, start:stop:step; None: the paper's grid (``--wavelengths``).
     wavelengths: str | None = None
+    #: Extra training samples at the clean-sand corner (``CLEAN_SAND``, in the forms continuous
+    #: at zero iron oxide), which random draws hardly reach (docs/spectral-predictor.md, "Corners").
+    clean_corner: int = 0
 
     @property
     def description(self) -> str:
@@ -98,6 +101,15 @@ class BankEntry:
         if self.water == "film":
             return self.domain().restrict(saturation=(FILM_FROM, WATER["film"][1]))
         return None
+
+    def enrichment(self) -> tuple[int, Domain] | None:
+        """The clean-corner samples and their sub-domain (None: none)."""
+        from sandlight.predictor.domain import CLEAN_SAND
+        from sandlight.predictor.spectral import IRON_FREE_FORMS
+
+        if not self.clean_corner:
+            return None
+        return self.clean_corner, self.domain().restrict(forms=IRON_FREE_FORMS, **CLEAN_SAND)
 
     def domain(self) -> Domain:
         from sandlight.predictor import Dimension, Domain
@@ -174,10 +186,6 @@ BROAD_NETWORK = {
 #: The full-range models': the broad models' recipe with 12 components (k = 8 truncates 0.006 RMS
 #: of the 87-wavelength spectra of wet sand).
 FULL_NETWORK = {**BROAD_NETWORK, "n_components": 12}
-#: full-dry as shipped: fitted before early stopping on the error and the physical inputs (a refit
-#: in FULL_NETWORK needs its training set regenerated, ≈ 50 min on two cores; docs/spectral-predictor.md,
-#: "Full range").
-FULL_DRY_AS_SHIPPED = {**FULL_NETWORK, "network_validation": "r2", "physical_inputs": ()}
 
 #: The presets with narrow models of their own (the shipped scenes use yellow-dune and
 #: wet-beach; red-dune is the README's example).
@@ -203,6 +211,7 @@ BANK = (
             model_params=BROAD_NETWORK,
             water=w,
             broad=True,
+            clean_corner=n // 20,
         )
         for w, n, h in (("dry", 10_000, 500), ("wet", 8_000, 400))
     ),
@@ -216,10 +225,11 @@ BANK = (
             holdout=160,
             rays=1_000,
             holdout_rays=4_000,
-            model_params=FULL_NETWORK if w == "wet" else FULL_DRY_AS_SHIPPED,
+            model_params=FULL_NETWORK,
             water=w,
             broad=True,
             wavelengths=FULL_RANGE,
+            clean_corner=200,
         )
         for w in BROAD_WATER
     ),
@@ -286,6 +296,7 @@ def train_one(entry: BankEntry, args: argparse.Namespace, executor: Executor | s
         f"dimensions {domain.names}, forms {domain.forms}; {entry.samples} training samples at "
         f"{entry.rays} rays, {entry.holdout} hold-out samples at {entry.holdout_rays} rays; "
         f"wavelengths {grid} nm; model {entry.model_params}"
+        + (f"; {entry.clean_corner} more training samples at the clean-sand corner" if entry.clean_corner else "")
     )
     start = time.perf_counter()
     run = train_spectral(
@@ -303,6 +314,7 @@ def train_one(entry: BankEntry, args: argparse.Namespace, executor: Executor | s
         description=entry.description,
         fit_domain=entry.fit_domain(),
         memory=args.memory,
+        enrichment=entry.enrichment(),
     )
     total_s = time.perf_counter() - start
     model, report = run.model, run.report

@@ -9,7 +9,7 @@ saturation 0.5 for ``broad-wet``), runs the default engine at ``--rays`` rays pe
 prints, per sample and over all, the RMS of prediction − Monte Carlo next to the reference's
 noise (docs/spectral-predictor.md, "Broad models", "Corners of the domain")::
 
-    python3 scripts/studies/clean_sand_corner.py [--rays 20000] [--random 24] [--seed 78]
+    python3 scripts/studies/clean_sand_corner.py [--rays 20000] [--random 24] [--seed 78] [--models broad-dry]
 """
 
 from __future__ import annotations
@@ -20,9 +20,12 @@ import numpy as np
 
 import sandlight
 from sandlight.predictor.bank import default_model
+from sandlight.predictor.domain import CLEAN_SAND
 from sandlight.predictor.training import engine_simulate
 
-CLEAN = {"iron_oxide": 0.0, "magnetite": 0.0, "silt": 0.0, "clay": 0.0, "sand": 1.0}
+CLEAN = {**CLEAN_SAND, "sand": 1.0}
+#: The broad models and the saturation of their ottawa-quartz.
+SATURATION = {"broad-dry": 0.0, "broad-wet": 0.5}
 
 
 def main() -> None:
@@ -30,6 +33,9 @@ def main() -> None:
     parser.add_argument("--rays", type=int, default=20_000, help="rays per wavelength of the reference")
     parser.add_argument("--random", type=int, default=24, help="random clean samples per model")
     parser.add_argument("--seed", type=int, default=78, help="seed of the draws and of the engine")
+    parser.add_argument(
+        "--models", nargs="+", choices=list(SATURATION), default=list(SATURATION), help="the broad models to check"
+    )
     args = parser.parse_args()
     for name in ("rays", "random"):
         if getattr(args, name) < 1:
@@ -39,8 +45,8 @@ def main() -> None:
     print(f"reference: {args.rays} rays per wavelength, seed {args.seed}\n")
     print("| model | sample | form | grain size (mm) | saturation | RMS | reference noise |")
     print("|---|---|---|---|---|---|---|")
-    for name, saturation in (("broad-dry", 0.0), ("broad-wet", 0.5)):
-        model = bank.model(name)
+    for name in args.models:
+        saturation, model = SATURATION[name], bank.model(name)
         rows = [{**r, **CLEAN} for r in model.domain_.draw(args.random, seed=args.seed, design="random")]
         ottawa = sandlight.SandSample.preset("ottawa-quartz").replace(saturation=saturation)
         samples = [(f"random {i}", sandlight.SandSample.from_dict(r)) for i, r in enumerate(rows)]

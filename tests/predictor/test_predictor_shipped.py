@@ -139,14 +139,16 @@ def test_prediction_agrees_with_the_default_engine(bank, params, expected):
     assert rms <= allowed, (rms, documented_model_error(model), noise)
 
 
-@pytest.mark.parametrize(("saturation", "expected"), [(0.0, "broad-dry"), (0.5, "broad-wet")])
-def test_the_broad_models_cover_what_the_narrow_ones_do_not(bank, saturation, expected):
+@pytest.mark.parametrize(("saturation", "expected", "allowed"), [(0.0, "broad-dry", 0.005), (0.5, "broad-wet", 0.02)])
+def test_the_broad_models_cover_what_the_narrow_ones_do_not(bank, saturation, expected, allowed):
     # Clean quartz sand (ottawa-quartz: iron oxide, magnetite, silt and clay all 0) sits in a
-    # corner of the broad domains, where few training samples lie. With physical inputs, and
-    # iron-free samples answered by the forms continuous at zero iron oxide, the networks miss it
-    # by 0.014 (dry) and 0.013 (wet) RMS against 20 000 rays (scripts/studies/clean_sand_corner.py;
-    # before: 0.064 and 0.063; docs/spectral-predictor.md, "Broad models"). Checked: about twice
-    # that plus the fresh run's noise, and better than the cubic over everything.
+    # corner of the broad domains that random draws hardly reach; the networks are trained with
+    # extra samples there (the bank's clean_corner) and answer iron-free samples with the forms
+    # continuous at zero iron oxide. They miss it by 0.0029 (dry) and 0.0128 (wet) RMS against
+    # 20 000 rays (scripts/studies/clean_sand_corner.py; without the corner samples 0.014 and
+    # 0.013, before the physical inputs 0.064 and 0.063; docs/spectral-predictor.md, "Corners of
+    # the domain"). Checked: below 0.005 (dry) and 0.02 (wet) plus twice the fresh run's noise, and
+    # better than the cubic over everything.
     sandlight = pytest.importorskip("sandlight")
     sample = pytest.importorskip("sandlight.sample").SandSample.preset("ottawa-quartz").replace(saturation=saturation)
     predicted, used = bank.predict([sample], return_models=True)
@@ -155,7 +157,7 @@ def test_the_broad_models_cover_what_the_narrow_ones_do_not(bank, saturation, ex
     mc = sandlight.reflectance(sample, model.wavelengths_, rays=20_000, seed=5, incidence_deg=0, threads=1)
     rms = float(np.sqrt(np.mean((predicted[0] - mc.values) ** 2)))
     noise = float(np.sqrt(np.mean(mc.stderr**2)))
-    assert rms <= 0.03 + 2 * noise
+    assert rms <= allowed + 2 * noise
     cubic = bank.model("broad").predict([sample])[0]
     assert rms < float(np.sqrt(np.mean((cubic - mc.values) ** 2)))
 
