@@ -372,10 +372,6 @@ def fit_training_set(
     ----------
     path : str or Path
         Training dataset (``.nc``) or its job store directory.
-    enrichment : str or Path, optional
-        A second training dataset (or job store) fitted together with the first: samples drawn
-        from a sub-domain where the first has few (see :func:`train_spectral`). Its wavelengths,
-        rays and engine must be the first's; it is recorded beside it in ``training_set_``.
     holdout : str or Path, optional
         Hold-out dataset or job store; its scores are attached to the model.
     name, description : str
@@ -384,6 +380,10 @@ def fit_training_set(
         Fit (and score) only the samples inside this domain, which becomes the model's domain:
         e.g. a range that leaves out a point where the engine is discontinuous. Default: the
         dataset's domain.
+    enrichment : str or Path, optional
+        A second training dataset (or job store) fitted together with the first: samples drawn
+        from a sub-domain where the first has few (see :func:`train_spectral`). Its wavelengths,
+        rays and engine must be the first's; it is recorded beside it in ``training_set_``.
     **model_params
         SpectralModel hyper-parameters.
     """
