@@ -5,9 +5,11 @@ command line: every option has help, flags show no "<bool>", counts are accepted
 import click
 import pytest
 import typer
+import xarray as xr
 from typer.testing import CliRunner
 
 from sandlight.cli import app
+from sandlight.predictor import SpectralModel
 
 runner = CliRunner()
 
@@ -113,3 +115,15 @@ def test_train_spectral_names_a_bad_regressor_before_any_run(tmp_path):
     res = runner.invoke(app, ["train-spectral", "--regressor", "forest", "-w", "550", "-o", str(out), "--no-progress"])
     assert res.exit_code == 2 and "--regressor = 'forest' is not allowed" in res.output, res.output
     assert not (out / "training").exists()
+
+
+def test_train_spectral_clean_corner_adds_samples_there_and_refuses_a_negative_count(tmp_path):
+    out = tmp_path / "run"
+    args = ["train-spectral", "--rays", "1e2", "--samples", "12", "--degree", "1", "--holdout", "0", "-w", "550"]
+    res = runner.invoke(app, [*args, "--workers", "1", "--clean-corner", "6", "-o", str(out), "--no-progress"])
+    assert res.exit_code == 0, res.output
+    with xr.open_dataset(out / "enrichment" / "dataset.nc") as extra:
+        assert extra.sizes["sample"] == 6 and (extra["iron_oxide"].values == 0).all()
+    assert SpectralModel.load(out / "spectral-model.npz").training_set_["enrichment"]["n_samples"] == 6
+    bad = runner.invoke(app, [*args, "--clean-corner", "-1", "-o", str(tmp_path / "bad"), "--no-progress"])
+    assert bad.exit_code == 2 and "--clean-corner = -1 is not allowed" in bad.output, bad.output
