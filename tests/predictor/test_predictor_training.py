@@ -191,19 +191,25 @@ class TestFitAndEvaluate:
             evaluate(model, holdout.isel(wavelength=slice(0, 8)))
 
 
+def pipeline_arguments(**changes):
+    """The arguments of train_spectral shared by the pipeline tests (the fake engine, in process)."""
+    args = dict(
+        n_samples=N,
+        rays=RAYS,
+        wavelengths_nm=WL,
+        seed=3,
+        executor=InProcessExecutor(),
+        domain=SMALL,
+        simulate=predictor_fakes.fake_reflectance,
+        progress=False,
+    )
+    args.update(changes)
+    return args
+
+
 class TestPipeline:
     def test_train_spectral_end_to_end_and_rerun(self, tmp_path):
-        kw = dict(
-            n_samples=N,
-            rays=RAYS,
-            wavelengths_nm=WL,
-            seed=3,
-            n_holdout=40,
-            executor=InProcessExecutor(),
-            domain=SMALL,
-            simulate=predictor_fakes.fake_reflectance,
-            progress=False,
-        )
+        kw = pipeline_arguments(n_holdout=40)
         partial = train_spectral(tmp_path, max_tasks=50, **kw)
         assert not partial.complete and partial.training.n_done == 50
         with pytest.raises(ParameterError, match="incomplete"):
@@ -223,17 +229,7 @@ class TestPipeline:
         assert loaded.holdout_scores_["n_samples"] == 40
 
     def test_holdout_rays_and_model_name(self, tmp_path):
-        kw = dict(
-            n_samples=N,
-            rays=RAYS,
-            wavelengths_nm=WL,
-            seed=3,
-            n_holdout=20,
-            executor=InProcessExecutor(),
-            domain=SMALL,
-            simulate=predictor_fakes.fake_reflectance,
-            progress=False,
-        )
+        kw = pipeline_arguments(n_holdout=20)
         run = train_spectral(tmp_path, holdout_rays=RAYS * 16, name="small", description="a small domain", **kw)
         with (
             xr.open_dataset(tmp_path / "holdout" / "dataset.nc") as ho,
@@ -247,17 +243,7 @@ class TestPipeline:
         assert (loaded.name_, loaded.description_) == ("small", "a small domain")
 
     def test_enrichment_adds_samples_from_a_corner(self, tmp_path):
-        kw = dict(
-            n_samples=N,
-            rays=RAYS,
-            wavelengths_nm=WL,
-            seed=3,
-            n_holdout=40,
-            executor=InProcessExecutor(),
-            domain=SMALL,
-            simulate=predictor_fakes.fake_reflectance,
-            progress=False,
-        )
+        kw = pipeline_arguments(n_holdout=40)
         corner = SMALL.restrict(forms=["particles"], iron_oxide=0.0, silt=0.0, clay=0.0)
         run = train_spectral(tmp_path, enrichment=(30, corner), **kw)
         with xr.open_dataset(tmp_path / "enrichment" / "dataset.nc") as extra:
@@ -276,15 +262,7 @@ class TestPipeline:
         assert again.training_set_["enrichment"]["sha256"] == ts["enrichment"]["sha256"]
 
     def test_enrichment_outside_the_domain_or_malformed_is_refused(self, tmp_path):
-        kw = dict(
-            n_samples=N,
-            rays=RAYS,
-            seed=3,
-            executor=InProcessExecutor(),
-            domain=SMALL,
-            simulate=predictor_fakes.fake_reflectance,
-            progress=False,
-        )
+        kw = pipeline_arguments()
         wider = Domain.default().restrict(forms=["particles"], iron_oxide=0.0)
         with pytest.raises(ParameterError, match="enrichment.*sub-domain"):
             train_spectral(tmp_path, enrichment=(30, wider), **kw)
@@ -301,17 +279,7 @@ class TestPipeline:
             fit_training_set(first.dataset_path, enrichment=other.dataset_path)
 
     def test_fit_domain_keeps_the_samples_inside_it(self, tmp_path):
-        kw = dict(
-            n_samples=N,
-            rays=RAYS,
-            wavelengths_nm=WL,
-            seed=3,
-            n_holdout=40,
-            executor=InProcessExecutor(),
-            domain=SMALL,
-            simulate=predictor_fakes.fake_reflectance,
-            progress=False,
-        )
+        kw = pipeline_arguments(n_holdout=40)
         low, high = SMALL.dimension("grain_size").low, SMALL.dimension("grain_size").high
         middle = float(np.sqrt(low * high))
         sub = SMALL.restrict(grain_size=(middle, high))
@@ -366,16 +334,7 @@ class TestPathMemory:
             assert ds["reflectance"][i].item() != run(memory="none").values[0]
 
     def test_recorded_in_the_model_and_refused_on_resume(self, tmp_path, fake_engine):
-        kw = dict(
-            n_samples=N,
-            rays=RAYS,
-            wavelengths_nm=WL,
-            seed=3,
-            n_holdout=20,
-            executor=InProcessExecutor(),
-            domain=SMALL,
-            progress=False,
-        )
+        kw = pipeline_arguments(n_holdout=20, simulate=None)
         train_spectral(tmp_path, max_tasks=5, memory="packed", **kw)
         with pytest.raises(JobSettingsError, match="engine"):
             train_spectral(tmp_path, memory="none", **kw)
