@@ -167,6 +167,9 @@ class ModelBank:
             free = np.flatnonzero((choice < 0) & (self._codes(m, names, index) >= 0))
             if not free.size:
                 continue
+            if free.size == choice.size:  # e.g. a single sample: nothing to take out
+                choice[domain.contains(columns)] = rank
+                continue
             sub = {n: np.asarray(columns[n])[free] for n in (*domain.names, *domain.fixed)}
             choice[free[domain.contains(sub)]] = rank
         return choice

@@ -70,6 +70,7 @@ cubic has few monomials and fits the engine much more closely.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field, replace
@@ -356,10 +357,23 @@ class Domain:
         return Domain(tuple(dims), tuple(forms) if forms is not None else self.forms, fixed, limit)
 
     # ---- properties --------------------------------------------------------------------------
-    @property
+    @functools.cached_property
     def names(self) -> tuple[str, ...]:
         """Names of the dimensions, in predictor input order."""
         return tuple(d.name for d in self.dimensions)
+
+    @functools.cached_property
+    def _fixed_values(self) -> np.ndarray:
+        """The fixed parameters' values in ``fixed`` order, as an array."""
+        return np.array(list(self.fixed.values()), dtype=float)
+
+    @functools.cached_property
+    def _bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Each dimension's range widened by 1e-9 of its width, the round-off of values written
+        to text and read back, as arrays: a bank tests every sample against
+        many domains, and a single call is mostly this test."""
+        tol = np.array([1e-9 * (d.high - d.low) for d in self.dimensions])
+        return self.low - tol, self.high + tol
 
     def dimension(self, name: str) -> Dimension:
         for d in self.dimensions:
@@ -542,7 +556,7 @@ class Domain:
                         f"> {0.0 - dim.offset:g}" if dim.scale == "log" else ">= 0",
                     )
                 continue
-            bad = ~_inside(dim, column)
+            bad = ~((column >= self._bounds[0][j]) & (column <= self._bounds[1][j]))  # NaN is outside
             if bad.any():
                 raise ParameterError(
                     dim.name,
@@ -594,15 +608,15 @@ class Domain:
         count = np.zeros(n, dtype=np.intp)
         if forms is not None:
             count += ~np.isin(np.asarray(forms).astype(str), self.forms)
+        # One comparison per kind, with the bounds kept as arrays: a bank tests a sample against
+        # many domains, and a single call is mostly these tests.
         if self.fixed:
-            # All fixed parameters in one comparison: a bank tests a sample against many domains.
-            target = np.array(list(self.fixed.values()), dtype=float)
-            column = np.column_stack([np.asarray(columns[k], dtype=float) for k in self.fixed])
-            count += (~at_fixed_value(column, target)).sum(axis=1)
+            fixed = np.column_stack([np.asarray(columns[k], dtype=float) for k in self.fixed])
+            count += (~at_fixed_value(fixed, self._fixed_values)).sum(axis=1)
         if self.dimensions:
-            values = np.column_stack([np.asarray(columns[n], dtype=float) for n in self.names])
-            for j, dim in enumerate(self.dimensions):
-                count += ~_inside(dim, values[:, j])
+            values = np.column_stack([np.asarray(columns[k], dtype=float) for k in self.names])
+            low, high = self._bounds
+            count += (~((values >= low) & (values <= high))).sum(axis=1)  # NaN is outside
             if self._texture_drawn:
                 count += self._texture_load(values) > self.texture_limit * (1 + 1e-9)
         return count
@@ -631,10 +645,3 @@ def at_fixed_value(values: np.ndarray, fixed: ArrayLike) -> np.ndarray:
     with np.errstate(invalid="ignore"):  # inf − inf where depth_mm is fixed at inf
         near = np.isfinite(fixed) & (np.abs(values - fixed) <= 1e-9 * np.abs(fixed))
     return (values == fixed) | near
-
-
-def _inside(dim: Dimension, column: np.ndarray) -> np.ndarray:
-    """Values inside the dimension's range, with a relative tolerance of 1e-9 of the range for
-    the round-off of values written to text and read back (NaN is outside)."""
-    tol = 1e-9 * (dim.high - dim.low)
-    return (column >= dim.low - tol) & (column <= dim.high + tol)
