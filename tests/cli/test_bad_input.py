@@ -127,3 +127,23 @@ def test_train_spectral_clean_corner_adds_samples_there_and_refuses_a_negative_c
     assert SpectralModel.load(out / "spectral-model.npz").training_set_["enrichment"]["n_samples"] == 6
     bad = runner.invoke(app, [*args, "--clean-corner", "-1", "-o", str(tmp_path / "bad"), "--no-progress"])
     assert bad.exit_code == 2 and "--clean-corner = -1 is not allowed" in bad.output, bad.output
+
+
+def test_train_spectral_takes_the_broad_recipe_and_refuses_it_for_monomials(tmp_path):
+    out = tmp_path / "run"
+    args = ["train-spectral", "--rays", "1e2", "--samples", "40", "--holdout", "0", "-w", "550", "--workers", "1"]
+    recipe = ["--regressor", "network", "--hidden-units", "8", "--learning-rates", "1e-3,1e-4"]
+    recipe += ["--validation", "error", "--physical-inputs"]
+    res = runner.invoke(app, [*args, *recipe, "-o", str(out), "--no-progress"])
+    assert res.exit_code == 0, res.output
+    model = SpectralModel.load(out / "spectral-model.npz")
+    assert model.learning_rates == (1e-3, 1e-4) and model.network_validation == "error"
+    assert len(model.physical_inputs) == 5
+    for bad, message in (
+        (["--physical-inputs"], "--physical-inputs = True is not allowed: only with --regressor network"),
+        (["--regressor", "network", "--learning-rates", "fast"], "--learning-rates = 'fast' is not allowed"),
+        (["--regressor", "network", "--validation", "loss"], "--validation = 'loss' is not allowed"),
+    ):
+        res = runner.invoke(app, [*args, *bad, "-o", str(tmp_path / "bad"), "--no-progress"])
+        assert res.exit_code == 2 and message in res.output, res.output
+        assert not (tmp_path / "bad" / "training").exists()

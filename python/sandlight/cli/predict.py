@@ -41,6 +41,9 @@ _TRAINING_OPTIONS = {
     "hidden_units": "--hidden-units",
     "hidden_layers": "--hidden-layers",
     "ensemble": "--ensemble",
+    "learning_rates": "--learning-rates",
+    "network_validation": "--validation",
+    "physical_inputs": "--physical-inputs",
     "enrichment samples": "--clean-corner",
 }
 
@@ -91,6 +94,24 @@ def train_spectral_command(
     hidden_units: int = typer.Option(128, "--hidden-units", help="Units per hidden layer of a network, 1-1024."),
     hidden_layers: int = typer.Option(2, "--hidden-layers", help="Hidden layers of a network, 1-4."),
     ensemble: int = typer.Option(1, "--ensemble", help="Networks fitted from successive seeds and averaged, 1-16."),
+    learning_rates: str = typer.Option(
+        "1e-3",
+        "--learning-rates",
+        help="Adam's learning rate of a network, or 2-4 falling rates separated by commas, each "
+        "run until no gain (the broad models: 1e-3,1e-4,1e-5).",
+    ),
+    validation: str = typer.Option(
+        "r2",
+        "--validation",
+        help="What stops a network's fit: 'r2' (the scores' mean R²) or 'error' (the reflectance's "
+        "error; the broad models').",
+    ),
+    physical_inputs: bool = typer.Option(
+        False,
+        "--physical-inputs/--no-physical-inputs",
+        help="Give a network the lengths the engine derives from the parameters by mass balance as "
+        "inputs too (the broad models'; docs/spectral-predictor.md, 'Physical inputs').",
+    ),
     clean_corner: int = typer.Option(
         0,
         "--clean-corner",
@@ -105,12 +126,23 @@ def train_spectral_command(
     from sandlight.jobs import make_executor
     from sandlight.predictor import Domain
     from sandlight.predictor.domain import CLEAN_SAND
+    from sandlight.predictor.physical_inputs import PHYSICAL_INPUTS
     from sandlight.predictor.spectral import IRON_FREE_FORMS
     from sandlight.predictor.training import train_spectral
 
     check_output_directory(out, "--output")
     n = check_count("--rays", rays)
     n_holdout = None if holdout_rays is None else check_count("--holdout-rays", holdout_rays)
+    try:
+        rates = tuple(float(r) for r in learning_rates.split(","))
+    except ValueError:
+        raise ParameterError(
+            "--learning-rates", learning_rates, "numbers separated by commas, e.g. 1e-3,1e-4"
+        ) from None
+    if physical_inputs and regressor != "network":
+        raise ParameterError(
+            "--physical-inputs", True, "only with --regressor network (the monomials take the parameters)"
+        )
     if clean_corner < 0:
         raise ParameterError("--clean-corner", clean_corner, "an integer >= 0 (0: none)")
     corner = (clean_corner, Domain.default().restrict(forms=IRON_FREE_FORMS, **CLEAN_SAND)) if clean_corner else None
@@ -139,6 +171,9 @@ def train_spectral_command(
                 "hidden_units": hidden_units,
                 "hidden_layers": hidden_layers,
                 "ensemble": ensemble,
+                "learning_rates": rates,
+                "network_validation": validation,
+                "physical_inputs": PHYSICAL_INPUTS if physical_inputs else (),
             },
         )
     model, report = run.model, run.report
