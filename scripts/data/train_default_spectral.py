@@ -82,8 +82,8 @@ class BankEntry:
     broad: bool = False
     #: nm, start:stop:step; None: the paper's grid (``--wavelengths``).
     wavelengths: str | None = None
-    #: Extra training samples at the clean-sand corner (``CLEAN_SAND``, in the forms continuous
-    #: at zero iron oxide), which random draws hardly reach (docs/spectral-predictor.md, "Corners").
+    #: Extra training samples at the clean-sand corner (``predictor.training.clean_corner``),
+    #: which random draws hardly reach (docs/spectral-predictor.md, "Corners").
     clean_corner: int = 0
 
     @property
@@ -104,12 +104,9 @@ class BankEntry:
 
     def enrichment(self) -> tuple[int, Domain] | None:
         """The clean-corner samples and their sub-domain (None: none)."""
-        from sandlight.predictor.domain import CLEAN_SAND
-        from sandlight.predictor.spectral import IRON_FREE_FORMS
+        from sandlight.predictor.training import clean_corner
 
-        if not self.clean_corner:
-            return None
-        return self.clean_corner, self.domain().restrict(forms=IRON_FREE_FORMS, **CLEAN_SAND)
+        return (self.clean_corner, clean_corner(self.domain())) if self.clean_corner else None
 
     def domain(self) -> Domain:
         from sandlight.predictor import Dimension, Domain

@@ -125,9 +125,8 @@ def train_spectral_command(
     run the same command again to continue after an interruption)."""
     from sandlight.jobs import make_executor
     from sandlight.predictor import Domain
-    from sandlight.predictor.domain import CLEAN_SAND
     from sandlight.predictor.physical_inputs import PHYSICAL_INPUTS
-    from sandlight.predictor.spectral import IRON_FREE_FORMS
+    from sandlight.predictor.training import clean_corner as corner_of
     from sandlight.predictor.training import train_spectral
 
     check_output_directory(out, "--output")
@@ -145,7 +144,7 @@ def train_spectral_command(
         )
     if clean_corner < 0:
         raise ParameterError("--clean-corner", clean_corner, "an integer >= 0 (0: none)")
-    corner = (clean_corner, Domain.default().restrict(forms=IRON_FREE_FORMS, **CLEAN_SAND)) if clean_corner else None
+    corner = (clean_corner, corner_of(Domain.default())) if clean_corner else None
     executor = None if fit_only else make_executor(workers, dask_local, scheduler)
     with option_names(_TRAINING_OPTIONS):
         run = train_spectral(

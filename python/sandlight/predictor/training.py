@@ -46,8 +46,8 @@ from sandlight.io import write_atomically
 from sandlight.jobs import Job, JobStatus, derive_seed
 from sandlight.jobs.executors import Executor, resolve_executor
 from sandlight.optics import MAX_WAVELENGTHS
-from sandlight.predictor.domain import FORM_PARAMETER, Domain
-from sandlight.predictor.spectral import HoldoutReport, SpectralModel, evaluate
+from sandlight.predictor.domain import CLEAN_SAND, FORM_PARAMETER, Domain
+from sandlight.predictor.spectral import IRON_FREE_FORMS, HoldoutReport, SpectralModel, evaluate
 
 if TYPE_CHECKING:
     import os
@@ -421,6 +421,12 @@ def fit_training_set(
         model.holdout_scores_["path"] = str(holdout)
         model.holdout_scores_["sha256"] = file_sha256(holdout)
     return model, report
+
+
+def clean_corner(domain: Domain) -> Domain:
+    """The clean-sand corner of ``domain`` (``CLEAN_SAND`` fixed; the iron-oxide forms continuous
+    at zero iron oxide, the only ones asked there): where a model's enrichment samples go."""
+    return domain.restrict(forms=IRON_FREE_FORMS, **CLEAN_SAND)
 
 
 def _check_enrichment(enrichment: Any, domain: Domain) -> None:
