@@ -578,12 +578,13 @@ class SpectralModel(Estimator):
         if precision not in ("single", "double"):
             raise ParameterError("precision", precision, "'single' or 'double'")
         values, codes = self._inputs(samples, forms, self.domain_, self.forms_, extrapolate)
-        free = np.flatnonzero(self._iron_oxide(values) == 0.0)
+        iron_oxide = self._iron_oxide(values)
+        free = np.flatnonzero(iron_oxide == 0.0)
         continuous = [self.forms_.index(f) for f in IRON_FREE_FORMS if f in self.forms_]
         if not (free.size and continuous):
             return self._evaluate(self._design(values, codes, self.domain_), codes, precision)
         # One batch: the other rows with their own forms, the iron-free rows once per continuous form.
-        kept = np.flatnonzero(self._iron_oxide(values) != 0.0)
+        kept = np.flatnonzero(iron_oxide != 0.0)  # NaN (no iron-oxide column) keeps its own form
         rows = np.concatenate([values[kept], *([values[free]] * len(continuous))])
         row_forms = np.concatenate([codes[kept], *(np.full(free.size, c, dtype=codes.dtype) for c in continuous)])
         answers = self._evaluate(self._design(rows, row_forms, self.domain_), row_forms, precision)
